@@ -1,0 +1,12 @@
+//! Put the workspace's `memory.x` where the linker finds it (`-Tlink.x`
+//! includes it) and rebuild when it changes.
+use std::{env, fs, path::PathBuf};
+
+fn main() {
+    let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let memory_x = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../memory.x");
+    fs::copy(&memory_x, out.join("memory.x")).expect("copy ../memory.x into OUT_DIR");
+    println!("cargo:rustc-link-search={}", out.display());
+    println!("cargo:rerun-if-changed={}", memory_x.display());
+    println!("cargo:rerun-if-changed=build.rs");
+}

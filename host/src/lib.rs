@@ -1,0 +1,6 @@
+//! `swimbot`: the host side of the swimbot project.
+//!
+//! The resistive-force-theory (RFT) model of the two-link helical swimmer of
+//! Tabak & Yesilyurt's in-channel vertical swimming paper (section II.B,
+//! eqs. 1-11), its built-in data (Tables I, II, IV), and the workbench that
+//! compares the model with measurements.
