@@ -4,3 +4,4 @@
 //! Tabak & Yesilyurt's in-channel vertical swimming paper (section II.B,
 //! eqs. 1-11), its built-in data (Tables I, II, IV), and the workbench that
 //! compares the model with measurements.
+pub mod robot;
