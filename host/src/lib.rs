@@ -5,3 +5,4 @@
 //! eqs. 1-11), its built-in data (Tables I, II, IV), and the workbench that
 //! compares the model with measurements.
 pub mod robot;
+pub mod physics;
