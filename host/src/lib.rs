@@ -6,3 +6,9 @@
 //! compares the model with measurements.
 pub mod robot;
 pub mod physics;
+pub mod data;
+pub mod stats;
+pub mod effects;
+pub mod model;
+pub mod report;
+pub mod workbench;

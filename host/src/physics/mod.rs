@@ -3,4 +3,5 @@
 pub mod body;
 pub mod coefficients;
 pub mod geometry;
+pub mod solve;
 pub mod tail;

@@ -1,0 +1,136 @@
+//! Datasets: the robot's setup and, per case, a tail geometry, its observed
+//! tail rate and (optionally) the measured swimming speed and body rotation
+//! rate with confidence intervals. The format is TOML, documented in
+//! `docs/data-format.md`; the paper's Tables I, II and IV ship built in.
+
+mod parse;
+mod write;
+
+pub use parse::{load_file, parse_str};
+pub use write::to_toml;
+
+use crate::physics::geometry::{Body, Channel, Coupler, Handedness, Helix};
+
+/// The built-in dataset: the paper's six tails.
+pub const PAPER_TOML: &str = include_str!("../../data/paper.toml");
+
+/// The paper's dataset, parsed.
+pub fn paper() -> Dataset {
+    parse_str(PAPER_TOML, "<built-in paper data>").expect("the built-in paper data is valid")
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dataset {
+    pub name: String,
+    pub source: String,
+    pub cases: Vec<Case>,
+}
+
+/// A measured mean with its confidence interval.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measured {
+    pub mean: f64,
+    /// Half-width of the confidence interval at `confidence`.
+    pub ci_half_width: f64,
+    pub confidence: f64,
+    /// Number of trials behind the mean (sets the Student-t factor).
+    pub trials: u32,
+}
+
+impl Measured {
+    /// Standard error of the mean: the CI half-width over the two-sided
+    /// Student-t quantile with `trials - 1` degrees of freedom.
+    pub fn standard_error(&self) -> f64 {
+        self.ci_half_width / crate::stats::student_t_quantile(self.confidence, self.trials)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Orientation {
+    Vertical,
+    Horizontal,
+}
+
+/// One robot configuration, with every [setup] default resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    pub id: String,
+    pub wavelength_mm: f64,
+    pub amplitude_mm: f64,
+    pub tail_length_mm: f64,
+    pub wire_diameter_mm: f64,
+    pub handedness: Handedness,
+    /// Observed tail rotation rate (Hz).
+    pub frequency_hz: f64,
+    pub channel_diameter_mm: f64,
+    pub channel_length_mm: f64,
+    pub channel_closed: bool,
+    pub orientation: Orientation,
+    pub viscosity_pa_s: f64,
+    pub density_kg_m3: f64,
+    pub body_diameter_mm: f64,
+    pub body_length_mm: f64,
+    pub coupler_diameter_mm: f64,
+    pub coupler_length_mm: f64,
+    /// Swimming speed along the channel (mm/s), if measured.
+    pub u_mm_s: Option<Measured>,
+    /// Body counter-rotation rate (Hz), if measured.
+    pub omega_body_hz: Option<Measured>,
+}
+
+impl Case {
+    /// The tail, joined behind the coupler (joint at `-(L_b/2 + L_c)`).
+    pub fn helix(&self) -> Helix {
+        Helix {
+            handedness: self.handedness,
+            joint_x_m: -(0.5 * self.body_length_mm + self.coupler_length_mm) * 1e-3,
+            ..Helix::from_mm(self.wavelength_mm, self.amplitude_mm, self.tail_length_mm, self.wire_diameter_mm)
+        }
+    }
+
+    pub fn body(&self) -> Body {
+        Body::from_mm(self.body_length_mm, self.body_diameter_mm)
+    }
+
+    pub fn coupler(&self) -> Coupler {
+        Coupler {
+            length_m: self.coupler_length_mm * 1e-3,
+            diameter_m: self.coupler_diameter_mm * 1e-3,
+        }
+    }
+
+    pub fn channel(&self) -> Channel {
+        Channel {
+            diameter_m: self.channel_diameter_mm * 1e-3,
+            length_m: self.channel_length_mm * 1e-3,
+            closed: self.channel_closed,
+            vertical: self.orientation == Orientation::Vertical,
+        }
+    }
+
+    /// Tail rotation rate `omega = 2 pi f` (rad/s).
+    pub fn tail_rate_rad_s(&self) -> f64 {
+        2.0 * std::f64::consts::PI * self.frequency_hz
+    }
+
+    /// Number of waves on the tail, `N_lambda = L_t / lambda`.
+    pub fn n_waves(&self) -> f64 {
+        self.tail_length_mm / self.wavelength_mm
+    }
+
+    /// The paper's grouping variable `B_o / R_body`.
+    pub fn amplitude_ratio(&self) -> f64 {
+        self.amplitude_mm / (0.5 * self.body_diameter_mm)
+    }
+}
+
+/// A dataset that failed to load: where and what.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}{}{}: {message}", case.as_ref().map(|c| format!(": case `{c}`")).unwrap_or_default(), field.as_ref().map(|f| format!(": field `{f}`")).unwrap_or_default())]
+pub struct DataError {
+    pub file: String,
+    pub case: Option<String>,
+    pub field: Option<String>,
+    pub message: String,
+}

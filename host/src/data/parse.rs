@@ -1,0 +1,260 @@
+//! TOML -> [`Dataset`]: serde reads the raw tables (rejecting unknown keys),
+//! then every case is merged with `[setup]` and validated field by field so
+//! that an error names the file, the case and the field.
+
+use super::{Case, DataError, Dataset, Measured, Orientation};
+use crate::physics::geometry::Handedness;
+use serde::Deserialize;
+use std::path::Path;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawDataset {
+    name: Option<String>,
+    source: Option<String>,
+    #[serde(default)]
+    setup: RawCase,
+    #[serde(default, rename = "case")]
+    cases: Vec<RawCase>,
+}
+
+/// Every key a case may carry; `[setup]` takes the same keys as defaults.
+#[derive(Deserialize, Default, Clone)]
+#[serde(deny_unknown_fields)]
+struct RawCase {
+    id: Option<String>,
+    wavelength_mm: Option<f64>,
+    amplitude_mm: Option<f64>,
+    tail_length_mm: Option<f64>,
+    wire_diameter_mm: Option<f64>,
+    handedness: Option<Handedness>,
+    frequency_hz: Option<f64>,
+    channel_diameter_mm: Option<f64>,
+    channel_length_mm: Option<f64>,
+    channel_closed: Option<bool>,
+    orientation: Option<Orientation>,
+    viscosity_pa_s: Option<f64>,
+    density_kg_m3: Option<f64>,
+    body_diameter_mm: Option<f64>,
+    body_length_mm: Option<f64>,
+    coupler_diameter_mm: Option<f64>,
+    coupler_length_mm: Option<f64>,
+    confidence: Option<f64>,
+    trials: Option<u32>,
+    u_mm_s: Option<f64>,
+    u_ci_mm_s: Option<f64>,
+    u_trials_mm_s: Option<Vec<f64>>,
+    omega_body_hz: Option<f64>,
+    omega_body_ci_hz: Option<f64>,
+    omega_body_trials_hz: Option<Vec<f64>>,
+}
+
+/// Read and validate a dataset file.
+pub fn load_file(path: &Path) -> Result<Dataset, DataError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| DataError {
+        file: file.clone(),
+        case: None,
+        field: None,
+        message: format!("cannot read the file: {e}"),
+    })?;
+    parse_str(&text, &file)
+}
+
+/// Parse and validate dataset text; `file` names it in error messages.
+pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
+    let raw: RawDataset = toml::from_str(text).map_err(|e| DataError {
+        file: file.to_string(),
+        case: None,
+        field: None,
+        message: format!("not a valid dataset: {}", e.to_string().trim_end()),
+    })?;
+    if raw.cases.is_empty() {
+        return Err(err(file, None, None, "the dataset has no [[case]] tables"));
+    }
+    let mut cases = Vec::with_capacity(raw.cases.len());
+    for (i, rc) in raw.cases.iter().enumerate() {
+        let case = resolve(file, i, &raw.setup, rc)?;
+        if cases.iter().any(|c: &Case| c.id == case.id) {
+            return Err(err(file, Some(&case.id), Some("id"), "duplicate case id"));
+        }
+        cases.push(case);
+    }
+    Ok(Dataset {
+        name: raw.name.unwrap_or_else(|| "unnamed".into()),
+        source: raw.source.unwrap_or_default(),
+        cases,
+    })
+}
+
+fn err(file: &str, case: Option<&str>, field: Option<&str>, message: impl Into<String>) -> DataError {
+    DataError {
+        file: file.to_string(),
+        case: case.map(str::to_string),
+        field: field.map(str::to_string),
+        message: message.into(),
+    }
+}
+
+/// Merges one case with the setup defaults and checks each value.
+struct Resolver<'a> {
+    file: &'a str,
+    id: String,
+}
+
+impl Resolver<'_> {
+    fn fail(&self, field: &str, message: impl Into<String>) -> DataError {
+        err(self.file, Some(&self.id), Some(field), message)
+    }
+
+    fn positive(&self, field: &str, case: Option<f64>, setup: Option<f64>) -> Result<f64, DataError> {
+        let v = case.or(setup).ok_or_else(|| self.fail(field, "missing (set it in the case or in [setup])"))?;
+        self.check_positive(field, v)
+    }
+
+    fn check_positive(&self, field: &str, v: f64) -> Result<f64, DataError> {
+        if !v.is_finite() {
+            return Err(self.fail(field, format!("must be a finite number, got {v}")));
+        }
+        if v <= 0.0 {
+            return Err(self.fail(field, format!("must be positive, got {v}")));
+        }
+        Ok(v)
+    }
+
+    fn non_negative(&self, field: &str, case: Option<f64>, setup: Option<f64>, default: f64) -> Result<f64, DataError> {
+        let v = case.or(setup).unwrap_or(default);
+        if !v.is_finite() || v < 0.0 {
+            return Err(self.fail(field, format!("must be a finite number >= 0, got {v}")));
+        }
+        Ok(v)
+    }
+
+    /// A measured quantity: mean + CI half-width, or raw trials.
+    fn measured(
+        &self,
+        names: [&str; 3],
+        mean: Option<f64>,
+        ci: Option<f64>,
+        trials_raw: Option<&Vec<f64>>,
+        trials: Option<u32>,
+        confidence: f64,
+    ) -> Result<Option<Measured>, DataError> {
+        let [mean_name, ci_name, trials_name] = names;
+        if let Some(values) = trials_raw {
+            if mean.is_some() || ci.is_some() {
+                return Err(self.fail(trials_name, format!("give either raw trials or `{mean_name}` + `{ci_name}`, not both")));
+            }
+            if values.len() < 2 {
+                return Err(self.fail(trials_name, "needs at least 2 trials for a confidence interval"));
+            }
+            if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
+                return Err(self.fail(trials_name, format!("contains a non-finite value {bad}")));
+            }
+            let (m, half) = crate::stats::mean_and_ci(values, confidence);
+            return Ok(Some(Measured {
+                mean: m,
+                ci_half_width: half,
+                confidence,
+                trials: values.len() as u32,
+            }));
+        }
+        match (mean, ci) {
+            (None, None) => Ok(None),
+            (Some(_), None) => Err(self.fail(ci_name, format!("missing: `{mean_name}` needs its confidence half-width"))),
+            (None, Some(_)) => Err(self.fail(mean_name, format!("missing: `{ci_name}` is given without a mean"))),
+            (Some(m), Some(c)) => {
+                if !m.is_finite() {
+                    return Err(self.fail(mean_name, format!("must be finite, got {m}")));
+                }
+                let c = self.check_positive(ci_name, c)?;
+                let n = trials.ok_or_else(|| self.fail("trials", "missing: needed to turn the confidence interval into a standard error"))?;
+                if n < 2 {
+                    return Err(self.fail("trials", format!("must be at least 2, got {n}")));
+                }
+                Ok(Some(Measured {
+                    mean: m,
+                    ci_half_width: c,
+                    confidence,
+                    trials: n,
+                }))
+            }
+        }
+    }
+}
+
+fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, DataError> {
+    let id = c.id.clone().unwrap_or_else(|| format!("#{}", index + 1));
+    let r = Resolver { file, id: id.clone() };
+    let confidence = c.confidence.or(s.confidence).unwrap_or(0.95);
+    if !(confidence > 0.0 && confidence < 1.0) {
+        return Err(r.fail("confidence", format!("must be between 0 and 1, got {confidence}")));
+    }
+    let trials = c.trials.or(s.trials);
+    let case = Case {
+        wavelength_mm: r.positive("wavelength_mm", c.wavelength_mm, s.wavelength_mm)?,
+        amplitude_mm: r.positive("amplitude_mm", c.amplitude_mm, s.amplitude_mm)?,
+        tail_length_mm: r.positive("tail_length_mm", c.tail_length_mm, s.tail_length_mm)?,
+        wire_diameter_mm: r.positive("wire_diameter_mm", c.wire_diameter_mm, s.wire_diameter_mm)?,
+        handedness: c.handedness.or(s.handedness).unwrap_or(Handedness::Right),
+        frequency_hz: r.positive("frequency_hz", c.frequency_hz, s.frequency_hz)?,
+        channel_diameter_mm: r.positive("channel_diameter_mm", c.channel_diameter_mm, s.channel_diameter_mm)?,
+        channel_length_mm: r.positive("channel_length_mm", c.channel_length_mm, s.channel_length_mm)?,
+        channel_closed: c.channel_closed.or(s.channel_closed).unwrap_or(true),
+        orientation: c.orientation.or(s.orientation).unwrap_or(Orientation::Vertical),
+        viscosity_pa_s: r.positive("viscosity_pa_s", c.viscosity_pa_s, s.viscosity_pa_s)?,
+        density_kg_m3: r.positive("density_kg_m3", c.density_kg_m3, s.density_kg_m3)?,
+        body_diameter_mm: r.positive("body_diameter_mm", c.body_diameter_mm, s.body_diameter_mm)?,
+        body_length_mm: r.positive("body_length_mm", c.body_length_mm, s.body_length_mm)?,
+        coupler_diameter_mm: r.non_negative("coupler_diameter_mm", c.coupler_diameter_mm, s.coupler_diameter_mm, 0.0)?,
+        coupler_length_mm: r.non_negative("coupler_length_mm", c.coupler_length_mm, s.coupler_length_mm, 0.0)?,
+        u_mm_s: r.measured(
+            ["u_mm_s", "u_ci_mm_s", "u_trials_mm_s"],
+            c.u_mm_s,
+            c.u_ci_mm_s,
+            c.u_trials_mm_s.as_ref(),
+            trials,
+            confidence,
+        )?,
+        omega_body_hz: r.measured(
+            ["omega_body_hz", "omega_body_ci_hz", "omega_body_trials_hz"],
+            c.omega_body_hz,
+            c.omega_body_ci_hz,
+            c.omega_body_trials_hz.as_ref(),
+            trials,
+            confidence,
+        )?,
+        id,
+    };
+    check_geometry(&r, &case)?;
+    Ok(case)
+}
+
+/// Relations between fields that the physics needs.
+fn check_geometry(r: &Resolver<'_>, c: &Case) -> Result<(), DataError> {
+    if c.wavelength_mm <= c.wire_diameter_mm {
+        return Err(r.fail(
+            "wavelength_mm",
+            format!(
+                "{} mm is not longer than the wire diameter {} mm: the logarithmic RFT coefficients break down",
+                c.wavelength_mm, c.wire_diameter_mm
+            ),
+        ));
+    }
+    if c.amplitude_mm + 0.5 * c.wire_diameter_mm >= 0.5 * c.channel_diameter_mm {
+        return Err(r.fail(
+            "amplitude_mm",
+            format!("the tail ({} mm radius + wire) does not fit in the {} mm channel", c.amplitude_mm, c.channel_diameter_mm),
+        ));
+    }
+    if c.body_diameter_mm >= c.channel_diameter_mm {
+        return Err(r.fail(
+            "body_diameter_mm",
+            format!("the body ({} mm) does not fit in the {} mm channel", c.body_diameter_mm, c.channel_diameter_mm),
+        ));
+    }
+    if c.body_length_mm < c.body_diameter_mm {
+        return Err(r.fail("body_length_mm", "must be at least the body diameter (prolate body model)"));
+    }
+    Ok(())
+}

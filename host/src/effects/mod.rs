@@ -1,0 +1,173 @@
+//! Physical effects: the open extension point of the model.
+//!
+//! An effect changes the base RFT model (paper eqs. 1-11) in one physically
+//! stated way, at one or more of four stages of [`crate::model::Model::predict`]:
+//!
+//! 1. [`Effect::local_drag`]: the tail's local coefficients `c_t`, `c_n`;
+//! 2. [`Effect::tail`]: the integrated tail matrix `B_t`;
+//! 3. [`Effect::body`]: the body matrix `B_b`;
+//! 4. [`Effect::balance`]: the force balance itself: extra resistances on
+//!    the robot's velocity, external loads, the tail's kinematics.
+//!
+//! Effects are stateless values; their parameter values travel beside them
+//! in an [`EffectInstance`], so a fitter can vary them freely.
+//!
+//! ## Adding an effect
+//! Write one file in this folder with a unit struct implementing [`Effect`],
+//! and add one line (`&your_file::YourEffect,`) to [`CATALOGUE`]. The README
+//! has a worked example.
+
+mod backflow;
+mod body_confinement;
+mod body_correction;
+mod buoyancy;
+mod coupler;
+mod motor_frame;
+mod spec;
+mod tail_confinement;
+mod wall_contact;
+
+pub use spec::{parse_effect_list, parse_effect_spec, EffectSpecError};
+
+use crate::data::Case;
+use crate::physics::coefficients::LocalDrag;
+use crate::physics::solve::ForceBalance;
+use nalgebra::Matrix6;
+
+/// Every effect the model knows, in the order `swimbot effects` lists them.
+pub static CATALOGUE: &[&dyn Effect] = &[
+    &backflow::Backflow,
+    &backflow::BackflowObserved,
+    &body_correction::BodyCorrection,
+    &body_confinement::BodyConfinement,
+    &tail_confinement::TailConfinement,
+    &wall_contact::WallContact,
+    &motor_frame::MotorFrame,
+    &buoyancy::Buoyancy,
+    &coupler::Coupler,
+];
+
+/// Look an effect up by its command-line name.
+pub fn by_name(name: &str) -> Option<&'static dyn Effect> {
+    CATALOGUE.iter().copied().find(|e| e.name() == name)
+}
+
+/// One parameter of an effect.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ParamSpec {
+    pub name: &'static str,
+    pub unit: &'static str,
+    pub default: f64,
+    pub min: f64,
+    pub max: f64,
+    /// Free parameters are fitted by `diagnose` and `fit`; fixed ones are
+    /// settings (e.g. an applicability threshold) a user may still change.
+    pub free: bool,
+    pub doc: &'static str,
+}
+
+/// A physically stated change to the model.
+pub trait Effect: Send + Sync {
+    /// Command-line name, kebab-case.
+    fn name(&self) -> &'static str;
+    /// The physics in one line.
+    fn statement(&self) -> &'static str;
+    /// Where the physics comes from.
+    fn reference(&self) -> &'static str;
+    /// Parameters with units, defaults and bounds (none where physics fixes it).
+    fn params(&self) -> &'static [ParamSpec] {
+        &[]
+    }
+    /// Which cases the effect acts on (all by default).
+    fn applies_to(&self, _case: &Case, _p: &[f64]) -> bool {
+        true
+    }
+    /// Human-readable applicability, for `swimbot effects`.
+    fn applicability(&self) -> &'static str {
+        "all cases"
+    }
+    fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
+    fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) {}
+    fn body(&self, _p: &[f64], _case: &Case, _body: &mut Matrix6<f64>) {}
+    fn balance(&self, _p: &[f64], _case: &Case, _fb: &mut ForceBalance) {}
+}
+
+/// An effect with its parameter values.
+#[derive(Clone)]
+pub struct EffectInstance {
+    pub effect: &'static dyn Effect,
+    pub values: Vec<f64>,
+}
+
+impl EffectInstance {
+    /// The effect at its default parameters.
+    pub fn default_of(effect: &'static dyn Effect) -> Self {
+        EffectInstance {
+            effect,
+            values: effect.params().iter().map(|p| p.default).collect(),
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        self.effect.name()
+    }
+
+    /// Indices of the free parameters.
+    pub fn free_indices(&self) -> Vec<usize> {
+        (0..self.values.len()).filter(|&i| self.effect.params()[i].free).collect()
+    }
+
+    /// `name:k=v,...` with every parameter, as the command line takes it.
+    pub fn spec(&self) -> String {
+        let params = self.effect.params();
+        if params.is_empty() {
+            return self.name().to_string();
+        }
+        let kv: Vec<String> = params
+            .iter()
+            .zip(&self.values)
+            .map(|(p, v)| format!("{}={}", p.name, crate::report::fmt_sig(*v, 4)))
+            .collect();
+        format!("{}:{}", self.name(), kv.join(","))
+    }
+}
+
+impl std::fmt::Debug for EffectInstance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.spec())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn catalogue_names_are_unique_kebab_case_and_documented() {
+        for (i, e) in CATALOGUE.iter().enumerate() {
+            assert!(e.name().chars().all(|c| c.is_ascii_lowercase() || c == '-'), "{}", e.name());
+            assert!(CATALOGUE[..i].iter().all(|o| o.name() != e.name()), "duplicate {}", e.name());
+            assert!(!e.statement().is_empty() && !e.reference().is_empty());
+            for p in e.params() {
+                assert!(p.min <= p.default && p.default <= p.max, "{}: {}", e.name(), p.name);
+                assert!(!p.unit.is_empty() && !p.doc.is_empty());
+            }
+        }
+    }
+
+    #[test]
+    fn the_issue_catalogue_is_present() {
+        for name in [
+            "backflow",
+            "body-correction",
+            "body-confinement",
+            "tail-confinement",
+            "wall-contact",
+            "motor-frame",
+            "buoyancy",
+            "coupler",
+        ] {
+            assert!(by_name(name).is_some(), "missing {name}");
+        }
+    }
+}

@@ -1,0 +1,98 @@
+//! Statistics of the comparison: Student-t confidence intervals of trial
+//! means, relative errors, and the reduced chi-square of a fit.
+
+use statrs::distribution::{ContinuousCDF, StudentsT};
+
+/// Two-sided Student-t quantile `t_{(1+confidence)/2, trials-1}` (2.776 for
+/// the paper's 95 % with five trials).
+pub fn student_t_quantile(confidence: f64, trials: u32) -> f64 {
+    let dof = f64::from(trials.max(2) - 1);
+    let t = StudentsT::new(0.0, 1.0, dof).expect("dof >= 1 is a valid Student-t");
+    t.inverse_cdf(0.5 * (1.0 + confidence))
+}
+
+/// Mean and confidence half-width of raw trials (at least two values).
+pub fn mean_and_ci(values: &[f64], confidence: f64) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    let half = student_t_quantile(confidence, values.len() as u32) * (var / n).sqrt();
+    (mean, half)
+}
+
+/// One compared quantity: a prediction against a measurement.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Residual {
+    pub predicted: f64,
+    pub observed: f64,
+    /// Standard error of the observed mean.
+    pub sigma: f64,
+}
+
+impl Residual {
+    pub fn relative_error(&self) -> f64 {
+        (self.predicted - self.observed) / self.observed
+    }
+    /// Residual in standard errors.
+    pub fn normalised(&self) -> f64 {
+        (self.predicted - self.observed) / self.sigma
+    }
+}
+
+/// Summary of a set of residuals.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct FitSummary {
+    /// Mean absolute relative error over all compared quantities.
+    pub mare: f64,
+    pub max_abs_rel_err: f64,
+    /// Chi-square over (n - k); `None` when n - k <= 0.
+    pub chi2_reduced: Option<f64>,
+    pub chi2: f64,
+    pub n: usize,
+    pub free_params: usize,
+}
+
+pub fn summarise(residuals: &[Residual], free_params: usize) -> FitSummary {
+    let n = residuals.len();
+    let rel: Vec<f64> = residuals.iter().map(|r| r.relative_error().abs()).collect();
+    let chi2: f64 = residuals.iter().map(|r| r.normalised().powi(2)).sum();
+    let dof = n as i64 - free_params as i64;
+    FitSummary {
+        mare: if n == 0 { f64::NAN } else { rel.iter().sum::<f64>() / n as f64 },
+        max_abs_rel_err: rel.iter().copied().fold(0.0, f64::max),
+        chi2_reduced: (dof > 0).then(|| chi2 / dof as f64),
+        chi2,
+        n,
+        free_params,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn student_t_matches_tables() {
+        assert!((student_t_quantile(0.95, 5) - 2.776445).abs() < 1e-5);
+        assert!((student_t_quantile(0.95, 2) - 12.706205).abs() < 1e-4);
+        assert!((student_t_quantile(0.99, 11) - 3.169273).abs() < 1e-5);
+    }
+
+    #[test]
+    fn ci_of_known_trials() {
+        let (m, h) = mean_and_ci(&[1.0, 2.0, 3.0, 4.0, 5.0], 0.95);
+        assert!((m - 3.0).abs() < 1e-15);
+        // s = sqrt(2.5), se = s / sqrt(5)
+        assert!((h - 2.776445 * (2.5f64 / 5.0).sqrt()).abs() < 1e-5);
+    }
+
+    #[test]
+    fn reduced_chi_square_guards_its_degrees_of_freedom() {
+        let r = [Residual { predicted: 2.0, observed: 1.0, sigma: 0.5 }; 3];
+        let s = summarise(&r, 1);
+        assert_eq!(s.chi2, 12.0);
+        assert_eq!(s.chi2_reduced, Some(6.0));
+        assert_eq!(summarise(&r, 3).chi2_reduced, None);
+        assert!((s.mare - 1.0).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,110 @@
+//! Model against measurement, case by case: predicted and observed swimming
+//! speed `U` and body rotation rate `Omega_b`, their relative errors and
+//! errors in standard errors, and the summary statistics (MARE, max
+//! relative error, reduced chi-square).
+
+use crate::data::{Case, Dataset, Measured};
+use crate::model::{Model, ModelError, Prediction};
+use crate::stats::{summarise, FitSummary, Residual};
+use serde::Serialize;
+
+/// One case of a comparison.
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseComparison {
+    pub id: String,
+    pub frequency_hz: f64,
+    pub n_waves: f64,
+    pub amplitude_ratio: f64,
+    pub u_pred_mm_s: f64,
+    pub u_obs_mm_s: Option<f64>,
+    pub u_ci_mm_s: Option<f64>,
+    pub omega_pred_hz: f64,
+    pub omega_obs_hz: Option<f64>,
+    pub omega_ci_hz: Option<f64>,
+    pub u_rel_err: Option<f64>,
+    pub omega_rel_err: Option<f64>,
+    /// Error in standard errors of the measured mean.
+    pub u_err_sigma: Option<f64>,
+    pub omega_err_sigma: Option<f64>,
+    pub u_over_u_wave_pred: f64,
+    pub omega_ratio_pred: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Comparison {
+    pub model: String,
+    pub dataset: String,
+    pub cases: Vec<CaseComparison>,
+    pub summary: FitSummary,
+}
+
+/// Which measured quantity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Quantity {
+    U,
+    Omega,
+}
+
+impl Quantity {
+    pub fn label(self) -> &'static str {
+        match self {
+            Quantity::U => "U",
+            Quantity::Omega => "Omega_b",
+        }
+    }
+}
+
+/// The residuals of one case's measured quantities.
+pub fn case_residuals(case: &Case, p: &Prediction) -> Vec<(Quantity, Residual)> {
+    let mut out = Vec::with_capacity(2);
+    let mk = |pred: f64, m: &Measured| Residual {
+        predicted: pred,
+        observed: m.mean,
+        sigma: m.standard_error(),
+    };
+    if let Some(m) = &case.u_mm_s {
+        out.push((Quantity::U, mk(p.u_mm_s, m)));
+    }
+    if let Some(m) = &case.omega_body_hz {
+        out.push((Quantity::Omega, mk(p.omega_body_hz, m)));
+    }
+    out
+}
+
+/// Compare `model` with every case of `data`.
+pub fn compare(model: &Model, data: &Dataset, free_params: usize) -> Result<Comparison, ModelError> {
+    let mut cases = Vec::with_capacity(data.cases.len());
+    let mut all = Vec::new();
+    for case in &data.cases {
+        let p = model.predict(case)?;
+        let res = case_residuals(case, &p);
+        let get = |q: Quantity| res.iter().find(|(k, _)| *k == q).map(|(_, r)| *r);
+        let (ru, ro) = (get(Quantity::U), get(Quantity::Omega));
+        cases.push(CaseComparison {
+            id: case.id.clone(),
+            frequency_hz: case.frequency_hz,
+            n_waves: case.n_waves(),
+            amplitude_ratio: case.amplitude_ratio(),
+            u_pred_mm_s: p.u_mm_s,
+            u_obs_mm_s: case.u_mm_s.map(|m| m.mean),
+            u_ci_mm_s: case.u_mm_s.map(|m| m.ci_half_width),
+            omega_pred_hz: p.omega_body_hz,
+            omega_obs_hz: case.omega_body_hz.map(|m| m.mean),
+            omega_ci_hz: case.omega_body_hz.map(|m| m.ci_half_width),
+            u_rel_err: ru.map(|r| r.relative_error()),
+            omega_rel_err: ro.map(|r| r.relative_error()),
+            u_err_sigma: ru.map(|r| r.normalised()),
+            omega_err_sigma: ro.map(|r| r.normalised()),
+            u_over_u_wave_pred: p.u_over_u_wave,
+            omega_ratio_pred: p.omega_ratio,
+        });
+        all.extend(res.into_iter().map(|(_, r)| r));
+    }
+    Ok(Comparison {
+        model: model.describe(),
+        dataset: data.name.clone(),
+        cases,
+        summary: summarise(&all, free_params),
+    })
+}

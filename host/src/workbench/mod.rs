@@ -1,0 +1,3 @@
+//! The model-vs-measurement workbench: compare a model with a dataset, find
+//! where it fails, and test which physical effect explains the failure.
+pub mod compare;
