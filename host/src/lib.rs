@@ -4,11 +4,12 @@
 //! Tabak & Yesilyurt's in-channel vertical swimming paper (section II.B,
 //! eqs. 1-11), its built-in data (Tables I, II, IV), and the workbench that
 //! compares the model with measurements.
-pub mod robot;
-pub mod physics;
+pub mod cli;
 pub mod data;
-pub mod stats;
 pub mod effects;
 pub mod model;
+pub mod physics;
 pub mod report;
+pub mod robot;
+pub mod stats;
 pub mod workbench;

@@ -58,7 +58,11 @@ pub fn summarise(residuals: &[Residual], free_params: usize) -> FitSummary {
     let chi2: f64 = residuals.iter().map(|r| r.normalised().powi(2)).sum();
     let dof = n as i64 - free_params as i64;
     FitSummary {
-        mare: if n == 0 { f64::NAN } else { rel.iter().sum::<f64>() / n as f64 },
+        mare: if n == 0 {
+            f64::NAN
+        } else {
+            rel.iter().sum::<f64>() / n as f64
+        },
         max_abs_rel_err: rel.iter().copied().fold(0.0, f64::max),
         chi2_reduced: (dof > 0).then(|| chi2 / dof as f64),
         chi2,
@@ -88,7 +92,11 @@ mod tests {
 
     #[test]
     fn reduced_chi_square_guards_its_degrees_of_freedom() {
-        let r = [Residual { predicted: 2.0, observed: 1.0, sigma: 0.5 }; 3];
+        let r = [Residual {
+            predicted: 2.0,
+            observed: 1.0,
+            sigma: 0.5,
+        }; 3];
         let s = summarise(&r, 1);
         assert_eq!(s.chi2, 12.0);
         assert_eq!(s.chi2_reduced, Some(6.0));

@@ -85,7 +85,12 @@ impl Case {
         Helix {
             handedness: self.handedness,
             joint_x_m: -(0.5 * self.body_length_mm + self.coupler_length_mm) * 1e-3,
-            ..Helix::from_mm(self.wavelength_mm, self.amplitude_mm, self.tail_length_mm, self.wire_diameter_mm)
+            ..Helix::from_mm(
+                self.wavelength_mm,
+                self.amplitude_mm,
+                self.tail_length_mm,
+                self.wire_diameter_mm,
+            )
         }
     }
 

@@ -87,7 +87,12 @@ pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
     })
 }
 
-fn err(file: &str, case: Option<&str>, field: Option<&str>, message: impl Into<String>) -> DataError {
+fn err(
+    file: &str,
+    case: Option<&str>,
+    field: Option<&str>,
+    message: impl Into<String>,
+) -> DataError {
     DataError {
         file: file.to_string(),
         case: case.map(str::to_string),
@@ -107,8 +112,15 @@ impl Resolver<'_> {
         err(self.file, Some(&self.id), Some(field), message)
     }
 
-    fn positive(&self, field: &str, case: Option<f64>, setup: Option<f64>) -> Result<f64, DataError> {
-        let v = case.or(setup).ok_or_else(|| self.fail(field, "missing (set it in the case or in [setup])"))?;
+    fn positive(
+        &self,
+        field: &str,
+        case: Option<f64>,
+        setup: Option<f64>,
+    ) -> Result<f64, DataError> {
+        let v = case
+            .or(setup)
+            .ok_or_else(|| self.fail(field, "missing (set it in the case or in [setup])"))?;
         self.check_positive(field, v)
     }
 
@@ -122,7 +134,13 @@ impl Resolver<'_> {
         Ok(v)
     }
 
-    fn non_negative(&self, field: &str, case: Option<f64>, setup: Option<f64>, default: f64) -> Result<f64, DataError> {
+    fn non_negative(
+        &self,
+        field: &str,
+        case: Option<f64>,
+        setup: Option<f64>,
+        default: f64,
+    ) -> Result<f64, DataError> {
         let v = case.or(setup).unwrap_or(default);
         if !v.is_finite() || v < 0.0 {
             return Err(self.fail(field, format!("must be a finite number >= 0, got {v}")));
@@ -143,10 +161,16 @@ impl Resolver<'_> {
         let [mean_name, ci_name, trials_name] = names;
         if let Some(values) = trials_raw {
             if mean.is_some() || ci.is_some() {
-                return Err(self.fail(trials_name, format!("give either raw trials or `{mean_name}` + `{ci_name}`, not both")));
+                return Err(self.fail(
+                    trials_name,
+                    format!("give either raw trials or `{mean_name}` + `{ci_name}`, not both"),
+                ));
             }
             if values.len() < 2 {
-                return Err(self.fail(trials_name, "needs at least 2 trials for a confidence interval"));
+                return Err(self.fail(
+                    trials_name,
+                    "needs at least 2 trials for a confidence interval",
+                ));
             }
             if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
                 return Err(self.fail(trials_name, format!("contains a non-finite value {bad}")));
@@ -161,14 +185,25 @@ impl Resolver<'_> {
         }
         match (mean, ci) {
             (None, None) => Ok(None),
-            (Some(_), None) => Err(self.fail(ci_name, format!("missing: `{mean_name}` needs its confidence half-width"))),
-            (None, Some(_)) => Err(self.fail(mean_name, format!("missing: `{ci_name}` is given without a mean"))),
+            (Some(_), None) => Err(self.fail(
+                ci_name,
+                format!("missing: `{mean_name}` needs its confidence half-width"),
+            )),
+            (None, Some(_)) => Err(self.fail(
+                mean_name,
+                format!("missing: `{ci_name}` is given without a mean"),
+            )),
             (Some(m), Some(c)) => {
                 if !m.is_finite() {
                     return Err(self.fail(mean_name, format!("must be finite, got {m}")));
                 }
                 let c = self.check_positive(ci_name, c)?;
-                let n = trials.ok_or_else(|| self.fail("trials", "missing: needed to turn the confidence interval into a standard error"))?;
+                let n = trials.ok_or_else(|| {
+                    self.fail(
+                        "trials",
+                        "missing: needed to turn the confidence interval into a standard error",
+                    )
+                })?;
                 if n < 2 {
                     return Err(self.fail("trials", format!("must be at least 2, got {n}")));
                 }
@@ -185,10 +220,16 @@ impl Resolver<'_> {
 
 fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, DataError> {
     let id = c.id.clone().unwrap_or_else(|| format!("#{}", index + 1));
-    let r = Resolver { file, id: id.clone() };
+    let r = Resolver {
+        file,
+        id: id.clone(),
+    };
     let confidence = c.confidence.or(s.confidence).unwrap_or(0.95);
     if !(confidence > 0.0 && confidence < 1.0) {
-        return Err(r.fail("confidence", format!("must be between 0 and 1, got {confidence}")));
+        return Err(r.fail(
+            "confidence",
+            format!("must be between 0 and 1, got {confidence}"),
+        ));
     }
     let trials = c.trials.or(s.trials);
     let case = Case {
@@ -198,16 +239,37 @@ fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, D
         wire_diameter_mm: r.positive("wire_diameter_mm", c.wire_diameter_mm, s.wire_diameter_mm)?,
         handedness: c.handedness.or(s.handedness).unwrap_or(Handedness::Right),
         frequency_hz: r.positive("frequency_hz", c.frequency_hz, s.frequency_hz)?,
-        channel_diameter_mm: r.positive("channel_diameter_mm", c.channel_diameter_mm, s.channel_diameter_mm)?,
-        channel_length_mm: r.positive("channel_length_mm", c.channel_length_mm, s.channel_length_mm)?,
+        channel_diameter_mm: r.positive(
+            "channel_diameter_mm",
+            c.channel_diameter_mm,
+            s.channel_diameter_mm,
+        )?,
+        channel_length_mm: r.positive(
+            "channel_length_mm",
+            c.channel_length_mm,
+            s.channel_length_mm,
+        )?,
         channel_closed: c.channel_closed.or(s.channel_closed).unwrap_or(true),
-        orientation: c.orientation.or(s.orientation).unwrap_or(Orientation::Vertical),
+        orientation: c
+            .orientation
+            .or(s.orientation)
+            .unwrap_or(Orientation::Vertical),
         viscosity_pa_s: r.positive("viscosity_pa_s", c.viscosity_pa_s, s.viscosity_pa_s)?,
         density_kg_m3: r.positive("density_kg_m3", c.density_kg_m3, s.density_kg_m3)?,
         body_diameter_mm: r.positive("body_diameter_mm", c.body_diameter_mm, s.body_diameter_mm)?,
         body_length_mm: r.positive("body_length_mm", c.body_length_mm, s.body_length_mm)?,
-        coupler_diameter_mm: r.non_negative("coupler_diameter_mm", c.coupler_diameter_mm, s.coupler_diameter_mm, 0.0)?,
-        coupler_length_mm: r.non_negative("coupler_length_mm", c.coupler_length_mm, s.coupler_length_mm, 0.0)?,
+        coupler_diameter_mm: r.non_negative(
+            "coupler_diameter_mm",
+            c.coupler_diameter_mm,
+            s.coupler_diameter_mm,
+            0.0,
+        )?,
+        coupler_length_mm: r.non_negative(
+            "coupler_length_mm",
+            c.coupler_length_mm,
+            s.coupler_length_mm,
+            0.0,
+        )?,
         u_mm_s: r.measured(
             ["u_mm_s", "u_ci_mm_s", "u_trials_mm_s"],
             c.u_mm_s,
@@ -244,17 +306,26 @@ fn check_geometry(r: &Resolver<'_>, c: &Case) -> Result<(), DataError> {
     if c.amplitude_mm + 0.5 * c.wire_diameter_mm >= 0.5 * c.channel_diameter_mm {
         return Err(r.fail(
             "amplitude_mm",
-            format!("the tail ({} mm radius + wire) does not fit in the {} mm channel", c.amplitude_mm, c.channel_diameter_mm),
+            format!(
+                "the tail ({} mm radius + wire) does not fit in the {} mm channel",
+                c.amplitude_mm, c.channel_diameter_mm
+            ),
         ));
     }
     if c.body_diameter_mm >= c.channel_diameter_mm {
         return Err(r.fail(
             "body_diameter_mm",
-            format!("the body ({} mm) does not fit in the {} mm channel", c.body_diameter_mm, c.channel_diameter_mm),
+            format!(
+                "the body ({} mm) does not fit in the {} mm channel",
+                c.body_diameter_mm, c.channel_diameter_mm
+            ),
         ));
     }
     if c.body_length_mm < c.body_diameter_mm {
-        return Err(r.fail("body_length_mm", "must be at least the body diameter (prolate body model)"));
+        return Err(r.fail(
+            "body_length_mm",
+            "must be at least the body diameter (prolate body model)",
+        ));
     }
     Ok(())
 }

@@ -18,7 +18,11 @@ pub fn to_toml(data: &Dataset) -> String {
         num(&mut out, "amplitude_mm", c.amplitude_mm);
         num(&mut out, "tail_length_mm", c.tail_length_mm);
         num(&mut out, "wire_diameter_mm", c.wire_diameter_mm);
-        let _ = writeln!(out, "handedness = {}", quoted(&format!("{:?}", c.handedness).to_lowercase()));
+        let _ = writeln!(
+            out,
+            "handedness = {}",
+            quoted(&format!("{:?}", c.handedness).to_lowercase())
+        );
         num(&mut out, "frequency_hz", c.frequency_hz);
         num(&mut out, "channel_diameter_mm", c.channel_diameter_mm);
         num(&mut out, "channel_length_mm", c.channel_length_mm);
@@ -36,17 +40,34 @@ pub fn to_toml(data: &Dataset) -> String {
         num(&mut out, "coupler_length_mm", c.coupler_length_mm);
         let measured = |out: &mut String, mean_key: &str, ci_key: &str, m: &Option<Measured>| {
             if let Some(m) = m {
-                let _ = writeln!(out, "{mean_key} = {:?}\n{ci_key} = {:?}", m.mean, m.ci_half_width);
-                let _ = writeln!(out, "confidence = {:?}\ntrials = {}", m.confidence, m.trials);
+                let _ = writeln!(
+                    out,
+                    "{mean_key} = {:?}\n{ci_key} = {:?}",
+                    m.mean, m.ci_half_width
+                );
+                let _ = writeln!(
+                    out,
+                    "confidence = {:?}\ntrials = {}",
+                    m.confidence, m.trials
+                );
             }
         };
         measured(&mut out, "u_mm_s", "u_ci_mm_s", &c.u_mm_s);
         if c.u_mm_s.is_some() {
             if let Some(m) = &c.omega_body_hz {
-                let _ = writeln!(out, "omega_body_hz = {:?}\nomega_body_ci_hz = {:?}", m.mean, m.ci_half_width);
+                let _ = writeln!(
+                    out,
+                    "omega_body_hz = {:?}\nomega_body_ci_hz = {:?}",
+                    m.mean, m.ci_half_width
+                );
             }
         } else {
-            measured(&mut out, "omega_body_hz", "omega_body_ci_hz", &c.omega_body_hz);
+            measured(
+                &mut out,
+                "omega_body_hz",
+                "omega_body_ci_hz",
+                &c.omega_body_hz,
+            );
         }
     }
     out

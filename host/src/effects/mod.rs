@@ -114,7 +114,9 @@ impl EffectInstance {
 
     /// Indices of the free parameters.
     pub fn free_indices(&self) -> Vec<usize> {
-        (0..self.values.len()).filter(|&i| self.effect.params()[i].free).collect()
+        (0..self.values.len())
+            .filter(|&i| self.effect.params()[i].free)
+            .collect()
     }
 
     /// `name:k=v,...` with every parameter, as the command line takes it.
@@ -145,11 +147,24 @@ mod tests {
     #[test]
     fn catalogue_names_are_unique_kebab_case_and_documented() {
         for (i, e) in CATALOGUE.iter().enumerate() {
-            assert!(e.name().chars().all(|c| c.is_ascii_lowercase() || c == '-'), "{}", e.name());
-            assert!(CATALOGUE[..i].iter().all(|o| o.name() != e.name()), "duplicate {}", e.name());
+            assert!(
+                e.name().chars().all(|c| c.is_ascii_lowercase() || c == '-'),
+                "{}",
+                e.name()
+            );
+            assert!(
+                CATALOGUE[..i].iter().all(|o| o.name() != e.name()),
+                "duplicate {}",
+                e.name()
+            );
             assert!(!e.statement().is_empty() && !e.reference().is_empty());
             for p in e.params() {
-                assert!(p.min <= p.default && p.default <= p.max, "{}: {}", e.name(), p.name);
+                assert!(
+                    p.min <= p.default && p.default <= p.max,
+                    "{}: {}",
+                    e.name(),
+                    p.name
+                );
                 assert!(!p.unit.is_empty() && !p.doc.is_empty());
             }
         }

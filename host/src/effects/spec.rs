@@ -8,11 +8,26 @@ pub enum EffectSpecError {
     #[error("unknown effect `{name}`; known effects: {known}")]
     UnknownEffect { name: String, known: String },
     #[error("effect `{effect}` has no parameter `{param}`; its parameters: {known}")]
-    UnknownParam { effect: String, param: String, known: String },
+    UnknownParam {
+        effect: String,
+        param: String,
+        known: String,
+    },
     #[error("effect `{effect}`, parameter `{param}`: `{value}` is not a number")]
-    NotANumber { effect: String, param: String, value: String },
+    NotANumber {
+        effect: String,
+        param: String,
+        value: String,
+    },
     #[error("effect `{effect}`, parameter `{param}` = {value} is outside its bounds [{min}, {max}] {unit}")]
-    OutOfBounds { effect: String, param: String, value: f64, min: f64, max: f64, unit: String },
+    OutOfBounds {
+        effect: String,
+        param: String,
+        value: f64,
+        min: f64,
+        max: f64,
+        unit: String,
+    },
     #[error("effect `{effect}`: `{item}` is not of the form param=value")]
     Malformed { effect: String, item: String },
 }
@@ -25,30 +40,46 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
     };
     let effect = by_name(name).ok_or_else(|| EffectSpecError::UnknownEffect {
         name: name.to_string(),
-        known: CATALOGUE.iter().map(|e| e.name()).collect::<Vec<_>>().join(", "),
+        known: CATALOGUE
+            .iter()
+            .map(|e| e.name())
+            .collect::<Vec<_>>()
+            .join(", "),
     })?;
     let mut inst = EffectInstance::default_of(effect);
-    for item in params.into_iter().flat_map(|p| p.split(',')).filter(|s| !s.trim().is_empty()) {
-        let (k, v) = item.split_once('=').ok_or_else(|| EffectSpecError::Malformed {
-            effect: name.to_string(),
-            item: item.to_string(),
-        })?;
+    for item in params
+        .into_iter()
+        .flat_map(|p| p.split(','))
+        .filter(|s| !s.trim().is_empty())
+    {
+        let (k, v) = item
+            .split_once('=')
+            .ok_or_else(|| EffectSpecError::Malformed {
+                effect: name.to_string(),
+                item: item.to_string(),
+            })?;
         let (k, v) = (k.trim(), v.trim());
         let specs = effect.params();
-        let idx = specs.iter().position(|p| p.name == k).ok_or_else(|| EffectSpecError::UnknownParam {
-            effect: name.to_string(),
-            param: k.to_string(),
-            known: if specs.is_empty() {
-                "none".to_string()
-            } else {
-                specs.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
-            },
+        let idx = specs.iter().position(|p| p.name == k).ok_or_else(|| {
+            EffectSpecError::UnknownParam {
+                effect: name.to_string(),
+                param: k.to_string(),
+                known: if specs.is_empty() {
+                    "none".to_string()
+                } else {
+                    specs.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+                },
+            }
         })?;
-        let value: f64 = v.parse().ok().filter(|x: &f64| x.is_finite()).ok_or_else(|| EffectSpecError::NotANumber {
-            effect: name.to_string(),
-            param: k.to_string(),
-            value: v.to_string(),
-        })?;
+        let value: f64 = v
+            .parse()
+            .ok()
+            .filter(|x: &f64| x.is_finite())
+            .ok_or_else(|| EffectSpecError::NotANumber {
+                effect: name.to_string(),
+                param: k.to_string(),
+                value: v.to_string(),
+            })?;
         let p = &specs[idx];
         if value < p.min || value > p.max {
             return Err(EffectSpecError::OutOfBounds {
@@ -89,13 +120,21 @@ mod tests {
     fn rejects_with_a_message_that_names_the_problem() {
         let e = parse_effect_spec("bogus").unwrap_err().to_string();
         assert!(e.contains("bogus") && e.contains("backflow"), "{e}");
-        let e = parse_effect_spec("body-correction:speed=3").unwrap_err().to_string();
+        let e = parse_effect_spec("body-correction:speed=3")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("speed") && e.contains("translation"), "{e}");
-        let e = parse_effect_spec("body-correction:translation=abc").unwrap_err().to_string();
+        let e = parse_effect_spec("body-correction:translation=abc")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("abc"), "{e}");
-        let e = parse_effect_spec("body-correction:translation=-1").unwrap_err().to_string();
+        let e = parse_effect_spec("body-correction:translation=-1")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("outside"), "{e}");
-        let e = parse_effect_spec("body-correction:translation=NaN").unwrap_err().to_string();
+        let e = parse_effect_spec("body-correction:translation=NaN")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not a number"), "{e}");
     }
 }

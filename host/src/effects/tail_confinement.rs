@@ -41,7 +41,10 @@ pub fn factors(case: &Case, gamma: f64) -> (f64, f64) {
     let l_eff = (1.0 / (1.0 / lambda + gamma / (2.0 * h))).max(2.0 * d);
     let ln_free = (lambda / d).ln();
     let ln_wall = (l_eff / d).ln();
-    ((ln_free - 0.5) / (ln_wall - 0.5), (ln_free + 0.5) / (ln_wall + 0.5))
+    (
+        (ln_free - 0.5) / (ln_wall - 0.5),
+        (ln_free + 0.5) / (ln_wall + 0.5),
+    )
 }
 
 impl Effect for TailConfinement {

@@ -58,7 +58,12 @@ impl Effect for WallContact {
         "tails with L_t / D_ch >= min_length_ratio"
     }
     fn balance(&self, p: &[f64], case: &Case, fb: &mut ForceBalance) {
-        let scale = case.viscosity_pa_s * case.tail_rate_rad_s() * case.amplitude_mm * 1e-3 * case.tail_length_mm * 1e-3;
+        let scale = case.viscosity_pa_s
+            * case.tail_rate_rad_s()
+            * case.amplitude_mm
+            * 1e-3
+            * case.tail_length_mm
+            * 1e-3;
         fb.load[0] += p[0] * scale;
     }
 }

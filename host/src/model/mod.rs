@@ -60,7 +60,10 @@ pub struct Prediction {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
     #[error("case `{case}`: {source}")]
-    Coefficients { case: String, source: CoefficientError },
+    Coefficients {
+        case: String,
+        source: CoefficientError,
+    },
     #[error("case `{case}`: {source}")]
     Body { case: String, source: BodyError },
     #[error("case `{case}`: {source}")]
@@ -98,7 +101,9 @@ impl Model {
     }
 
     fn active<'a>(&'a self, case: &'a Case) -> impl Iterator<Item = &'a EffectInstance> + 'a {
-        self.effects.iter().filter(move |e| e.effect.applies_to(case, &e.values))
+        self.effects
+            .iter()
+            .filter(move |e| e.effect.applies_to(case, &e.values))
     }
 
     /// The tail matrix for a case, all stages of the effects applied.
@@ -107,7 +112,10 @@ impl Model {
         let mut drag = self
             .coefficients
             .local_drag(&helix, case.viscosity_pa_s)
-            .map_err(|source| ModelError::Coefficients { case: case.id.clone(), source })?;
+            .map_err(|source| ModelError::Coefficients {
+                case: case.id.clone(),
+                source,
+            })?;
         for e in self.active(case) {
             e.effect.local_drag(&e.values, case, &mut drag);
         }
@@ -115,7 +123,12 @@ impl Model {
             // The x-only solve reads only the axial block: skip the 36-entry integration.
             (TailMethod::Exact, true) => axial_only(tail::axial_closed_form(&helix, drag)),
             (TailMethod::Exact, false) => tail::matrix_exact(&helix, drag),
-            (TailMethod::Quadrature { nodes_per_wavelength }, _) => tail::matrix_quadrature(&helix, drag, nodes_per_wavelength),
+            (
+                TailMethod::Quadrature {
+                    nodes_per_wavelength,
+                },
+                _,
+            ) => tail::matrix_quadrature(&helix, drag, nodes_per_wavelength),
         };
         for e in self.active(case) {
             e.effect.tail(&e.values, case, &mut m);
@@ -126,7 +139,10 @@ impl Model {
     /// The body matrix for a case, effects applied.
     pub fn body_matrix(&self, case: &Case) -> Result<Matrix6<f64>, ModelError> {
         let mut b = BodyResistance::prolate_spheroid(&case.body(), case.viscosity_pa_s)
-            .map_err(|source| ModelError::Body { case: case.id.clone(), source })?
+            .map_err(|source| ModelError::Body {
+                case: case.id.clone(),
+                source,
+            })?
             .matrix();
         for e in self.active(case) {
             e.effect.body(&e.values, case, &mut b);
@@ -136,7 +152,11 @@ impl Model {
 
     /// Eq. 11 assembled for a case, before solving.
     pub fn force_balance(&self, case: &Case) -> Result<ForceBalance, ModelError> {
-        let mut fb = ForceBalance::new(self.body_matrix(case)?, self.tail_matrix(case)?, case.tail_rate_rad_s());
+        let mut fb = ForceBalance::new(
+            self.body_matrix(case)?,
+            self.tail_matrix(case)?,
+            case.tail_rate_rad_s(),
+        );
         fb.dofs = self.dofs;
         for e in self.active(case) {
             e.effect.balance(&e.values, case, &mut fb);
@@ -149,7 +169,10 @@ impl Model {
         let v = self
             .force_balance(case)?
             .solve()
-            .map_err(|source| ModelError::Solve { case: case.id.clone(), source })?;
+            .map_err(|source| ModelError::Solve {
+                case: case.id.clone(),
+                source,
+            })?;
         prediction(case, v)
     }
 }

@@ -146,10 +146,17 @@ mod tests {
         )
         .unwrap();
         let sbt = 2.0 * PI * mu * (2.0 * a) / ((2.0 * a / b).ln() - 0.5);
-        assert!((res.axial_n_s_per_m / sbt - 1.0).abs() < 1e-3, "{} vs {sbt}", res.axial_n_s_per_m);
+        assert!(
+            (res.axial_n_s_per_m / sbt - 1.0).abs() < 1e-3,
+            "{} vs {sbt}",
+            res.axial_n_s_per_m
+        );
         let sbt_transverse = 4.0 * PI * mu * (2.0 * a) / ((2.0 * a / b).ln() + 0.5);
         let t = res.transverse_n_s_per_m;
-        assert!((t / sbt_transverse - 1.0).abs() < 1e-3, "{t} vs {sbt_transverse}");
+        assert!(
+            (t / sbt_transverse - 1.0).abs() < 1e-3,
+            "{t} vs {sbt_transverse}"
+        );
     }
 
     #[test]

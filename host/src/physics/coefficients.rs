@@ -43,7 +43,8 @@ pub trait DragCoefficients: Send + Sync {
     /// The name used on the command line.
     fn name(&self) -> &'static str;
     fn reference(&self) -> &'static str;
-    fn local_drag(&self, helix: &Helix, viscosity_pa_s: f64) -> Result<LocalDrag, CoefficientError>;
+    fn local_drag(&self, helix: &Helix, viscosity_pa_s: f64)
+        -> Result<LocalDrag, CoefficientError>;
 }
 
 /// Gray & Hancock (1955), the paper's eqs. 4-5.
@@ -92,7 +93,10 @@ fn checked(set: &'static str, denominator: f64, log: f64) -> Result<(), Coeffici
     if denominator > 0.0 && denominator.is_finite() {
         Ok(())
     } else {
-        Err(CoefficientError::LogBreakdown { set, arg: log.exp() })
+        Err(CoefficientError::LogBreakdown {
+            set,
+            arg: log.exp(),
+        })
     }
 }
 

@@ -228,7 +228,13 @@ mod tests {
             let d = 1e-4;
             let p = |s: f64| h.point(s);
             let xi = 0.013;
-            let (pm2, pm1, p0, pp1, pp2) = (p(xi - 2.0 * d), p(xi - d), p(xi), p(xi + d), p(xi + 2.0 * d));
+            let (pm2, pm1, p0, pp1, pp2) = (
+                p(xi - 2.0 * d),
+                p(xi - d),
+                p(xi),
+                p(xi + d),
+                p(xi + 2.0 * d),
+            );
             let mut r1 = [0.0; 3];
             let mut r2 = [0.0; 3];
             let mut r3 = [0.0; 3];

@@ -171,7 +171,11 @@ mod tests {
             ..ForceBalance::new(diag([1.0, 0.0, 1.0, 1.0, 1.0, 1.0]), Matrix6::zeros(), 1.0)
         };
         assert!(matches!(fb.solve(), Err(SolveError::Singular { .. })));
-        let fb = ForceBalance::new(diag([f64::NAN, 1.0, 1.0, 1.0, 1.0, 1.0]), Matrix6::zeros(), 1.0);
+        let fb = ForceBalance::new(
+            diag([f64::NAN, 1.0, 1.0, 1.0, 1.0, 1.0]),
+            Matrix6::zeros(),
+            1.0,
+        );
         assert_eq!(fb.solve(), Err(SolveError::NonFinite));
     }
 }

@@ -73,7 +73,8 @@ fn integrand(helix: &Helix, drag: LocalDrag, xi: f64, theta: f64) -> Matrix6<f64
     let (s, c) = theta.sin_cos();
     let p = Vector3::new(helix.joint_x_m - xi, b * c, -chi * b * s);
     let t = Vector3::new(-1.0, -kb * s, -chi * kb * c) / g;
-    let k = Matrix3::identity() * drag.normal + (t * t.transpose()) * (drag.tangential - drag.normal);
+    let k =
+        Matrix3::identity() * drag.normal + (t * t.transpose()) * (drag.tangential - drag.normal);
     let sk = skew(&p);
     let ks = k * sk;
     let mut m = Matrix6::zeros();
@@ -152,7 +153,11 @@ fn moments(a: f64, len: f64) -> [Complex<f64>; 3] {
 
 /// Composite trapezoidal rule for eq. 3 on nodes spaced at most
 /// `lambda / nodes_per_wavelength` (the paper: 100 per wavelength).
-pub fn matrix_quadrature(helix: &Helix, drag: LocalDrag, nodes_per_wavelength: usize) -> Matrix6<f64> {
+pub fn matrix_quadrature(
+    helix: &Helix,
+    drag: LocalDrag,
+    nodes_per_wavelength: usize,
+) -> Matrix6<f64> {
     let n = quadrature_nodes(helix, nodes_per_wavelength);
     let h = helix.axial_length_m / (n - 1) as f64;
     let k = helix.wavenumber();

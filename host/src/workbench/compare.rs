@@ -73,7 +73,11 @@ pub fn case_residuals(case: &Case, p: &Prediction) -> Vec<(Quantity, Residual)> 
 }
 
 /// Compare `model` with every case of `data`.
-pub fn compare(model: &Model, data: &Dataset, free_params: usize) -> Result<Comparison, ModelError> {
+pub fn compare(
+    model: &Model,
+    data: &Dataset,
+    free_params: usize,
+) -> Result<Comparison, ModelError> {
     let mut cases = Vec::with_capacity(data.cases.len());
     let mut all = Vec::new();
     for case in &data.cases {

@@ -1,0 +1,134 @@
+//! `swimbot helix`: the tail's 6x6 resistance matrix (eq. 3) for one helix.
+
+use super::output::{print_json, Format};
+use super::CliError;
+use crate::physics::coefficients::CoefficientSet;
+use crate::physics::geometry::{Handedness, Helix};
+use crate::physics::tail;
+use clap::{Args, ValueEnum};
+
+#[derive(Args, Debug)]
+pub struct HelixArgs {
+    #[arg(long)]
+    pub wavelength_mm: f64,
+    #[arg(long)]
+    pub amplitude_mm: f64,
+    /// Axial length L_t.
+    #[arg(long)]
+    pub length_mm: f64,
+    #[arg(long, default_value_t = 1.0)]
+    pub wire_diameter_mm: f64,
+    #[arg(long, default_value_t = 3.5)]
+    pub viscosity_pa_s: f64,
+    #[arg(long, value_enum, default_value = "gray-hancock")]
+    pub coefficients: super::model_args::CoefficientsArg,
+    #[arg(long, value_enum, default_value = "exact")]
+    pub method: HelixMethod,
+    /// Quadrature nodes per wavelength (with --method quadrature).
+    #[arg(long, default_value_t = 100)]
+    pub nodes_per_wavelength: usize,
+    /// Left-handed helix instead of the paper's right-handed one.
+    #[arg(long)]
+    pub left_handed: bool,
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: Format,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum HelixMethod {
+    Exact,
+    Quadrature,
+}
+
+#[derive(serde::Serialize)]
+struct HelixOut {
+    method: &'static str,
+    coefficients: String,
+    /// Row-major 6x6, SI: [force; torque about the joint] = -matrix [U; Omega].
+    matrix: Vec<Vec<f64>>,
+    drag_n_s_per_m: f64,
+    thrust_n_s: f64,
+    torque_n_m_s: f64,
+    arc_length_mm: f64,
+    n_waves: f64,
+    c_t_pa_s: f64,
+    c_n_pa_s: f64,
+}
+
+fn positive(name: &str, v: f64) -> Result<f64, CliError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(CliError::input(format!(
+            "--{name} must be a positive number, got {v}"
+        )))
+    }
+}
+
+pub fn run(a: HelixArgs) -> Result<(), CliError> {
+    let mut h = Helix::from_mm(
+        positive("wavelength-mm", a.wavelength_mm)?,
+        positive("amplitude-mm", a.amplitude_mm)?,
+        positive("length-mm", a.length_mm)?,
+        positive("wire-diameter-mm", a.wire_diameter_mm)?,
+    );
+    if a.left_handed {
+        h.handedness = Handedness::Left;
+    }
+    let mu = positive("viscosity-pa-s", a.viscosity_pa_s)?;
+    let set = match a.coefficients {
+        super::model_args::CoefficientsArg::GrayHancock => CoefficientSet::GrayHancock,
+        super::model_args::CoefficientsArg::Lighthill => CoefficientSet::Lighthill,
+    };
+    let drag = set.local_drag(&h, mu).map_err(CliError::input)?;
+    let (m, method) = match a.method {
+        HelixMethod::Exact => (tail::matrix_exact(&h, drag), "exact"),
+        HelixMethod::Quadrature => {
+            if a.nodes_per_wavelength < 2 {
+                return Err(CliError::input("--nodes-per-wavelength must be at least 2"));
+            }
+            (
+                tail::matrix_quadrature(&h, drag, a.nodes_per_wavelength),
+                "quadrature",
+            )
+        }
+    };
+    let out = HelixOut {
+        method,
+        coefficients: set.to_string(),
+        matrix: (0..6)
+            .map(|i| (0..6).map(|j| m[(i, j)]).collect())
+            .collect(),
+        drag_n_s_per_m: m[(0, 0)],
+        thrust_n_s: m[(0, 3)],
+        torque_n_m_s: m[(3, 3)],
+        arc_length_mm: h.arc_length_m() * 1e3,
+        n_waves: h.n_waves(),
+        c_t_pa_s: drag.tangential,
+        c_n_pa_s: drag.normal,
+    };
+    match a.format {
+        Format::Json => print_json(&out),
+        _ => print_table(&out),
+    }
+    Ok(())
+}
+
+fn print_table(o: &HelixOut) {
+    println!(
+        "tail resistance matrix ({}, {}), SI units, about the helix joint:",
+        o.method, o.coefficients
+    );
+    println!("rows/cols: Fx Fy Fz Tx Ty Tz / Ux Uy Uz Ωx Ωy Ωz");
+    for row in &o.matrix {
+        let cells: Vec<String> = row.iter().map(|v| format!("{v:>12.4e}")).collect();
+        println!("  {}", cells.join(" "));
+    }
+    println!("axial drag        B(1,1) = {:.6e} N s/m", o.drag_n_s_per_m);
+    println!("thrust per rate   B(1,4) = {:.6e} N s", o.thrust_n_s);
+    println!("torque per rate   B(4,4) = {:.6e} N m s", o.torque_n_m_s);
+    println!(
+        "arc length {:.2} mm, {:.3} waves, c_t = {:.4} Pa s, c_n = {:.4} Pa s",
+        o.arc_length_mm, o.n_waves, o.c_t_pa_s, o.c_n_pa_s
+    );
+}

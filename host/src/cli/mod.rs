@@ -1,0 +1,51 @@
+//! The `swimbot` command line: argument definitions and dispatch. Every
+//! subcommand validates its flags into a model, a dataset and settings
+//! before any work starts; input problems are [`CliError::Input`] (exit 2).
+
+mod compare;
+mod effects;
+mod error;
+mod helix;
+mod model_args;
+mod output;
+mod sweep;
+
+pub use error::CliError;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "swimbot",
+    version,
+    about = "Model, compare and diagnose a helical-tail swimming robot in a channel",
+    long_about = "Resistive-force-theory model of a two-link helical swimmer in a closed, oil-filled channel, \
+                  a workbench that compares it with measurements and finds the missing physical effect, \
+                  and a whole-robot simulation. Without --data, the paper's built-in measurements are used."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Model against measurement for every case, with summary errors and the HTML report.
+    Compare(compare::CompareArgs),
+    /// The tail's 6x6 resistance matrix for one helix.
+    Helix(helix::HelixArgs),
+    /// Predictions over a grid of geometries (CSV, parallel).
+    Sweep(sweep::SweepArgs),
+    /// List the catalogue of physical effects.
+    Effects(effects::EffectsArgs),
+}
+
+/// Run a parsed command line.
+pub fn run(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
+        Command::Compare(a) => compare::run(a),
+        Command::Helix(a) => helix::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Effects(a) => effects::run(a),
+    }
+}

@@ -1,0 +1,104 @@
+//! Model options shared by the subcommands, validated into a [`Model`].
+
+use super::CliError;
+use crate::data::{self, Dataset};
+use crate::effects::parse_effect_spec;
+use crate::model::{preset, Model, TailMethod, PRESETS};
+use crate::physics::coefficients::CoefficientSet;
+use crate::physics::solve::Dofs;
+use clap::{Args, ValueEnum};
+use std::path::PathBuf;
+
+#[derive(Args, Debug, Clone)]
+pub struct ModelArgs {
+    /// Named model: base, paper, paper-lighthill (default base).
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Local drag coefficient set (overrides the preset's).
+    #[arg(long, value_enum)]
+    pub coefficients: Option<CoefficientsArg>,
+    /// Add an effect: NAME or NAME:param=value,... (repeatable; see `swimbot effects`).
+    #[arg(long = "effect", value_name = "NAME[:k=v,...]")]
+    pub effects: Vec<String>,
+    /// How eq. 3 is integrated.
+    #[arg(long, value_enum, default_value = "exact")]
+    pub method: MethodArg,
+    /// Quadrature nodes per wavelength (with --method quadrature; the paper used 100).
+    #[arg(long, default_value_t = 100)]
+    pub nodes_per_wavelength: usize,
+    /// Degrees of freedom: axial (x-translation and x-rotation, the paper) or all six.
+    #[arg(long, value_enum, default_value = "axial")]
+    pub dofs: DofsArg,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum CoefficientsArg {
+    GrayHancock,
+    Lighthill,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum MethodArg {
+    Exact,
+    Quadrature,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum DofsArg {
+    Axial,
+    All,
+}
+
+impl ModelArgs {
+    pub fn model(&self) -> Result<Model, CliError> {
+        let name = self.preset.as_deref().unwrap_or("base");
+        let mut model = preset(name).ok_or_else(|| {
+            let known: Vec<&str> = PRESETS.iter().map(|p| p.0).collect();
+            CliError::input(format!(
+                "unknown preset `{name}`; known presets: {}",
+                known.join(", ")
+            ))
+        })?;
+        if let Some(c) = self.coefficients {
+            model.coefficients = match c {
+                CoefficientsArg::GrayHancock => CoefficientSet::GrayHancock,
+                CoefficientsArg::Lighthill => CoefficientSet::Lighthill,
+            };
+        }
+        for spec in &self.effects {
+            let e = parse_effect_spec(spec)?;
+            if model.effects.iter().any(|m| m.name() == e.name()) {
+                return Err(CliError::input(format!(
+                    "effect `{}` is already in the model ({}); give it once",
+                    e.name(),
+                    model.describe()
+                )));
+            }
+            model.effects.push(e);
+        }
+        model.tail_method = match self.method {
+            MethodArg::Exact => TailMethod::Exact,
+            MethodArg::Quadrature => {
+                if self.nodes_per_wavelength < 2 {
+                    return Err(CliError::input("--nodes-per-wavelength must be at least 2"));
+                }
+                TailMethod::Quadrature {
+                    nodes_per_wavelength: self.nodes_per_wavelength,
+                }
+            }
+        };
+        model.dofs = match self.dofs {
+            DofsArg::Axial => Dofs::AXIAL,
+            DofsArg::All => Dofs::ALL,
+        };
+        Ok(model)
+    }
+}
+
+/// `--data F` or the built-in paper data.
+pub fn load_data(path: &Option<PathBuf>) -> Result<Dataset, CliError> {
+    match path {
+        Some(p) => Ok(data::load_file(p)?),
+        None => Ok(data::paper()),
+    }
+}

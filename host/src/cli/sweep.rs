@@ -1,0 +1,264 @@
+//! `swimbot sweep`: predictions over a grid of tail geometries, frequencies
+//! and channel diameters, computed in parallel and written as CSV.
+
+use super::model_args::ModelArgs;
+use super::CliError;
+use crate::data::Case;
+use crate::model::Model;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use std::io::Write;
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    /// start:stop:count, or one value.
+    #[arg(long, value_name = "A:B:N")]
+    pub wavelength_mm: String,
+    #[arg(long, value_name = "A:B:N")]
+    pub amplitude_mm: String,
+    #[arg(long, value_name = "A:B:N")]
+    pub tail_length_mm: String,
+    #[arg(long, value_name = "A:B:N", default_value = "1.0")]
+    pub frequency_hz: String,
+    #[arg(long, value_name = "A:B:N", default_value = "35.0")]
+    pub channel_diameter_mm: String,
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Output CSV (stdout if absent).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+/// A parsed `start:stop:count` range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Range {
+    pub values: Vec<f64>,
+}
+
+pub fn parse_range(flag: &str, text: &str) -> Result<Range, CliError> {
+    let bad = |why: &str| {
+        CliError::input(format!(
+            "--{flag} `{text}`: {why} (expected start:stop:count or one value)"
+        ))
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    let num = |s: &str| -> Result<f64, CliError> {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .ok_or_else(|| bad(&format!("`{s}` is not a positive number")))
+    };
+    match parts.as_slice() {
+        [v] => Ok(Range {
+            values: vec![num(v)?],
+        }),
+        [a, b, n] => {
+            let (a, b) = (num(a)?, num(b)?);
+            let n: usize = n
+                .trim()
+                .parse()
+                .ok()
+                .filter(|n| *n >= 1)
+                .ok_or_else(|| bad("count must be a whole number >= 1"))?;
+            if n == 1 && a != b {
+                return Err(bad("a count of 1 needs start = stop"));
+            }
+            let values = (0..n)
+                .map(|i| {
+                    if n == 1 {
+                        a
+                    } else {
+                        a + (b - a) * i as f64 / (n - 1) as f64
+                    }
+                })
+                .collect();
+            Ok(Range { values })
+        }
+        _ => Err(bad("wrong number of fields")),
+    }
+}
+
+struct Grid {
+    wavelength: Range,
+    amplitude: Range,
+    length: Range,
+    frequency: Range,
+    channel: Range,
+}
+
+impl Grid {
+    fn len(&self) -> usize {
+        self.wavelength.values.len()
+            * self.amplitude.values.len()
+            * self.length.values.len()
+            * self.frequency.values.len()
+            * self.channel.values.len()
+    }
+
+    /// The `i`-th grid point as a case (row-major, channel fastest).
+    fn case(&self, template: &Case, mut i: usize) -> Case {
+        let mut pick = |r: &Range| {
+            let n = r.values.len();
+            let v = r.values[i % n];
+            i /= n;
+            v
+        };
+        let channel = pick(&self.channel);
+        let frequency = pick(&self.frequency);
+        let length = pick(&self.length);
+        let amplitude = pick(&self.amplitude);
+        let wavelength = pick(&self.wavelength);
+        Case {
+            wavelength_mm: wavelength,
+            amplitude_mm: amplitude,
+            tail_length_mm: length,
+            frequency_hz: frequency,
+            channel_diameter_mm: channel,
+            ..template.clone()
+        }
+    }
+}
+
+/// Predictions of one grid point.
+struct Row {
+    u_mm_s: f64,
+    omega_hz: f64,
+    u_ratio: f64,
+    omega_ratio: f64,
+}
+
+pub fn run(a: SweepArgs) -> Result<(), CliError> {
+    let grid = Grid {
+        wavelength: parse_range("wavelength-mm", &a.wavelength_mm)?,
+        amplitude: parse_range("amplitude-mm", &a.amplitude_mm)?,
+        length: parse_range("tail-length-mm", &a.tail_length_mm)?,
+        frequency: parse_range("frequency-hz", &a.frequency_hz)?,
+        channel: parse_range("channel-diameter-mm", &a.channel_diameter_mm)?,
+    };
+    let model = a.model.model()?;
+    let mut template = crate::data::paper().cases[0].clone();
+    template.id = "sweep".into();
+    template.u_mm_s = None;
+    template.omega_body_hz = None;
+    check_grid(&grid, &template)?;
+    let n = grid.len();
+    let bar = progress(n);
+    let rows: Result<Vec<Row>, CliError> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let case = grid.case(&template, i);
+            if i % 4096 == 0 {
+                bar.inc(4096.min(n - i) as u64);
+            }
+            predict_row(&model, &case)
+        })
+        .collect();
+    bar.finish_and_clear();
+    write_csv(&grid, &template, &rows?, a.output.as_ref())
+}
+
+fn predict_row(model: &Model, case: &Case) -> Result<Row, CliError> {
+    let p = model.predict(case)?;
+    Ok(Row {
+        u_mm_s: p.u_mm_s,
+        omega_hz: p.omega_body_hz,
+        u_ratio: p.u_over_u_wave,
+        omega_ratio: p.omega_ratio,
+    })
+}
+
+/// Reject grids with points the model cannot evaluate, before the work.
+fn check_grid(g: &Grid, t: &Case) -> Result<(), CliError> {
+    let max = |r: &Range| r.values.iter().copied().fold(f64::MIN, f64::max);
+    let min = |r: &Range| r.values.iter().copied().fold(f64::MAX, f64::min);
+    if min(&g.wavelength) <= 2.0 * t.wire_diameter_mm {
+        return Err(CliError::input(format!(
+            "--wavelength-mm: {} mm is too short for the {} mm wire (the RFT logarithms need lambda > 2 D_t)",
+            min(&g.wavelength),
+            t.wire_diameter_mm
+        )));
+    }
+    if max(&g.amplitude) + 0.5 * t.wire_diameter_mm >= 0.5 * min(&g.channel) {
+        return Err(CliError::input(format!(
+            "--amplitude-mm: a {} mm helix does not fit in a {} mm channel",
+            max(&g.amplitude),
+            min(&g.channel)
+        )));
+    }
+    if t.body_diameter_mm >= min(&g.channel) {
+        return Err(CliError::input(format!(
+            "--channel-diameter-mm: {} mm is not wider than the {} mm body",
+            min(&g.channel),
+            t.body_diameter_mm
+        )));
+    }
+    Ok(())
+}
+
+fn progress(n: usize) -> ProgressBar {
+    if n < 200_000 {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(n as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} sweep {bar:40} {pos}/{len} geometries ({eta})")
+            .expect("valid template"),
+    );
+    bar
+}
+
+fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<(), CliError> {
+    let sink: Box<dyn Write> = match out {
+        Some(p) => Box::new(
+            std::fs::File::create(p)
+                .map_err(|e| CliError::input(format!("cannot create {}: {e}", p.display())))?,
+        ),
+        None => Box::new(std::io::stdout().lock()),
+    };
+    let mut w = std::io::BufWriter::with_capacity(1 << 20, sink);
+    let fail = |e: std::io::Error| CliError::failure(format!("writing the sweep CSV: {e}"));
+    writeln!(
+        w,
+        "wavelength_mm,amplitude_mm,tail_length_mm,frequency_hz,channel_diameter_mm,u_mm_s,omega_body_hz,u_over_u_wave,omega_ratio"
+    )
+    .map_err(fail)?;
+    for (i, r) in rows.iter().enumerate() {
+        let c = g.case(t, i);
+        writeln!(
+            w,
+            "{},{},{},{},{},{:.6e},{:.6e},{:.6e},{:.6e}",
+            c.wavelength_mm,
+            c.amplitude_mm,
+            c.tail_length_mm,
+            c.frequency_hz,
+            c.channel_diameter_mm,
+            r.u_mm_s,
+            r.omega_hz,
+            r.u_ratio,
+            r.omega_ratio
+        )
+        .map_err(fail)?;
+    }
+    w.flush().map_err(fail)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_parse_and_reject_with_the_flag_name() {
+        assert_eq!(parse_range("x", "2").unwrap().values, vec![2.0]);
+        assert_eq!(
+            parse_range("x", "1:3:3").unwrap().values,
+            vec![1.0, 2.0, 3.0]
+        );
+        for bad in ["1:2", "a:2:3", "1:2:0", "-1:2:2", "1:2:1", "1:2:x"] {
+            let e = parse_range("wavelength-mm", bad).unwrap_err().to_string();
+            assert!(e.contains("--wavelength-mm"), "{bad}: {e}");
+        }
+    }
+}
