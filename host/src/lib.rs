@@ -8,6 +8,7 @@ pub mod cli;
 pub mod data;
 pub mod effects;
 pub mod model;
+pub mod nonlocal;
 pub mod physics;
 pub mod report;
 pub mod robot;

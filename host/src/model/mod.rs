@@ -108,7 +108,16 @@ impl Model {
 
     /// The tail matrix for a case, all stages of the effects applied.
     pub fn tail_matrix(&self, case: &Case) -> Result<Matrix6<f64>, ModelError> {
-        let helix = case.helix();
+        self.tail_matrix_at(case, 0.0)
+    }
+
+    /// The tail matrix with the helix turned to phase `phase_rad` (see
+    /// [`crate::physics::geometry::Helix::phase_rad`]).
+    pub fn tail_matrix_at(&self, case: &Case, phase_rad: f64) -> Result<Matrix6<f64>, ModelError> {
+        let helix = crate::physics::geometry::Helix {
+            phase_rad,
+            ..case.helix()
+        };
         let mut drag = self
             .coefficients
             .local_drag(&helix, case.viscosity_pa_s)
@@ -152,11 +161,17 @@ impl Model {
 
     /// Eq. 11 assembled for a case, before solving.
     pub fn force_balance(&self, case: &Case) -> Result<ForceBalance, ModelError> {
-        let mut fb = ForceBalance::new(
-            self.body_matrix(case)?,
-            self.tail_matrix(case)?,
-            case.tail_rate_rad_s(),
-        );
+        self.force_balance_at(case, 0.0)
+    }
+
+    /// Eq. 11 with the tail at phase `phase_rad`.
+    pub fn force_balance_at(
+        &self,
+        case: &Case,
+        phase_rad: f64,
+    ) -> Result<ForceBalance, ModelError> {
+        let tail = self.tail_matrix_at(case, phase_rad)?;
+        let mut fb = ForceBalance::new(self.body_matrix(case)?, tail, case.tail_rate_rad_s());
         fb.dofs = self.dofs;
         for e in self.active(case) {
             e.effect.balance(&e.values, case, &mut fb);
@@ -164,16 +179,20 @@ impl Model {
         Ok(fb)
     }
 
-    /// Predict one case.
+    /// Predict one case (tail at phase 0; the axial results do not depend
+    /// on the phase, the lateral ones do: see [`time_domain`]).
     pub fn predict(&self, case: &Case) -> Result<Prediction, ModelError> {
-        let v = self
-            .force_balance(case)?
+        prediction(case, self.velocity_at(case, 0.0)?)
+    }
+
+    /// The instantaneous rigid-body velocity with the tail at `phase_rad`.
+    pub fn velocity_at(&self, case: &Case, phase_rad: f64) -> Result<Vector6<f64>, ModelError> {
+        self.force_balance_at(case, phase_rad)?
             .solve()
             .map_err(|source| ModelError::Solve {
                 case: case.id.clone(),
                 source,
-            })?;
-        prediction(case, v)
+            })
     }
 }
 

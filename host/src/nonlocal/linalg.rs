@@ -16,16 +16,18 @@ where
     let n = 3 * n_blocks;
     let mut data = vec![0.0; n * n];
     // Source `j` owns three contiguous columns, so threads never share memory.
-    data.par_chunks_mut(3 * n).enumerate().for_each(|(j, cols)| {
-        for i in 0..n_blocks {
-            let b = block(i, j);
-            for c in 0..3 {
-                for r in 0..3 {
-                    cols[c * n + 3 * i + r] = b[(r, c)];
+    data.par_chunks_mut(3 * n)
+        .enumerate()
+        .for_each(|(j, cols)| {
+            for i in 0..n_blocks {
+                let b = block(i, j);
+                for c in 0..3 {
+                    for r in 0..3 {
+                        cols[c * n + 3 * i + r] = b[(r, c)];
+                    }
                 }
             }
-        }
-    });
+        });
     DMatrix::from_vec(n, n, data)
 }
 

@@ -32,8 +32,8 @@ pub fn unit_motions(points: &[Vector3<f64>], moving: &[bool]) -> DMatrix<f64> {
 }
 
 /// `sum_j [F_j; c_j x F_j]` over the sources `j` in `range`, for each of the
-/// solution columns: row `k` of the result is the load for the motion in
-/// column `k` of `forces`, i.e. the transpose of a resistance block.
+/// solution columns: column `k` of the result is the load for the motion in
+/// column `columns.start + k` of `forces`, i.e. a resistance block.
 pub fn loads(
     forces: &DMatrix<f64>,
     centroids: &[Vector3<f64>],
@@ -45,7 +45,11 @@ pub fn loads(
         let mut f_tot = Vector3::zeros();
         let mut t_tot = Vector3::zeros();
         for j in range.clone() {
-            let f = Vector3::new(forces[(3 * j, col)], forces[(3 * j + 1, col)], forces[(3 * j + 2, col)]);
+            let f = Vector3::new(
+                forces[(3 * j, col)],
+                forces[(3 * j + 1, col)],
+                forces[(3 * j + 2, col)],
+            );
             f_tot += f;
             t_tot += centroids[j].cross(&f);
         }
@@ -57,12 +61,16 @@ pub fn loads(
     b
 }
 
-/// Smallest eigenvalue of the symmetric part, and the relative asymmetry
-/// `|B - B^T| / |B|` (Frobenius): the two properties every resistance matrix
-/// must have (positive dissipation, Lorentz reciprocity).
+/// Smallest eigenvalue of the symmetric part scaled to unit diagonal
+/// (`D^-1/2 B_sym D^-1/2`, so force and torque units do not matter), and the
+/// largest asymmetry `|B_ij - B_ji| / sqrt(B_ii B_jj)`: the two properties
+/// every resistance matrix must have (positive dissipation, Lorentz
+/// reciprocity).
 pub fn spd_check(b: &Matrix6<f64>) -> (f64, f64) {
-    let sym = (b + b.transpose()) * 0.5;
+    let d = b.diagonal().map(|v| 1.0 / v.abs().sqrt());
+    let scaled = Matrix6::from_fn(|i, j| b[(i, j)] * d[i] * d[j]);
+    let sym = (scaled + scaled.transpose()) * 0.5;
     let min_eig = sym.symmetric_eigenvalues().min();
-    let asym = (b - b.transpose()).norm() / b.norm();
+    let asym = (scaled - scaled.transpose()).abs().max();
     (min_eig, asym)
 }

@@ -41,7 +41,12 @@ pub fn regularized_stokeslet(x: &Vector3<f64>, eps_m: f64, viscosity_pa_s: f64) 
 /// the allocation-free inner loop of every matrix assembly here (the caller
 /// folds `1 / (8 pi mu)` and quadrature weights into `weight`).
 #[inline]
-pub fn add_regularized_stokeslet(out: &mut Matrix3<f64>, x: &Vector3<f64>, eps_m: f64, weight: f64) {
+pub fn add_regularized_stokeslet(
+    out: &mut Matrix3<f64>,
+    x: &Vector3<f64>,
+    eps_m: f64,
+    weight: f64,
+) {
     let r2 = x.norm_squared();
     let e2 = eps_m * eps_m;
     let d = r2 + e2;
@@ -125,6 +130,10 @@ mod tests {
             curl[a] = d_b_uc - d_c_ub;
         }
         let rot = regularized_rotlet(&x, eps, 1.0) * l;
-        assert!((rot - curl * 0.5).norm() < 1e-6 * rot.norm(), "{rot} vs {}", curl * 0.5);
+        assert!(
+            (rot - curl * 0.5).norm() < 1e-6 * rot.norm(),
+            "{rot} vs {}",
+            curl * 0.5
+        );
     }
 }
