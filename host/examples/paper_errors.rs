@@ -9,7 +9,10 @@ fn main() {
     for name in ["base", "paper", "paper-lighthill"] {
         let model = preset(name).expect("preset exists");
         let c = compare(&model, &data, 0).expect("paper data predicts");
-        println!("{name}: MARE {:.3}, chi2_red {:?}", c.summary.mare, c.summary.chi2_reduced);
+        println!(
+            "{name}: MARE {:.3}, chi2_red {:?}",
+            c.summary.mare, c.summary.chi2_reduced
+        );
         for k in &c.cases {
             println!(
                 "  {:7} U {:.4} vs {:.4} ({:+.1} %)   Om {:.4} vs {:.4} ({:+.1} %)",

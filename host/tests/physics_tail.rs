@@ -6,7 +6,8 @@ use proptest::prelude::*;
 use swimbot::physics::coefficients::CoefficientSet;
 use swimbot::physics::geometry::Helix;
 use swimbot::physics::tail::{
-    axial_closed_form, matrix_exact, matrix_quadrature, quadrature_nodes, PAPER_NODES_PER_WAVELENGTH,
+    axial_closed_form, matrix_exact, matrix_quadrature, quadrature_nodes,
+    PAPER_NODES_PER_WAVELENGTH,
 };
 
 const MU: f64 = 3.5;
@@ -31,7 +32,10 @@ fn rel_diff(a: &Matrix6<f64>, b: &Matrix6<f64>) -> f64 {
 
 #[test]
 fn tail_one_uses_839_nodes_at_the_papers_resolution() {
-    assert_eq!(quadrature_nodes(&paper_tails()[0], PAPER_NODES_PER_WAVELENGTH), 839);
+    assert_eq!(
+        quadrature_nodes(&paper_tails()[0], PAPER_NODES_PER_WAVELENGTH),
+        839
+    );
 }
 
 #[test]
@@ -51,7 +55,11 @@ fn exact_matrix_reproduces_the_closed_form_axial_entries() {
 #[test]
 fn quadrature_converges_to_the_exact_matrix_at_second_order() {
     for h in paper_tails() {
-        let h = Helix { phase_rad: 0.4, joint_x_m: -0.03, ..h };
+        let h = Helix {
+            phase_rad: 0.4,
+            joint_x_m: -0.03,
+            ..h
+        };
         let drag = CoefficientSet::GrayHancock.local_drag(&h, MU).unwrap();
         let exact = matrix_exact(&h, drag);
         let errors: Vec<f64> = [50, 100, 200, 400]
@@ -61,7 +69,10 @@ fn quadrature_converges_to_the_exact_matrix_at_second_order() {
         assert!(errors[1] < 1e-3, "paper resolution error {}", errors[1]);
         for w in errors.windows(2) {
             let order = (w[0] / w[1]).log2();
-            assert!((order - 2.0).abs() < 0.3, "observed order {order} from {errors:?}");
+            assert!(
+                (order - 2.0).abs() < 0.3,
+                "observed order {order} from {errors:?}"
+            );
         }
     }
 }
@@ -101,7 +112,10 @@ fn whole_turns_make_the_lateral_force_coupling_vanish() {
     let m = matrix_exact(&h, drag);
     assert!(m[(1, 3)].abs() < 1e-12 * m[(0, 3)].abs());
     assert!(m[(2, 3)].abs() < 1e-12 * m[(0, 3)].abs());
-    let half = Helix { axial_length_m: 0.045, ..h };
+    let half = Helix {
+        axial_length_m: 0.045,
+        ..h
+    };
     let m = matrix_exact(&half, drag);
     assert!(m[(1, 3)].abs() + m[(2, 3)].abs() > 1e-3 * m[(0, 3)].abs());
 }

@@ -60,6 +60,9 @@ impl Effect for BackflowObserved {
     fn reference(&self) -> &'static str {
         "paper eqs. 8-9 with U_robot observed"
     }
+    fn candidate(&self) -> bool {
+        false
+    }
     fn applies_to(&self, case: &Case, _p: &[f64]) -> bool {
         case.channel_closed
     }

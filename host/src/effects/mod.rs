@@ -82,6 +82,11 @@ pub trait Effect: Send + Sync {
     fn applies_to(&self, _case: &Case, _p: &[f64]) -> bool {
         true
     }
+    /// Whether `diagnose` may propose it (false for variants that only
+    /// reproduce the paper's procedure, such as `backflow-observed`).
+    fn candidate(&self) -> bool {
+        true
+    }
     /// Human-readable applicability, for `swimbot effects`.
     fn applicability(&self) -> &'static str {
         "all cases"

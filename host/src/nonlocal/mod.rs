@@ -20,10 +20,38 @@
 //! Both tail methods also add the local torque of the wire spinning about
 //! its own axis, `4 pi mu a^2` per length (`wire_spin`), which RFT omits.
 //!
-//! # Cost (measured, see the report in `benches/nonlocal.rs`)
+//! # Checks (`tests/nonlocal.rs`, measured)
+//! - Straight rod vs Cox (1970) / Batchelor (1970): SBT 0.90 % / 0.57 %
+//!   (parallel / perpendicular) at `l/a = 1e3`, 0.36 % / 0.27 % at `1e4`;
+//!   regularized Stokeslets 1.06 % / 0.72 % and 0.42 % / 0.31 %: the
+//!   `O(1/ln^2)` remainder of the asymptotic formula.
+//! - Helix, regularized Stokeslets: 12 segments per turn is within 0.4 % of
+//!   48 per turn on `B_xx`, `B_x,wx`, `B_wx,wx` for tails #1 and #5; 24 per
+//!   turn within 0.06 %.
+//! - SBT vs regularized Stokeslets, two-turn helix: worst axial entry differs
+//!   by 0.37 % at wire 0.1 mm and 0.11 % at 0.01 mm. On the 1 mm paper tails
+//!   they agree within 0.3 % on `B_xx` and 0.7 % on `B_wx,wx`, but the thrust
+//!   coupling `B_x,wx` differs by 1-7 % (largest for the tight tail #1),
+//!   which is the size of the SBT resolution spread (2.7 %).
+//! - Prolate spheroid 5:2 vs Chwang & Wu (1975): 1.9 % / 1.3 % at spacing
+//!   `0.2 b`, first order in the spacing.
+//! - Sphere on a tube axis, `a/R = 0.3`, vs Haberman & Sayre (1958): the
+//!   wall factor 2.370 is approached from below, 2.065 / 2.123 at wall spacings
+//!   `0.6 a` / `0.45 a`, 2.299 (3 % low) extrapolated linearly; a coarse wall of
+//!   regularized Stokeslets is a slightly leaky wall.
+//!
+//! # Cost (release build, this 2-core machine shared with others)
 //! Dense `3N x 3N` systems assembled in parallel with rayon and solved by
-//! faer's partial-pivoting LU (13x faster than nalgebra's at `3N = 3000` on
-//! this 2-core machine: 0.82 s vs 10.9 s, release build).
+//! faer's partial-pivoting LU (13x faster than nalgebra's at `3N = 3000`:
+//! 0.82 s vs 10.9 s). The fastest converged tail setting (1 % on the axial
+//! entries) is the default, 12 segments per turn: 2-11 ms per paper tail
+//! (regularized Stokeslets), 48 per turn 20-200 ms. With the body (1.5 mm
+//! spacing, about 1200 points) and the closed 35 mm channel (3 mm spacing,
+//! 2000-3500 points), `3N` is 10 000-14 000: 0.8-1.6 GB and 0.5-1.5 min.
+//! Memory is `8 (3N)^2` bytes, so 24 GiB holds `3N` up to about 50 000
+//! (N = 17 000 points), but its LU (`2/3 (3N)^3` flops at the ~20 Gflop/s
+//! measured) would take over an hour; `3N ~ 20 000` (3 GB, ~4 min) is the
+//! practical limit.
 pub mod confined;
 pub mod curve;
 pub mod linalg;
@@ -64,9 +92,9 @@ pub enum TailMethod {
     RegularizedStokeslets,
 }
 
-/// Resolution and model choices; `Default` is the converged setting found in
-/// `tests/nonlocal.rs` (axial entries within 1 % of the finest resolution
-/// for all six paper tails).
+/// Resolution and model choices. `Default` is the fastest converged
+/// setting: 12 segments per turn puts the axial entries of tails #1 and #5
+/// within 0.4 % of 48 per turn (`tests/nonlocal.rs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NonlocalSettings {
     pub method: TailMethod,
@@ -93,7 +121,7 @@ impl Default for NonlocalSettings {
     fn default() -> Self {
         NonlocalSettings {
             method: TailMethod::RegularizedStokeslets,
-            segments_per_turn: 24,
+            segments_per_turn: 12,
             min_segments: 16,
             blob_over_wire_radius: mrs_line::MATCHED_BLOB_OVER_RADIUS,
             wire_spin: true,

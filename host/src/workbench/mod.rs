@@ -1,3 +1,9 @@
 //! The model-vs-measurement workbench: compare a model with a dataset, find
 //! where it fails, and test which physical effect explains the failure.
 pub mod compare;
+pub mod design;
+pub mod diagnose;
+pub mod features;
+pub mod fit;
+pub mod noise;
+pub mod synth;

@@ -1,0 +1,106 @@
+//! Where the model fails: relative residuals against physical features of
+//! the cases (amplitude against body radius, number of waves, confinement
+//! of tail and body, frequency, tail length against channel diameter). A
+//! strong correlation points at the physics that depends on that feature.
+
+use super::compare::{Comparison, Quantity};
+use crate::data::{Case, Dataset};
+use serde::Serialize;
+
+/// A named feature of a case.
+pub struct Feature {
+    pub name: &'static str,
+    pub value: fn(&Case) -> f64,
+}
+
+pub const FEATURES: &[Feature] = &[
+    Feature {
+        name: "B_o/R_body",
+        value: |c| c.amplitude_ratio(),
+    },
+    Feature {
+        name: "N_lambda",
+        value: |c| c.n_waves(),
+    },
+    Feature {
+        name: "(B_o+D_t/2)/R_ch",
+        value: |c| (c.amplitude_mm + 0.5 * c.wire_diameter_mm) / (0.5 * c.channel_diameter_mm),
+    },
+    Feature {
+        name: "R_body/R_ch",
+        value: |c| c.body_diameter_mm / c.channel_diameter_mm,
+    },
+    Feature {
+        name: "f_Hz",
+        value: |c| c.frequency_hz,
+    },
+    Feature {
+        name: "L_t/D_ch",
+        value: |c| c.tail_length_mm / c.channel_diameter_mm,
+    },
+    Feature {
+        name: "pitch_angle_deg",
+        value: |c| {
+            (2.0 * std::f64::consts::PI * c.amplitude_mm / c.wavelength_mm)
+                .atan()
+                .to_degrees()
+        },
+    },
+];
+
+/// Correlation of one quantity's relative residual with one feature.
+#[derive(Debug, Clone, Serialize)]
+pub struct Trend {
+    pub quantity: Quantity,
+    pub feature: &'static str,
+    /// Pearson correlation over the cases.
+    pub r: f64,
+    /// Least-squares slope of the relative error per unit feature.
+    pub slope: f64,
+}
+
+/// Every (quantity, feature) trend, strongest first; features that do not
+/// vary across the cases are left out.
+pub fn trends(data: &Dataset, cmp: &Comparison) -> Vec<Trend> {
+    let mut out = Vec::new();
+    for q in [Quantity::U, Quantity::Omega] {
+        let pts: Vec<(&Case, f64)> = data
+            .cases
+            .iter()
+            .zip(&cmp.cases)
+            .filter_map(|(c, k)| match q {
+                Quantity::U => k.u_rel_err.map(|e| (c, e)),
+                Quantity::Omega => k.omega_rel_err.map(|e| (c, e)),
+            })
+            .collect();
+        if pts.len() < 3 {
+            continue;
+        }
+        for f in FEATURES {
+            let xs: Vec<f64> = pts.iter().map(|(c, _)| (f.value)(c)).collect();
+            let ys: Vec<f64> = pts.iter().map(|(_, e)| *e).collect();
+            if let Some((r, slope)) = pearson(&xs, &ys) {
+                out.push(Trend {
+                    quantity: q,
+                    feature: f.name,
+                    r,
+                    slope,
+                });
+            }
+        }
+    }
+    out.sort_by(|a, b| b.r.abs().total_cmp(&a.r.abs()));
+    out
+}
+
+fn pearson(x: &[f64], y: &[f64]) -> Option<(f64, f64)> {
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxx: f64 = x.iter().map(|v| (v - mx).powi(2)).sum();
+    let syy: f64 = y.iter().map(|v| (v - my).powi(2)).sum();
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    if sxx <= 1e-12 * mx.abs().max(1.0).powi(2) * n || syy == 0.0 {
+        return None;
+    }
+    Some((sxy / (sxx * syy).sqrt(), sxy / sxx))
+}

@@ -1,0 +1,227 @@
+//! The real `swimbot` binary on temporary directories: outputs, exit codes,
+//! and error messages for bad input.
+
+use std::process::{Command, Output};
+
+fn swimbot(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(args)
+        .output()
+        .expect("the swimbot binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn assert_input_error(o: &Output, needles: &[&str]) {
+    assert_eq!(o.status.code(), Some(2), "stderr: {}", stderr(o));
+    let err = stderr(o);
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "`{n}` missing from: {err}");
+    }
+}
+
+#[test]
+fn compare_json_has_the_documented_keys_and_writes_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("rep");
+    let o = swimbot(&[
+        "compare",
+        "--preset",
+        "paper",
+        "--format",
+        "json",
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let cases = v["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 6);
+    for key in [
+        "id",
+        "u_pred_mm_s",
+        "u_obs_mm_s",
+        "u_ci_mm_s",
+        "omega_pred_hz",
+        "omega_obs_hz",
+        "omega_ci_hz",
+        "u_rel_err",
+        "omega_rel_err",
+    ] {
+        assert!(!cases[0][key].is_null(), "missing {key}");
+    }
+    for key in ["mare", "max_abs_rel_err", "chi2_reduced"] {
+        assert!(v["summary"][key].is_number(), "missing summary.{key}");
+    }
+    assert!(report.join("index.html").exists());
+}
+
+#[test]
+fn compare_rejects_bad_data_with_file_case_and_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("bad.toml");
+    let text = swimbot::data::PAPER_TOML.replace("tail_length_mm = 60.0", "tail_length_mm = 0.0");
+    std::fs::write(&f, text).unwrap();
+    let o = swimbot(&["compare", "--no-report", "--data", f.to_str().unwrap()]);
+    assert_input_error(&o, &["bad.toml", "tail-4", "tail_length_mm"]);
+}
+
+#[test]
+fn unknown_preset_effect_and_parameter_are_input_errors() {
+    assert_input_error(
+        &swimbot(&["compare", "--no-report", "--preset", "nope"]),
+        &["nope", "paper"],
+    );
+    assert_input_error(
+        &swimbot(&["compare", "--no-report", "--effect", "nope"]),
+        &["nope", "backflow"],
+    );
+    assert_input_error(
+        &swimbot(&["compare", "--no-report", "--effect", "buoyancy:mass=3"]),
+        &["mass", "net_force_mn"],
+    );
+}
+
+#[test]
+fn helix_prints_the_matrix_and_its_entries() {
+    let o = swimbot(&[
+        "helix",
+        "--wavelength-mm",
+        "15.5",
+        "--amplitude-mm",
+        "2.5",
+        "--length-mm",
+        "130",
+        "--wire-diameter-mm",
+        "1",
+        "--viscosity-pa-s",
+        "3.5",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["matrix"].as_array().unwrap().len(), 6);
+    assert!(v["thrust_n_s"].as_f64().unwrap() < 0.0);
+    assert!(
+        v["drag_n_s_per_m"].as_f64().unwrap() > 0.0 && v["torque_n_m_s"].as_f64().unwrap() > 0.0
+    );
+    let q = swimbot(&[
+        "helix",
+        "--wavelength-mm",
+        "15.5",
+        "--amplitude-mm",
+        "2.5",
+        "--length-mm",
+        "130",
+        "--method",
+        "quadrature",
+        "--format",
+        "json",
+    ]);
+    let w: serde_json::Value = serde_json::from_str(&stdout(&q)).unwrap();
+    let rel =
+        (w["drag_n_s_per_m"].as_f64().unwrap() / v["drag_n_s_per_m"].as_f64().unwrap() - 1.0).abs();
+    assert!(rel < 1e-4);
+    assert_input_error(
+        &swimbot(&[
+            "helix",
+            "--wavelength-mm",
+            "-1",
+            "--amplitude-mm",
+            "2.5",
+            "--length-mm",
+            "130",
+        ]),
+        &["--wavelength-mm"],
+    );
+    assert_input_error(
+        &swimbot(&[
+            "helix",
+            "--wavelength-mm",
+            "0.5",
+            "--amplitude-mm",
+            "2.5",
+            "--length-mm",
+            "130",
+        ]),
+        &["gray-hancock"],
+    );
+}
+
+#[test]
+fn sweep_writes_one_row_per_grid_point() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.csv");
+    let o = swimbot(&[
+        "sweep",
+        "--wavelength-mm",
+        "8:16:5",
+        "--amplitude-mm",
+        "2:7:3",
+        "--tail-length-mm",
+        "60",
+        "--frequency-hz",
+        "0.5:1.5:2",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 1 + 5 * 3 * 2);
+    assert!(lines[0].starts_with("wavelength_mm,amplitude_mm"));
+    assert!(lines[1..]
+        .iter()
+        .all(|l| l.split(',').count() == 9 && !l.contains("NaN")));
+    assert_input_error(
+        &swimbot(&[
+            "sweep",
+            "--wavelength-mm",
+            "8:16",
+            "--amplitude-mm",
+            "2",
+            "--tail-length-mm",
+            "60",
+        ]),
+        &["--wavelength-mm"],
+    );
+    assert_input_error(
+        &swimbot(&[
+            "sweep",
+            "--wavelength-mm",
+            "10",
+            "--amplitude-mm",
+            "20",
+            "--tail-length-mm",
+            "60",
+        ]),
+        &["--amplitude-mm", "channel"],
+    );
+}
+
+#[test]
+fn effects_lists_the_catalogue() {
+    let o = swimbot(&["effects"]);
+    assert!(o.status.success());
+    let text = stdout(&o);
+    for name in [
+        "backflow",
+        "body-correction",
+        "body-confinement",
+        "tail-confinement",
+        "wall-contact",
+        "motor-frame",
+        "buoyancy",
+        "coupler",
+    ] {
+        assert!(text.contains(name), "{name}");
+    }
+}
