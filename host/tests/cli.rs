@@ -225,3 +225,154 @@ fn effects_lists_the_catalogue() {
         assert!(text.contains(name), "{name}");
     }
 }
+
+#[test]
+fn synth_then_diagnose_finds_the_hidden_effect_through_the_binary() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = dir.path().join("design.toml");
+    std::fs::write(
+        &design,
+        swimbot::data::to_toml(&swimbot::workbench::synth::varied_design(
+            &swimbot::data::paper(),
+        )),
+    )
+    .unwrap();
+    let out = dir.path().join("synthetic.toml");
+    let o = swimbot(&[
+        "synth",
+        "--data",
+        design.to_str().unwrap(),
+        "--truth",
+        "base + buoyancy:net_force_mn=0.3",
+        "--noise",
+        "0.02",
+        "--trials",
+        "5",
+        "--seed",
+        "7",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = swimbot(&[
+        "diagnose",
+        "--data",
+        out.to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(
+        v["verdict"]["effect"], "buoyancy",
+        "{}",
+        v["verdict"]["note"]
+    );
+    assert_eq!(v["verdict"]["explained"], true);
+    for key in ["mare", "chi2_reduced"] {
+        assert!(v["baseline"][key].is_number());
+    }
+    let top = &v["ranking"][0];
+    for key in [
+        "effect",
+        "params",
+        "mare",
+        "cv_mare",
+        "chi2_reduced",
+        "aicc",
+    ] {
+        assert!(!top[key].is_null(), "ranking[0].{key}");
+    }
+}
+
+#[test]
+fn diagnose_on_the_paper_data_says_unexplained_and_ranks_confinement_first_among_zero_parameter_effects(
+) {
+    let o = swimbot(&["diagnose", "--format", "json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert!(v["verdict"]["effect"].is_null());
+    assert_eq!(v["verdict"]["explained"], false);
+    let ranking = v["ranking"].as_array().unwrap();
+    let zero_param: Vec<&serde_json::Value> = ranking
+        .iter()
+        .filter(|c| c["params"].as_array().unwrap().is_empty())
+        .collect();
+    assert_eq!(zero_param[0]["effect"], "body-confinement");
+    assert!(
+        zero_param[0]["mare"].as_f64().unwrap() < 0.5 * v["baseline"]["mare"].as_f64().unwrap()
+    );
+}
+
+#[test]
+fn fit_calibrates_on_chosen_cases_and_rejects_unknown_ones() {
+    let o = swimbot(&[
+        "fit",
+        "--effect",
+        "body-correction",
+        "--cases",
+        "tail-3,tail-4",
+        "--format",
+        "json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let est = v["fit"]["estimates"].as_array().unwrap();
+    assert_eq!(est.len(), 2);
+    assert!(
+        est[0]["value"].as_f64().unwrap() > 1.0,
+        "the body needs more drag than a free spheroid"
+    );
+    assert_eq!(v["comparison"]["cases"].as_array().unwrap().len(), 6);
+    assert_input_error(
+        &swimbot(&["fit", "--effect", "body-correction", "--cases", "tail-9"]),
+        &["tail-9", "tail-1"],
+    );
+    assert_input_error(
+        &swimbot(&["fit", "--effect", "coupler"]),
+        &["no free parameter"],
+    );
+    assert_input_error(
+        &swimbot(&[
+            "fit",
+            "--effect",
+            "body-correction",
+            "--effect",
+            "buoyancy",
+            "--cases",
+            "tail-3",
+        ]),
+        &["3 free parameters", "2 measured"],
+    );
+}
+
+#[test]
+fn synth_rejects_bad_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.toml");
+    let o = out.to_str().unwrap();
+    assert_input_error(
+        &swimbot(&["synth", "--truth", "base", "--noise=-0.1", "-o", o]),
+        &["--noise"],
+    );
+    assert_input_error(
+        &swimbot(&["synth", "--truth", "base", "--trials", "1", "-o", o]),
+        &["--trials"],
+    );
+    assert_input_error(
+        &swimbot(&["synth", "--truth", "nonsense", "-o", o]),
+        &["nonsense"],
+    );
+    assert!(!out.exists(), "nothing is written on bad input");
+}
+
+#[test]
+fn report_writes_a_page_with_the_diagnosis_and_every_chart() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = swimbot(&["report", "-o", dir.path().to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    assert!(page.contains("Diagnosis") && page.contains("unexplained"));
+    assert!(page.matches("<svg").count() >= 9, "charts missing");
+    assert!(!page.contains("chart failed"));
+}

@@ -35,7 +35,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         Format::Csv => print_csv(&cmp)?,
     }
     if !args.no_report {
-        let path = crate::report::write_report(&args.report, &model, &data).map_err(|e| {
+        let path = crate::report::write_report(&args.report, &model, &data, None).map_err(|e| {
             CliError::failure(format!(
                 "writing the report to {}: {e}",
                 args.report.display()

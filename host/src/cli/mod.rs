@@ -3,12 +3,16 @@
 //! before any work starts; input problems are [`CliError::Input`] (exit 2).
 
 mod compare;
+mod diagnose;
 mod effects;
 mod error;
+mod fit;
 mod helix;
 mod model_args;
 mod output;
+mod report;
 mod sweep;
+mod synth;
 
 pub use error::CliError;
 
@@ -38,6 +42,14 @@ pub enum Command {
     Sweep(sweep::SweepArgs),
     /// List the catalogue of physical effects.
     Effects(effects::EffectsArgs),
+    /// Where the model fails, and which catalogue effect is missing.
+    Diagnose(diagnose::DiagnoseArgs),
+    /// Calibrate effect parameters on chosen cases; report the error on all.
+    Fit(fit::FitArgs),
+    /// Synthetic measurements from a chosen truth model.
+    Synth(synth::SynthArgs),
+    /// The HTML report (comparison, Fig. 4 analogue, parity, residuals, diagnosis).
+    Report(report::ReportArgs),
 }
 
 /// Run a parsed command line.
@@ -47,5 +59,9 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Helix(a) => helix::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Effects(a) => effects::run(a),
+        Command::Diagnose(a) => diagnose::run(a),
+        Command::Fit(a) => fit::run(a),
+        Command::Synth(a) => synth::run(a),
+        Command::Report(a) => report::run(a),
     }
 }

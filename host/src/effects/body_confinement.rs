@@ -59,6 +59,9 @@ impl Effect for BodyConfinement {
     fn reference(&self) -> &'static str {
         "Chen, Lescarboura & Swift, AIChE J. 14 (1968) 123; Park & Irvine, Rev. Sci. Instrum. 59 (1988) 2051; Landau & Lifshitz §18"
     }
+    fn order(&self) -> u8 {
+        0
+    }
     fn body(&self, _p: &[f64], case: &Case, body: &mut Matrix6<f64>) {
         body[(0, 0)] = axial_translation(case);
         body[(3, 3)] = axial_rotation(case);

@@ -91,6 +91,11 @@ pub trait Effect: Send + Sync {
     fn applicability(&self) -> &'static str {
         "all cases"
     }
+    /// Effects that replace a resistance (0) run before those that scale or
+    /// add to it (1, the default), whatever order the user lists them in.
+    fn order(&self) -> u8 {
+        1
+    }
     fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
     fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) {}
     fn body(&self, _p: &[f64], _case: &Case, _body: &mut Matrix6<f64>) {}

@@ -100,10 +100,13 @@ impl Model {
         parts.join(" + ")
     }
 
+    /// The effects acting on `case`, replacing ones first (see [`crate::effects::Effect::order`]).
     fn active<'a>(&'a self, case: &'a Case) -> impl Iterator<Item = &'a EffectInstance> + 'a {
-        self.effects
-            .iter()
-            .filter(move |e| e.effect.applies_to(case, &e.values))
+        (0..=1u8).flat_map(move |order| {
+            self.effects
+                .iter()
+                .filter(move |e| e.effect.order() == order && e.effect.applies_to(case, &e.values))
+        })
     }
 
     /// The tail matrix for a case, all stages of the effects applied.

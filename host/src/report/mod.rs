@@ -1,5 +1,8 @@
 //! Text formatting of results and the static HTML report.
 
+mod html;
+mod plots;
+
 /// `v` to `sig` significant digits, without exponent for everyday magnitudes.
 pub fn fmt_sig(v: f64, sig: usize) -> String {
     if v == 0.0 || !v.is_finite() {
@@ -18,13 +21,17 @@ pub fn fmt_sig(v: f64, sig: usize) -> String {
     }
 }
 
-/// Write the HTML report for `model` on `data` into `dir`; returns the page's path.
+/// Write the HTML report for `model` on `data` into `dir` (with the
+/// diagnosis section when given); returns the page's path.
 pub fn write_report(
     dir: &std::path::Path,
     model: &crate::model::Model,
     data: &crate::data::Dataset,
-) -> std::io::Result<std::path::PathBuf> {
-    let _ = (model, data);
-    std::fs::create_dir_all(dir)?;
-    Ok(dir.join("index.html"))
+    diagnosis: Option<&crate::workbench::diagnose::Diagnosis>,
+) -> Result<std::path::PathBuf, String> {
+    let page = html::page(model, data, diagnosis).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
+    let path = dir.join("index.html");
+    std::fs::write(&path, page).map_err(|e| e.to_string())?;
+    Ok(path)
 }

@@ -1,0 +1,136 @@
+//! `swimbot fit`: calibrate effect parameters on chosen cases, report the
+//! error on all cases (as the paper calibrated on the B_o/R_body = 0.45 tails).
+
+use super::model_args::{load_data, ModelArgs};
+use super::output::{opt, pct, print_json, Format};
+use super::CliError;
+use crate::report::fmt_sig;
+use crate::workbench::compare::compare;
+use crate::workbench::fit::{fit, free_params_of};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct FitArgs {
+    /// Dataset (TOML); the paper's built-in data if absent.
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Calibrate on these case ids only (comma-separated; default all).
+    #[arg(long, value_delimiter = ',')]
+    pub cases: Vec<String>,
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: Format,
+}
+
+pub fn run(a: FitArgs) -> Result<(), CliError> {
+    let data = load_data(&a.data)?;
+    let model = a.model.model()?;
+    if a.model.effects.is_empty() {
+        return Err(CliError::input(
+            "give the effect(s) to calibrate with --effect NAME",
+        ));
+    }
+    let first_new = model.effects.len() - a.model.effects.len();
+    let added: Vec<usize> = (first_new..model.effects.len()).collect();
+    let free = free_params_of(&model, &added);
+    if free.is_empty() {
+        return Err(CliError::input(format!(
+            "{} has no free parameter to fit",
+            a.model.effects.join(", ")
+        )));
+    }
+    let only: Option<Vec<usize>> = if a.cases.is_empty() {
+        None
+    } else {
+        let idx = a
+            .cases
+            .iter()
+            .map(|id| {
+                data.cases.iter().position(|c| &c.id == id).ok_or_else(|| {
+                    let known: Vec<&str> = data.cases.iter().map(|c| c.id.as_str()).collect();
+                    CliError::input(format!(
+                        "--cases: no case `{id}` in the data; cases: {}",
+                        known.join(", ")
+                    ))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Some(idx)
+    };
+    let n_obs: usize = only
+        .as_deref()
+        .map(|i| i.iter().map(|&k| &data.cases[k]).collect::<Vec<_>>())
+        .unwrap_or_else(|| data.cases.iter().collect())
+        .iter()
+        .map(|c| c.u_mm_s.is_some() as usize + c.omega_body_hz.is_some() as usize)
+        .sum();
+    if n_obs < free.len() {
+        return Err(CliError::input(format!(
+            "{} free parameters cannot be fitted to {} measured quantities: add cases or fix parameters",
+            free.len(),
+            n_obs
+        )));
+    }
+    let result = fit(&model, &data, only.as_deref(), &free, true).map_err(CliError::input)?;
+    let all = compare(&result.model, &data, free.len())?;
+    if a.format == Format::Json {
+        print_json(&serde_json::json!({ "fit": result, "comparison": all }));
+        return Ok(());
+    }
+    println!(
+        "calibrated on: {}",
+        if a.cases.is_empty() {
+            "all cases".to_string()
+        } else {
+            a.cases.join(", ")
+        }
+    );
+    for e in &result.estimates {
+        println!(
+            "  {}.{} = {} {}  (95 % CI ± {}){}",
+            e.effect,
+            e.name,
+            fmt_sig(e.value, 5),
+            e.unit,
+            opt(e.ci95, 3),
+            if e.at_bound {
+                "  [at its bound: the data push beyond the allowed range]"
+            } else {
+                ""
+            }
+        );
+    }
+    for w in &result.non_identifiable {
+        println!("  not identifiable: {w}");
+    }
+    if !result.converged {
+        println!(
+            "  warning: the optimiser did not report convergence; treat the estimates with care"
+        );
+    }
+    println!(
+        "chi-square on the calibration cases: {}",
+        fmt_sig(result.chi2, 5)
+    );
+    println!(
+        "\nerror on all cases with the calibrated model ({}):",
+        all.model
+    );
+    for k in &all.cases {
+        println!(
+            "  {:<12} U {:>9}   Omega_b {:>9}",
+            k.id,
+            pct(k.u_rel_err),
+            pct(k.omega_rel_err)
+        );
+    }
+    println!(
+        "MARE {:.1} %, max |rel err| {:.1} %, reduced chi-square {}",
+        100.0 * all.summary.mare,
+        100.0 * all.summary.max_abs_rel_err,
+        opt(all.summary.chi2_reduced, 4)
+    );
+    Ok(())
+}

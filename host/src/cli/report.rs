@@ -1,0 +1,31 @@
+//! `swimbot report`: the HTML report with the diagnosis and its proposal
+//! in the "error falls" chart.
+
+use super::model_args::{load_data, ModelArgs};
+use super::CliError;
+use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// Dataset (TOML); the paper's built-in data if absent.
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Output directory (index.html is written there).
+    #[arg(short, long, default_value = "report")]
+    pub output: PathBuf,
+}
+
+pub fn run(a: ReportArgs) -> Result<(), CliError> {
+    let data = load_data(&a.data)?;
+    let model = a.model.model()?;
+    let d = diagnose(&model, &data, &DiagnoseSettings::default()).map_err(CliError::input)?;
+    let path = crate::report::write_report(&a.output, &model, &data, Some(&d)).map_err(|e| {
+        CliError::failure(format!("writing the report to {}: {e}", a.output.display()))
+    })?;
+    println!("{}", path.display());
+    Ok(())
+}
