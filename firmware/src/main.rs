@@ -1,31 +1,43 @@
-//! Swimbot firmware entry point (placeholder until the controller lands):
-//! drives the motor pin low at reset and idles.
+//! Swimbot firmware: binds the shared controller (`swimbot_shared`) to the
+//! RP2040. Every decision is made by the shared, host-tested code; this
+//! crate only moves pins, clocks, the ADC, the PWM and the watchdog.
+//!
+//! Boot order matters: the motor gate is driven low before the clocks are
+//! touched, then the peripherals come up, and the watchdog starts last so
+//! that slow clock start-up cannot trip it.
 #![no_std]
 #![no_main]
+
+mod battery_adc;
+mod board;
+mod ir;
+mod motor;
+mod run;
 
 use defmt_rtt as _;
 use panic_probe as _;
 use rp2040_hal as hal;
 
-use embedded_hal::digital::OutputPin;
+use fugit::ExtU32;
+use hal::gpio::PinState;
 use hal::pac;
 
 #[link_section = ".boot2"]
 #[used]
 pub static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_GENERIC_03H;
 
-const XOSC_HZ: u32 = 12_000_000;
-
 #[hal::entry]
 fn main() -> ! {
+    // `take` cannot fail this early: nothing else has taken them.
     let mut p = pac::Peripherals::take().unwrap();
     let sio = hal::Sio::new(p.SIO);
     let pins = hal::gpio::Pins::new(p.IO_BANK0, p.PADS_BANK0, sio.gpio_bank0, &mut p.RESETS);
-    let mut motor = pins.gpio16.into_push_pull_output();
-    motor.set_low().ok();
+    let motor_pin = pins.gpio16.into_push_pull_output_in_state(PinState::Low);
+
+    let watchdog_reset = p.WATCHDOG.reason().read().timer().bit_is_set();
     let mut watchdog = hal::Watchdog::new(p.WATCHDOG);
-    let _clocks = hal::clocks::init_clocks_and_plls(
-        XOSC_HZ,
+    let clocks = hal::clocks::init_clocks_and_plls(
+        board::XOSC_HZ,
         p.XOSC,
         p.CLOCKS,
         p.PLL_SYS,
@@ -35,8 +47,26 @@ fn main() -> ! {
     )
     .ok()
     .unwrap();
-    defmt::info!("swimbot firmware up");
-    loop {
-        cortex_m::asm::wfi();
+    let sys_hz = hal::Clock::freq(&clocks.system_clock).to_Hz();
+    if watchdog_reset {
+        defmt::warn!("reset by the watchdog");
     }
+
+    let timer = hal::Timer::new(p.TIMER, &mut p.RESETS, &clocks);
+    let slices = hal::pwm::Slices::new(p.PWM, &mut p.RESETS);
+    let motor = motor::Motor::new(slices.pwm0, motor_pin, sys_hz);
+    let adc = hal::Adc::new(p.ADC, &mut p.RESETS);
+    let battery_pin = hal::adc::AdcPin::new(pins.gpio26.into_floating_input()).unwrap();
+    let battery = battery_adc::BatterySense::new(adc, battery_pin);
+    let led = pins.gpio25.into_push_pull_output_in_state(PinState::Low);
+    ir::start(pins.gpio15.into_pull_up_input(), timer);
+
+    watchdog.pause_on_debug(true);
+    watchdog.start((board::WATCHDOG_MS * 1_000).micros());
+    defmt::info!(
+        "swimbot up: sys {} Hz, watchdog {} ms",
+        sys_hz,
+        board::WATCHDOG_MS
+    );
+    run::Robot::new(motor, battery, led, timer).run(&watchdog)
 }

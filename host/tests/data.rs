@@ -59,64 +59,63 @@ u_trials_mm_s = [0.21, 0.22, 0.23]
     assert_eq!(u.trials, 3);
 }
 
-fn error_of(edit: impl Fn(String) -> String) -> String {
-    parse_str(&edit(data::PAPER_TOML.to_string()), "bad.toml")
-        .unwrap_err()
-        .to_string()
-}
+/// `(text to replace, replacement, what the error must name)`.
+const BAD_EDITS: &[(&str, &str, &[&str])] = &[
+    (
+        "wavelength_mm = 10.0",
+        "wavelenght_mm = 10.0",
+        &["bad.toml", "wavelenght_mm"],
+    ),
+    (
+        "wavelength_mm = 10.0\n",
+        "",
+        &["bad.toml", "tail-2", "wavelength_mm", "missing"],
+    ),
+    (
+        "tail_length_mm = 88.0",
+        "tail_length_mm = -88.0",
+        &["tail-2", "tail_length_mm", "positive"],
+    ),
+    (
+        "frequency_hz = 1.50",
+        "frequency_hz = nan",
+        &["tail-2", "frequency_hz", "finite"],
+    ),
+    (
+        "wavelength_mm = 10.0",
+        "wavelength_mm = 0.9",
+        &["tail-2", "wavelength_mm", "wire diameter"],
+    ),
+    (
+        "amplitude_mm = 7.5\ntail_length_mm = 42.0",
+        "amplitude_mm = 17.5\ntail_length_mm = 42.0",
+        &["tail-6", "amplitude_mm", "channel"],
+    ),
+    (
+        "u_ci_mm_s = 0.0051\n",
+        "",
+        &["tail-2", "u_ci_mm_s", "missing"],
+    ),
+    (
+        "id = \"tail-3\"",
+        "id = \"tail-2\"",
+        &["tail-2", "duplicate"],
+    ),
+    ("trials = 5\n", "", &["tail-1", "trials"]),
+    (
+        "[[case]]",
+        "[[case]\n",
+        &["bad.toml", "not a valid dataset"],
+    ),
+];
 
 #[test]
 fn bad_input_names_file_case_and_field() {
-    let cases: Vec<(Box<dyn Fn(String) -> String>, &[&str])> = vec![
-        (
-            Box::new(|s| s.replace("wavelength_mm = 10.0", "wavelenght_mm = 10.0")),
-            &["bad.toml", "wavelenght_mm"],
-        ),
-        (
-            Box::new(|s| s.replace("wavelength_mm = 10.0\n", "")),
-            &["bad.toml", "tail-2", "wavelength_mm", "missing"],
-        ),
-        (
-            Box::new(|s| s.replace("tail_length_mm = 88.0", "tail_length_mm = -88.0")),
-            &["tail-2", "tail_length_mm", "positive"],
-        ),
-        (
-            Box::new(|s| s.replace("frequency_hz = 1.50", "frequency_hz = nan")),
-            &["tail-2", "frequency_hz", "finite"],
-        ),
-        (
-            Box::new(|s| s.replace("wavelength_mm = 10.0", "wavelength_mm = 0.9")),
-            &["tail-2", "wavelength_mm", "wire diameter"],
-        ),
-        (
-            Box::new(|s| {
-                s.replace(
-                    "amplitude_mm = 7.5\ntail_length_mm = 42.0",
-                    "amplitude_mm = 17.5\ntail_length_mm = 42.0",
-                )
-            }),
-            &["tail-6", "amplitude_mm", "channel"],
-        ),
-        (
-            Box::new(|s| s.replace("u_ci_mm_s = 0.0051\n", "")),
-            &["tail-2", "u_ci_mm_s", "missing"],
-        ),
-        (
-            Box::new(|s| s.replace("id = \"tail-3\"", "id = \"tail-2\"")),
-            &["tail-2", "duplicate"],
-        ),
-        (
-            Box::new(|s| s.replace("trials = 5\n", "")),
-            &["tail-1", "trials"],
-        ),
-        (
-            Box::new(|s| s.replace("[[case]]", "[[case]\n")),
-            &["bad.toml", "not a valid dataset"],
-        ),
-    ];
-    for (edit, needles) in cases {
-        let e = error_of(edit);
-        for n in needles {
+    for (from, to, needles) in BAD_EDITS {
+        let text = data::PAPER_TOML.replacen(from, to, 1);
+        assert_ne!(text, data::PAPER_TOML, "edit `{from}` did not apply");
+        let e = parse_str(&text, "bad.toml").unwrap_err().to_string();
+        for n in *needles {
             assert!(e.contains(n), "`{n}` missing from: {e}");
         }
     }

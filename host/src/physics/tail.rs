@@ -113,13 +113,15 @@ pub fn matrix_exact(helix: &Helix, drag: LocalDrag) -> Matrix6<f64> {
     let k = helix.wavenumber();
     let h = 0.5 * len;
     let mut out = Matrix6::zeros();
-    for m in 0..=MAX_HARMONIC {
+    let [at_start, at_middle, at_end] = &coef;
+    let harmonics = at_start.iter().zip(at_middle).zip(at_end).enumerate();
+    for (m, ((n0, n1), n2)) in harmonics {
         let phase = Complex::from_polar(1.0, m as f64 * helix.phase_rad);
         let j = moments(m as f64 * k, len);
         let weight = if m == 0 { 1.0 } else { 2.0 };
         for idx in 0..36 {
             // Quadratic in xi through the three nodes: c(xi) = c0 + a1 xi + a2 xi^2.
-            let (c0, c1, c2) = (coef[0][m][idx], coef[1][m][idx], coef[2][m][idx]);
+            let (c0, c1, c2) = (n0[idx], n1[idx], n2[idx]);
             let a1 = (c1 * 4.0 - c0 * 3.0 - c2) / (2.0 * h);
             let a2 = (c2 - c1 * 2.0 + c0) / (2.0 * h * h);
             out[idx] += weight * ((c0 * j[0] + a1 * j[1] + a2 * j[2]) * phase).re;

@@ -1,0 +1,134 @@
+//! The robot's command set and its mapping from remote-control codes: the
+//! protocol that the firmware and the host simulation both speak.
+//!
+//! Only on/off exists: the paper's robot is switched by its remote and the
+//! tail speed is not a controlled parameter (Table II's frequencies are
+//! observed), so speed steps would add states without a use.
+
+use crate::nec::{AddressFilter, Level, NecDecoder, NecEvent};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Command {
+    On,
+    Off,
+}
+
+impl Command {
+    /// Combine commands received together (e.g. drained from one queue in
+    /// one main-loop pass): `Off` wins whatever the order, so a stop can
+    /// never be masked by a start.
+    pub fn merge(pending: Option<Command>, new: Command) -> Command {
+        match (pending, new) {
+            (Some(Command::Off), _) | (_, Command::Off) => Command::Off,
+            _ => Command::On,
+        }
+    }
+}
+
+/// Which remote (NEC address) and which keys (command codes) mean what.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct KeyMap {
+    pub address: u8,
+    pub on: u8,
+    pub off: u8,
+}
+
+impl KeyMap {
+    /// The command for a decoded frame, if it is one of ours. Off is
+    /// checked first so a (mis)configured map with `on == off` stops.
+    pub const fn lookup(&self, address: u8, command: u8) -> Option<Command> {
+        if address != self.address {
+            None
+        } else if command == self.off {
+            Some(Command::Off)
+        } else if command == self.on {
+            Some(Command::On)
+        } else {
+            None
+        }
+    }
+}
+
+/// NEC decoder plus key map: receiver edges in, commands out. Repeat frames
+/// and frames from other remotes never produce a command.
+#[derive(Clone, Debug)]
+pub struct Remote {
+    decoder: NecDecoder,
+    keys: KeyMap,
+}
+
+impl Remote {
+    pub const fn new(keys: KeyMap) -> Self {
+        Self {
+            decoder: NecDecoder::new(AddressFilter::only(keys.address)),
+            keys,
+        }
+    }
+
+    pub fn edge(&mut self, level: Level, t_us: u32) -> Option<Command> {
+        match self.decoder.edge(level, t_us)? {
+            NecEvent::Frame { address, command } => self.keys.lookup(address, command),
+            NecEvent::Repeat => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nec::{for_each_edge, frame_pulses_us, REPEAT_PULSES_US};
+    use proptest::prelude::*;
+
+    const KEYS: KeyMap = KeyMap {
+        address: 0x00,
+        on: 0x45,
+        off: 0x47,
+    };
+
+    #[test]
+    fn lookup() {
+        assert_eq!(KEYS.lookup(0x00, 0x45), Some(Command::On));
+        assert_eq!(KEYS.lookup(0x00, 0x47), Some(Command::Off));
+        assert_eq!(KEYS.lookup(0x00, 0x46), None);
+        assert_eq!(KEYS.lookup(0x01, 0x45), None);
+        let same = KeyMap {
+            on: 7,
+            off: 7,
+            ..KEYS
+        };
+        assert_eq!(same.lookup(0, 7), Some(Command::Off));
+    }
+
+    #[test]
+    fn remote_frames_and_repeats() {
+        let mut r = Remote::new(KEYS);
+        let mut got = [None; 3];
+        let mut t = for_each_edge(0, &frame_pulses_us(0, 0x45), |l, t| {
+            if let Some(c) = r.edge(l, t) {
+                got[0] = Some(c);
+            }
+        });
+        t = for_each_edge(t + 40_000, &REPEAT_PULSES_US, |l, t| {
+            if let Some(c) = r.edge(l, t) {
+                got[1] = Some(c);
+            }
+        });
+        for_each_edge(t + 100_000, &frame_pulses_us(0, 0x47), |l, t| {
+            if let Some(c) = r.edge(l, t) {
+                got[2] = Some(c);
+            }
+        });
+        assert_eq!(got, [Some(Command::On), None, Some(Command::Off)]);
+    }
+
+    proptest! {
+        #[test]
+        fn off_wins_in_any_order(cmds in proptest::collection::vec(prop_oneof![Just(Command::On), Just(Command::Off)], 1..20)) {
+            let merged = cmds.iter().fold(None, |acc, &c| Some(Command::merge(acc, c)));
+            let expect = if cmds.contains(&Command::Off) { Command::Off } else { Command::On };
+            prop_assert_eq!(merged, Some(expect));
+        }
+    }
+}

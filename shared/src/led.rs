@@ -1,0 +1,106 @@
+//! Status LED patterns, a pure function of the robot's state and the time,
+//! so the firmware just writes `is_lit(mode, now)` to the pin each loop and
+//! the patterns are testable on the host.
+//!
+//! Each pattern is distinct at a glance through the glass casing and under
+//! the camera (30 fps, so no pulse is shorter than ~3 frames):
+//! - Off: a 100 ms blip every 2 s (alive, idle);
+//! - Running: steady on;
+//! - LowBattery: two 100 ms blips every second;
+//! - Fault: fast 5 Hz blinking.
+
+use crate::battery::{BatteryLevel, BatteryStatus};
+use crate::controller::MotorState;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LedMode {
+    Off,
+    Running,
+    LowBattery,
+    Fault,
+}
+
+impl LedMode {
+    /// The mode to show: a fault outranks a low battery, which outranks
+    /// the motor state (a low cell while running must be visible).
+    pub fn of(motor: MotorState, battery: BatteryStatus) -> LedMode {
+        match (battery.level, motor) {
+            (BatteryLevel::Fault, _) => LedMode::Fault,
+            (BatteryLevel::Cutoff | BatteryLevel::Low, _) => LedMode::LowBattery,
+            (BatteryLevel::Ok, MotorState::Off) => LedMode::Off,
+            (BatteryLevel::Ok, MotorState::Ramping | MotorState::Running) => LedMode::Running,
+        }
+    }
+}
+
+/// Is the LED lit at `now_us` in `mode`?
+pub fn is_lit(mode: LedMode, now_us: u64) -> bool {
+    let ms = now_us / 1_000;
+    match mode {
+        LedMode::Off => ms % 2_000 < 100,
+        LedMode::Running => true,
+        LedMode::LowBattery => {
+            let phase = ms % 1_000;
+            phase < 100 || (200..300).contains(&phase)
+        }
+        LedMode::Fault => ms % 200 < 100,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Lit milliseconds and rising edges over `period_ms` starting at `t0_ms`.
+    fn profile(mode: LedMode, t0_ms: u64, period_ms: u64) -> (u64, u32) {
+        let mut lit = 0;
+        let mut rises = 0;
+        let mut prev = is_lit(mode, (t0_ms - 1) * 1_000);
+        for ms in t0_ms..t0_ms + period_ms {
+            let on = is_lit(mode, ms * 1_000);
+            lit += u64::from(on);
+            rises += u32::from(on && !prev);
+            prev = on;
+        }
+        (lit, rises)
+    }
+
+    #[test]
+    fn patterns_are_distinct() {
+        let t0 = 123_457;
+        assert_eq!(profile(LedMode::Off, t0, 2_000), (100, 1));
+        assert_eq!(profile(LedMode::Running, t0, 2_000), (2_000, 0));
+        assert_eq!(profile(LedMode::LowBattery, t0, 2_000), (400, 4));
+        assert_eq!(profile(LedMode::Fault, t0, 2_000), (1_000, 10));
+    }
+
+    #[test]
+    fn priority() {
+        let s = |level| BatteryStatus { mv: 3_700, level };
+        assert_eq!(
+            LedMode::of(MotorState::Running, s(BatteryLevel::Ok)),
+            LedMode::Running
+        );
+        assert_eq!(
+            LedMode::of(MotorState::Ramping, s(BatteryLevel::Ok)),
+            LedMode::Running
+        );
+        assert_eq!(
+            LedMode::of(MotorState::Off, s(BatteryLevel::Ok)),
+            LedMode::Off
+        );
+        assert_eq!(
+            LedMode::of(MotorState::Running, s(BatteryLevel::Low)),
+            LedMode::LowBattery
+        );
+        assert_eq!(
+            LedMode::of(MotorState::Off, s(BatteryLevel::Cutoff)),
+            LedMode::LowBattery
+        );
+        assert_eq!(
+            LedMode::of(MotorState::Off, s(BatteryLevel::Fault)),
+            LedMode::Fault
+        );
+    }
+}

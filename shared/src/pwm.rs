@@ -1,0 +1,110 @@
+//! PWM carrier timing: the RP2040 slice's clock divider and TOP value for a
+//! carrier frequency, computed from the actual system clock so a different
+//! clock setup cannot silently shift the carrier or cut its resolution.
+//!
+//! Lives here rather than in the firmware so the arithmetic is unit-tested
+//! on the host; the firmware only writes the result to the registers.
+
+/// Divider and wrap value of a free-running PWM slice: the counter ticks at
+/// `sys_hz / (div_int + div_frac/16)` and wraps after `top + 1` ticks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PwmTiming {
+    pub div_int: u8,
+    pub div_frac: u8,
+    pub top: u16,
+}
+
+/// The issue asks for at least 10-bit duty resolution.
+pub const MIN_PWM_STEPS: u32 = 1 << 10;
+
+impl PwmTiming {
+    /// The finest timing for a `pwm_hz` carrier: an integer divider (the
+    /// smallest that fits the 16-bit counter, so resolution is maximal) and
+    /// TOP from the remaining ratio. `None` if the carrier is out of reach
+    /// (zero, faster than `sys_hz / MIN_PWM_STEPS`, or slower than the
+    /// largest divider allows).
+    pub const fn for_carrier(sys_hz: u32, pwm_hz: u32) -> Option<PwmTiming> {
+        if pwm_hz == 0 {
+            return None;
+        }
+        let counts = sys_hz / pwm_hz;
+        if counts < MIN_PWM_STEPS {
+            return None;
+        }
+        let div = counts.div_ceil(1 << 16);
+        if div > 255 {
+            return None;
+        }
+        let top = counts / div - 1;
+        if top > u16::MAX as u32 {
+            return None;
+        }
+        Some(PwmTiming {
+            div_int: div as u8,
+            div_frac: 0,
+            top: top as u16,
+        })
+    }
+
+    /// Duty steps per period (TOP + 1).
+    pub const fn steps(&self) -> u32 {
+        self.top as u32 + 1
+    }
+
+    /// The carrier this timing produces at `sys_hz`.
+    pub const fn carrier_hz(&self, sys_hz: u32) -> u32 {
+        let div16 = self.div_int as u32 * 16 + self.div_frac as u32;
+        ((sys_hz as u64 * 16) / (div16 as u64 * self.steps() as u64)) as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn board_default_is_5000_counts_without_divider() {
+        let t = PwmTiming::for_carrier(125_000_000, 25_000);
+        assert_eq!(
+            t,
+            Some(PwmTiming {
+                div_int: 1,
+                div_frac: 0,
+                top: 4_999
+            })
+        );
+    }
+
+    #[test]
+    fn out_of_range() {
+        assert_eq!(PwmTiming::for_carrier(125_000_000, 0), None);
+        // 125 MHz / 1024 = 122 kHz is the fastest 10-bit carrier.
+        assert_eq!(PwmTiming::for_carrier(125_000_000, 123_000), None);
+        assert!(PwmTiming::for_carrier(125_000_000, 122_000).is_some());
+        // 125 MHz / (255 * 65536) = 7.5 Hz is the slowest.
+        assert_eq!(PwmTiming::for_carrier(125_000_000, 7), None);
+    }
+
+    proptest! {
+        /// Over the configurable 20-100 kHz range and system clocks from
+        /// 103 MHz (the lowest giving 10 bits at 100 kHz) to the RP2040's
+        /// 133 MHz maximum: >= 10 bits, the counter fits, carrier within 0.1 %.
+        #[test]
+        fn carrier_range(sys_mhz in 103u32..=133, pwm_hz in 20_000u32..=100_000) {
+            let sys_hz = sys_mhz * 1_000_000;
+            let t = PwmTiming::for_carrier(sys_hz, pwm_hz).expect("in range");
+            prop_assert!(t.steps() >= MIN_PWM_STEPS);
+            let f = t.carrier_hz(sys_hz);
+            prop_assert!(f.abs_diff(pwm_hz) * 1_000 <= pwm_hz, "{} vs {}", f, pwm_hz);
+        }
+
+        #[test]
+        fn never_panics(sys_hz: u32, pwm_hz: u32) {
+            if let Some(t) = PwmTiming::for_carrier(sys_hz, pwm_hz) {
+                prop_assert!(t.div_int >= 1 && t.steps() >= MIN_PWM_STEPS);
+            }
+        }
+    }
+}
