@@ -94,6 +94,9 @@ impl ForceBalance {
 
     /// Solve for `V = [U; Omega_b]` (m/s, rad/s).
     pub fn solve(&self) -> Result<Vector6<f64>, SolveError> {
+        if self.dofs == Dofs::AXIAL {
+            return self.solve_axial();
+        }
         let (mut a, mut rhs) = self.system();
         if a.iter().chain(rhs.iter()).any(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite);
@@ -114,6 +117,33 @@ impl ForceBalance {
             return Err(SolveError::Singular { rcond });
         }
         a.lu().solve(&rhs).ok_or(SolveError::Singular { rcond })
+    }
+}
+
+impl ForceBalance {
+    /// The paper's x-only system is 2x2 (rows and columns 1 and 4): solved
+    /// in closed form, with the same conditioning check, because sweeps of
+    /// millions of geometries spend most of their time here.
+    fn solve_axial(&self) -> Result<Vector6<f64>, SolveError> {
+        let (a, rhs) = self.system();
+        let (a00, a03, a30, a33) = (a[(0, 0)], a[(0, 3)], a[(3, 0)], a[(3, 3)]);
+        let (r0, r3) = (rhs[0], rhs[3]);
+        if ![a00, a03, a30, a33, r0, r3].iter().all(|v| v.is_finite()) {
+            return Err(SolveError::NonFinite);
+        }
+        let det = a00 * a33 - a03 * a30;
+        let norm = (a00.abs() + a30.abs()).max(a03.abs() + a33.abs());
+        let inv_norm = (a33.abs() + a30.abs()).max(a03.abs() + a00.abs()) / det.abs();
+        let rcond = 1.0 / (norm * inv_norm);
+        if rcond.is_nan() || rcond < 1e-13 {
+            return Err(SolveError::Singular {
+                rcond: if rcond.is_nan() { 0.0 } else { rcond },
+            });
+        }
+        let mut v = Vector6::zeros();
+        v[0] = (a33 * r0 - a03 * r3) / det;
+        v[3] = (a00 * r3 - a30 * r0) / det;
+        Ok(v)
     }
 }
 
@@ -147,6 +177,32 @@ mod tests {
         assert!((v[0] - 0.2 * 6.0 / 3.0).abs() < 1e-14);
         assert!((v[3] + 0.5 * 6.0 / 5.0).abs() < 1e-14);
         assert_eq!(v[1], 0.0);
+    }
+
+    #[test]
+    fn axial_fast_path_equals_the_general_masked_solve() {
+        let body = diag([2.0, 3.0, 3.0, 5.0, 7.0, 7.0]);
+        let mut tail = diag([1.0, 1.5, 1.2, 0.5, 1.0, 1.1]);
+        tail[(0, 3)] = -0.2;
+        tail[(3, 0)] = -0.2;
+        tail[(1, 3)] = 0.05;
+        tail[(3, 1)] = 0.05;
+        for drive in [TailDrive::Absolute, TailDrive::RelativeToBody] {
+            let mut fb = ForceBalance::new(body, tail, 6.0);
+            fb.drive = drive;
+            fb.load[0] = 0.3;
+            let fast = fb.solve().unwrap();
+            // The general path, by hand: masked 6x6 LU.
+            let (mut a, mut rhs) = fb.system();
+            for i in [1, 2, 4, 5] {
+                a.row_mut(i).fill(0.0);
+                a.column_mut(i).fill(0.0);
+                a[(i, i)] = 1.0;
+                rhs[i] = 0.0;
+            }
+            let reference = a.lu().solve(&rhs).unwrap();
+            assert!((fast - reference).norm() < 1e-14 * reference.norm());
+        }
     }
 
     #[test]
