@@ -12,5 +12,6 @@ pub mod nonlocal;
 pub mod physics;
 pub mod report;
 pub mod robot;
+pub mod sim;
 pub mod stats;
 pub mod workbench;

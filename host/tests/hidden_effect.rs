@@ -157,10 +157,11 @@ impl Effect for TurnScreening {
     fn reference(&self) -> &'static str {
         "none (a test control)"
     }
-    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) {
+    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
         let s = 1.0 / (1.0 + 0.01 * case.n_waves().powi(2));
         tail[(0, 3)] *= s;
         tail[(3, 0)] *= s;
+        Ok(())
     }
 }
 
@@ -227,4 +228,9 @@ fn twin_effects_on_a_narrow_design_are_called_indistinguishable_with_a_test_that
         .any(|e| e == "body-correction"));
     let s = d.verdict.suggestion.expect("a separating experiment");
     assert!(s.in_sigma > 3.0, "{s:?}");
+}
+
+#[test]
+fn recovers_nonlocal_tail() {
+    assert_recovered("nonlocal-tail", "nonlocal-tail");
 }

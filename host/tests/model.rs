@@ -200,3 +200,22 @@ fn six_dof_solve_differs_from_axial_only_by_a_small_lateral_coupling() {
         );
     }
 }
+
+#[test]
+fn the_nonlocal_tail_method_and_the_nonlocal_tail_effect_agree() {
+    let mut by_method = Model::base();
+    by_method.tail_method = TailMethod::Stokeslets {
+        segments_per_turn: 12,
+    };
+    let by_effect = with("nonlocal-tail");
+    for c in cases() {
+        let a = by_method.predict(&c).unwrap();
+        let b = by_effect.predict(&c).unwrap();
+        assert!((a.u_mm_s / b.u_mm_s - 1.0).abs() < 1e-12, "{}", c.id);
+        assert!((a.omega_body_hz / b.omega_body_hz - 1.0).abs() < 1e-12);
+        // Interaction along the helix lowers the local drag and thrust coupling.
+        let local = Model::base().tail_matrix(&c).unwrap();
+        let nonlocal = by_method.tail_matrix(&c).unwrap();
+        assert!(nonlocal[(0, 0)] < local[(0, 0)] && nonlocal[(0, 3)].abs() < local[(0, 3)].abs());
+    }
+}

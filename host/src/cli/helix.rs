@@ -27,6 +27,9 @@ pub struct HelixArgs {
     /// Quadrature nodes per wavelength (with --method quadrature).
     #[arg(long, default_value_t = 100)]
     pub nodes_per_wavelength: usize,
+    /// Segments per turn (with --method sbt|stokeslets).
+    #[arg(long, default_value_t = 12)]
+    pub segments_per_turn: usize,
     /// Left-handed helix instead of the paper's right-handed one.
     #[arg(long)]
     pub left_handed: bool,
@@ -38,6 +41,10 @@ pub struct HelixArgs {
 pub enum HelixMethod {
     Exact,
     Quadrature,
+    /// Johnson's slender-body theory (non-local).
+    Sbt,
+    /// Regularized Stokeslets (non-local).
+    Stokeslets,
 }
 
 #[derive(serde::Serialize)]
@@ -91,6 +98,24 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
                 tail::matrix_quadrature(&h, drag, a.nodes_per_wavelength),
                 "quadrature",
             )
+        }
+        HelixMethod::Sbt | HelixMethod::Stokeslets => {
+            let (method, name) = if matches!(a.method, HelixMethod::Sbt) {
+                (
+                    crate::nonlocal::TailMethod::SlenderBody,
+                    "slender-body theory",
+                )
+            } else {
+                (
+                    crate::nonlocal::TailMethod::RegularizedStokeslets,
+                    "regularized Stokeslets",
+                )
+            };
+            let settings = crate::nonlocal::NonlocalSettings::default()
+                .with_method(method)
+                .with_segments_per_turn(a.segments_per_turn);
+            let m = crate::nonlocal::tail_resistance(&h, mu, &settings).map_err(CliError::input)?;
+            (m, name)
         }
     };
     let out = HelixOut {

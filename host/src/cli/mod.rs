@@ -11,6 +11,7 @@ mod helix;
 mod model_args;
 mod output;
 mod report;
+mod sim;
 mod sweep;
 mod synth;
 
@@ -50,6 +51,8 @@ pub enum Command {
     Synth(synth::SynthArgs),
     /// The HTML report (comparison, Fig. 4 analogue, parity, residuals, diagnosis).
     Report(report::ReportArgs),
+    /// Whole-robot simulation: remote script -> controller -> motor and cell -> swimmer model -> climb.
+    Sim(sim::SimArgs),
 }
 
 /// Run a parsed command line.
@@ -63,5 +66,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Fit(a) => fit::run(a),
         Command::Synth(a) => synth::run(a),
         Command::Report(a) => report::run(a),
+        Command::Sim(a) => sim::run(a),
     }
 }

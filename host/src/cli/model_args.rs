@@ -26,6 +26,12 @@ pub struct ModelArgs {
     /// Quadrature nodes per wavelength (with --method quadrature; the paper used 100).
     #[arg(long, default_value_t = 100)]
     pub nodes_per_wavelength: usize,
+    /// Tail hydrodynamics: local RFT (eq. 3), or non-local slender-body theory / regularized Stokeslets.
+    #[arg(long, value_enum, default_value = "rft")]
+    pub tail_model: TailModelArg,
+    /// Segments per helix turn of the non-local tail models (12 is converged to 1 %).
+    #[arg(long, default_value_t = 12)]
+    pub segments_per_turn: usize,
     /// Degrees of freedom: axial (x-translation and x-rotation, the paper) or all six.
     #[arg(long, value_enum, default_value = "axial")]
     pub dofs: DofsArg,
@@ -41,6 +47,13 @@ pub enum CoefficientsArg {
 pub enum MethodArg {
     Exact,
     Quadrature,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+pub enum TailModelArg {
+    Rft,
+    Sbt,
+    Stokeslets,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -87,6 +100,23 @@ impl ModelArgs {
                 }
             }
         };
+        if !matches!(self.tail_model, TailModelArg::Rft) {
+            if !(4..=200).contains(&self.segments_per_turn) {
+                return Err(CliError::input(format!(
+                    "--segments-per-turn must be between 4 and 200, got {}",
+                    self.segments_per_turn
+                )));
+            }
+            let spt = self.segments_per_turn;
+            model.tail_method = match self.tail_model {
+                TailModelArg::Sbt => TailMethod::SlenderBody {
+                    segments_per_turn: spt,
+                },
+                _ => TailMethod::Stokeslets {
+                    segments_per_turn: spt,
+                },
+            };
+        }
         model.dofs = match self.dofs {
             DofsArg::Axial => Dofs::AXIAL,
             DofsArg::All => Dofs::ALL,

@@ -43,9 +43,10 @@ impl Effect for Coupler {
             body[(0, 0)] += r.axial_n_s_per_m;
         }
     }
-    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) {
+    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
         let c = case.coupler();
         let a = 0.5 * c.diameter_m;
         tail[(3, 3)] += 4.0 * PI * case.viscosity_pa_s * a * a * c.length_m;
+        Ok(())
     }
 }

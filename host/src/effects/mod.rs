@@ -23,6 +23,7 @@ mod body_correction;
 mod buoyancy;
 mod coupler;
 mod motor_frame;
+mod nonlocal_tail;
 mod spec;
 mod tail_confinement;
 mod wall_contact;
@@ -45,6 +46,7 @@ pub static CATALOGUE: &[&dyn Effect] = &[
     &motor_frame::MotorFrame,
     &buoyancy::Buoyancy,
     &coupler::Coupler,
+    &nonlocal_tail::NonlocalTail,
 ];
 
 /// Look an effect up by its command-line name.
@@ -97,7 +99,10 @@ pub trait Effect: Send + Sync {
         1
     }
     fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
-    fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) {}
+    /// Errors (e.g. a failed non-local solve) stop the prediction with a message.
+    fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) -> Result<(), String> {
+        Ok(())
+    }
     fn body(&self, _p: &[f64], _case: &Case, _body: &mut Matrix6<f64>) {}
     fn balance(&self, _p: &[f64], _case: &Case, _fb: &mut ForceBalance) {}
 }

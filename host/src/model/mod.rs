@@ -6,6 +6,7 @@
 //! the body rate is reported as the counter-rotation rate (positive when
 //! opposite to the tail), as the paper's Table IV does.
 
+pub mod nonlocal_tail;
 mod presets;
 pub mod time_domain;
 
@@ -27,6 +28,10 @@ pub enum TailMethod {
     Exact,
     /// The paper's trapezoidal quadrature with this many nodes per wavelength.
     Quadrature { nodes_per_wavelength: usize },
+    /// Regularized Stokeslets (non-local; [`crate::nonlocal`]), memoised.
+    Stokeslets { segments_per_turn: usize },
+    /// Johnson's slender-body theory (non-local), memoised.
+    SlenderBody { segments_per_turn: usize },
 }
 
 /// The model: build with [`Model::base`] or [`preset`], then adjust.
@@ -68,6 +73,14 @@ pub enum ModelError {
     Body { case: String, source: BodyError },
     #[error("case `{case}`: {source}")]
     Solve { case: String, source: SolveError },
+    #[error("case `{case}`: effect `{effect}`: {message}")]
+    Effect {
+        case: String,
+        effect: String,
+        message: String,
+    },
+    #[error("case `{case}`: non-local tail: {message}")]
+    Nonlocal { case: String, message: String },
     #[error("case `{case}`: the prediction is not finite (U = {u}, Omega_b = {omega})")]
     NonFinite { case: String, u: f64, omega: f64 },
 }
@@ -131,6 +144,13 @@ impl Model {
         for e in self.active(case) {
             e.effect.local_drag(&e.values, case, &mut drag);
         }
+        let nonlocal = |method, segments_per_turn| {
+            nonlocal_tail::nonlocal_tail(&helix, case.viscosity_pa_s, method, segments_per_turn)
+                .map_err(|e| ModelError::Nonlocal {
+                    case: case.id.clone(),
+                    message: e.to_string(),
+                })
+        };
         let mut m = match (self.tail_method, self.dofs == Dofs::AXIAL) {
             // The x-only solve reads only the axial block: skip the 36-entry integration.
             (TailMethod::Exact, true) => axial_only(tail::axial_closed_form(&helix, drag)),
@@ -141,9 +161,22 @@ impl Model {
                 },
                 _,
             ) => tail::matrix_quadrature(&helix, drag, nodes_per_wavelength),
+            (TailMethod::Stokeslets { segments_per_turn }, _) => nonlocal(
+                crate::nonlocal::TailMethod::RegularizedStokeslets,
+                segments_per_turn,
+            )?,
+            (TailMethod::SlenderBody { segments_per_turn }, _) => {
+                nonlocal(crate::nonlocal::TailMethod::SlenderBody, segments_per_turn)?
+            }
         };
         for e in self.active(case) {
-            e.effect.tail(&e.values, case, &mut m);
+            e.effect
+                .tail(&e.values, case, &mut m)
+                .map_err(|message| ModelError::Effect {
+                    case: case.id.clone(),
+                    effect: e.name().to_string(),
+                    message,
+                })?;
         }
         Ok(m)
     }

@@ -1,7 +1,7 @@
 //! Text formatting of results and the static HTML report.
 
 mod html;
-mod plots;
+pub mod plots;
 
 /// `v` to `sig` significant digits, without exponent for everyday magnitudes.
 pub fn fmt_sig(v: f64, sig: usize) -> String {

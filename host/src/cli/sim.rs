@@ -1,0 +1,162 @@
+//! `swimbot sim`: the whole-robot simulation (remote script -> shared
+//! controller -> PWM, motor, cell -> swimmer model -> climb), writing
+//! `sim.csv` and `sim.svg` and printing the summary; `--fit-motor`
+//! calibrates one motor against the observed tail rates instead.
+
+use super::model_args::{load_data, ModelArgs};
+use super::CliError;
+use crate::physics::solve::Dofs;
+use crate::sim::{self, calibrate, output, Options, Robot, Script, SimError};
+use clap::Args;
+use std::path::PathBuf;
+
+#[derive(Args, Debug)]
+pub struct SimArgs {
+    /// Robot description (TOML, docs/robot-format.md); the built-in paper robot if absent.
+    #[arg(long)]
+    pub robot: Option<PathBuf>,
+    /// Which of the robot's tails: its number (1-based) or its id.
+    #[arg(long, default_value = "1")]
+    pub tail: String,
+    /// Remote commands, e.g. "on@0s,off@300s" or "nec:0x00:0x45@1s" (default on@0s).
+    #[arg(long, conflicts_with = "script_file")]
+    pub script: Option<String>,
+    /// The script from a file (one item per line or comma-separated, # comments).
+    #[arg(long)]
+    pub script_file: Option<PathBuf>,
+    /// Model options; --preset or --coefficients replace the robot file's model, --effect adds to it.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Output directory for sim.csv and sim.svg.
+    #[arg(short = 'o', long = "out", default_value = "sim-out")]
+    pub out: PathBuf,
+    /// Robot-time limit (s).
+    #[arg(long, default_value_t = 1800.0)]
+    pub max_time: f64,
+    /// CSV sampling interval (s).
+    #[arg(long, default_value_t = 0.1)]
+    pub sample_every: f64,
+    /// Keep going past the channel's top (the height then exceeds the channel).
+    #[arg(long)]
+    pub no_stop_at_top: bool,
+    /// Fit one motor to the observed tail rates of all cases instead of simulating.
+    #[arg(long)]
+    pub fit_motor: bool,
+    /// Dataset for --fit-motor; the paper's built-in data if absent.
+    #[arg(long, requires = "fit_motor")]
+    pub data: Option<PathBuf>,
+}
+
+impl From<SimError> for CliError {
+    fn from(e: SimError) -> Self {
+        CliError::Input(e.to_string())
+    }
+}
+
+fn robot_with_model(args: &SimArgs) -> Result<Robot, CliError> {
+    let mut robot = match &args.robot {
+        Some(p) => Robot::load_file(p).map_err(SimError::from)?,
+        None => sim::default_robot(),
+    };
+    let m = &args.model;
+    let replace = m.preset.is_some() || m.coefficients.is_some();
+    let mut from_args = ModelArgs {
+        effects: Vec::new(),
+        ..m.clone()
+    }
+    .model()?;
+    if !replace {
+        from_args.coefficients = robot.model.coefficients;
+        from_args.effects = robot.model.effects.clone();
+    }
+    for spec in &m.effects {
+        let e = crate::effects::parse_effect_spec(spec)?;
+        if from_args.effects.iter().any(|x| x.name() == e.name()) {
+            return Err(CliError::input(format!(
+                "effect `{}` is already in the model ({}); give it once",
+                e.name(),
+                from_args.describe()
+            )));
+        }
+        from_args.effects.push(e);
+    }
+    if from_args.dofs != Dofs::AXIAL {
+        return Err(CliError::input("sim: only --dofs axial is supported (the lateral motion depends on the tail's phase, which the quasi-static coupling averages out)"));
+    }
+    robot.model = from_args;
+    Ok(robot)
+}
+
+fn tail_index(robot: &Robot, tail: &str) -> Result<usize, CliError> {
+    let by_number = tail
+        .parse::<usize>()
+        .ok()
+        .filter(|n| (1..=robot.tails.len()).contains(n))
+        .map(|n| n - 1);
+    by_number
+        .or_else(|| robot.tails.iter().position(|t| t.id == tail))
+        .ok_or_else(|| {
+            let ids: Vec<&str> = robot.tails.iter().map(|t| t.id.as_str()).collect();
+            CliError::input(format!(
+                "--tail `{tail}`: not a tail of the robot; give 1..={} or one of: {}",
+                robot.tails.len(),
+                ids.join(", ")
+            ))
+        })
+}
+
+pub fn run(args: SimArgs) -> Result<(), CliError> {
+    let robot = robot_with_model(&args)?;
+    if args.fit_motor {
+        let data = load_data(&args.data)?;
+        let fit = calibrate::fit_motor(&robot, &data)?;
+        print!("{}", calibrate::report(&robot, &data, &fit));
+        return Ok(());
+    }
+    let tail = tail_index(&robot, &args.tail)?;
+    let script = match (&args.script, &args.script_file) {
+        (Some(s), _) => Script::parse(s).map_err(SimError::from)?,
+        (None, Some(p)) => {
+            let text = std::fs::read_to_string(p).map_err(|e| {
+                CliError::input(format!("{}: cannot read the script: {e}", p.display()))
+            })?;
+            Script::parse(&text).map_err(|e| CliError::input(format!("{}: {e}", p.display())))?
+        }
+        (None, None) => Script::on_at_zero(),
+    };
+    for (name, v) in [
+        ("--max-time", args.max_time),
+        ("--sample-every", args.sample_every),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(CliError::input(format!(
+                "{name} must be a positive number of seconds, got {v}"
+            )));
+        }
+    }
+    let opts = Options {
+        tail,
+        max_time_s: args.max_time,
+        sample_every_s: args.sample_every,
+        stop_at_top: !args.no_stop_at_top,
+    };
+    let outcome = sim::simulate(&robot, &script, &opts)?;
+    let write = |name: &str, text: &str| {
+        let path = args.out.join(name);
+        std::fs::write(&path, text)
+            .map_err(|e| CliError::failure(format!("writing {}: {e}", path.display())))
+    };
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| CliError::failure(format!("creating {}: {e}", args.out.display())))?;
+    write("sim.csv", &output::csv(&outcome.samples))?;
+    let svg =
+        output::svg(&outcome).map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
+    write("sim.svg", &svg)?;
+    print!("{}", output::summary(&robot, &outcome));
+    println!(
+        "wrote {} and {}",
+        args.out.join("sim.csv").display(),
+        args.out.join("sim.svg").display()
+    );
+    Ok(())
+}

@@ -1,0 +1,331 @@
+//! The whole robot in time: remote edges -> shared `Remote` -> shared
+//! `BatteryMonitor` and `Controller` (the firmware's main loop, ticked like
+//! `firmware/src/run.rs`) -> PWM drive (cycle average) -> motor -> the
+//! swimmer's hydrodynamics -> height in the channel; the cell discharges.
+//!
+//! Per tick `dt` (1 ms by default):
+//! * cell: `V = OCV(soc) - R_int I_s`, with `I_s(V)` the drive's mean supply
+//!   current at the new duty, solved by fixed point (the ADC reads the
+//!   voltage of the previous tick's load, as the firmware's does);
+//! * motor (`Motor::step_implicit`): `L di/dt = v - R i - k w`,
+//!   `J dw/dt = k i - b w - tau_c sgn(w) - tau_m(w)`, `w` the rate of the
+//!   tail relative to the body, `J` rotor + coupler + tail;
+//! * hydrodynamics ([`Hydro`]): `tau_m = tau_0 + c w` and `V = [U; Omega_b]`
+//!   from eq. 11 with the motor between body and tail (quasi-static: the
+//!   Stokes flow has no memory, and the body's own inertia is neglected);
+//! * `dh/dt = U`.
+//!
+//! Energy ledger (J): the cell's `OCV I_s`, against internal, winding,
+//! diode, friction and hydrodynamic losses, the external load's work and
+//! the stored kinetic and magnetic energy.
+
+use super::drive::period_losses;
+use super::hydro::Hydro;
+use super::robot::Robot;
+use super::script::Script;
+use super::SimError;
+use crate::robot::motor::FRICTION_SMOOTHING_RAD_S;
+use crate::robot::MotorState;
+use std::f64::consts::TAU;
+use swimbot_shared::{
+    BatteryMonitor, Command, Controller, Duty, Event, MotorState as State, Remote, StopReason,
+};
+
+/// What to simulate beyond the robot and the script.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Index of the tail in the robot's list.
+    pub tail: usize,
+    /// Give up after this much robot time (s).
+    pub max_time_s: f64,
+    /// Keep one sample every this many seconds.
+    pub sample_every_s: f64,
+    /// End when the nose reaches the channel's top.
+    pub stop_at_top: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            tail: 0,
+            max_time_s: 1800.0,
+            sample_every_s: 0.1,
+            stop_at_top: true,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    pub t_s: f64,
+    pub duty: f64,
+    /// Cell terminal voltage (V).
+    pub battery_v: f64,
+    /// Mean current out of the cell (A).
+    pub current_a: f64,
+    /// Mean motor current (A).
+    pub motor_current_a: f64,
+    /// Motor rate, tail relative to body (Hz).
+    pub motor_rate_hz: f64,
+    /// Tail rate in the lab frame (Hz): what a camera sees.
+    pub tail_rate_hz: f64,
+    /// Body rate about x in the lab frame (Hz), signed: negative is
+    /// counter-rotating against the tail.
+    pub body_rate_hz: f64,
+    pub u_mm_s: f64,
+    /// Nose above the channel floor (mm).
+    pub height_mm: f64,
+    pub soc: f64,
+    pub state: State,
+}
+
+/// Energy ledger over the run (J), see the module docs.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Energy {
+    pub cell_j: f64,
+    pub internal_j: f64,
+    pub winding_j: f64,
+    pub diode_j: f64,
+    pub friction_j: f64,
+    pub hydro_j: f64,
+    /// Work done on the robot by external loads (buoyancy), an input.
+    pub external_j: f64,
+    pub stored_j: f64,
+}
+
+impl Energy {
+    /// Input minus everything accounted for (J).
+    pub fn residual_j(&self) -> f64 {
+        self.cell_j + self.external_j
+            - (self.internal_j
+                + self.winding_j
+                + self.diode_j
+                + self.friction_j
+                + self.hydro_j
+                + self.stored_j)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum End {
+    TopReached,
+    /// The controller stopped the motor and it came to rest.
+    Stopped(StopReason),
+    /// The script ran out and the robot is at rest (never started, or
+    /// started and stopped by a command).
+    Idle,
+    TimeLimit,
+}
+
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub tail_id: String,
+    pub hydro: Hydro,
+    pub samples: Vec<Sample>,
+    /// The state after the last tick (also the last sample).
+    pub last: Sample,
+    pub events: Vec<(f64, Event)>,
+    pub commands: Vec<(f64, Command)>,
+    pub end: End,
+    pub top_reached_s: Option<f64>,
+    pub start_height_mm: f64,
+    pub channel_length_mm: f64,
+    /// Time in the Running state (after the soft start), and the means
+    /// of U (mm/s), tail rate f and body counter-rotation (Hz) over it.
+    pub running_s: f64,
+    pub mean_u_mm_s: f64,
+    pub mean_f_hz: f64,
+    pub mean_omega_b_hz: f64,
+    pub energy: Energy,
+    pub ticks: u64,
+}
+
+pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcome, SimError> {
+    let tail = robot.tails.get(opts.tail).ok_or_else(|| {
+        SimError::Input(format!(
+            "tail index {} out of range (the robot has {})",
+            opts.tail,
+            robot.tails.len()
+        ))
+    })?;
+    let hydro = Hydro::new(&robot.model, &robot.case(opts.tail, 1.0))?;
+    let motor = robot.motor_with(opts.tail);
+    let mp = motor.params;
+    let cell = &robot.cell;
+    let capacity_c = cell.capacity_mah * 3.6;
+    let mut charge_c = cell.initial_soc * capacity_c;
+    let (tick_us, dt) = (robot.tick_us, robot.tick_us as f64 * 1e-6);
+    let mut remote = Remote::new(robot.keys);
+    let mut monitor = BatteryMonitor::new(robot.battery);
+    let mut controller = Controller::new(robot.controller);
+    let edges = script.edges(&robot.keys);
+    let mut next_edge = 0;
+    let script_end_us = edges.last().map_or(0, |e| e.1);
+    let channel_mm = robot.setup.channel_length_mm;
+    let start_height_mm = robot.start_height_mm(opts.tail);
+    let sample_every_us = ((opts.sample_every_s * 1e6) as u64).max(tick_us);
+    let max_us = (opts.max_time_s * 1e6) as u64;
+
+    let (mut t_us, mut next_adc_us, mut next_sample_us) = (0u64, 0u64, 0u64);
+    let (mut s, mut height_mm, mut supply_a, mut duty) =
+        (MotorState::REST, start_height_mm, 0.0f64, Duty::ZERO);
+    let mut energy = Energy::default();
+    let stored = |s: &MotorState| {
+        0.5 * motor.inertia_kg_m2() * s.speed_rad_s.powi(2)
+            + 0.5 * mp.inductance_h * s.current_a.powi(2)
+    };
+    let (mut events, mut commands, mut samples) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut running_s, mut sum_u, mut sum_f, mut sum_om) = (0.0, 0.0, 0.0, 0.0);
+    let mut top_reached_s = None;
+    let mut last_stop = None;
+    let mut ticks = 0u64;
+    let sample_now =
+        |t_us: u64, duty: f64, v: f64, i_s: f64, s: &MotorState, h: f64, q: f64, state: State| {
+            let vel = hydro.velocity(s.speed_rad_s);
+            Sample {
+                t_s: t_us as f64 * 1e-6,
+                duty,
+                battery_v: v,
+                current_a: i_s,
+                motor_current_a: s.current_a,
+                motor_rate_hz: s.speed_rad_s / TAU,
+                tail_rate_hz: (s.speed_rad_s + vel[3]) / TAU,
+                body_rate_hz: vel[3] / TAU,
+                u_mm_s: vel[0] * 1e3,
+                height_mm: h,
+                soc: q / capacity_c,
+                state,
+            }
+        };
+    let mut last: Sample;
+    let end = loop {
+        t_us += tick_us;
+        ticks += 1;
+        let mut command = None;
+        while let Some(&(level, t)) = edges.get(next_edge) {
+            if t > t_us {
+                break;
+            }
+            next_edge += 1;
+            // The firmware timestamps with the timer's low 32 bits.
+            if let Some(c) = remote.edge(level, t as u32) {
+                commands.push((t as f64 * 1e-6, c));
+                command = Some(Command::merge(command, c));
+            }
+        }
+        let ocv = cell.ocv_v(charge_c / capacity_c);
+        if t_us >= next_adc_us {
+            next_adc_us = t_us + robot.adc_period_us;
+            let v = ocv - cell.internal_resistance_ohm * supply_a;
+            let counts = robot
+                .battery
+                .mv_to_counts((v * 1e3).round().max(0.0) as u32);
+            monitor.sample(counts, t_us, duty != Duty::ZERO);
+        }
+        let out = controller.step(t_us, command, monitor.status());
+        if let Some(e) = out.event {
+            if let Event::Stopped(r) = e {
+                last_stop = Some(r);
+            }
+            events.push((t_us as f64 * 1e-6, e));
+        }
+        duty = out.duty;
+        let d = duty.as_f64();
+        // Terminal voltage with the new duty's current: a contraction with
+        // factor ~R_int d / R, so a few passes reach 1e-12 V.
+        let mut v = ocv - cell.internal_resistance_ohm * supply_a;
+        let mut means = robot.drive.cycle_average(&motor, d, v, s.speed_rad_s);
+        for _ in 0..8 {
+            let v_new = ocv - cell.internal_resistance_ohm * means.supply_current_a;
+            if (v_new - v).abs() < 1e-12 {
+                break;
+            }
+            v = v_new;
+            means = robot.drive.cycle_average(&motor, d, v, s.speed_rad_s);
+        }
+        supply_a = means.supply_current_a;
+        let losses = period_losses(&robot.drive, &motor, d, v, s.speed_rad_s);
+        let stored_before = stored(&s);
+        let w_old = s.speed_rad_s;
+        s = motor.step_implicit(
+            s,
+            means.motor_v,
+            hydro.motor_torque_n_m(w_old),
+            hydro.damping_n_m_s,
+            dt,
+        );
+        let w = s.speed_rad_s;
+        charge_c = (charge_c - supply_a * dt).clamp(0.0, capacity_c);
+        let vel = hydro.velocity(w);
+        height_mm += vel[0] * 1e3 * dt;
+
+        energy.cell_j += ocv * supply_a * dt;
+        energy.internal_j += cell.internal_resistance_ohm * supply_a * supply_a * dt;
+        energy.winding_j += losses.winding_w * dt;
+        energy.diode_j += losses.diode_w * dt;
+        let friction_n_m = mp.viscous_friction_n_m_s * w
+            + mp.coulomb_friction_n_m * (w / FRICTION_SMOOTHING_RAD_S).tanh();
+        energy.friction_j += friction_n_m * w * dt;
+        energy.hydro_j += hydro.dissipation_w(w) * dt;
+        energy.external_j += hydro.external_power_w(w) * dt;
+        energy.stored_j += stored(&s) - stored_before;
+
+        if out.state == State::Running {
+            running_s += dt;
+            sum_u += vel[0] * 1e3 * dt;
+            sum_f += (w + vel[3]) / TAU * dt;
+            sum_om += -vel[3] / TAU * dt;
+        }
+        last = sample_now(t_us, d, v, supply_a, &s, height_mm, charge_c, out.state);
+        if t_us >= next_sample_us {
+            next_sample_us += sample_every_us;
+            samples.push(last);
+        }
+        if height_mm >= channel_mm && top_reached_s.is_none() {
+            top_reached_s = Some(t_us as f64 * 1e-6);
+            if opts.stop_at_top {
+                break End::TopReached;
+            }
+        }
+        let at_rest = out.state == State::Off
+            && w.abs() < 1e-3
+            && next_edge == edges.len()
+            && t_us > script_end_us + 200_000;
+        if at_rest {
+            break last_stop
+                .filter(|r| *r != StopReason::Command)
+                .map_or(End::Idle, End::Stopped);
+        }
+        if t_us >= max_us {
+            break End::TimeLimit;
+        }
+    };
+    if samples.last().map(|x| x.t_s) != Some(last.t_s) {
+        samples.push(last);
+    }
+    let mean = |x: f64| {
+        if running_s > 0.0 {
+            x / running_s
+        } else {
+            f64::NAN
+        }
+    };
+    Ok(Outcome {
+        tail_id: tail.id.clone(),
+        hydro,
+        samples,
+        last,
+        events,
+        commands,
+        end,
+        top_reached_s,
+        start_height_mm,
+        channel_length_mm: channel_mm,
+        running_s,
+        mean_u_mm_s: mean(sum_u),
+        mean_f_hz: mean(sum_f),
+        mean_omega_b_hz: mean(sum_om),
+        energy,
+        ticks,
+    })
+}

@@ -1,0 +1,31 @@
+//! `swimbot sim`: the whole robot in time. A robot description
+//! ([`robot`]) and a remote-control script ([`script`]) drive the
+//! firmware's shared controller, the host's motor, PWM and cell models and
+//! the swimmer model (eq. 11 with the motor between body and tail,
+//! [`hydro`]) through [`dynamics`]; [`output`] writes the time series,
+//! plot and summary, and [`calibrate`] fits one motor to all observed tail
+//! rates (a check of the paper's constant-torque assumption).
+
+pub mod calibrate;
+pub mod drive;
+pub mod dynamics;
+pub mod hydro;
+pub mod output;
+pub mod robot;
+pub mod script;
+
+pub use dynamics::{simulate, End, Energy, Options, Outcome, Sample};
+pub use robot::{default_robot, Robot, RobotError};
+pub use script::Script;
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    #[error(transparent)]
+    Robot(#[from] RobotError),
+    #[error(transparent)]
+    Hydro(#[from] hydro::HydroError),
+    #[error(transparent)]
+    Script(#[from] script::ScriptError),
+    #[error("{0}")]
+    Input(String),
+}
