@@ -2,9 +2,11 @@
 //! receiver output with the 1 MHz timer and queues it; the main loop drains
 //! the queue into the shared NEC decoder.
 //!
-//! Decoding stays out of the interrupt so the interrupt is a few dozen
-//! cycles and all protocol logic runs in the (watchdog-guarded) main loop;
-//! the timestamp is what must be taken promptly, and the interrupt does.
+//! Decoding stays out of the interrupt so that the interrupt stays short
+//! (measured in the rp2040js emulator: 202 cycles per edge, 1.6 us at
+//! 125 MHz, against NEC's 562 us time unit) and all protocol logic runs in
+//! the (watchdog-guarded) main loop; the timestamp is what must be taken
+//! promptly, and the interrupt does.
 
 use crate::board;
 use core::cell::RefCell;

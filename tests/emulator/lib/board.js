@@ -1,0 +1,346 @@
+// The swimbot board around an emulated RP2040 (rp2040js): loads the firmware
+// ELF into flash, boots it (through the real B1 bootrom and boot2 by default),
+// drives the IR receiver pin and the battery ADC input, records the motor pin
+// with simulation timestamps, models the watchdog reset, and counts the CPU
+// cycles spent in the GPIO (IO_IRQ_BANK0) interrupt.
+//
+// Board facts mirror firmware/src/board.rs; change them together.
+import { readFileSync } from 'node:fs';
+import { BasePeripheral, GPIOPinState, RP2040 } from 'rp2040js';
+import { loadFlash, readElf, symbolize } from './elf.js';
+
+export const MOTOR_GPIO = 16;
+export const IR_GPIO = 15;
+export const BATTERY_ADC_CHANNEL = 0;
+export const PWM_FREQ_HZ = 25_000;
+export const WATCHDOG_MS = 500;
+export const DIVIDER_RATIO = 82 / (100 + 82); // V_pin / V_bat
+export const ADC_REF_V = 3.3;
+
+const IO_IRQ_BANK0 = 13;
+const EXC_IO_IRQ_BANK0 = 16 + IO_IRQ_BANK0;
+const WATCHDOG_BASE = 0x40058000;
+const FLASH_BASE = 0x10000000;
+const VREG_AND_CHIP_RESET_BASE = 0x40064000;
+
+export const MS = 1e6; // nanoseconds
+export const US = 1e3;
+
+/** ADC code (12 bit, 3.3 V reference) for a battery voltage through the 100k/82k divider. */
+export function adcCodeForBattery(volts) {
+  return Math.max(0, Math.min(4095, Math.round(((volts * DIVIDER_RATIO) / ADC_REF_V) * 4096)));
+}
+
+class QuietLogger {
+  constructor() {
+    this.messages = [];
+  }
+  push(level, c, m) {
+    if (this.messages.length < 200) this.messages.push(`${level} ${c}: ${m}`);
+  }
+  debug() {}
+  info() {}
+  warn(c, m) {
+    this.push('warn', c, m);
+  }
+  error(c, m) {
+    this.push('error', c, m);
+  }
+}
+
+export class Board {
+  /**
+   * @param {object} o
+   * @param {string} o.elfPath firmware ELF
+   * @param {string} [o.bootromPath] 16 KiB B1 bootrom image; without it, route (b): start at the vector table
+   */
+  constructor({ elfPath, bootromPath }) {
+    this.elf = readElf(elfPath);
+    this.bootrom = bootromPath ? bootromWords(bootromPath) : null;
+    this.timeOffsetNs = 0; // simulated time before the current chip instance (resets)
+    this.events = []; // external stimuli: { t, fn }, sorted by t
+    this.motorEdges = []; // { t, v } with v = 0/1, absolute ns
+    this.resets = []; // { t, reason }
+    this.irqEntries = []; // { t, cycles } one per IO_IRQ_BANK0 handler run
+    this.irEdgeTimes = [];
+    this.irLevel = true; // TSOP output idles high
+    this.batteryV = 4.0;
+    this.watchdogFired = false;
+    this.logger = new QuietLogger();
+    this.powerOn('power-on');
+  }
+
+  get nowNs() {
+    return this.timeOffsetNs + this.clock.nanos;
+  }
+
+  /** A fresh chip: power-on or watchdog reset (state is lost, as on the real chip: the board has no battery-backed state). */
+  powerOn(reason) {
+    const previous = this.mcu;
+    if (previous) this.timeOffsetNs += this.clock.nanos;
+    const mcu = new RP2040(); // with its own SimulationClock (simulated nanoseconds)
+    this.clock = mcu.clock;
+    mcu.logger = this.logger;
+    mcu.peripherals[(VREG_AND_CHIP_RESET_BASE >>> 14) << 2] = new VregAndChipReset(mcu);
+    if (this.bootrom) {
+      mcu.loadBootrom(this.bootrom); // resets the core: SP from the bootrom's vector table
+    }
+    this.flashTop = loadFlash(this.elf, mcu.flash);
+    if (this.bootrom) {
+      // Route (a): the real B1 bootrom is mapped at 0 (ROM function table, soft
+      // float/memcpy routines the HAL's intrinsics call), and execution starts
+      // at boot2 in flash, which sets up the SSI and jumps through the vector
+      // table at 0x10000100 as on hardware. The bootrom's own reset handler
+      // cannot run here: rp2040js has no SPI flash behind the SSI, so the
+      // bootrom could not read boot2 out of flash into SRAM.
+      mcu.core.PC = FLASH_BASE;
+    } else {
+      // Route (b): no bootrom, no boot2. Start at the firmware's vector table.
+      const vt = FLASH_BASE + 0x100;
+      mcu.core.VTOR = vt;
+      mcu.core.SP = mcu.readUint32(vt);
+      mcu.core.PC = mcu.readUint32(vt + 4) & ~1;
+    }
+    if (previous) {
+      // The watchdog's reason and scratch registers survive a watchdog reset.
+      const oldWd = previous.findPeripheral(WATCHDOG_BASE);
+      const newWd = mcu.findPeripheral(WATCHDOG_BASE);
+      newWd.scratchData.set(oldWd.scratchData);
+      newWd.reason = oldWd.reason;
+    }
+    const wd = mcu.findPeripheral(WATCHDOG_BASE);
+    wd.onWatchdogTrigger = () => {
+      // The chip resets here: stop this instance's watchdog at once (its
+      // periodic alarm would otherwise fire again and again inside the same
+      // clock tick); the run loop swaps in a fresh chip right after the tick.
+      wd.timer.enable = false;
+      wd.alarm.enable = false;
+      this.watchdogFired = true;
+    };
+    this.mcu = mcu;
+    this.resets.push({ t: this.nowNs, reason });
+    // Motor pin: gate pulled down by 100 kohm, so an undriven pin reads low.
+    this.recordMotor(mcu.gpio[MOTOR_GPIO].value);
+    mcu.gpio[MOTOR_GPIO].addListener((state) => this.recordMotor(state));
+    mcu.gpio[IR_GPIO].setInputValue(this.irLevel);
+    mcu.adc.channelValues[BATTERY_ADC_CHANNEL] = adcCodeForBattery(this.batteryV);
+    this.inIrq = false;
+    this.irqCycles = 0;
+  }
+
+  recordMotor(state) {
+    const v = state === GPIOPinState.High || state === GPIOPinState.InputPullUp ? 1 : 0;
+    const last = this.motorEdges[this.motorEdges.length - 1];
+    if (last && last.v === v) return;
+    this.motorEdges.push({ t: this.nowNs, v });
+  }
+
+  // ---- stimuli -------------------------------------------------------------
+
+  /** Schedules fn at absolute simulated time t (ns). */
+  at(t, fn) {
+    let i = this.events.length;
+    while (i > 0 && this.events[i - 1].t > t) i--;
+    this.events.splice(i, 0, { t, fn });
+  }
+
+  setIr(level) {
+    if (level === this.irLevel) return;
+    this.irLevel = level;
+    this.irEdgeTimes.push(this.nowNs);
+    this.mcu.gpio[IR_GPIO].setInputValue(level);
+  }
+
+  /** Schedules a waveform: [[durationNs, level], ...] starting at absolute time t; returns its end time. */
+  playIr(t, waveform) {
+    for (const [dur, level] of waveform) {
+      this.at(t, () => this.setIr(level));
+      t += dur;
+    }
+    this.at(t, () => this.setIr(true));
+    return t;
+  }
+
+  setBattery(volts) {
+    this.batteryV = volts;
+    this.mcu.adc.channelValues[BATTERY_ADC_CHANNEL] = adcCodeForBattery(volts);
+  }
+
+  // ---- running -------------------------------------------------------------
+
+  runFor(ns) {
+    this.runUntil(this.nowNs + ns);
+  }
+
+  runUntil(t) {
+    while (this.nowNs < t) {
+      const next = this.events.length && this.events[0].t < t ? this.events[0].t : t;
+      this.runChipUntil(next);
+      while (this.events.length && this.events[0].t <= this.nowNs) {
+        this.events.shift().fn();
+      }
+    }
+  }
+
+  runChipUntil(tAbs) {
+    const { clock } = this;
+    const mcu = this.mcu;
+    const core = mcu.core;
+    const end = tAbs - this.timeOffsetNs;
+    while (clock.nanos < end) {
+      if (this.watchdogFired) {
+        this.watchdogFired = false;
+        this.powerOn('watchdog');
+        return this.runChipUntil(tAbs);
+      }
+      if (core.waiting) {
+        // Sleeping (WFI/WFE): jump to the next peripheral alarm, or to the end.
+        const left = end - clock.nanos;
+        const toAlarm = clock.nextAlarm ? clock.nanosToNextAlarm : Infinity;
+        clock.tick(Math.max(0, Math.min(toAlarm, left)));
+        continue;
+      }
+      const before = core.IPSR;
+      const cycles = core.executeInstruction();
+      const after = core.IPSR;
+      if (before === EXC_IO_IRQ_BANK0 || after === EXC_IO_IRQ_BANK0) {
+        if (!this.inIrq) {
+          this.inIrq = true;
+          this.irqCycles = 0;
+        }
+        this.irqCycles += cycles;
+        if (after !== EXC_IO_IRQ_BANK0) {
+          this.inIrq = false;
+          this.irqEntries.push({ t: this.nowNs, cycles: this.irqCycles });
+        }
+      }
+      clock.tick((cycles * 1e9) / mcu.clkSys);
+    }
+    if (this.watchdogFired) {
+      this.watchdogFired = false;
+      this.powerOn('watchdog');
+    }
+  }
+
+  // ---- observation ---------------------------------------------------------
+
+  /** Index of the first recorded motor edge later than t (binary search). */
+  edgeIndexAfter(t) {
+    const e = this.motorEdges;
+    let lo = 0;
+    let hi = e.length;
+    while (lo < hi) {
+      const mid = (lo + hi) >> 1;
+      if (e[mid].t <= t) lo = mid + 1;
+      else hi = mid;
+    }
+    return lo;
+  }
+
+  /** Motor pin level (0/1) at absolute time t. */
+  motorAt(t) {
+    const i = this.edgeIndexAfter(t);
+    return i > 0 ? this.motorEdges[i - 1].v : 0;
+  }
+
+  motorEdgesIn(t0, t1) {
+    return this.motorEdges.filter((e) => e.t >= t0 && e.t < t1);
+  }
+
+  /** Fraction of [t0, t1) during which the motor pin is high. */
+  dutyIn(t0, t1) {
+    const e = this.motorEdges;
+    let high = 0;
+    let v = this.motorAt(t0);
+    let t = t0;
+    for (let i = this.edgeIndexAfter(t0); i < e.length && e[i].t < t1; i++) {
+      if (v) high += e[i].t - t;
+      t = e[i].t;
+      v = e[i].v;
+    }
+    if (v) high += t1 - t;
+    return high / (t1 - t0);
+  }
+
+  /** PWM carrier frequency from the rising edges in [t0, t1): { hz, minHz, maxHz, periods }. */
+  pwmFreqIn(t0, t1) {
+    const rises = this.motorEdges.filter((e) => e.v === 1 && e.t >= t0 && e.t < t1).map((e) => e.t);
+    if (rises.length < 3) return { hz: 0, minHz: 0, maxHz: 0, periods: Math.max(0, rises.length - 1) };
+    const periods = [];
+    for (let i = 1; i < rises.length; i++) periods.push(rises[i] - rises[i - 1]);
+    const mean = (rises[rises.length - 1] - rises[0]) / periods.length;
+    return {
+      hz: 1e9 / mean,
+      minHz: 1e9 / Math.max(...periods),
+      maxHz: 1e9 / Math.min(...periods),
+      periods: periods.length,
+    };
+  }
+
+  firstRiseAfter(t) {
+    const e = this.motorEdges.find((x) => x.v === 1 && x.t >= t);
+    return e ? e.t : undefined;
+  }
+
+  lastRiseBefore(t) {
+    let r;
+    for (const e of this.motorEdges) {
+      if (e.t >= t) break;
+      if (e.v === 1) r = e.t;
+    }
+    return r;
+  }
+
+  /** The PWM slice driving GPIO16 (slice 0), straight from the emulator's registers. */
+  get pwmSlice0() {
+    return this.mcu.pwm.channels[0];
+  }
+
+  get watchdogEnabled() {
+    return this.mcu.findPeripheral(WATCHDOG_BASE).enable;
+  }
+
+  /** The handler installed for IO_IRQ_BANK0, read from the vector table the firmware runs with. */
+  irqHandler() {
+    const vtor = this.mcu.core.VTOR;
+    const addr = this.mcu.readUint32(vtor + 4 * EXC_IO_IRQ_BANK0) & ~1;
+    const sym = symbolize(this.elf, addr);
+    return { addr, name: sym ? sym.name : '?' };
+  }
+
+  irqCyclesSince(t) {
+    return this.irqEntries.filter((e) => e.t >= t);
+  }
+}
+
+/**
+ * rp2040js leaves VREG_AND_CHIP_RESET unimplemented (reads 0xffffffff). The
+ * bootrom's reset handler reads CHIP_RESET and, seeing HAD_PSM_RESTART (bit 24,
+ * "restarted by the debugger"), parks the core waiting for a debugger. Model
+ * the registers as after a power-on reset: VREG 1.10 V enabled, BOD enabled,
+ * CHIP_RESET.HAD_POR set.
+ */
+class VregAndChipReset extends BasePeripheral {
+  constructor(rp2040) {
+    super(rp2040, 'VREG_AND_CHIP_RESET');
+    this.regs = [0x000000b1, 0x00000091, 0x00000100];
+  }
+  readUint32(offset) {
+    if (offset < 12) return this.regs[offset >> 2];
+    return super.readUint32(offset);
+  }
+  writeUint32(offset, value) {
+    if (offset === 0 || offset === 4) this.regs[offset >> 2] = value;
+    // CHIP_RESET: only PSM_RESTART_FLAG (bit 24) is writable (write 1 to clear)
+    else if (offset === 8) this.regs[2] &= ~(value & (1 << 24));
+    else super.writeUint32(offset, value);
+  }
+}
+
+function bootromWords(path) {
+  const bytes = readFileSync(path);
+  if (bytes.length !== 16384) throw new Error(`${path}: expected a 16 KiB bootrom, got ${bytes.length} B`);
+  const words = new Uint32Array(4096);
+  for (let i = 0; i < 4096; i++) words[i] = bytes.readUInt32LE(i * 4);
+  return words;
+}

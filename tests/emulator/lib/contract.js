@@ -1,0 +1,30 @@
+// The firmware's behaviour contract (issue 6 and firmware/src/board.rs), with
+// the tolerances the emulator scenarios accept.
+import { appendFileSync } from 'node:fs';
+import { MS } from './board.js';
+
+export const NEC_ADDRESS = 0x00;
+export const NEC_CMD_ON = 0x45;
+export const NEC_CMD_OFF = 0x47;
+
+export const PWM_FREQ_HZ = 25_000;
+export const PWM_FREQ_TOL = 0.01; // +-1 %
+export const PWM_MIN_COUNTS = 1024; // >= 10-bit duty resolution: TOP + 1 >= 1024
+
+export const MOTOR_TARGET_V = 3.0; // "about 3.0 V": duty = 3.0 V / V_bat
+export const MOTOR_TARGET_TOL = 0.05; // +-5 % on the average motor voltage
+export const SOFT_START_NS = 250 * MS;
+export const SOFT_START_TOL = 0.1; // +-10 %
+
+export const OFF_DEADLINE_NS = 1 * MS; // duty 0 within 1 ms of the end of the Off frame
+
+export const CUTOFF_V = 3.3; // low-battery cut-off
+export const CUTOFF_DEBOUNCE_NS = 1000 * MS; // ~1 s
+export const WATCHDOG_NS = 500 * MS;
+
+/** Prints one measured number; also collected for the summary at the end of `npm test` (scripts/run.mjs). */
+export function perf(name, value, unit) {
+  const line = `${name} = ${value}${unit ? ` ${unit}` : ''}`;
+  console.log(`emulator perf: ${line}`);
+  if (process.env.SWIMBOT_EMU_PERF_LOG) appendFileSync(process.env.SWIMBOT_EMU_PERF_LOG, `${line}\n`);
+}

@@ -1,0 +1,28 @@
+// Scenario 1: reset. The motor pin is low from the first millisecond and no
+// PWM appears while no command has been received.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import { MOTOR_GPIO, MS, US } from '../lib/board.js';
+import { perf } from '../lib/contract.js';
+import { boardWith, manifest } from '../lib/images.js';
+
+test('reset: motor pin low within the first ms, no PWM', () => {
+  const m = manifest();
+  console.log(`emulator: route (${m.route}), ${m.bootrom ? 'B1 bootrom + boot2' : 'no bootrom'}`);
+  const b = boardWith('firmware');
+  const pin = b.mcu.gpio[MOTOR_GPIO];
+  while (!pin.outputEnable && b.nowNs < 1 * MS) b.runFor(1 * US);
+  perf('reset to GPIO16 driven low (emulated clocks start at once: no XOSC start-up)', (b.nowNs / US).toFixed(0), 'us');
+  b.runUntil(1 * MS);
+  assert.equal(b.motorEdgesIn(0, 1 * MS).filter((e) => e.v === 1).length, 0, 'motor pin went high in the first ms');
+  assert.equal(b.motorAt(1 * MS), 0, 'motor pin not low at 1 ms');
+  assert.ok(pin.outputEnable, 'GPIO16 is not driven by 1 ms (left floating on the 100k pull-down)');
+  assert.equal(pin.outputValue, false, 'GPIO16 drives high at 1 ms');
+
+  b.runUntil(300 * MS);
+  const rises = b.motorEdgesIn(0, 300 * MS).filter((e) => e.v === 1);
+  assert.equal(rises.length, 0, `motor pin pulsed ${rises.length} times in 300 ms without a command`);
+  assert.equal(b.motorAt(300 * MS), 0);
+  assert.equal(b.resets.length, 1, 'unexpected reset during boot');
+  assert.ok(b.mcu.core.cycles > 0, 'the core did not run');
+});

@@ -1,0 +1,81 @@
+// Scenario 4: frames the robot must ignore (wrong address, corrupted inverted
+// byte, repeat codes alone, truncated frames, random edge noise) change
+// nothing, whether the motor is off or running; the decoder still accepts a
+// good frame afterwards.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import { MS } from '../lib/board.js';
+import { NEC_ADDRESS, NEC_CMD_OFF, NEC_CMD_ON } from '../lib/contract.js';
+import { boardWith } from '../lib/images.js';
+import { necFrame, necRepeat, noise } from '../lib/nec.js';
+import { dutyBins, ms, pct, sendFrame, sendOff, sendOn } from '../lib/steps.js';
+
+const GAP = 30 * MS;
+
+/** The frames to ignore, for command `cmd`. */
+function junk(cmd) {
+  const good = necFrame(NEC_ADDRESS, cmd);
+  return [
+    ['wrong address 0x01', necFrame(0x01, cmd)],
+    ['wrong address 0x80', necFrame(0x80, cmd)],
+    ['corrupted inverted command', necFrame(NEC_ADDRESS, cmd, { invCommand: ~cmd & 0xff ^ 0x01 })],
+    ['corrupted inverted address', necFrame(NEC_ADDRESS, cmd, { invAddress: 0x7f })],
+    ['repeat code alone', necRepeat()],
+    ['repeat code alone (2nd)', necRepeat()],
+    ['repeat code alone (3rd)', necRepeat()],
+    ['truncated frame (first 40 edges)', good.slice(0, 40)],
+    ['random edge noise (80 pulses)', noise(0x5eed, 80)],
+    ['random edge noise (80 pulses, 2nd seed)', noise(0xbeef, 80)],
+  ];
+}
+
+function playAll(b, frames) {
+  const played = [];
+  for (const [name, w] of frames) {
+    const f = sendFrame(b, b.nowNs + GAP, w);
+    played.push({ name, ...f });
+  }
+  b.runUntil(b.nowNs + GAP);
+  return played;
+}
+
+test('ignored frames while the motor is off: it stays off', () => {
+  const b = boardWith('firmware');
+  b.setBattery(3.9);
+  b.runUntil(20 * MS);
+  const t0 = b.nowNs;
+  const played = playAll(b, junk(NEC_CMD_ON));
+  b.runUntil(b.nowNs + 300 * MS);
+  for (const p of played) {
+    const rises = b.motorEdgesIn(p.start, p.end + GAP).filter((e) => e.v === 1);
+    assert.equal(rises.length, 0, `motor pulsed after "${p.name}"`);
+  }
+  assert.equal(b.motorEdgesIn(t0, b.nowNs).length, 0, 'motor pin changed');
+  assert.equal(b.resets.length, 1, 'the chip reset during the junk frames');
+
+  const on = sendOn(b, b.nowNs + GAP);
+  b.runUntil(on.end + 50 * MS);
+  assert.ok(b.firstRiseAfter(on.start) !== undefined, 'a good On frame after the junk did not start the motor');
+});
+
+test('ignored frames while the motor runs: duty unchanged', () => {
+  const b = boardWith('firmware');
+  b.setBattery(3.9);
+  b.runUntil(20 * MS);
+  const on = sendOn(b, 20 * MS);
+  b.runUntil(on.end + 400 * MS);
+  const held = b.dutyIn(on.end + 300 * MS, on.end + 400 * MS);
+  assert.ok(held > 0.5, `motor not running (duty ${pct(held)})`);
+  const t0 = b.nowNs;
+  const played = playAll(b, junk(NEC_CMD_OFF));
+  for (const bin of dutyBins(b, t0, b.nowNs, 2 * MS)) {
+    const p = played.find((x) => bin.t >= x.start && bin.t < x.end + GAP);
+    assert.ok(Math.abs(bin.duty - held) <= 0.03, `duty ${pct(bin.duty)} (held ${pct(held)}) at ${ms(bin.t - t0)}${p ? ` during/after "${p.name}"` : ''}`);
+  }
+  assert.equal(b.resets.length, 1, 'the chip reset during the junk frames');
+
+  const off = sendOff(b, b.nowNs + GAP);
+  b.runUntil(off.end + 20 * MS);
+  assert.equal(b.motorEdgesIn(off.end + 1 * MS, b.nowNs).length, 0, 'a good Off frame after the junk did not stop the motor');
+  assert.equal(b.motorAt(b.nowNs), 0);
+});
