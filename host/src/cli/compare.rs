@@ -1,6 +1,6 @@
 //! `swimbot compare`: model against measurement, per case and in summary.
 
-use super::model_args::{load_data, ModelArgs};
+use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, Format};
 use super::CliError;
 use crate::report::fmt_sig;
@@ -10,9 +10,8 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct CompareArgs {
-    /// Dataset (TOML); the paper's built-in data if absent.
-    #[arg(long)]
-    pub data: Option<PathBuf>,
+    #[command(flatten)]
+    pub data: DataArgs,
     #[command(flatten)]
     pub model: ModelArgs,
     #[arg(long, value_enum, default_value = "table")]
@@ -26,7 +25,7 @@ pub struct CompareArgs {
 }
 
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
-    let data = load_data(&args.data)?;
+    let data = args.data.load()?;
     let model = args.model.model()?;
     let cmp = compare(&model, &data, 0)?;
     match args.format {

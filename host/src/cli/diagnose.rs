@@ -1,19 +1,17 @@
 //! `swimbot diagnose`: where the model fails and which effect is missing.
 
-use super::model_args::{load_data, ModelArgs};
+use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, print_json, Format};
 use super::CliError;
 use crate::report::fmt_sig;
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
 use clap::Args;
 use indicatif::ProgressBar;
-use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct DiagnoseArgs {
-    /// Dataset (TOML); the paper's built-in data if absent.
-    #[arg(long)]
-    pub data: Option<PathBuf>,
+    #[command(flatten)]
+    pub data: DataArgs,
     #[command(flatten)]
     pub model: ModelArgs,
     #[arg(long, value_enum, default_value = "table")]
@@ -42,7 +40,7 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
             a.margin
         )));
     }
-    let data = load_data(&a.data)?;
+    let data = a.data.load()?;
     let model = a.model.model()?;
     let settings = DiagnoseSettings {
         level: a.level,

@@ -1,20 +1,18 @@
 //! `swimbot fit`: calibrate effect parameters on chosen cases, report the
 //! error on all cases (as the paper calibrated on the B_o/R_body = 0.45 tails).
 
-use super::model_args::{load_data, ModelArgs};
+use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, Format};
 use super::CliError;
 use crate::report::fmt_sig;
 use crate::workbench::compare::compare;
 use crate::workbench::fit::{fit, free_params_of};
 use clap::Args;
-use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct FitArgs {
-    /// Dataset (TOML); the paper's built-in data if absent.
-    #[arg(long)]
-    pub data: Option<PathBuf>,
+    #[command(flatten)]
+    pub data: DataArgs,
     #[command(flatten)]
     pub model: ModelArgs,
     /// Calibrate on these case ids only (comma-separated; default all).
@@ -25,7 +23,7 @@ pub struct FitArgs {
 }
 
 pub fn run(a: FitArgs) -> Result<(), CliError> {
-    let data = load_data(&a.data)?;
+    let data = a.data.load()?;
     let model = a.model.model()?;
     if a.model.effects.is_empty() {
         return Err(CliError::input(

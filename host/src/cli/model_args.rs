@@ -125,7 +125,22 @@ impl ModelArgs {
     }
 }
 
-/// `--data F` or the built-in paper data.
+/// `--data F`, shared by the subcommands that read measurements.
+#[derive(Args, Debug, Clone)]
+pub struct DataArgs {
+    /// Dataset (TOML, see docs/data-format.md); the paper's built-in data if absent.
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+}
+
+impl DataArgs {
+    /// The dataset, or the built-in paper data.
+    pub fn load(&self) -> Result<Dataset, CliError> {
+        load_data(&self.data)
+    }
+}
+
+/// `path` or the built-in paper data.
 pub fn load_data(path: &Option<PathBuf>) -> Result<Dataset, CliError> {
     match path {
         Some(p) => Ok(data::load_file(p)?),

@@ -1,7 +1,7 @@
 //! `swimbot report`: the HTML report with the diagnosis and its proposal
 //! in the "error falls" chart.
 
-use super::model_args::{load_data, ModelArgs};
+use super::model_args::{DataArgs, ModelArgs};
 use super::CliError;
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
 use clap::Args;
@@ -9,9 +9,8 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
-    /// Dataset (TOML); the paper's built-in data if absent.
-    #[arg(long)]
-    pub data: Option<PathBuf>,
+    #[command(flatten)]
+    pub data: DataArgs,
     #[command(flatten)]
     pub model: ModelArgs,
     /// Output directory (index.html is written there).
@@ -20,7 +19,7 @@ pub struct ReportArgs {
 }
 
 pub fn run(a: ReportArgs) -> Result<(), CliError> {
-    let data = load_data(&a.data)?;
+    let data = a.data.load()?;
     let model = a.model.model()?;
     let d = diagnose(&model, &data, &DiagnoseSettings::default()).map_err(CliError::input)?;
     let path = crate::report::write_report(&a.output, &model, &data, Some(&d)).map_err(|e| {

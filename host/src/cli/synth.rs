@@ -1,6 +1,5 @@
 //! `swimbot synth`: synthetic measurements from a chosen truth model.
 
-use super::model_args::load_data;
 use super::CliError;
 use crate::effects::parse_effect_spec;
 use crate::model::{preset, Model, PRESETS};
@@ -76,7 +75,7 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
             "--trials must be at least 2 (a confidence interval needs two trials)",
         ));
     }
-    let design = load_data(&a.data)?;
+    let design = super::model_args::load_data(&a.data)?;
     let truth = parse_truth(&a.truth)?;
     let settings = SynthSettings {
         noise_rel: a.noise,
