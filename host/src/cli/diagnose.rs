@@ -25,6 +25,9 @@ pub struct DiagnoseArgs {
     /// Do not try pairs of effects.
     #[arg(long)]
     pub no_pairs: bool,
+    /// Also try the costly wall-resolved (regularized-Stokeslet tube) effects; seconds per case on first use, then cached.
+    #[arg(long)]
+    pub nonlocal: bool,
 }
 
 pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
@@ -46,8 +49,9 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
         level: a.level,
         clear_margin: a.margin,
         second_effect: !a.no_pairs,
+        include_costly: a.nonlocal,
     };
-    let spinner = if data.cases.len() >= 20 {
+    let spinner = if data.cases.len() >= 20 || a.nonlocal {
         let s = ProgressBar::new_spinner();
         s.set_message(format!(
             "diagnosing {} cases against the catalogue",

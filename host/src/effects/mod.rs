@@ -89,6 +89,11 @@ pub trait Effect: Send + Sync {
     fn candidate(&self) -> bool {
         true
     }
+    /// Too expensive for the default diagnosis (seconds per case, e.g. a
+    /// discretised tube wall); `diagnose --nonlocal` includes it.
+    fn costly(&self) -> bool {
+        false
+    }
     /// Human-readable applicability, for `swimbot effects`.
     fn applicability(&self) -> &'static str {
         "all cases"

@@ -41,6 +41,8 @@ pub struct DiagnoseSettings {
     pub clear_margin: f64,
     /// Try pairs when no single effect reaches the floor (true).
     pub second_effect: bool,
+    /// Also try effects marked costly (false).
+    pub include_costly: bool,
 }
 
 impl Default for DiagnoseSettings {
@@ -49,6 +51,7 @@ impl Default for DiagnoseSettings {
             level: 0.95,
             clear_margin: 4.0,
             second_effect: true,
+            include_costly: false,
         }
     }
 }
@@ -113,12 +116,14 @@ pub struct Diagnosis {
     pub verdict: Verdict,
 }
 
-/// Effects that `diagnose` may propose: catalogue entries not in the model.
-pub fn candidates(model: &Model) -> Vec<&'static dyn Effect> {
+/// Effects that `diagnose` may propose: catalogue entries not in the model
+/// (costly ones only on request).
+pub fn candidates(model: &Model, include_costly: bool) -> Vec<&'static dyn Effect> {
     CATALOGUE
         .iter()
         .copied()
-        .filter(|e| e.candidate() && !model.effects.iter().any(|m| m.name() == e.name()))
+        .filter(|e| e.candidate() && (include_costly || !e.costly()))
+        .filter(|e| !model.effects.iter().any(|m| m.name() == e.name()))
         .collect()
 }
 
@@ -207,7 +212,7 @@ pub fn diagnose(
     };
     let trends = trends(data, &cmp);
     let base_len = model.effects.len();
-    let mut ranking: Vec<Candidate> = candidates(model)
+    let mut ranking: Vec<Candidate> = candidates(model, s.include_costly)
         .par_iter()
         .filter_map(|e| {
             let m = model.clone().with_effect(EffectInstance::default_of(*e));
