@@ -38,6 +38,12 @@ fn steady_state_equals_the_direct_model_solve_at_the_simulated_rate() {
         fb.tail_rate_rad_s = w;
         let v = fb.solve().unwrap();
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+        eprintln!(
+            "tail {tail}: f {:.4} Hz, U rel err {:.1e}, Omega_b rel err {:.1e}",
+            s.tail_rate_hz,
+            rel(s.u_mm_s, v[0] * 1e3),
+            rel(s.body_rate_hz, v[3] / TAU)
+        );
         assert!(
             rel(s.u_mm_s, v[0] * 1e3) < 1e-9,
             "{} vs {}",
@@ -91,6 +97,10 @@ fn energy_from_the_cell_equals_losses_plus_dissipation_plus_storage() {
             e.cell_j > 20.0 && e.hydro_j > 0.0 && e.friction_j > 0.0,
             "{e:?}"
         );
+        eprintln!(
+            "energy {buoyancy:?}: {e:?}, relative residual {:.2e}",
+            e.residual_j() / e.cell_j
+        );
         assert!(
             e.residual_j().abs() < 1e-5 * e.cell_j,
             "{buoyancy:?}: {e:?}, residual {}",
@@ -121,6 +131,10 @@ fn the_battery_lasts_about_the_papers_ten_minutes() {
     let o = simulate(&unlimited, &Script::on_at_zero(), &long_channel()).unwrap();
     assert_eq!(o.end, End::Stopped(StopReason::LowBattery));
     let minutes = o.last.t_s / 60.0;
+    eprintln!(
+        "cut-off after {minutes:.2} min, soc {:.3}, {:.3} V",
+        o.last.soc, o.last.battery_v
+    );
     assert!((9.0..13.0).contains(&minutes), "{minutes} min");
     assert!(o.last.soc < 0.1, "soc {}", o.last.soc);
 }

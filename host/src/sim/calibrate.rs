@@ -112,7 +112,7 @@ pub fn fit_motor(robot: &Robot, data: &Dataset) -> Result<MotorFit, SimError> {
             b2 -= wt * l.w_obs * y;
         }
         let det = a11 * a22 - a12 * a12;
-        if !(det.abs() > 1e-300) {
+        if det.abs() <= 1e-300 || det.is_nan() {
             return Err(SimError::Input(
                 "--fit-motor: all cases have the same motor rate; the slope is not identifiable"
                     .into(),

@@ -290,7 +290,7 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
         let at_rest = out.state == State::Off
             && w.abs() < 1e-3
             && next_edge == edges.len()
-            && t_us > script_end_us + 200_000;
+            && t_us > script_end_us + 2_000_000;
         if at_rest {
             break last_stop
                 .filter(|r| *r != StopReason::Command)

@@ -44,12 +44,11 @@ pub enum HydroError {
     NotAffine { case: String, mismatch: f64 },
 }
 
+/// Tail matrix, body + extra matrix, external load and `V` of one balance.
+type Solved = (Matrix6<f64>, Matrix6<f64>, Vector6<f64>, Vector6<f64>);
+
 /// The balance at motor rate `omega`: matrices, load and solution.
-fn balance(
-    model: &Model,
-    case: &Case,
-    omega: f64,
-) -> Result<(Matrix6<f64>, Matrix6<f64>, Vector6<f64>, Vector6<f64>), ModelError> {
+fn balance(model: &Model, case: &Case, omega: f64) -> Result<Solved, ModelError> {
     let case = Case {
         frequency_hz: omega / TAU,
         ..case.clone()

@@ -11,6 +11,7 @@ pub mod drive;
 pub mod dynamics;
 pub mod hydro;
 pub mod output;
+mod raw;
 pub mod robot;
 pub mod script;
 

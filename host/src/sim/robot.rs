@@ -4,13 +4,13 @@
 //! (rejecting unknown keys); [`Robot::from_toml`] then checks every value so
 //! that an error names the file and the field, as `data/parse.rs` does.
 
-use crate::data::{Case, Orientation};
+use super::raw::Raw;
+use crate::data::Case;
 use crate::effects::parse_effect_spec;
 use crate::model::Model;
 use crate::physics::coefficients::CoefficientSet;
 use crate::physics::geometry::Handedness;
 use crate::robot::{Motor, MotorParams, PwmDrive};
-use serde::Deserialize;
 use swimbot_shared::{BatteryConfig, ControllerConfig, Duty, KeyMap};
 
 /// The built-in robot: the paper's (Tables I, II) with the colleague's
@@ -29,125 +29,6 @@ pub struct RobotError {
     pub file: String,
     pub field: Option<String>,
     pub message: String,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Raw {
-    name: Option<String>,
-    motor: RawMotor,
-    battery: RawBattery,
-    divider: RawDivider,
-    controller: RawController,
-    drive: RawDrive,
-    remote: RawRemote,
-    body: RawBody,
-    channel: RawChannel,
-    model: RawModel,
-    #[serde(rename = "tail")]
-    tails: Vec<RawTail>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawMotor {
-    resistance_ohm: f64,
-    inductance_h: f64,
-    torque_constant_n_m_per_a: f64,
-    rotor_inertia_kg_m2: f64,
-    viscous_friction_n_m_s: f64,
-    coulomb_friction_n_m: f64,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawBattery {
-    capacity_mah: f64,
-    internal_resistance_ohm: f64,
-    initial_soc: Option<f64>,
-    /// `[[soc, volts], ...]`, sorted by state of charge.
-    ocv: Option<Vec<(f64, f64)>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawDivider {
-    top_ohm: u32,
-    bottom_ohm: u32,
-    adc_ref_mv: u32,
-    cutoff_mv: Option<u16>,
-    warn_mv: Option<u16>,
-    recharged_mv: Option<u16>,
-    cutoff_debounce_ms: Option<u64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawController {
-    ramp_ms: u32,
-    target_motor_mv: u16,
-    max_duty: f64,
-    max_run_s: f64,
-    tick_us: Option<u64>,
-    adc_period_us: Option<u64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawDrive {
-    carrier_hz: f64,
-    diode_drop_v: f64,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawRemote {
-    address: u8,
-    on: u8,
-    off: u8,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawBody {
-    length_mm: f64,
-    diameter_mm: f64,
-    coupler_length_mm: f64,
-    coupler_diameter_mm: f64,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawChannel {
-    diameter_mm: f64,
-    length_mm: f64,
-    closed: bool,
-    orientation: Orientation,
-    viscosity_pa_s: f64,
-    density_kg_m3: f64,
-    start_height_mm: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawModel {
-    coefficients: String,
-    effects: Vec<String>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawTail {
-    id: String,
-    wavelength_mm: f64,
-    amplitude_mm: f64,
-    length_mm: f64,
-    wire_diameter_mm: f64,
-    handedness: Option<Handedness>,
-    /// Rotating inertia of coupler and tail; from the copper helix if absent.
-    load_inertia_kg_m2: Option<f64>,
-    /// The tail rate observed with this tail (Table II), for reports only.
-    observed_f_hz: Option<f64>,
 }
 
 /// One tail the robot can carry.
@@ -242,8 +123,10 @@ impl Robot {
             .clone()
             .unwrap_or_else(|| crate::robot::battery::LIPO_OCV_TABLE.to_vec());
         if ocv.len() < 2
-            || ocv.windows(2).any(|w| !(w[1].0 > w[0].0))
-            || ocv.iter().any(|p| !(p.1 > 0.0) || !p.0.is_finite())
+            || ocv.windows(2).any(|w| w[1].0 <= w[0].0 || w[1].0.is_nan())
+            || ocv
+                .iter()
+                .any(|p| p.1 <= 0.0 || !p.1.is_finite() || !p.0.is_finite())
         {
             return Err(fail(
                 file,
