@@ -26,6 +26,8 @@ mod motor_frame;
 mod nonlocal_tail;
 mod spec;
 mod tail_confinement;
+mod tube_body;
+mod tube_tail;
 mod wall_contact;
 
 pub use spec::{parse_effect_list, parse_effect_spec, EffectSpecError};
@@ -47,6 +49,8 @@ pub static CATALOGUE: &[&dyn Effect] = &[
     &buoyancy::Buoyancy,
     &coupler::Coupler,
     &nonlocal_tail::NonlocalTail,
+    &tube_tail::TubeTail,
+    &tube_body::TubeBody,
 ];
 
 /// Look an effect up by its command-line name.

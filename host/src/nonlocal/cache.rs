@@ -1,0 +1,253 @@
+//! Memoisation of costly non-local 6x6 resistance matrices, in memory and
+//! on disk.
+//!
+//! A wall-resolved solve (tail or body inside the channel, a dense LU of
+//! `3N` = 5 000-14 000 unknowns) costs seconds to a minute, while a fit, a
+//! diagnosis or a repeated command-line run asks for the same geometry again
+//! and again. Two layers therefore sit in front of the solver:
+//!
+//! 1. a process-wide map from the key to the matrix (or to the solver's
+//!    error message: a deterministic solve that failed fails again). Each
+//!    key has its own lock, so a second thread asking for a matrix being
+//!    computed waits for it instead of solving it twice, while different
+//!    keys are solved in parallel;
+//! 2. one small text file per key in [`default_dir`]: `$SWIMBOT_CACHE_DIR`
+//!    if set, else `swimbot-cache` in the system's temporary directory (not
+//!    the current directory: an installed tool may run anywhere). Files are
+//!    written to a temporary name and renamed, so a reader never sees half a
+//!    file; a file that cannot be read, does not parse, holds a different
+//!    key or a non-finite entry is ignored and overwritten by a fresh solve.
+//!
+//! The key is the exact bit pattern of every input (as in
+//! `crate::model::nonlocal_tail`), prefixed by a `kind` naming the solve.
+//! The matrix is stored as the bit patterns of its 36 entries (hexadecimal),
+//! so a cached matrix is identical to the computed one, bit for bit.
+//! [`SOLVER_REVISION`] is part of every file: bump it when a change to the
+//! solver changes its results, so stale files are ignored.
+
+use super::{NonlocalSettings, TailMethod};
+use crate::physics::geometry::{Body, Channel, Handedness, Helix};
+use nalgebra::Matrix6;
+use std::collections::HashMap;
+use std::fs;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// Revision of the non-local solvers whose results the files hold.
+pub const SOLVER_REVISION: u32 = 1;
+
+/// Environment variable naming the cache directory.
+pub const CACHE_DIR_ENV: &str = "SWIMBOT_CACHE_DIR";
+
+const MAGIC: &str = "swimbot-nonlocal-cache";
+
+type Slot = Arc<Mutex<Option<Result<Matrix6<f64>, String>>>>;
+type MemoryKey = (&'static str, Vec<u64>);
+
+fn memory() -> &'static Mutex<HashMap<MemoryKey, Slot>> {
+    static MEMORY: OnceLock<Mutex<HashMap<MemoryKey, Slot>>> = OnceLock::new();
+    MEMORY.get_or_init(|| Mutex::new(HashMap::new()))
+}
+
+/// `$SWIMBOT_CACHE_DIR`, or `swimbot-cache` in the temporary directory.
+pub fn default_dir() -> PathBuf {
+    match std::env::var_os(CACHE_DIR_ENV) {
+        Some(d) if !d.is_empty() => PathBuf::from(d),
+        _ => std::env::temp_dir().join("swimbot-cache"),
+    }
+}
+
+/// The on-disk layer alone, in one directory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DiskCache {
+    pub dir: PathBuf,
+}
+
+/// FNV-1a over the kind and key: a stable file name (std's hasher is not
+/// stable across releases). Collisions are harmless: the file holds the
+/// full key, which is checked on reading.
+fn fnv1a(kind: &str, key: &[u64]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let bytes = kind.bytes().chain(key.iter().flat_map(|k| k.to_le_bytes()));
+    for b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+fn hex_words(words: impl Iterator<Item = u64>) -> String {
+    words
+        .map(|w| format!("{w:016x}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn parse_words(line: &str) -> Option<Vec<u64>> {
+    line.split_whitespace()
+        .map(|w| u64::from_str_radix(w, 16).ok())
+        .collect()
+}
+
+impl DiskCache {
+    pub fn new(dir: impl Into<PathBuf>) -> Self {
+        DiskCache { dir: dir.into() }
+    }
+
+    /// The cache in [`default_dir`].
+    pub fn default_location() -> Self {
+        DiskCache::new(default_dir())
+    }
+
+    /// The file that holds `kind`/`key`.
+    pub fn path(&self, kind: &str, key: &[u64]) -> PathBuf {
+        self.dir
+            .join(format!("{kind}-{:016x}.txt", fnv1a(kind, key)))
+    }
+
+    fn header(kind: &str) -> String {
+        format!("{MAGIC} revision {SOLVER_REVISION} {kind}")
+    }
+
+    /// The stored matrix, or `None` if absent, unreadable, corrupt, stale,
+    /// for another key, or not finite.
+    pub fn load(&self, kind: &str, key: &[u64]) -> Option<Matrix6<f64>> {
+        let text = fs::read_to_string(self.path(kind, key)).ok()?;
+        let mut lines = text.lines();
+        if lines.next()? != Self::header(kind) {
+            return None;
+        }
+        if parse_words(lines.next()?)? != key {
+            return None;
+        }
+        let words = parse_words(lines.next()?)?;
+        if words.len() != 36 || lines.next() != Some("end") {
+            return None;
+        }
+        let m = Matrix6::from_iterator(words.into_iter().map(f64::from_bits));
+        m.iter().all(|v| v.is_finite()).then_some(m)
+    }
+
+    /// Store `m` atomically (temporary file, then rename).
+    pub fn store(&self, kind: &str, key: &[u64], m: &Matrix6<f64>) -> std::io::Result<()> {
+        static COUNTER: AtomicU64 = AtomicU64::new(0);
+        fs::create_dir_all(&self.dir)?;
+        let path = self.path(kind, key);
+        let text = format!(
+            "{}\n{}\n{}\nend\n",
+            Self::header(kind),
+            hex_words(key.iter().copied()),
+            hex_words(m.iter().map(|v| v.to_bits()))
+        );
+        // Unique per process and call, so concurrent writers never share a
+        // temporary file; the rename makes the last complete file win.
+        let tmp = path.with_extension(format!(
+            "tmp.{}.{}",
+            std::process::id(),
+            COUNTER.fetch_add(1, Ordering::Relaxed)
+        ));
+        let written = fs::write(&tmp, text).and_then(|()| fs::rename(&tmp, &path));
+        if written.is_err() {
+            let _ = fs::remove_file(&tmp);
+        }
+        written
+    }
+
+    /// The stored matrix, or `compute`'s, which is then stored. A failed
+    /// write only costs the next run a recomputation, so it is ignored.
+    pub fn get_or_compute<E: ToString>(
+        &self,
+        kind: &str,
+        key: &[u64],
+        compute: impl FnOnce() -> Result<Matrix6<f64>, E>,
+    ) -> Result<Matrix6<f64>, String> {
+        if let Some(m) = self.load(kind, key) {
+            return Ok(m);
+        }
+        let m = compute().map_err(|e| e.to_string())?;
+        let _ = self.store(kind, key, &m);
+        Ok(m)
+    }
+}
+
+/// The matrix for `kind`/`key`: from memory, else from the disk cache in
+/// [`default_dir`], else computed (and remembered in both; errors only in
+/// memory).
+pub fn cached_matrix<E: ToString>(
+    kind: &'static str,
+    key: &[u64],
+    compute: impl FnOnce() -> Result<Matrix6<f64>, E>,
+) -> Result<Matrix6<f64>, String> {
+    cached_matrix_in(&DiskCache::default_location(), kind, key, compute)
+}
+
+/// [`cached_matrix`] with the disk layer in `disk`.
+pub fn cached_matrix_in<E: ToString>(
+    disk: &DiskCache,
+    kind: &'static str,
+    key: &[u64],
+    compute: impl FnOnce() -> Result<Matrix6<f64>, E>,
+) -> Result<Matrix6<f64>, String> {
+    let slot = {
+        let mut map = memory()
+            .lock()
+            .map_err(|_| "non-local cache poisoned".to_string())?;
+        Arc::clone(map.entry((kind, key.to_vec())).or_default())
+    };
+    // Held while solving: another thread asking for this key waits.
+    let mut guard = slot
+        .lock()
+        .map_err(|_| "non-local cache entry poisoned".to_string())?;
+    if let Some(r) = guard.as_ref() {
+        return r.clone();
+    }
+    let r = disk.get_or_compute(kind, key, compute);
+    *guard = Some(r.clone());
+    r
+}
+
+/// Key words of a helix: every field, bit for bit.
+pub fn helix_words(h: &Helix) -> [u64; 7] {
+    [
+        h.wavelength_m.to_bits(),
+        h.amplitude_m.to_bits(),
+        h.axial_length_m.to_bits(),
+        h.wire_diameter_m.to_bits(),
+        u64::from(h.handedness == Handedness::Right),
+        h.phase_rad.to_bits(),
+        h.joint_x_m.to_bits(),
+    ]
+}
+
+/// Key words of a channel: every field, including those the wall model
+/// does not read (length, orientation), so a future use of them cannot
+/// return a stale matrix.
+pub fn channel_words(c: &Channel) -> [u64; 4] {
+    [
+        c.diameter_m.to_bits(),
+        c.length_m.to_bits(),
+        u64::from(c.closed),
+        u64::from(c.vertical),
+    ]
+}
+
+/// Key words of a body.
+pub fn body_words(b: &Body) -> [u64; 2] {
+    [b.length_m.to_bits(), b.diameter_m.to_bits()]
+}
+
+/// Key words of the solver settings: every field.
+pub fn settings_words(s: &NonlocalSettings) -> [u64; 9] {
+    [
+        u64::from(s.method == TailMethod::SlenderBody),
+        s.segments_per_turn as u64,
+        s.min_segments as u64,
+        s.blob_over_wire_radius.to_bits(),
+        u64::from(s.wire_spin),
+        s.body_spacing_m.to_bits(),
+        s.wall_spacing_m.to_bits(),
+        s.surface_blob_over_spacing.to_bits(),
+        s.tube_end_margin_over_radius.to_bits(),
+    ]
+}
