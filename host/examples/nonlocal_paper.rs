@@ -7,20 +7,11 @@ use swimbot::nonlocal::{
 };
 use swimbot::physics::geometry::{Body, Channel, Helix};
 
-const TAILS: [(f64, f64, f64); 6] = [
-    (15.5, 2.5, 130.0),
-    (10.0, 2.5, 88.0),
-    (16.0, 4.5, 93.0),
-    (12.0, 4.5, 60.0),
-    (15.0, 7.5, 56.0),
-    (11.0, 7.5, 42.0),
-];
-
 fn main() {
     let mu = 3.5;
     let tube = std::env::args().any(|a| a == "tube");
     println!("tail  method  spt  N  B_xx[N s/m]  B_x,wx[N s]  B_wx,wx[N m s]  time[ms]");
-    for (k, &(l, b, lt)) in TAILS.iter().enumerate() {
+    for (k, (l, b, lt)) in swimbot::data::paper_tails_mm().into_iter().enumerate() {
         let h = Helix::from_mm(l, b, lt, 1.0);
         for (m, spt) in [
             (TailMethod::RegularizedStokeslets, 12),
@@ -55,7 +46,7 @@ fn main() {
     let body = Body::from_mm(50.0, 20.0);
     let s = NonlocalSettings::default().with_segments_per_turn(12);
     for &k in &[5usize, 0] {
-        let (l, b, lt) = TAILS[k];
+        let (l, b, lt) = swimbot::data::paper_tails_mm()[k];
         let h = Helix {
             joint_x_m: -0.030,
             ..Helix::from_mm(l, b, lt, 1.0)

@@ -14,15 +14,6 @@ use swimbot::nonlocal::{
 use swimbot::physics::geometry::{Body, Channel, Handedness, Helix};
 
 const MU: f64 = 3.5;
-/// The six paper tails: (lambda, B_o, L_t) in mm, wire 1 mm.
-const TAILS: [(f64, f64, f64); 6] = [
-    (15.5, 2.5, 130.0),
-    (10.0, 2.5, 88.0),
-    (16.0, 4.5, 93.0),
-    (12.0, 4.5, 60.0),
-    (15.0, 7.5, 56.0),
-    (11.0, 7.5, 42.0),
-];
 /// Entries that set the swimming speed: axial drag, thrust coupling, axial torque.
 const AXIAL: [(usize, usize); 3] = [(0, 0), (0, 3), (3, 3)];
 
@@ -78,7 +69,7 @@ fn straight_rod_drag_matches_cox_and_batchelor() {
 fn helix_mrs_converges_with_resolution() {
     // Tails #1 (longest) and #5 (most coiled). Reference: 48 segments per turn.
     for &k in &[0usize, 4] {
-        let (l, b, lt) = TAILS[k];
+        let (l, b, lt) = swimbot::data::paper_tails_mm()[k];
         let h = Helix::from_mm(l, b, lt, 1.0);
         let fine =
             tail_resistance(&h, MU, &settings(TailMethod::RegularizedStokeslets, 48)).unwrap();
@@ -125,7 +116,7 @@ fn helix_sbt_is_stable_over_its_admissible_resolutions() {
 
 #[test]
 fn resistance_is_symmetric_positive_definite_for_all_paper_tails() {
-    for (k, &(l, b, lt)) in TAILS.iter().enumerate() {
+    for (k, (l, b, lt)) in swimbot::data::paper_tails_mm().into_iter().enumerate() {
         let h = Helix::from_mm(l, b, lt, 1.0);
         for m in [TailMethod::SlenderBody, TailMethod::RegularizedStokeslets] {
             let bm = tail_resistance(&h, MU, &settings(m, 12)).unwrap();

@@ -13,17 +13,10 @@ use swimbot::physics::tail::{
 const MU: f64 = 3.5;
 
 fn paper_tails() -> Vec<Helix> {
-    [
-        (15.5, 2.5, 130.0),
-        (10.0, 2.5, 88.0),
-        (16.0, 4.5, 93.0),
-        (12.0, 4.5, 60.0),
-        (15.0, 7.5, 56.0),
-        (11.0, 7.5, 42.0),
-    ]
-    .iter()
-    .map(|&(l, b, len)| Helix::from_mm(l, b, len, 1.0))
-    .collect()
+    swimbot::data::paper_tails_mm()
+        .into_iter()
+        .map(|(l, b, len)| Helix::from_mm(l, b, len, 1.0))
+        .collect()
 }
 
 fn rel_diff(a: &Matrix6<f64>, b: &Matrix6<f64>) -> f64 {

@@ -19,6 +19,16 @@ pub fn paper() -> Dataset {
     parse_str(PAPER_TOML, "<built-in paper data>").expect("the built-in paper data is valid")
 }
 
+/// The paper's six tails (Table II) as `(lambda, B_o, L_t)` in mm, read
+/// from the built-in data, for tests and studies of the tail alone.
+pub fn paper_tails_mm() -> Vec<(f64, f64, f64)> {
+    paper()
+        .cases
+        .iter()
+        .map(|c| (c.wavelength_mm, c.amplitude_mm, c.tail_length_mm))
+        .collect()
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Dataset {
     pub name: String,
