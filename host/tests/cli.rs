@@ -209,21 +209,25 @@ fn sweep_writes_one_row_per_grid_point() {
 
 #[test]
 fn effects_lists_the_catalogue() {
-    let o = swimbot(&["effects"]);
+    let o = swimbot(&["effects", "--format", "json"]);
     assert!(o.status.success());
-    let text = stdout(&o);
-    for name in [
-        "backflow",
-        "body-correction",
-        "body-confinement",
-        "tail-confinement",
-        "wall-contact",
-        "motor-frame",
-        "buoyancy",
-        "coupler",
-    ] {
-        assert!(text.contains(name), "{name}");
-    }
+    let listed: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let names: Vec<&str> = listed
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap())
+        .collect();
+    let catalogue: Vec<&str> = swimbot::effects::CATALOGUE
+        .iter()
+        .map(|e| e.name())
+        .collect();
+    assert_eq!(names, catalogue);
+    assert!(listed
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|e| !e["statement"].as_str().unwrap().is_empty()));
 }
 
 #[test]
