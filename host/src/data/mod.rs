@@ -4,6 +4,7 @@
 //! `docs/data-format.md`; the paper's Tables I, II and IV ship built in.
 
 mod parse;
+pub mod quantities;
 mod write;
 
 pub use parse::{load_file, parse_str};

@@ -24,6 +24,7 @@ mod buoyancy;
 mod coupler;
 mod motor_frame;
 mod nonlocal_tail;
+pub mod place;
 mod spec;
 mod tail_confinement;
 mod tube_body;
