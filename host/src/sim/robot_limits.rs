@@ -78,7 +78,10 @@ fn check_range(file: &str, field: &str, v: f64) -> Result<(), RobotError> {
     Err(fail(
         file,
         Some(field),
-        format!("{v} is outside the allowed range {min:e}..={max:e} ({why})"),
+        format!(
+            "{} is outside the allowed range {min:e}..={max:e} ({why})",
+            crate::data::limits::show(v)
+        ),
     ))
 }
 
