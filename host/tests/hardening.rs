@@ -365,3 +365,76 @@ fn noise_free_synthetic_data_loads_back_and_fits_finitely() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     no_non_finite(&text(&o.stdout));
 }
+
+/// Property tests of the parsers (the stable twin of host/fuzz): no text
+/// panics the dataset, robot or script parser; an accepted dataset meets
+/// every documented limit and reads back unchanged after writing.
+mod parser_properties {
+    use proptest::prelude::*;
+    use swimbot::data::{limits, parse_str, to_toml};
+    use swimbot::sim::{Robot, Script};
+
+    /// The paper's text with up to four values replaced by generated
+    /// numbers (any finite or extreme double, or a short token), keeping
+    /// the keys so that many variants pass the syntax and reach the limits.
+    fn mutated(base: &'static str) -> impl Strategy<Value = String> {
+        let lines: Vec<&'static str> = base.lines().collect();
+        let n = lines.len();
+        let value = prop_oneof![
+            any::<f64>().prop_map(|x| format!("{x:?}")),
+            (-1e3f64..1e3).prop_map(|x| format!("{x:?}")),
+            "[-+0-9.e\"a-z\\[\\], ]{0,12}",
+        ];
+        prop::collection::vec((0..n, value), 0..4).prop_map(move |edits| {
+            let mut l: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
+            for (i, v) in edits {
+                let key = l[i].split_once('=').map(|(k, _)| k.trim().to_string());
+                l[i] = match key {
+                    Some(k) => format!("{k} = {v}"),
+                    None => v,
+                };
+            }
+            l.join("\n")
+        })
+    }
+
+    fn accepted_dataset_is_sound(text: &str) -> Result<(), TestCaseError> {
+        if let Ok(d) = parse_str(text, "<prop>") {
+            for c in &d.cases {
+                prop_assert_eq!(limits::check_case(c), Ok(()));
+                for m in [c.u_mm_s, c.omega_body_hz].into_iter().flatten() {
+                    let se = m.standard_error();
+                    prop_assert!(se.is_finite() && se > 0.0, "{}: SE {}", c.id, se);
+                }
+            }
+            let again = parse_str(&to_toml(&d), "<round trip>");
+            prop_assert_eq!(again.map(|a| a.cases), Ok(d.cases));
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+        #[test]
+        fn dataset_parser_on_arbitrary_text(text in "\\PC{0,300}") {
+            accepted_dataset_is_sound(&text)?;
+        }
+
+        #[test]
+        fn dataset_parser_on_mutated_paper_data(text in mutated(super::PAPER)) {
+            accepted_dataset_is_sound(&text)?;
+        }
+
+        #[test]
+        fn robot_and_script_parsers_never_panic(
+            robot in mutated(super::ROBOT),
+            script in "[a-z0-9:@.,;# \\n]{0,60}",
+        ) {
+            let _ = Robot::from_toml(&robot, "<prop>");
+            if let Ok(s) = Script::parse(&script) {
+                prop_assert!(s.items.windows(2).all(|w| w[0].at_us <= w[1].at_us));
+            }
+        }
+    }
+}
