@@ -269,7 +269,8 @@ mod tests {
     #[test]
     fn each_kind_of_nonsense_is_named() {
         let base = super::super::paper().cases[0].clone();
-        let cases: Vec<(&str, Box<dyn Fn(&mut Case)>)> = vec![
+        type Mutation = Box<dyn Fn(&mut Case)>;
+        let cases: Vec<(&str, Mutation)> = vec![
             ("id", Box::new(|c| c.id = String::new())),
             ("id", Box::new(|c| c.id = "a\u{1b}[2J".into())),
             ("frequency_hz", Box::new(|c| c.frequency_hz = 1e300)),
