@@ -1,14 +1,36 @@
 //! Statistics of the comparison: Student-t confidence intervals of trial
 //! means, relative errors, and the reduced chi-square of a fit.
+//!
+//! Reference: M. Abramowitz and I. A. Stegun, Handbook of Mathematical
+//! Functions (1964), 26.7.5 (Student-t quantile for many degrees of freedom).
 
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
+/// Above this many degrees of freedom the quantile comes from the
+/// Cornish-Fisher expansion around the normal quantile: statrs' inverse CDF
+/// iterates on the incomplete beta function and, for 1e8 degrees of freedom,
+/// never returns. At 1e4 the expansion's next term is below 1e-12.
+const T_EXPANSION_DOF: f64 = 1e4;
+
 /// Two-sided Student-t quantile `t_{(1+confidence)/2, trials-1}` (2.776 for
-/// the paper's 95 % with five trials).
+/// the paper's 95 % with five trials). Terminates for every `trials`.
 pub fn student_t_quantile(confidence: f64, trials: u32) -> f64 {
     let dof = f64::from(trials.max(2) - 1);
+    let p = 0.5 * (1.0 + confidence);
+    if dof > T_EXPANSION_DOF {
+        return t_quantile_large_dof(p, dof);
+    }
     let t = StudentsT::new(0.0, 1.0, dof).expect("dof >= 1 is a valid Student-t");
-    t.inverse_cdf(0.5 * (1.0 + confidence))
+    t.inverse_cdf(p)
+}
+
+/// `t_p(nu) = z + (z^3 + z) / (4 nu) + (5 z^5 + 16 z^3 + 3 z) / (96 nu^2)`
+/// (Abramowitz & Stegun 26.7.5) with `z` the normal quantile.
+fn t_quantile_large_dof(p: f64, dof: f64) -> f64 {
+    use statrs::distribution::Normal;
+    let z = Normal::new(0.0, 1.0).expect("unit normal").inverse_cdf(p);
+    let (z3, z5) = (z.powi(3), z.powi(5));
+    z + (z3 + z) / (4.0 * dof) + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * dof * dof)
 }
 
 /// Mean and confidence half-width of raw trials (at least two values).
@@ -80,6 +102,17 @@ mod tests {
         assert!((student_t_quantile(0.95, 5) - 2.776445).abs() < 1e-5);
         assert!((student_t_quantile(0.95, 2) - 12.706205).abs() < 1e-4);
         assert!((student_t_quantile(0.99, 11) - 3.169273).abs() < 1e-5);
+    }
+
+    #[test]
+    fn student_t_terminates_and_matches_across_the_switch() {
+        // Both branches at the switch agree, and huge trial counts (which
+        // used to hang) give the normal quantile.
+        let (p, nu) = (0.975, T_EXPANSION_DOF);
+        let exact = StudentsT::new(0.0, 1.0, nu).unwrap().inverse_cdf(p);
+        assert!((exact - t_quantile_large_dof(p, nu)).abs() < 1e-9);
+        assert!((student_t_quantile(0.95, u32::MAX) - 1.959964).abs() < 1e-5);
+        assert!((student_t_quantile(0.95, 100_000_000) - 1.959964).abs() < 1e-5);
     }
 
     #[test]

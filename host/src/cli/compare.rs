@@ -27,19 +27,30 @@ pub struct CompareArgs {
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
     let data = args.data.load()?;
     let model = args.model.model()?;
+    if !args.no_report {
+        super::output::check_output_dir(&args.report)?;
+    }
     let cmp = compare(&model, &data, 0)?;
+    // The report is written before anything is printed, so that a failure
+    // does not follow a complete-looking table.
+    let report = if args.no_report {
+        None
+    } else {
+        Some(
+            crate::report::write_report(&args.report, &model, &data, None).map_err(|e| {
+                CliError::input(format!(
+                    "writing the report to {}: {e}",
+                    args.report.display()
+                ))
+            })?,
+        )
+    };
     match args.format {
         Format::Table => print_table(&cmp),
         Format::Json => print_json(&cmp),
         Format::Csv => print_csv(&cmp)?,
     }
-    if !args.no_report {
-        let path = crate::report::write_report(&args.report, &model, &data, None).map_err(|e| {
-            CliError::failure(format!(
-                "writing the report to {}: {e}",
-                args.report.display()
-            ))
-        })?;
+    if let Some(path) = report {
         if args.format == Format::Table {
             println!("\nreport: {}", path.display());
         } else {

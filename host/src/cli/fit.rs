@@ -39,6 +39,17 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
             a.model.effects.join(", ")
         )));
     }
+    if let Some((i, id)) = a
+        .cases
+        .iter()
+        .enumerate()
+        .find(|(i, id)| a.cases[..*i].contains(id))
+    {
+        return Err(CliError::input(format!(
+            "--cases: case `{id}` is given twice (item {})",
+            i + 1
+        )));
+    }
     let only: Option<Vec<usize>> = if a.cases.is_empty() {
         None
     } else {

@@ -72,6 +72,27 @@ fn positive(name: &str, v: f64) -> Result<f64, CliError> {
     }
 }
 
+/// The documented ranges (`data::limits`) of the helix's fields.
+fn helix_limits(a: &HelixArgs) -> Result<(), CliError> {
+    use crate::data::limits::{check_value, MAX_TURNS};
+    for (flag, field, v) in [
+        ("wavelength-mm", "wavelength_mm", a.wavelength_mm),
+        ("amplitude-mm", "amplitude_mm", a.amplitude_mm),
+        ("length-mm", "tail_length_mm", a.length_mm),
+        ("wire-diameter-mm", "wire_diameter_mm", a.wire_diameter_mm),
+        ("viscosity-pa-s", "viscosity_pa_s", a.viscosity_pa_s),
+    ] {
+        check_value(field, v).map_err(|e| CliError::input(format!("--{flag}: {e}")))?;
+    }
+    if a.length_mm / a.wavelength_mm > MAX_TURNS {
+        return Err(CliError::input(format!(
+            "--length-mm / --wavelength-mm: {} turns, at most {MAX_TURNS}",
+            a.length_mm / a.wavelength_mm
+        )));
+    }
+    Ok(())
+}
+
 pub fn run(a: HelixArgs) -> Result<(), CliError> {
     let mut h = Helix::from_mm(
         positive("wavelength-mm", a.wavelength_mm)?,
@@ -79,6 +100,7 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
         positive("length-mm", a.length_mm)?,
         positive("wire-diameter-mm", a.wire_diameter_mm)?,
     );
+    helix_limits(&a)?;
     if a.left_handed {
         h.handedness = Handedness::Left;
     }
@@ -91,9 +113,8 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
     let (m, method) = match a.method {
         HelixMethod::Exact => (tail::matrix_exact(&h, drag), "exact"),
         HelixMethod::Quadrature => {
-            if a.nodes_per_wavelength < 2 {
-                return Err(CliError::input("--nodes-per-wavelength must be at least 2"));
-            }
+            crate::data::limits::check_quadrature(a.nodes_per_wavelength, h.n_waves())
+                .map_err(|e| CliError::input(format!("--nodes-per-wavelength: {e}")))?;
             (
                 tail::matrix_quadrature(&h, drag, a.nodes_per_wavelength),
                 "quadrature",

@@ -92,9 +92,12 @@ impl ModelArgs {
         model.tail_method = match self.method {
             MethodArg::Exact => TailMethod::Exact,
             MethodArg::Quadrature => {
-                if self.nodes_per_wavelength < 2 {
-                    return Err(CliError::input("--nodes-per-wavelength must be at least 2"));
-                }
+                // Per-case turns are checked by the data limits (<= MAX_TURNS).
+                crate::data::limits::check_quadrature(
+                    self.nodes_per_wavelength,
+                    crate::data::limits::MAX_TURNS,
+                )
+                .map_err(|e| CliError::input(format!("--nodes-per-wavelength: {e}")))?;
                 TailMethod::Quadrature {
                     nodes_per_wavelength: self.nodes_per_wavelength,
                 }

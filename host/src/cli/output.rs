@@ -1,6 +1,11 @@
-//! Output formats shared by the subcommands.
+//! Output formats shared by the subcommands, and the checked, atomic
+//! writing of output files: paths are checked before any work starts and
+//! files appear only complete (temporary file, then rename).
 
+use super::CliError;
 use clap::ValueEnum;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -27,4 +32,159 @@ pub fn opt(v: Option<f64>, sig: usize) -> String {
 pub fn pct(v: Option<f64>) -> String {
     v.map(|x| format!("{:+.1} %", 100.0 * x))
         .unwrap_or_else(|| "-".into())
+}
+
+/// A file written under a temporary name in the destination's directory
+/// and renamed over the destination by [`AtomicFile::commit`]: readers see
+/// the old file or the whole new one, never half of it, and a failure (or
+/// a drop without commit) removes the temporary file. The rename is atomic
+/// on POSIX file systems because both names share a directory.
+pub struct AtomicFile {
+    dest: PathBuf,
+    tmp: PathBuf,
+    file: Option<std::fs::File>,
+}
+
+impl AtomicFile {
+    /// Opens the temporary file; an unwritable destination is a user error.
+    pub fn create(dest: &Path) -> Result<AtomicFile, CliError> {
+        check_output_file(dest)?;
+        let tmp = temp_sibling(dest);
+        let file = std::fs::File::create(&tmp).map_err(|e| cannot_write(dest, &e))?;
+        Ok(AtomicFile {
+            dest: dest.to_path_buf(),
+            tmp,
+            file: Some(file),
+        })
+    }
+
+    pub fn writer(&mut self) -> &mut std::fs::File {
+        self.file.as_mut().expect("open until commit")
+    }
+
+    /// Flushes to disk and renames over the destination.
+    pub fn commit(mut self) -> Result<(), CliError> {
+        let file = self.file.take().expect("open until commit");
+        file.sync_all().map_err(|e| cannot_write(&self.dest, &e))?;
+        drop(file);
+        std::fs::rename(&self.tmp, &self.dest).map_err(|e| cannot_write(&self.dest, &e))
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.file.take().is_some() || self.tmp.exists() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// Writes `bytes` to `path` atomically (see [`AtomicFile`]).
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
+    let mut f = AtomicFile::create(path)?;
+    f.writer()
+        .write_all(bytes)
+        .map_err(|e| cannot_write(path, &e))?;
+    f.commit()
+}
+
+/// Writes several files of one output atomically as a group as far as a
+/// file system allows: every temporary file is complete before the first
+/// rename, so a failure while producing or writing any of them leaves none.
+pub fn write_all_atomically(files: &[(PathBuf, Vec<u8>)]) -> Result<(), CliError> {
+    let mut pending = Vec::with_capacity(files.len());
+    for (path, bytes) in files {
+        let mut f = AtomicFile::create(path)?;
+        f.writer()
+            .write_all(bytes)
+            .map_err(|e| cannot_write(path, &e))?;
+        pending.push(f);
+    }
+    pending.into_iter().try_for_each(AtomicFile::commit)
+}
+
+/// Checks, before any work, that files can be created in `dir` (creating
+/// it if needed), so that a long computation does not end in an I/O error.
+pub fn check_output_dir(dir: &Path) -> Result<(), CliError> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(CliError::input(format!(
+            "output directory {}: exists and is not a directory",
+            dir.display()
+        )));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| {
+        CliError::input(format!(
+            "output directory {}: cannot create it: {e}",
+            dir.display()
+        ))
+    })?;
+    probe(&dir.join(".swimbot-write-probe"), dir)
+}
+
+/// Checks, before any work, that `path` can be written: not a directory,
+/// in an existing, writable directory.
+pub fn check_output_file(path: &Path) -> Result<(), CliError> {
+    if path.is_dir() {
+        return Err(CliError::input(format!(
+            "output {}: is a directory, expected a file name",
+            path.display()
+        )));
+    }
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !parent.is_dir() {
+        return Err(CliError::input(format!(
+            "output {}: the directory {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    probe(&temp_sibling(path), path)
+}
+
+/// Creates and removes `probe_path`, reporting failure against `shown`.
+fn probe(probe_path: &Path, shown: &Path) -> Result<(), CliError> {
+    std::fs::File::create(probe_path).map_err(|e| cannot_write(shown, &e))?;
+    let _ = std::fs::remove_file(probe_path);
+    Ok(())
+}
+
+/// `.NAME.tmp-PID` next to `path`.
+fn temp_sibling(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "output".into());
+    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+}
+
+/// Output that cannot be written is the user's to fix (path, permissions,
+/// space), so it exits with 2.
+fn cannot_write(path: &Path, e: &std::io::Error) -> CliError {
+    CliError::input(format!("cannot write {}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn atomic_write_replaces_whole_files_and_cleans_up() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.csv");
+        write_atomically(&p, b"one").unwrap();
+        write_atomically(&p, b"two").unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"two");
+        // A dropped, uncommitted file leaves neither the target nor a temp.
+        let q = dir.path().join("b.csv");
+        drop(AtomicFile::create(&q).unwrap());
+        let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert_eq!(names.len(), 1, "only a.csv: {names:?}");
+        // Unwritable destinations are user errors (exit 2).
+        let e = write_atomically(&dir.path().join("no/such/dir/x"), b"").unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert_eq!(check_output_dir(&p).unwrap_err().exit_code(), 2);
+    }
 }

@@ -21,9 +21,10 @@ pub struct ReportArgs {
 pub fn run(a: ReportArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
     let model = a.model.model()?;
+    super::output::check_output_dir(&a.output)?;
     let d = diagnose(&model, &data, &DiagnoseSettings::default()).map_err(CliError::input)?;
     let path = crate::report::write_report(&a.output, &model, &data, Some(&d)).map_err(|e| {
-        CliError::failure(format!("writing the report to {}: {e}", a.output.display()))
+        CliError::input(format!("writing the report to {}: {e}", a.output.display()))
     })?;
     println!("{}", path.display());
     Ok(())

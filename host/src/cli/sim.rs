@@ -105,6 +105,58 @@ fn tail_index(robot: &Robot, tail: &str) -> Result<usize, CliError> {
         })
 }
 
+/// Robot time is simulated in ticks of `tick_us` (1 ms by default): one
+/// simulated day is 8.6e7 ticks, about a minute of computing.
+const MAX_TIME_S: f64 = 86_400.0;
+/// CSV rows of one run (~150 bytes each): bounds the output and memory.
+const MAX_SAMPLES: f64 = 1e6;
+
+fn check_times(args: &SimArgs) -> Result<(), CliError> {
+    for (name, v) in [
+        ("--max-time", args.max_time),
+        ("--sample-every", args.sample_every),
+    ] {
+        if !(v.is_finite() && v > 0.0 && v <= MAX_TIME_S) {
+            return Err(CliError::input(format!(
+                "{name} must be a positive number of seconds up to {MAX_TIME_S} (one day), got {v}"
+            )));
+        }
+    }
+    if args.max_time / args.sample_every > MAX_SAMPLES {
+        return Err(CliError::input(format!(
+            "--max-time / --sample-every = {} samples; at most {MAX_SAMPLES:e} (sample less often)",
+            args.max_time / args.sample_every
+        )));
+    }
+    Ok(())
+}
+
+/// A non-finite state means the motor and cell constants make the motor
+/// equations diverge at this time step: an input problem, never NaN output.
+fn check_finite(o: &sim::Outcome) -> Result<(), CliError> {
+    let bad = o.samples.iter().chain([&o.last]).find(|s| {
+        ![
+            s.t_s,
+            s.battery_v,
+            s.current_a,
+            s.motor_current_a,
+            s.motor_rate_hz,
+            s.u_mm_s,
+            s.height_mm,
+            s.soc,
+        ]
+        .iter()
+        .all(|x| x.is_finite())
+    });
+    match bad {
+        Some(s) => Err(CliError::input(format!(
+            "the simulation diverged at t = {} s (a non-finite motor or cell state): check the robot file's [motor], [battery] and [controller] values",
+            s.t_s
+        ))),
+        None => Ok(()),
+    }
+}
+
 pub fn run(args: SimArgs) -> Result<(), CliError> {
     let robot = robot_with_model(&args)?;
     if args.fit_motor {
@@ -124,16 +176,13 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         }
         (None, None) => Script::on_at_zero(),
     };
-    for (name, v) in [
-        ("--max-time", args.max_time),
-        ("--sample-every", args.sample_every),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(CliError::input(format!(
-                "{name} must be a positive number of seconds, got {v}"
-            )));
-        }
+    if script.items.is_empty() {
+        return Err(CliError::input(
+            "the script is empty: give at least one item, e.g. on@0s",
+        ));
     }
+    check_times(&args)?;
+    super::output::check_output_dir(&args.out)?;
     let opts = Options {
         tail,
         max_time_s: args.max_time,
@@ -141,17 +190,18 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         stop_at_top: !args.no_stop_at_top,
     };
     let outcome = sim::simulate(&robot, &script, &opts)?;
-    let write = |name: &str, text: &str| {
-        let path = args.out.join(name);
-        std::fs::write(&path, text)
-            .map_err(|e| CliError::failure(format!("writing {}: {e}", path.display())))
-    };
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| CliError::failure(format!("creating {}: {e}", args.out.display())))?;
-    write("sim.csv", &output::csv(&outcome.samples))?;
+    check_finite(&outcome)?;
+    // Both files are produced in memory first and renamed into place
+    // together, so a failure leaves neither.
     let svg =
         output::svg(&outcome).map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
-    write("sim.svg", &svg)?;
+    super::output::write_all_atomically(&[
+        (
+            args.out.join("sim.csv"),
+            output::csv(&outcome.samples).into_bytes(),
+        ),
+        (args.out.join("sim.svg"), svg.into_bytes()),
+    ])?;
     print!("{}", output::summary(&robot, &outcome));
     println!(
         "wrote {} and {}",

@@ -14,15 +14,27 @@ use std::path::PathBuf;
 #[derive(Args, Debug)]
 pub struct SweepArgs {
     /// start:stop:count, or one value.
-    #[arg(long, value_name = "A:B:N")]
+    // Hyphen values are accepted so that `-1:20:3` reaches the range
+    // parser (and its message) instead of being read as a flag.
+    #[arg(long, value_name = "A:B:N", allow_hyphen_values = true)]
     pub wavelength_mm: String,
-    #[arg(long, value_name = "A:B:N")]
+    #[arg(long, value_name = "A:B:N", allow_hyphen_values = true)]
     pub amplitude_mm: String,
-    #[arg(long, value_name = "A:B:N")]
+    #[arg(long, value_name = "A:B:N", allow_hyphen_values = true)]
     pub tail_length_mm: String,
-    #[arg(long, value_name = "A:B:N", default_value = "1.0")]
+    #[arg(
+        long,
+        value_name = "A:B:N",
+        default_value = "1.0",
+        allow_hyphen_values = true
+    )]
     pub frequency_hz: String,
-    #[arg(long, value_name = "A:B:N", default_value = "35.0")]
+    #[arg(
+        long,
+        value_name = "A:B:N",
+        default_value = "35.0",
+        allow_hyphen_values = true
+    )]
     pub channel_diameter_mm: String,
     #[command(flatten)]
     pub model: ModelArgs,
@@ -30,6 +42,11 @@ pub struct SweepArgs {
     #[arg(short, long)]
     pub output: Option<PathBuf>,
 }
+
+/// Grid points of one sweep: the rows are kept in memory (~100 bytes each
+/// with their CSV line), so this bounds memory near 1 GB and the run near a
+/// minute per million points on two cores.
+pub const MAX_GRID_POINTS: usize = 10_000_000;
 
 /// A parsed `start:stop:count` range.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,8 +78,12 @@ pub fn parse_range(flag: &str, text: &str) -> Result<Range, CliError> {
                 .trim()
                 .parse()
                 .ok()
-                .filter(|n| *n >= 1)
-                .ok_or_else(|| bad("count must be a whole number >= 1"))?;
+                .filter(|n| (1..=MAX_GRID_POINTS).contains(n))
+                .ok_or_else(|| {
+                    bad(&format!(
+                        "count must be a whole number from 1 to {MAX_GRID_POINTS}"
+                    ))
+                })?;
             if n == 1 && a != b {
                 return Err(bad("a count of 1 needs start = stop"));
             }
@@ -90,12 +111,17 @@ struct Grid {
 }
 
 impl Grid {
+    /// Number of points (saturating: the product is checked before use).
     fn len(&self) -> usize {
-        self.wavelength.values.len()
-            * self.amplitude.values.len()
-            * self.length.values.len()
-            * self.frequency.values.len()
-            * self.channel.values.len()
+        [
+            &self.wavelength,
+            &self.amplitude,
+            &self.length,
+            &self.frequency,
+            &self.channel,
+        ]
+        .iter()
+        .fold(1usize, |n, r| n.saturating_mul(r.values.len()))
     }
 
     /// The `i`-th grid point as a case (row-major, channel fastest).
@@ -145,6 +171,14 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
     template.omega_body_hz = None;
     check_grid(&grid, &template)?;
     let n = grid.len();
+    if n > MAX_GRID_POINTS {
+        return Err(CliError::input(format!(
+            "the sweep has {n} grid points; at most {MAX_GRID_POINTS} are allowed (split it into several runs)"
+        )));
+    }
+    if let Some(p) = &a.output {
+        super::output::check_output_file(p)?;
+    }
     let bar = progress(n);
     let rows: Result<Vec<Row>, CliError> = (0..n)
         .into_par_iter()
@@ -174,6 +208,25 @@ fn predict_row(model: &Model, case: &Case) -> Result<Row, CliError> {
 fn check_grid(g: &Grid, t: &Case) -> Result<(), CliError> {
     let max = |r: &Range| r.values.iter().copied().fold(f64::MIN, f64::max);
     let min = |r: &Range| r.values.iter().copied().fold(f64::MAX, f64::min);
+    for (flag, field, r) in [
+        ("wavelength-mm", "wavelength_mm", &g.wavelength),
+        ("amplitude-mm", "amplitude_mm", &g.amplitude),
+        ("tail-length-mm", "tail_length_mm", &g.length),
+        ("frequency-hz", "frequency_hz", &g.frequency),
+        ("channel-diameter-mm", "channel_diameter_mm", &g.channel),
+    ] {
+        for v in [min(r), max(r)] {
+            crate::data::limits::check_value(field, v)
+                .map_err(|e| CliError::input(format!("--{flag}: {e}")))?;
+        }
+    }
+    // The corner of the grid with the most turns and the longest robot.
+    let mut corner = t.clone();
+    corner.wavelength_mm = min(&g.wavelength);
+    corner.tail_length_mm = max(&g.length);
+    corner.channel_diameter_mm = min(&g.channel);
+    crate::data::limits::check_case(&corner)
+        .map_err(|(f, e)| CliError::input(format!("sweep grid: {f}: {e}")))?;
     if min(&g.wavelength) <= 2.0 * t.wire_diameter_mm {
         return Err(CliError::input(format!(
             "--wavelength-mm: {} mm is too short for the {} mm wire (the RFT logarithms need lambda > 2 D_t)",
@@ -211,11 +264,14 @@ fn progress(n: usize) -> ProgressBar {
 }
 
 fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<(), CliError> {
-    let sink: Box<dyn Write> = match out {
-        Some(p) => Box::new(
-            std::fs::File::create(p)
-                .map_err(|e| CliError::input(format!("cannot create {}: {e}", p.display())))?,
-        ),
+    // A file is written to a temporary sibling and renamed at the end, so
+    // a failure never leaves half a CSV under the requested name.
+    let mut pending = match out {
+        Some(p) => Some(super::output::AtomicFile::create(p)?),
+        None => None,
+    };
+    let sink: Box<dyn Write + '_> = match pending.as_mut() {
+        Some(f) => Box::new(f.writer()),
         None => Box::new(std::io::stdout().lock()),
     };
     let mut w = std::io::BufWriter::with_capacity(1 << 20, sink);
@@ -242,7 +298,12 @@ fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<
         )
         .map_err(fail)?;
     }
-    w.flush().map_err(fail)
+    w.flush().map_err(fail)?;
+    drop(w);
+    match pending {
+        Some(f) => f.commit(),
+        None => Ok(()),
+    }
 }
 
 #[cfg(test)]
@@ -256,7 +317,15 @@ mod tests {
             parse_range("x", "1:3:3").unwrap().values,
             vec![1.0, 2.0, 3.0]
         );
-        for bad in ["1:2", "a:2:3", "1:2:0", "-1:2:2", "1:2:1", "1:2:x"] {
+        for bad in [
+            "1:2",
+            "a:2:3",
+            "1:2:0",
+            "-1:2:2",
+            "1:2:1",
+            "1:2:x",
+            "1:2:1000000000",
+        ] {
             let e = parse_range("wavelength-mm", bad).unwrap_err().to_string();
             assert!(e.contains("--wavelength-mm"), "{bad}: {e}");
         }

@@ -70,11 +70,14 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
             a.noise
         )));
     }
-    if a.trials < 2 {
-        return Err(CliError::input(
-            "--trials must be at least 2 (a confidence interval needs two trials)",
-        ));
+    let max_trials = crate::data::limits::MAX_TRIALS;
+    if !(2..=max_trials).contains(&a.trials) {
+        return Err(CliError::input(format!(
+            "--trials must be from 2 (a confidence interval needs two trials) to {max_trials}, got {}",
+            a.trials
+        )));
     }
+    super::output::check_output_file(&a.output)?;
     let design = super::model_args::load_data(&a.data)?;
     let truth = parse_truth(&a.truth)?;
     let settings = SynthSettings {
@@ -84,8 +87,17 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
         ..Default::default()
     };
     let data = generate(&truth, &design, settings)?;
-    std::fs::write(&a.output, crate::data::to_toml(&data))
-        .map_err(|e| CliError::input(format!("cannot write {}: {e}", a.output.display())))?;
+    // The synthetic data must load again: a truth that predicts U = 0 or a
+    // rate outside the documented ranges is refused here, not on reading.
+    for c in &data.cases {
+        crate::data::limits::check_case(c).map_err(|(f, e)| {
+            CliError::input(format!(
+                "--truth `{}`: case `{}`: synthetic `{f}`: {e}",
+                a.truth, c.id
+            ))
+        })?;
+    }
+    super::output::write_atomically(&a.output, crate::data::to_toml(&data).as_bytes())?;
     eprintln!(
         "wrote {} cases from truth `{}` to {}",
         data.cases.len(),

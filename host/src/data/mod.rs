@@ -3,6 +3,7 @@
 //! rate with confidence intervals. The format is TOML, documented in
 //! `docs/data-format.md`; the paper's Tables I, II and IV ship built in.
 
+pub mod limits;
 mod parse;
 pub mod quantities;
 mod write;

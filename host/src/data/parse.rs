@@ -72,9 +72,18 @@ pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
     if raw.cases.is_empty() {
         return Err(err(file, None, None, "the dataset has no [[case]] tables"));
     }
+    if raw.cases.len() > super::limits::MAX_CASES {
+        let n = format!(
+            "{} cases; at most {} are allowed",
+            raw.cases.len(),
+            super::limits::MAX_CASES
+        );
+        return Err(err(file, None, Some("case"), n));
+    }
     let mut cases = Vec::with_capacity(raw.cases.len());
     for (i, rc) in raw.cases.iter().enumerate() {
         let case = resolve(file, i, &raw.setup, rc)?;
+        super::limits::check_case(&case).map_err(|(f, m)| err(file, Some(&case.id), Some(f), m))?;
         if cases.iter().any(|c: &Case| c.id == case.id) {
             return Err(err(file, Some(&case.id), Some("id"), "duplicate case id"));
         }

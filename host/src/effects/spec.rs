@@ -30,6 +30,8 @@ pub enum EffectSpecError {
     },
     #[error("effect `{effect}`: `{item}` is not of the form param=value")]
     Malformed { effect: String, item: String },
+    #[error("effect `{effect}`: {problem}")]
+    Repeated { effect: String, problem: String },
 }
 
 /// Parse one `NAME[:k=v,...]`.
@@ -47,6 +49,13 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
             .join(", "),
     })?;
     let mut inst = EffectInstance::default_of(effect);
+    if params.is_some_and(|p| p.trim().is_empty()) {
+        return Err(EffectSpecError::Malformed {
+            effect: name.to_string(),
+            item: "(nothing after the colon)".to_string(),
+        });
+    }
+    let mut given = vec![false; effect.params().len()];
     for item in params
         .into_iter()
         .flat_map(|p| p.split(','))
@@ -89,6 +98,12 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
                 min: p.min,
                 max: p.max,
                 unit: p.unit.to_string(),
+            });
+        }
+        if std::mem::replace(&mut given[idx], true) {
+            return Err(EffectSpecError::Repeated {
+                effect: name.to_string(),
+                problem: format!("parameter `{k}` is given twice"),
             });
         }
         inst.values[idx] = value;

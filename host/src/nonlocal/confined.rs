@@ -130,6 +130,7 @@ pub fn tail_resistance_in_channel(
     check_mu(viscosity_pa_s)?;
     let (x0, x1) = helix_x_range(helix);
     let wall = wall_object(channel, x0, x1, helix.envelope_radius_m(), settings)?;
+    super::linalg::check_memory(settings.tail_segments(helix))?;
     let b = grand_resistance(&[tail_object(helix, settings)], &[wall], viscosity_pa_s)?;
     Ok(with_spin(b[0][0], helix, viscosity_pa_s, settings))
 }
@@ -193,6 +194,7 @@ pub fn robot_resistance(
             rear * 1e3
         )));
     }
+    super::linalg::check_memory(settings.tail_segments(helix))?;
     let moving = [body_object(body, settings)?, tail_object(helix, settings)];
     let fixed = match channel {
         Some(ch) => {

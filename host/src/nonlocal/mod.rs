@@ -254,6 +254,7 @@ pub fn tail_resistance(
         )));
     }
     let n = settings.tail_segments(helix);
+    linalg::check_memory(n)?;
     let a = 0.5 * helix.wire_diameter_m;
     let curve = Centreline::Helix(*helix);
     match settings.method {

@@ -83,6 +83,7 @@ pub fn resistance(
 ) -> Result<Matrix6<f64>, NonlocalError> {
     let src = LineSources::new(curve, n_segments, blob_over_radius * wire_radius_m);
     let pts = &src.seg.mid_point_m;
+    linalg::check_memory(src.seg.n)?;
     let matrix: DMatrix<f64> =
         linalg::assemble(src.seg.n, |i, j| src.block(&pts[i], j, viscosity_pa_s));
     let rhs = rigid::unit_motions(pts, &vec![true; src.seg.n]);

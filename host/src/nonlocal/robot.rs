@@ -78,6 +78,7 @@ pub fn grand_resistance(
     let targets: Vec<Vector3<f64>> = index.iter().map(|&(o, k)| objects[o].target(k)).collect();
     let levers: Vec<Vector3<f64>> = index.iter().map(|&(o, k)| objects[o].lever(k)).collect();
     let c = 1.0 / (8.0 * PI * viscosity_pa_s);
+    linalg::check_memory(index.len())?;
     let matrix = linalg::assemble(index.len(), |i, j| {
         let (o, k) = index[j];
         match objects[o] {

@@ -58,6 +58,7 @@ pub fn resistance(
         let f = |s: f64| if s > 0.0 { s * s.ln() - s } else { 0.0 };
         (f(s1) - f(s0)) / (s1 - s0)
     };
+    linalg::check_memory(seg.n)?;
     let matrix = linalg::assemble(seg.n, |i, j| {
         let xi = seg.mid_point_m[i];
         if i == j {

@@ -303,13 +303,9 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
     if samples.last().map(|x| x.t_s) != Some(last.t_s) {
         samples.push(last);
     }
-    let mean = |x: f64| {
-        if running_s > 0.0 {
-            x / running_s
-        } else {
-            f64::NAN
-        }
-    };
+    // 0 when the motor never ran (`running_s == 0`): the summary says so
+    // instead of printing a mean over nothing.
+    let mean = |x: f64| if running_s > 0.0 { x / running_s } else { 0.0 };
     Ok(Outcome {
         tail_id: tail.id.clone(),
         hydro,

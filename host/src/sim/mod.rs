@@ -13,6 +13,7 @@ pub mod hydro;
 pub mod output;
 mod raw;
 pub mod robot;
+mod robot_limits;
 pub mod script;
 
 pub use dynamics::{simulate, End, Energy, Options, Outcome, Sample};

@@ -181,7 +181,13 @@ pub fn summary(robot: &Robot, o: &Outcome) -> String {
             );
         }
     }
-    let _ = writeln!(
+    if o.running_s <= 0.0 {
+        let _ = writeln!(
+            s,
+            "the motor never ran (no valid On command took effect): no mean U, f or Omega_b"
+        );
+    } else {
+        let _ = writeln!(
         s,
         "while running ({} s): mean U {} mm/s, tail f {} Hz (lab), body counter-rotation Omega_b {} Hz",
         fmt_sig(o.running_s, 4),
@@ -189,11 +195,13 @@ pub fn summary(robot: &Robot, o: &Outcome) -> String {
         fmt_sig(o.mean_f_hz, 4),
         fmt_sig(o.mean_omega_b_hz, 4)
     );
+    }
     if let Some(f) = robot
         .tails
         .iter()
         .find(|t| t.id == o.tail_id)
         .and_then(|t| t.observed_f_hz)
+        .filter(|_| o.running_s > 0.0)
     {
         let _ = writeln!(
             s,

@@ -96,11 +96,21 @@ impl Robot {
 
     pub fn from_toml(text: &str, file: &str) -> Result<Robot, RobotError> {
         let raw: Raw = toml::from_str(text).map_err(|e| {
-            fail(
-                file,
-                None,
-                format!("not a valid robot file: {}", e.to_string().trim_end()),
-            )
+            // serde reports a missing table or key at the document's start
+            // ("line 1, column 1"); name what is missing instead.
+            let msg = e.message();
+            match msg.strip_prefix("missing field ") {
+                Some(what) if e.span().is_none_or(|s| s.start == 0) => fail(
+                    file,
+                    None,
+                    format!("missing table or key {what} (see docs/robot-format.md)"),
+                ),
+                _ => fail(
+                    file,
+                    None,
+                    format!("not a valid robot file: {}", e.to_string().trim_end()),
+                ),
+            }
         })?;
         let v = Check { file };
         let m = &raw.motor;
@@ -303,7 +313,7 @@ impl Robot {
                 observed_f_hz,
             });
         }
-        Ok(Robot {
+        let robot = Robot {
             name: raw.name.unwrap_or_else(|| "unnamed robot".into()),
             motor,
             cell,
@@ -317,7 +327,9 @@ impl Robot {
             start_height_mm,
             model,
             tails,
-        })
+        };
+        super::robot_limits::check(&robot, file)?;
+        Ok(robot)
     }
 
     /// The model's case for tail `tail` (index), at tail rate `f_hz`.
@@ -357,7 +369,7 @@ fn helix_inertia_kg_m2(lambda_mm: f64, amp_mm: f64, len_mm: f64, wire_mm: f64) -
     mass_kg * (amp_mm * 1e-3).powi(2)
 }
 
-fn fail(file: &str, field: Option<&str>, message: impl Into<String>) -> RobotError {
+pub(super) fn fail(file: &str, field: Option<&str>, message: impl Into<String>) -> RobotError {
     RobotError {
         file: file.to_string(),
         field: field.map(str::to_string),

@@ -165,7 +165,9 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
             let rm = normalised(&probe.model, self.cases)?;
             j.set_column(i, &((rp - rm) / (2.0 * h)));
         }
-        Some(j)
+        // The solver must never see a non-finite Jacobian (it would carry
+        // NaN into its QR); `None` makes it stop at the last good point.
+        j.iter().all(|x| x.is_finite()).then_some(j)
     }
 }
 
@@ -284,6 +286,11 @@ fn finish(
     };
     let cov = jac.as_ref().and_then(|j| {
         let jtj = j.transpose() * j;
+        // nalgebra's SVD panics ("Singular value was NaN") on non-finite
+        // input; J^T J overflows when a confidence interval is tiny.
+        if jtj.iter().any(|x| !x.is_finite()) {
+            return None;
+        }
         let svd = jtj.clone().svd(false, false);
         let (max, min) = (svd.singular_values.max(), svd.singular_values.min());
         (min > 1e-12 * max && max > 0.0)
@@ -296,15 +303,20 @@ fn finish(
         let e = &model.effects[f.effect];
         format!("{}.{}", e.name(), e.effect.params()[f.param].name)
     };
-    let correlation = cov.as_ref().map(|c| {
-        (0..k)
-            .map(|i| {
-                (0..k)
-                    .map(|j| c[(i, j)] / (c[(i, i)] * c[(j, j)]).sqrt())
-                    .collect::<Vec<f64>>()
-            })
-            .collect::<Vec<_>>()
-    });
+    let correlation = cov
+        .as_ref()
+        .map(|c| {
+            (0..k)
+                .map(|i| {
+                    (0..k)
+                        .map(|j| c[(i, j)] / (c[(i, i)] * c[(j, j)]).sqrt())
+                        .collect::<Vec<f64>>()
+                })
+                .collect::<Vec<_>>()
+        })
+        // A non-finite correlation would reach JSON as `null`: drop it, and
+        // the parameters are reported as not identifiable below.
+        .filter(|r| r.iter().flatten().all(|x| x.is_finite()));
     if let Some(r) = &correlation {
         for i in 0..k {
             for j in 0..i {
@@ -374,5 +386,5 @@ fn physical_jacobian(model: &Model, free: &[FreeParam], cases: &[&Case]) -> Opti
         let col = (shifted(b)? - shifted(a)?) / (b - a);
         j.set_column(i, &col);
     }
-    Some(j)
+    j.iter().all(|x| x.is_finite()).then_some(j)
 }

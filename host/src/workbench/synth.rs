@@ -3,6 +3,7 @@
 //! become a mean and a Student-t confidence interval, exactly as a lab
 //! would report them. Deterministic for a given seed.
 
+use crate::data::limits::MIN_RELATIVE_CI;
 use crate::data::{Dataset, Measured};
 use crate::model::{Model, ModelError};
 use crate::stats::mean_and_ci;
@@ -55,7 +56,10 @@ pub fn generate(truth: &Model, design: &Dataset, s: SynthSettings) -> Result<Dat
             let (mean, half) = mean_and_ci(&trials, s.confidence);
             Measured {
                 mean,
-                ci_half_width: half.max(f64::MIN_POSITIVE),
+                // Noise 0 gives identical trials; the floor is the finest
+                // resolution the data limits accept (twice it, so that a
+                // TOML round trip stays inside).
+                ci_half_width: half.max(2.0 * MIN_RELATIVE_CI * mean.abs()),
                 confidence: s.confidence,
                 trials: s.trials.max(2),
             }

@@ -1,0 +1,315 @@
+//! The documented input limits: for every numeric field of a case, the
+//! physical range the model is meant for (and why), and the size limits
+//! (cases, trials, identifiers) that keep memory and run time bounded.
+//!
+//! The parser ([`super::parse_str`]) first checks each value's type and
+//! sign; [`check_case`] then checks the resolved case against these ranges
+//! and relations, so that "absurd" has one definition, shared by the
+//! dataset parser, the robot file, `sweep` and `helix`. A value outside its
+//! range is an input error naming the field, the value and the range; it is
+//! never clamped. The ranges are deliberately wide (a lab could build any
+//! robot inside them); they exclude values at which the floating-point
+//! evaluation of the model overflows, underflows or loses all precision.
+//!
+//! The table of limits is reproduced in `docs/notes/hardening.md`.
+
+use super::Case;
+
+/// A closed physical range of one field, with the reason for its ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limit {
+    pub field: &'static str,
+    pub min: f64,
+    pub max: f64,
+    pub unit: &'static str,
+    pub why: &'static str,
+}
+
+const LENGTH_WHY: &str =
+    "1 um to 10 m: below, the wire is thinner than any drawn wire; above, the \
+     robot is no longer a cm-scale swimmer in a lab tube";
+
+/// Every ranged numeric field of a case. Lengths share one range.
+pub const LIMITS: &[Limit] = &[
+    Limit { field: "wavelength_mm", min: 1e-3, max: 1e4, unit: "mm", why: LENGTH_WHY },
+    Limit { field: "amplitude_mm", min: 1e-3, max: 1e4, unit: "mm", why: LENGTH_WHY },
+    Limit { field: "tail_length_mm", min: 1e-3, max: 1e4, unit: "mm", why: LENGTH_WHY },
+    Limit { field: "wire_diameter_mm", min: 1e-3, max: 1e4, unit: "mm", why: LENGTH_WHY },
+    Limit { field: "channel_diameter_mm", min: 1e-3, max: 1e4, unit: "mm", why: LENGTH_WHY },
+    Limit { field: "channel_length_mm", min: 1e-3, max: 1e5, unit: "mm", why: "up to 100 m of tube" },
+    Limit { field: "body_diameter_mm", min: 1e-3, max: 1e4, unit: "mm", why: LENGTH_WHY },
+    Limit { field: "body_length_mm", min: 1e-3, max: 1e4, unit: "mm", why: LENGTH_WHY },
+    Limit { field: "coupler_diameter_mm", min: 0.0, max: 1e4, unit: "mm", why: "0 (no coupler) to 10 m" },
+    Limit { field: "coupler_length_mm", min: 0.0, max: 1e4, unit: "mm", why: "0 (no coupler) to 10 m" },
+    Limit {
+        field: "frequency_hz",
+        min: 1e-6,
+        max: 1e4,
+        unit: "Hz",
+        why: "a motor turns a tail at most at 10 kHz (600 000 rpm); below 1 uHz nothing moves within a lab's lifetime",
+    },
+    Limit {
+        field: "viscosity_pa_s",
+        min: 1e-6,
+        max: 1e6,
+        unit: "Pa s",
+        why: "from below any gas (air 1.8e-5) to above the stiffest silicone gums (~1e5); Stokes flow needs a liquid",
+    },
+    Limit {
+        field: "density_kg_m3",
+        min: 0.1,
+        max: 3e4,
+        unit: "kg/m^3",
+        why: "from a light gas to above the densest element (osmium, 22 590)",
+    },
+    Limit {
+        field: "u_mm_s",
+        min: 1e-6,
+        max: 1e6,
+        unit: "mm/s (absolute value)",
+        why: "the error is relative to the measured mean, so 0 is undefined; 1 nm/s to 1 km/s",
+    },
+    Limit {
+        field: "omega_body_hz",
+        min: 1e-6,
+        max: 1e4,
+        unit: "Hz (absolute value)",
+        why: "the error is relative to the measured mean, so 0 is undefined; as frequency_hz",
+    },
+    Limit {
+        field: "confidence",
+        min: 0.5,
+        max: 0.999_999,
+        unit: "",
+        why: "a level below 0.5 or at 1 makes the Student-t factor 0 or infinite",
+    },
+];
+
+/// The smallest confidence half-width relative to the mean's magnitude. A
+/// narrower interval (or identical raw trials) gives the residual an
+/// almost infinite weight: the chi-square overflows and the fit's SVD fails.
+/// No speed or rate is measured to better than a part in 10^9.
+pub const MIN_RELATIVE_CI: f64 = 1e-9;
+/// The widest confidence half-width relative to the mean's magnitude.
+pub const MAX_RELATIVE_CI: f64 = 1e6;
+/// Trials behind one mean (`trials`, or the length of a raw-trials list).
+pub const MAX_TRIALS: u32 = 100_000;
+/// Cases in one dataset: every command evaluates the model per case, the
+/// fit many times per case, so this bounds run time and memory.
+pub const MAX_CASES: usize = 10_000;
+/// Helix turns on one tail (`tail_length_mm / wavelength_mm`): every tail
+/// model's cost grows with them (quadrature nodes, non-local segments); the
+/// paper's tails have fewer than 15.
+pub const MAX_TURNS: f64 = 1_000.0;
+/// Quadrature nodes on one tail (`--nodes-per-wavelength` times turns): a
+/// loop of 10^7 nodes takes well under a second; the paper used 100 per
+/// wavelength.
+pub const MAX_QUADRATURE_NODES: f64 = 1e7;
+/// Characters in a case or tail id (it is a column of the tables).
+pub const MAX_ID_CHARS: usize = 64;
+
+/// Checks the quadrature resolution for a tail of `turns` turns.
+pub fn check_quadrature(nodes_per_wavelength: usize, turns: f64) -> Result<(), String> {
+    let nodes = nodes_per_wavelength as f64 * turns.max(1.0);
+    if nodes_per_wavelength < 2 || nodes > MAX_QUADRATURE_NODES {
+        return Err(format!(
+            "{nodes_per_wavelength} nodes per wavelength: needs at least 2, and at most {MAX_QUADRATURE_NODES:e} nodes on the tail ({turns} turns)"
+        ));
+    }
+    Ok(())
+}
+
+/// A value as a person would write it: plain when moderate, else with an
+/// exponent (`1e300`, not three hundred digits).
+pub fn show(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// The range of `field`, if it has one.
+pub fn limit_of(field: &str) -> Option<&'static Limit> {
+    LIMITS.iter().find(|l| l.field == field)
+}
+
+/// Checks `value` of `field` (absolute value for the signed measured means).
+pub fn check_value(field: &str, value: f64) -> Result<(), String> {
+    let Some(l) = limit_of(field) else {
+        return Ok(());
+    };
+    let v = if field == "u_mm_s" || field == "omega_body_hz" {
+        value.abs()
+    } else {
+        value
+    };
+    if !v.is_finite() || v < l.min || v > l.max {
+        return Err(format!(
+            "{} is outside the allowed range {:e}..={:e} {} ({})",
+            show(value),
+            l.min,
+            l.max,
+            l.unit,
+            l.why
+        ));
+    }
+    Ok(())
+}
+
+/// A case or tail id: not empty, short, no control characters (they break
+/// the tables), no comma (`--cases` splits at commas), no outer spaces.
+pub fn check_id(id: &str) -> Result<(), String> {
+    if id.trim().is_empty() {
+        return Err("the id is empty".into());
+    }
+    if id.chars().count() > MAX_ID_CHARS {
+        return Err(format!("the id is longer than {MAX_ID_CHARS} characters"));
+    }
+    if id.chars().any(|c| c.is_control() || c == ',') || id.trim() != id {
+        return Err(format!(
+            "the id {id:?} contains a control character, a comma or leading/trailing spaces"
+        ));
+    }
+    Ok(())
+}
+
+/// Checks a resolved case: id, field ranges, the measured values and the
+/// relations the geometry needs beyond those of the parser. The error is
+/// `(field, message)`.
+pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
+    check_id(&c.id).map_err(|m| ("id", m))?;
+    let fields: [(&'static str, f64); 13] = [
+        ("wavelength_mm", c.wavelength_mm),
+        ("amplitude_mm", c.amplitude_mm),
+        ("tail_length_mm", c.tail_length_mm),
+        ("wire_diameter_mm", c.wire_diameter_mm),
+        ("channel_diameter_mm", c.channel_diameter_mm),
+        ("channel_length_mm", c.channel_length_mm),
+        ("body_diameter_mm", c.body_diameter_mm),
+        ("body_length_mm", c.body_length_mm),
+        ("coupler_diameter_mm", c.coupler_diameter_mm),
+        ("coupler_length_mm", c.coupler_length_mm),
+        ("frequency_hz", c.frequency_hz),
+        ("viscosity_pa_s", c.viscosity_pa_s),
+        ("density_kg_m3", c.density_kg_m3),
+    ];
+    for (f, v) in fields {
+        check_value(f, v).map_err(|m| (f, m))?;
+    }
+    for (mean_f, ci_f, m) in [
+        ("u_mm_s", "u_ci_mm_s", c.u_mm_s),
+        ("omega_body_hz", "omega_body_ci_hz", c.omega_body_hz),
+    ] {
+        let Some(m) = m else { continue };
+        check_value(mean_f, m.mean).map_err(|e| (mean_f, e))?;
+        check_value("confidence", m.confidence).map_err(|e| ("confidence", e))?;
+        if m.trials > MAX_TRIALS {
+            return Err((
+                "trials",
+                format!("{} trials: at most {MAX_TRIALS} are allowed", m.trials),
+            ));
+        }
+        let rel = m.ci_half_width / m.mean.abs();
+        if !(MIN_RELATIVE_CI..=MAX_RELATIVE_CI).contains(&rel) {
+            return Err((
+                ci_f,
+                format!(
+                    "a half-width of {} for a mean of {} ({rel:.3e} of it) is outside {MIN_RELATIVE_CI:e}..={MAX_RELATIVE_CI:e} of the mean \
+                     (identical trials or a vanishing interval would give the measurement an infinite weight)",
+                    show(m.ci_half_width),
+                    show(m.mean)
+                ),
+            ));
+        }
+    }
+    if c.coupler_diameter_mm >= c.channel_diameter_mm {
+        return Err((
+            "coupler_diameter_mm",
+            format!(
+                "the coupler ({} mm) does not fit in the {} mm channel",
+                c.coupler_diameter_mm, c.channel_diameter_mm
+            ),
+        ));
+    }
+    let turns = c.tail_length_mm / c.wavelength_mm;
+    if turns > MAX_TURNS {
+        return Err((
+            "tail_length_mm",
+            format!(
+                "{} helix turns (tail_length_mm / wavelength_mm): at most {MAX_TURNS} are allowed",
+                show(turns)
+            ),
+        ));
+    }
+    let robot_mm = c.body_length_mm + c.coupler_length_mm + c.tail_length_mm;
+    if c.channel_length_mm < robot_mm {
+        return Err((
+            "channel_length_mm",
+            format!(
+                "the {} mm channel is shorter than the {robot_mm} mm robot (body + coupler + tail)",
+                c.channel_length_mm
+            ),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_paper_cases_are_inside_every_limit() {
+        for c in &super::super::paper().cases {
+            assert_eq!(check_case(c), Ok(()), "{}", c.id);
+        }
+    }
+
+    #[test]
+    fn each_kind_of_nonsense_is_named() {
+        let base = super::super::paper().cases[0].clone();
+        type Mutation = Box<dyn Fn(&mut Case)>;
+        let cases: Vec<(&str, Mutation)> = vec![
+            ("id", Box::new(|c| c.id = String::new())),
+            ("id", Box::new(|c| c.id = "a\u{1b}[2J".into())),
+            ("frequency_hz", Box::new(|c| c.frequency_hz = 1e300)),
+            (
+                "coupler_diameter_mm",
+                Box::new(|c| c.coupler_diameter_mm = 40.0),
+            ),
+            ("channel_length_mm", Box::new(|c| c.channel_length_mm = 1.0)),
+            (
+                "u_mm_s",
+                Box::new(|c| c.u_mm_s.as_mut().unwrap().mean = 0.0),
+            ),
+            (
+                "u_ci_mm_s",
+                Box::new(|c| c.u_mm_s.as_mut().unwrap().ci_half_width = 1e-200),
+            ),
+            (
+                "confidence",
+                Box::new(|c| c.u_mm_s.as_mut().unwrap().confidence = 1e-300),
+            ),
+            (
+                "trials",
+                Box::new(|c| c.u_mm_s.as_mut().unwrap().trials = u32::MAX),
+            ),
+        ];
+        for (field, mutate) in cases {
+            let mut c = base.clone();
+            mutate(&mut c);
+            let (f, msg) = check_case(&c).unwrap_err();
+            assert_eq!(f, field, "{msg}");
+            assert!(!msg.is_empty());
+        }
+    }
+
+    #[test]
+    fn every_limit_is_a_proper_range_with_a_reason() {
+        for l in LIMITS {
+            assert!(l.min < l.max && l.min >= 0.0, "{}", l.field);
+            assert!(!l.why.is_empty());
+        }
+    }
+}

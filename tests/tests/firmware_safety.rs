@@ -1,0 +1,291 @@
+//! Safety properties of the firmware's decision code (shared crate: NEC
+//! decoder, key map, battery monitor, controller), driven as the firmware's
+//! main loop (`firmware/src/run.rs`) drives it, by arbitrary sequences of
+//! ADC readings (including 0, 4095 and sudden jumps) and IR edges:
+//!
+//! 1. without a valid On frame, the motor never starts (duty stays 0),
+//!    whatever noise, foreign frames, corrupted On frames or repeat codes
+//!    arrive;
+//! 2. once every reading of a full averaging window is a plausible cell
+//!    voltage below the cut-off,
+//!    the motor is off within the cut-off's debounce time and stays off
+//!    while the readings stay low, even if On frames keep arriving;
+//! 3. the duty is zero whenever the monitor's status forbids running.
+
+use proptest::prelude::*;
+use swimbot_shared::battery::AVERAGE_SAMPLES;
+use swimbot_shared::nec::{for_each_edge, frame_pulses_us, raw_frame_pulses_us, REPEAT_PULSES_US};
+use swimbot_shared::{
+    BatteryConfig, BatteryMonitor, Command, Controller, ControllerConfig, KeyMap, Level,
+    MotorState, Remote,
+};
+
+const KEYS: KeyMap = KeyMap {
+    address: 0x00,
+    on: 0x45,
+    off: 0x47,
+};
+/// The board's divider and reference (firmware/src/board.rs).
+const BATTERY: BatteryConfig = BatteryConfig::new(100_000, 82_000, 3_300);
+/// The firmware samples the cell every 20 ms.
+const SAMPLE_PERIOD_US: u64 = 20_000;
+
+/// What happens next to the firmware.
+#[derive(Debug, Clone)]
+enum Input {
+    /// An ADC reading (0..=4095 and beyond: the ADC saturates).
+    Adc(u16),
+    /// A raw receiver edge after `gap_us`.
+    Edge(bool, u32),
+    /// A whole NEC frame that is not our On: another key, another address,
+    /// a corrupted checksum, or a repeat code.
+    NotOn(NotOn),
+    /// Our On frame (only where the property allows it).
+    On,
+    /// Time passes without input.
+    Wait(u32),
+}
+
+#[derive(Debug, Clone)]
+enum NotOn {
+    Key(u8),
+    Address(u8),
+    BadInverse(u8),
+    Repeat,
+}
+
+fn not_on() -> impl Strategy<Value = NotOn> {
+    prop_oneof![
+        any::<u8>()
+            .prop_filter("not the On key", |c| *c != KEYS.on)
+            .prop_map(NotOn::Key),
+        any::<u8>()
+            .prop_filter("another remote", |a| *a != KEYS.address)
+            .prop_map(NotOn::Address),
+        (1u8..=255).prop_map(NotOn::BadInverse),
+        Just(NotOn::Repeat),
+    ]
+}
+
+/// ADC codes: the rails, values near the cut-off and anything else.
+fn adc() -> impl Strategy<Value = u16> {
+    let cut = BATTERY.mv_to_counts(u32::from(BATTERY.cutoff_mv));
+    prop_oneof![
+        Just(0u16),
+        Just(4095u16),
+        Just(u16::MAX),
+        (cut - 40)..(cut + 40),
+        0u16..=4095,
+    ]
+}
+
+fn input(with_on: bool) -> BoxedStrategy<Input> {
+    let base = prop_oneof![
+        4 => adc().prop_map(Input::Adc),
+        4 => (any::<bool>(), 0u32..20_000).prop_map(|(l, g)| Input::Edge(l, g)),
+        2 => not_on().prop_map(Input::NotOn),
+        1 => (0u32..3_000_000).prop_map(Input::Wait),
+    ];
+    if with_on {
+        prop_oneof![8 => base, 1 => Just(Input::On)].boxed()
+    } else {
+        base.boxed()
+    }
+}
+
+/// The firmware's loop, with simulated time.
+struct Firmware {
+    t_us: u64,
+    next_sample_us: u64,
+    remote: Remote,
+    monitor: BatteryMonitor,
+    controller: Controller,
+    /// Latest ADC code; sampled every period like the real board.
+    adc: u16,
+    /// Cell mV of every sample taken, with its time.
+    readings: Vec<(u64, u32)>,
+}
+
+struct Step {
+    t_us: u64,
+    state: MotorState,
+    duty: u32,
+    allows_motor: bool,
+    command: Option<Command>,
+}
+
+impl Firmware {
+    fn new(adc: u16) -> Self {
+        Firmware {
+            t_us: 0,
+            next_sample_us: 0,
+            remote: Remote::new(KEYS),
+            monitor: BatteryMonitor::new(BATTERY),
+            controller: Controller::new(ControllerConfig::DEFAULT),
+            adc,
+            readings: Vec::new(),
+        }
+    }
+
+    /// One main-loop pass at `t_us` with the decoded command, if any.
+    fn pass(&mut self, command: Option<Command>, out: &mut Vec<Step>) {
+        if self.t_us >= self.next_sample_us {
+            self.next_sample_us = self.t_us + SAMPLE_PERIOD_US;
+            let on = self.controller.state() != MotorState::Off;
+            self.monitor.sample(self.adc, self.t_us, on);
+            self.readings
+                .push((self.t_us, BATTERY.counts_to_mv(self.adc)));
+        }
+        let battery = self.monitor.status();
+        let o = self.controller.step(self.t_us, command, battery);
+        out.push(Step {
+            t_us: self.t_us,
+            state: o.state,
+            duty: o.duty.raw(),
+            allows_motor: battery.allows_motor(),
+            command,
+        });
+    }
+
+    /// Advance to `until_us` in main-loop passes of one sample period.
+    fn idle_until(&mut self, until_us: u64, out: &mut Vec<Step>) {
+        while self.next_sample_us <= until_us {
+            self.t_us = self.t_us.max(self.next_sample_us);
+            self.pass(None, out);
+        }
+        self.t_us = self.t_us.max(until_us);
+    }
+
+    fn edges(&mut self, pulses: &[u32], out: &mut Vec<Step>) {
+        let mut edges = Vec::new();
+        for_each_edge(0, pulses, |l, t| edges.push((l, t)));
+        let start = self.t_us + 1_000;
+        for (l, t) in edges {
+            self.edge(l, start + u64::from(t), out);
+        }
+    }
+
+    fn edge(&mut self, level: Level, at_us: u64, out: &mut Vec<Step>) {
+        self.idle_until(at_us, out);
+        let c = self.remote.edge(level, at_us as u32);
+        self.pass(c, out);
+    }
+
+    fn apply(&mut self, i: &Input, out: &mut Vec<Step>) {
+        match *i {
+            Input::Adc(c) => self.adc = c,
+            Input::Wait(us) => {
+                let until = self.t_us + u64::from(us);
+                self.idle_until(until, out);
+            }
+            Input::Edge(high, gap) => {
+                let level = if high { Level::High } else { Level::Low };
+                let at = self.t_us + u64::from(gap);
+                self.edge(level, at, out);
+            }
+            Input::On => self.edges(&frame_pulses_us(KEYS.address, KEYS.on), out),
+            Input::NotOn(ref n) => match *n {
+                NotOn::Key(c) => self.edges(&frame_pulses_us(KEYS.address, c), out),
+                NotOn::Address(a) => self.edges(&frame_pulses_us(a, KEYS.on), out),
+                NotOn::BadInverse(x) => {
+                    // NEC payload: address, !address, command, !command
+                    // (LSB first); a flipped inverse must not pass.
+                    let a = u32::from(KEYS.address);
+                    let c = u32::from(KEYS.on);
+                    let payload =
+                        a | ((!a & 0xff) << 8) | (c << 16) | (((!c ^ u32::from(x)) & 0xff) << 24);
+                    self.edges(&raw_frame_pulses_us(payload), out)
+                }
+                NotOn::Repeat => self.edges(&REPEAT_PULSES_US, out),
+            },
+        }
+    }
+}
+
+fn run(start_adc: u16, inputs: &[Input]) -> (Firmware, Vec<Step>) {
+    let mut fw = Firmware::new(start_adc);
+    let mut out = Vec::new();
+    for i in inputs {
+        fw.apply(i, &mut out);
+    }
+    fw.idle_until(fw.t_us + 2 * SAMPLE_PERIOD_US, &mut out);
+    (fw, out)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// Property 1: no valid On frame, no motor.
+    #[test]
+    fn no_on_frame_never_starts_the_motor(
+        start in adc(),
+        inputs in prop::collection::vec(input(false), 0..120),
+    ) {
+        let (_, steps) = run(start, &inputs);
+        for s in &steps {
+            prop_assert_ne!(s.command, Some(Command::On), "decoded On at {} us", s.t_us);
+            prop_assert_eq!(s.state, MotorState::Off, "motor on at {} us", s.t_us);
+            prop_assert_eq!(s.duty, 0);
+        }
+    }
+
+    /// Properties 2 and 3: never running on a low or broken cell.
+    #[test]
+    fn never_runs_below_the_cutoff_or_on_a_fault(
+        start in adc(),
+        inputs in prop::collection::vec(input(true), 0..160),
+    ) {
+        let (fw, steps) = run(start, &inputs);
+        let cutoff = u32::from(BATTERY.cutoff_mv);
+        // The time from which the last AVERAGE_SAMPLES readings, and every
+        // later one, were plausible and below the cut-off: their average is
+        // then a plausible low voltage, so the debounce runs from there.
+        // (Implausible readings, 0 or 4095, are faults: property 3.)
+        let mut low_since: Vec<Option<u64>> = Vec::with_capacity(fw.readings.len());
+        let mut run_len = 0usize;
+        for &(t, mv) in &fw.readings {
+            let low = mv >= u32::from(BATTERY.plausible_min_mv) && mv < cutoff;
+            run_len = if low { run_len + 1 } else { 0 };
+            let prev = low_since.last().copied().flatten();
+            low_since.push(match run_len {
+                0 => None,
+                n if n == AVERAGE_SAMPLES => Some(t),
+                n if n > AVERAGE_SAMPLES => prev,
+                _ => None,
+            });
+        }
+        for s in &steps {
+            if !s.allows_motor {
+                prop_assert_eq!(s.duty, 0, "duty with the battery forbidding it at {} us", s.t_us);
+            }
+            // The reading in force at this pass.
+            let k = fw.readings.partition_point(|r| r.0 <= s.t_us);
+            if k == 0 {
+                prop_assert_eq!(s.state, MotorState::Off);
+                continue;
+            }
+            if let Some(since) = low_since[k - 1] {
+                if s.t_us >= since + BATTERY.cutoff_debounce_us {
+                    prop_assert_eq!(
+                        s.state,
+                        MotorState::Off,
+                        "running at {} us, readings below the cut-off since {} us",
+                        s.t_us,
+                        since
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The property test can fail: a healthy cell with an On frame runs.
+#[test]
+fn a_valid_on_frame_on_a_healthy_cell_does_start() {
+    let healthy = BATTERY.mv_to_counts(4_000);
+    let inputs = [Input::Wait(300_000), Input::On, Input::Wait(100_000)];
+    let (_, steps) = run(healthy, &inputs);
+    assert!(steps
+        .iter()
+        .any(|s| s.state != MotorState::Off && s.duty > 0));
+}
