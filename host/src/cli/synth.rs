@@ -27,6 +27,8 @@ pub struct SynthArgs {
     /// Output dataset (TOML).
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub effect_files: super::model_args::EffectFiles,
 }
 
 /// Parse "PRESET|COEFFICIENTS + EFFECT + EFFECT...".
@@ -75,6 +77,7 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
             "--trials must be at least 2 (a confidence interval needs two trials)",
         ));
     }
+    a.effect_files.load()?;
     let design = super::model_args::load_data(&a.data)?;
     let truth = parse_truth(&a.truth)?;
     let settings = SynthSettings {
