@@ -46,8 +46,8 @@ enum Node {
     Quantity(&'static Quantity),
     Neg(Box<Node>),
     Bin(BinOp, Box<Node>, Box<Node>),
-    Call1(fn(f64) -> f64, Box<Node>),
-    Call2(fn(f64, f64) -> f64, Box<Node>, Box<Node>),
+    Call1(Fn1, Box<Node>),
+    Call2(Fn2, Box<Node>, Box<Node>),
 }
 
 #[derive(Clone, Copy)]
@@ -66,8 +66,11 @@ pub struct ExprError {
     pub message: String,
 }
 
+type Fn1 = fn(f64) -> f64;
+type Fn2 = fn(f64, f64) -> f64;
+
 /// Functions of one argument.
-pub const FUNCTIONS_1: &[(&str, fn(f64) -> f64)] = &[
+pub const FUNCTIONS_1: &[(&str, Fn1)] = &[
     ("exp", f64::exp),
     ("ln", f64::ln),
     ("log10", f64::log10),
@@ -81,8 +84,7 @@ pub const FUNCTIONS_1: &[(&str, fn(f64) -> f64)] = &[
 ];
 
 /// Functions of two arguments.
-pub const FUNCTIONS_2: &[(&str, fn(f64, f64) -> f64)] =
-    &[("min", f64::min), ("max", f64::max), ("pow", f64::powf)];
+pub const FUNCTIONS_2: &[(&str, Fn2)] = &[("min", f64::min), ("max", f64::max), ("pow", f64::powf)];
 
 /// Named constants.
 pub const CONSTANTS: &[(&str, f64)] = &[("pi", std::f64::consts::PI), ("e", std::f64::consts::E)];
