@@ -1,8 +1,11 @@
-//! `swimbot effects`: the catalogue of physical effects.
+//! `swimbot effects`: the catalogue of physical effects, the user effects
+//! loaded with `--effects FILE.toml` (with their formulas and file), and,
+//! with `--quantities`, the case quantities a formula may use.
 
+use super::model_args::EffectFiles;
 use super::output::{print_json, Format};
 use super::CliError;
-use crate::effects::CATALOGUE;
+use crate::data::quantities::{FEATURES, FIELDS};
 use crate::report::fmt_sig;
 use clap::Args;
 
@@ -10,6 +13,11 @@ use clap::Args;
 pub struct EffectsArgs {
     #[arg(long, value_enum, default_value = "table")]
     pub format: Format,
+    #[command(flatten)]
+    pub effect_files: EffectFiles,
+    /// List the case quantities (features and fields) usable in formulas instead.
+    #[arg(long)]
+    pub quantities: bool,
 }
 
 #[derive(serde::Serialize)]
@@ -19,17 +27,73 @@ struct Entry {
     reference: &'static str,
     applies_to: &'static str,
     params: &'static [crate::effects::ParamSpec],
+    /// "catalogue" or the effects file it came from.
+    source: String,
+    /// Place -> formula, for user effects.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    formulas: Vec<(String, String)>,
+}
+
+#[derive(serde::Serialize)]
+struct QuantityEntry {
+    id: &'static str,
+    name: &'static str,
+    unit: &'static str,
+    kind: &'static str,
+    doc: &'static str,
+}
+
+fn quantities(format: Format) {
+    let entries: Vec<QuantityEntry> = FEATURES
+        .iter()
+        .map(|q| (q, "feature"))
+        .chain(FIELDS.iter().map(|q| (q, "field")))
+        .map(|(q, kind)| QuantityEntry {
+            id: q.id,
+            name: q.name,
+            unit: q.unit,
+            kind,
+            doc: q.doc,
+        })
+        .collect();
+    if format == Format::Json {
+        print_json(&entries);
+        return;
+    }
+    for q in &entries {
+        println!(
+            "{:<20} {:<8} {:<30} {:<7} {}",
+            q.id, q.kind, q.name, q.unit, q.doc
+        );
+    }
 }
 
 pub fn run(args: EffectsArgs) -> Result<(), CliError> {
-    let entries: Vec<Entry> = CATALOGUE
-        .iter()
-        .map(|e| Entry {
-            name: e.name(),
-            statement: e.statement(),
-            reference: e.reference(),
-            applies_to: e.applicability(),
-            params: e.params(),
+    args.effect_files.load()?;
+    if args.quantities {
+        quantities(args.format);
+        return Ok(());
+    }
+    let user = crate::effects::user_effects();
+    let entries: Vec<Entry> = crate::effects::all()
+        .into_iter()
+        .map(|e| {
+            let u = user.iter().find(|u| u.spec().name == e.name());
+            Entry {
+                name: e.name(),
+                statement: e.statement(),
+                reference: e.reference(),
+                applies_to: e.applicability(),
+                params: e.params(),
+                source: u.map_or("catalogue".to_string(), |u| u.source().to_string()),
+                formulas: u.map_or(Vec::new(), |u| {
+                    u.spec()
+                        .places
+                        .iter()
+                        .map(|(p, f)| (p.name().to_string(), f.clone()))
+                        .collect()
+                }),
+            }
         })
         .collect();
     if args.format == Format::Json {
@@ -41,6 +105,12 @@ pub fn run(args: EffectsArgs) -> Result<(), CliError> {
             "{}\n  {}\n  applies to: {}\n  reference:  {}",
             e.name, e.statement, e.applies_to, e.reference
         );
+        if e.source != "catalogue" {
+            println!("  from:       {}", e.source);
+        }
+        for (place, formula) in &e.formulas {
+            println!("  {place:<15} = {formula}");
+        }
         if e.params.is_empty() {
             println!("  parameters: none (fixed by physics)");
         }

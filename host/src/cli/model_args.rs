@@ -20,6 +20,8 @@ pub struct ModelArgs {
     /// Add an effect: NAME or NAME:param=value,... (repeatable; see `swimbot effects`).
     #[arg(long = "effect", value_name = "NAME[:k=v,...]")]
     pub effects: Vec<String>,
+    #[command(flatten)]
+    pub effect_files: EffectFiles,
     /// How eq. 3 is integrated.
     #[arg(long, value_enum, default_value = "exact")]
     pub method: MethodArg,
@@ -62,8 +64,24 @@ pub enum DofsArg {
     All,
 }
 
+/// `--effects FILE.toml`: user effects, loaded before anything names them.
+#[derive(Args, Debug, Clone, Default)]
+pub struct EffectFiles {
+    /// Load user effects stated as formulas (repeatable; docs/effects-format.md).
+    #[arg(long = "effects", value_name = "FILE.toml")]
+    pub files: Vec<PathBuf>,
+}
+
+impl EffectFiles {
+    /// Load and register the files (a file already loaded is skipped).
+    pub fn load(&self) -> Result<(), CliError> {
+        crate::effects::load_effect_files(&self.files).map_err(CliError::input)
+    }
+}
+
 impl ModelArgs {
     pub fn model(&self) -> Result<Model, CliError> {
+        self.effect_files.load()?;
         let name = self.preset.as_deref().unwrap_or("base");
         let mut model = preset(name).ok_or_else(|| {
             let known: Vec<&str> = PRESETS.iter().map(|p| p.0).collect();

@@ -54,6 +54,8 @@ impl From<SimError> for CliError {
 }
 
 fn robot_with_model(args: &SimArgs) -> Result<Robot, CliError> {
+    // A robot file may name user effects: load them first.
+    args.model.effect_files.load()?;
     let mut robot = match &args.robot {
         Some(p) => Robot::load_file(p).map_err(SimError::from)?,
         None => sim::default_robot(),

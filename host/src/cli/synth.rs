@@ -27,6 +27,8 @@ pub struct SynthArgs {
     /// Output dataset (TOML).
     #[arg(short, long)]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub effect_files: super::model_args::EffectFiles,
 }
 
 /// Parse "PRESET|COEFFICIENTS + EFFECT + EFFECT...".
@@ -78,6 +80,7 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
         )));
     }
     super::output::check_output_file(&a.output)?;
+    a.effect_files.load()?;
     let design = super::model_args::load_data(&a.data)?;
     let truth = parse_truth(&a.truth)?;
     let settings = SynthSettings {

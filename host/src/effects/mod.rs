@@ -15,22 +15,29 @@
 //! ## Adding an effect
 //! Write one file in this folder with a unit struct implementing [`Effect`],
 //! and add one line (`&your_file::YourEffect,`) to [`CATALOGUE`]. The README
-//! has a worked example.
+//! has a worked example. Without recompiling: state the effect as formulas
+//! in an effects file (docs/effects-format.md, [`formula`]) and pass
+//! `--effects FILE.toml`; [`all`] and [`by_name`] then know it too.
 
 mod backflow;
 mod body_confinement;
 mod body_correction;
 mod buoyancy;
 mod coupler;
+pub mod expr;
+pub mod formula;
 mod motor_frame;
 mod nonlocal_tail;
 pub mod place;
+mod registry;
 mod spec;
 mod tail_confinement;
 mod tube_body;
 mod tube_tail;
+pub mod user_file;
 mod wall_contact;
 
+pub use registry::{all, load_effect_files, register_user_effects, user_effects};
 pub use spec::{parse_effect_list, parse_effect_spec, EffectSpecError};
 
 use crate::data::Case;
@@ -54,9 +61,9 @@ pub static CATALOGUE: &[&dyn Effect] = &[
     &tube_body::TubeBody,
 ];
 
-/// Look an effect up by its command-line name.
+/// Look an effect (catalogue or user) up by its command-line name.
 pub fn by_name(name: &str) -> Option<&'static dyn Effect> {
-    CATALOGUE.iter().copied().find(|e| e.name() == name)
+    all().into_iter().find(|e| e.name() == name)
 }
 
 /// One parameter of an effect.
@@ -107,6 +114,14 @@ pub trait Effect: Send + Sync {
     /// add to it (1, the default), whatever order the user lists them in.
     fn order(&self) -> u8 {
         1
+    }
+    /// Whether the effect can act on `case` with values `p`, checked by the
+    /// model before any stage runs: stages that cannot fail themselves rely
+    /// on it (a user formula giving a non-positive multiplier, say), so a bad
+    /// value surfaces as an error naming the case and the effect, never as a
+    /// NaN prediction.
+    fn check(&self, _p: &[f64], _case: &Case) -> Result<(), String> {
+        Ok(())
     }
     fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
     /// Errors (e.g. a failed non-local solve) stop the prediction with a message.

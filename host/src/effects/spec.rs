@@ -1,7 +1,7 @@
 //! Parsing effect specifications from the command line:
 //! `NAME` or `NAME:param=value,param=value`, and `+`-joined lists of them.
 
-use super::{by_name, EffectInstance, CATALOGUE};
+use super::{all, by_name, EffectInstance};
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EffectSpecError {
@@ -42,7 +42,7 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
     };
     let effect = by_name(name).ok_or_else(|| EffectSpecError::UnknownEffect {
         name: name.to_string(),
-        known: CATALOGUE
+        known: all()
             .iter()
             .map(|e| e.name())
             .collect::<Vec<_>>()

@@ -122,6 +122,20 @@ impl Model {
         })
     }
 
+    /// Every active effect's [`crate::effects::Effect::check`] for `case`.
+    fn check_effects(&self, case: &Case) -> Result<(), ModelError> {
+        for e in self.active(case) {
+            e.effect
+                .check(&e.values, case)
+                .map_err(|message| ModelError::Effect {
+                    case: case.id.clone(),
+                    effect: e.name().to_string(),
+                    message,
+                })?;
+        }
+        Ok(())
+    }
+
     /// The tail matrix for a case, all stages of the effects applied.
     pub fn tail_matrix(&self, case: &Case) -> Result<Matrix6<f64>, ModelError> {
         self.tail_matrix_at(case, 0.0)
@@ -130,6 +144,7 @@ impl Model {
     /// The tail matrix with the helix turned to phase `phase_rad` (see
     /// [`crate::physics::geometry::Helix::phase_rad`]).
     pub fn tail_matrix_at(&self, case: &Case, phase_rad: f64) -> Result<Matrix6<f64>, ModelError> {
+        self.check_effects(case)?;
         let helix = crate::physics::geometry::Helix {
             phase_rad,
             ..case.helix()
@@ -183,6 +198,7 @@ impl Model {
 
     /// The body matrix for a case, effects applied.
     pub fn body_matrix(&self, case: &Case) -> Result<Matrix6<f64>, ModelError> {
+        self.check_effects(case)?;
         let mut b = BodyResistance::prolate_spheroid(&case.body(), case.viscosity_pa_s)
             .map_err(|source| ModelError::Body {
                 case: case.id.clone(),

@@ -27,7 +27,7 @@ use super::features::{trends, Trend};
 use super::fit::{fit, free_params_of, Estimate, FitError};
 use super::noise::{chi2_noise_floor, error_dofs};
 use crate::data::Dataset;
-use crate::effects::{Effect, EffectInstance, CATALOGUE};
+use crate::effects::{Effect, EffectInstance};
 use crate::model::Model;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -119,9 +119,8 @@ pub struct Diagnosis {
 /// Effects that `diagnose` may propose: catalogue entries not in the model
 /// (costly ones only on request).
 pub fn candidates(model: &Model, include_costly: bool) -> Vec<&'static dyn Effect> {
-    CATALOGUE
-        .iter()
-        .copied()
+    crate::effects::all()
+        .into_iter()
         .filter(|e| e.candidate() && (include_costly || !e.costly()))
         .filter(|e| !model.effects.iter().any(|m| m.name() == e.name()))
         .collect()

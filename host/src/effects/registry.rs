@@ -1,0 +1,120 @@
+//! The effects known to this process: the compiled-in [`super::CATALOGUE`]
+//! and the user effects loaded from effects files (`--effects FILE.toml`).
+//!
+//! User effects are registered once per process and never removed, which
+//! is what lets them be `&'static dyn Effect` like the catalogue's.
+//! Loading the same file twice is a no-op (several commands build their
+//! model more than once); the same name from two places is an error.
+
+use super::formula::FormulaEffect;
+use super::user_file::{load_file, UserEffectError};
+use super::{Effect, CATALOGUE};
+use std::path::{Path, PathBuf};
+use std::sync::RwLock;
+
+static USER: RwLock<Vec<&'static FormulaEffect>> = RwLock::new(Vec::new());
+static FILES: RwLock<Vec<PathBuf>> = RwLock::new(Vec::new());
+
+/// Add user effects; a name already known (catalogue or user) is an error
+/// unless it is the very same effect from the same source.
+pub fn register_user_effects(
+    effects: Vec<FormulaEffect>,
+) -> Result<Vec<&'static FormulaEffect>, String> {
+    let mut user = USER.write().unwrap_or_else(|e| e.into_inner());
+    for (i, e) in effects.iter().enumerate() {
+        let name = e.spec().name.as_str();
+        if CATALOGUE.iter().any(|c| c.name() == name) {
+            return Err(format!(
+                "user effect `{name}` clashes with the catalogue effect of that name"
+            ));
+        }
+        if effects[..i].iter().any(|o| o.spec().name == name) {
+            return Err(format!("user effect `{name}` is given twice"));
+        }
+        if let Some(old) = user.iter().find(|o| o.spec().name == name) {
+            if old.spec() != e.spec() || old.source() != e.source() {
+                return Err(format!(
+                    "user effect `{name}`{} clashes with the user effect of that name{}",
+                    from(e.source()),
+                    from(old.source())
+                ));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for e in effects {
+        let existing = user
+            .iter()
+            .copied()
+            .find(|o| o.spec().name == e.spec().name);
+        let r = match existing {
+            Some(old) => old,
+            None => {
+                let r = e.leak();
+                user.push(r);
+                r
+            }
+        };
+        out.push(r);
+    }
+    Ok(out)
+}
+
+fn from(source: &str) -> String {
+    if source.is_empty() {
+        " (built in memory)".into()
+    } else {
+        format!(" from {source}")
+    }
+}
+
+/// Load and register effects files; a file already loaded is skipped.
+pub fn load_effect_files(paths: &[PathBuf]) -> Result<(), UserEffectError> {
+    for path in paths {
+        let key = path.canonicalize().unwrap_or_else(|_| path.clone());
+        if FILES
+            .read()
+            .unwrap_or_else(|e| e.into_inner())
+            .contains(&key)
+        {
+            continue;
+        }
+        let effects = load_file(path)?;
+        let names: Vec<String> = effects.iter().map(|e| e.spec().name.clone()).collect();
+        register_user_effects(effects).map_err(|message| clash(path, &names, message))?;
+        FILES.write().unwrap_or_else(|e| e.into_inner()).push(key);
+    }
+    Ok(())
+}
+
+/// A registration clash, placed at the clashing name's line in the file.
+fn clash(path: &Path, names: &[String], message: String) -> UserEffectError {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let name = names.iter().find(|n| message.contains(&format!("`{n}`")));
+    let line = name
+        .and_then(|n| {
+            text.lines()
+                .position(|l| l.trim_start().starts_with("name") && l.contains(&format!("\"{n}\"")))
+        })
+        .map_or(0, |i| i + 1);
+    UserEffectError {
+        file: path.display().to_string(),
+        effect: name.cloned(),
+        field: "name".into(),
+        line,
+        column: 1,
+        message,
+    }
+}
+
+/// The user effects registered so far, in loading order.
+pub fn user_effects() -> Vec<&'static FormulaEffect> {
+    USER.read().unwrap_or_else(|e| e.into_inner()).clone()
+}
+
+/// Every known effect: the catalogue, then the user effects.
+pub fn all() -> Vec<&'static dyn Effect> {
+    let mut v: Vec<&'static dyn Effect> = CATALOGUE.to_vec();
+    v.extend(user_effects().into_iter().map(|e| e as &'static dyn Effect));
+    v
+}
