@@ -201,11 +201,12 @@ pub fn chord_checks(data: &Dataset) -> (Vec<Flag>, Vec<ChordCheck>) {
     (flags, checks)
 }
 
-/// The recorded value whose correction reconciles the chord with the
-/// fewest standard uncertainties (relative change when none is given).
+/// The recorded values whose correction alone would reconcile the chord,
+/// the most plausible first: fewest standard uncertainties away (relative
+/// change when no uncertainty is given).
 fn reconcile_hint(c: &Case, reference: f64) -> String {
     let delta = reference - chord_length_mm(c);
-    let mut best: Option<(f64, String)> = None;
+    let mut options: Vec<(f64, String)> = Vec::new();
     for (field, name, g) in chord_gradient(c) {
         if g == 0.0 {
             continue;
@@ -221,15 +222,17 @@ fn reconcile_hint(c: &Case, reference: f64) -> String {
         } else {
             1e3 * (x - x0).abs() / x0
         };
-        let text = format!(
-            "check its recorded {name}: {x:.1} mm instead of {x0:.1} mm would reconcile it"
-        );
-        if best.as_ref().is_none_or(|(b, _)| cost < *b) {
-            best = Some((cost, text));
-        }
+        options.push((cost, format!("{name} {x:.1} mm instead of {x0:.1} mm")));
     }
-    best.map(|b| b.1)
-        .unwrap_or_else(|| "check its recorded wavelength, amplitude and axial length".into())
+    options.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if options.is_empty() {
+        return "check its recorded wavelength, amplitude and axial length".into();
+    }
+    let list: Vec<String> = options.into_iter().map(|o| o.1).collect();
+    format!(
+        "check its recorded geometry: any one of {} would reconcile it",
+        list.join(", or ")
+    )
 }
 
 /// Newton on one field so that the case's chord equals `target`.

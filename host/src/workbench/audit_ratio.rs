@@ -84,9 +84,12 @@ pub fn family(model: &Model, samples: usize, seed: u64) -> (Vec<String>, Vec<Mod
             .iter()
             .map(|e| EffectInstance::default_of(*e))
             .collect();
-        for (d, &(k, i)) in dims.iter().enumerate() {
+        let cells: Vec<f64> = strata
+            .iter()
+            .map(|perm| (perm[s] as f64 + rng.gen::<f64>()) / samples as f64)
+            .collect();
+        for (&(k, i), u) in dims.iter().zip(cells) {
             let spec = effects[k].params()[i];
-            let u = (strata[d][s] as f64 + rng.gen::<f64>()) / samples as f64;
             inst[k].values[i] = spec.min + u * (spec.max - spec.min);
         }
         let mut m = model.clone();

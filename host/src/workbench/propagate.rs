@@ -219,7 +219,7 @@ pub fn monte_carlo(
 /// A measurement with an input uncertainty `u_in` (same unit) combined in
 /// quadrature, degrees of freedom by Welch-Satterthwaite (module docs).
 pub fn combine(m: &Measured, u_in: f64) -> Measured {
-    if !(u_in > 0.0) {
+    if u_in.is_nan() || u_in <= 0.0 {
         return *m;
     }
     let s_m = m.standard_error();
