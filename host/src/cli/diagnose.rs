@@ -76,7 +76,12 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     spinner.finish_and_clear();
     match a.format {
         Format::Json => print_json(&d),
-        _ => print_table(&d),
+        _ => {
+            if a.input_uncertainty {
+                println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
+            }
+            print_table(&d)
+        }
     }
     Ok(())
 }
