@@ -11,7 +11,8 @@
 //! **Influence** (leave one case out, every candidate refitted from its
 //! full-data fit): a case is flagged when the full data give a clear
 //! conclusion and without that case the conclusion changes (another
-//! effect, or undecided), or when, with the conclusion unchanged, a fitted
+//! effect, or undecided); when the full data give none and without that
+//! case one is clear; or when, with the conclusion unchanged, a fitted
 //! parameter moves by more than its full-data 95 % interval (a DFBETA in
 //! the parameter's own interval; Cook & Weisberg, *Residuals and Influence
 //! in Regression*, 1982, ch. 3).
@@ -142,6 +143,17 @@ pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>)
         let sub = without(data, i);
         let c_i = conclusion(list);
         without_list.push((case.id.clone(), c_i.clone()));
+        if let (None, Some(y)) = (&concl, &c_i) {
+            flags.push(Flag {
+                case: case.id.clone(),
+                kind: "influence-verdict".into(),
+                detail: format!(
+                    "{}: with all cases no candidate is clearly best; without this case {y} is (ahead by 4 or more in AICc): this one case stands against that conclusion, check its record or re-measure it",
+                    case.id
+                ),
+                severity: Severity::Warning,
+            });
+        }
         if let Some(x) = &concl {
             if c_i.as_ref() != Some(x) {
                 flags.push(Flag {
