@@ -157,9 +157,30 @@ impl CaseInputs {
     }
 }
 
-/// The canonical `'static` name of a numeric input field.
+/// The inputs [`set_field`] can vary (every numeric field of a case).
+const SETTABLE: &[&str] = &[
+    "wavelength_mm",
+    "amplitude_mm",
+    "tail_length_mm",
+    "wire_diameter_mm",
+    "frequency_hz",
+    "channel_diameter_mm",
+    "channel_length_mm",
+    "viscosity_pa_s",
+    "density_kg_m3",
+    "body_diameter_mm",
+    "body_length_mm",
+    "coupler_diameter_mm",
+    "coupler_length_mm",
+];
+
+/// The canonical `'static` name of a numeric input field that can carry
+/// an uncertainty (a field [`set_field`] can vary).
 pub fn field_id(name: &str) -> Option<&'static str> {
-    FIELDS.iter().find(|q| q.id == name).map(|q| q.id)
+    FIELDS
+        .iter()
+        .find(|q| q.id == name && SETTABLE.contains(&name))
+        .map(|q| q.id)
 }
 
 /// The value of a numeric input field.
@@ -200,7 +221,11 @@ pub fn merge_tables(
         for (k, v) in table {
             let field = format!("uncertainty.{k}");
             let id = field_id(k).ok_or_else(|| {
-                let known: Vec<&str> = FIELDS.iter().map(|q| q.id).collect();
+                let known: Vec<&str> = FIELDS
+                    .iter()
+                    .map(|q| q.id)
+                    .filter(|id| SETTABLE.contains(id))
+                    .collect();
                 (
                     field.clone(),
                     format!(
@@ -257,6 +282,9 @@ mod tests {
     fn every_field_can_be_set_and_scopes_are_stated() {
         let mut c = crate::data::paper().cases[0].clone();
         for q in FIELDS {
+            assert_eq!(field_id(q.id).is_some(), SETTABLE.contains(&q.id));
+        }
+        for q in FIELDS.iter().filter(|q| SETTABLE.contains(&q.id)) {
             assert!(set_field(&mut c, q.id, 7.25), "{}", q.id);
             assert_eq!(q.of(&c), 7.25, "{}", q.id);
         }
