@@ -28,6 +28,11 @@ pub struct DiagnoseArgs {
     /// Also try the costly wall-resolved (regularized-Stokeslet tube) effects; seconds per case on first use, then cached.
     #[arg(long)]
     pub nonlocal: bool,
+    /// Judge residuals against the combined uncertainty (measurement and the
+    /// dataset's input uncertainties, in quadrature), so that a residual the
+    /// inputs explain does not call for an effect.
+    #[arg(long)]
+    pub input_uncertainty: bool,
 }
 
 pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
@@ -45,6 +50,11 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     }
     let data = a.data.load()?;
     let model = a.model.model()?;
+    let data = if a.input_uncertainty {
+        crate::workbench::propagate::with_input_uncertainty(&model, &data)?
+    } else {
+        data
+    };
     let settings = DiagnoseSettings {
         level: a.level,
         clear_margin: a.margin,
@@ -66,7 +76,12 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     spinner.finish_and_clear();
     match a.format {
         Format::Json => print_json(&d),
-        _ => print_table(&d),
+        _ => {
+            if a.input_uncertainty {
+                println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
+            }
+            print_table(&d)
+        }
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! subcommand validates its flags into a model, a dataset and settings
 //! before any work starts; input problems are [`CliError::Input`] (exit 2).
 
+mod audit;
 mod compare;
 mod diagnose;
 mod effects;
@@ -37,6 +38,8 @@ pub struct Cli {
 pub enum Command {
     /// Model against measurement for every case, with summary errors and the HTML report.
     Compare(compare::CompareArgs),
+    /// Checks of the data themselves: geometry consistency, ratio tests, influence, outliers.
+    Audit(audit::AuditArgs),
     /// The tail's 6x6 resistance matrix for one helix.
     Helix(helix::HelixArgs),
     /// Predictions over a grid of geometries (CSV, parallel).
@@ -59,6 +62,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Compare(a) => compare::run(a),
+        Command::Audit(a) => audit::run(a),
         Command::Helix(a) => helix::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Effects(a) => effects::run(a),

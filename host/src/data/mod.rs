@@ -6,6 +6,7 @@
 pub mod limits;
 mod parse;
 pub mod quantities;
+pub mod uncertainty;
 mod write;
 
 pub use parse::{load_file, parse_str};
@@ -89,6 +90,8 @@ pub struct Case {
     pub u_mm_s: Option<Measured>,
     /// Body counter-rotation rate (Hz), if measured.
     pub omega_body_hz: Option<Measured>,
+    /// Input uncertainties and recording conventions ([`uncertainty`]).
+    pub inputs: uncertainty::CaseInputs,
 }
 
 impl Case {

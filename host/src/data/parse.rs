@@ -2,6 +2,7 @@
 //! then every case is merged with `[setup]` and validated field by field so
 //! that an error names the file, the case and the field.
 
+use super::uncertainty::{merge_tables, AmplitudeConvention, CaseInputs};
 use super::{Case, DataError, Dataset, Measured, Orientation};
 use crate::physics::geometry::Handedness;
 use serde::Deserialize;
@@ -47,6 +48,11 @@ struct RawCase {
     omega_body_hz: Option<f64>,
     omega_body_ci_hz: Option<f64>,
     omega_body_trials_hz: Option<Vec<f64>>,
+    // Input uncertainties and recording conventions (data/uncertainty.rs).
+    uncertainty: Option<toml::Table>,
+    chord_length_mm: Option<f64>,
+    chord_fixed: Option<bool>,
+    amplitude_convention: Option<AmplitudeConvention>,
 }
 
 /// Read and validate a dataset file.
@@ -295,9 +301,55 @@ fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, D
             trials,
             confidence,
         )?,
+        inputs: CaseInputs::default(),
         id,
     };
+    let case = with_inputs(&r, s, c, case)?;
     check_geometry(&r, &case)?;
+    Ok(case)
+}
+
+/// The input uncertainties and conventions of a case, `[setup]` merged;
+/// a recorded amplitude is converted to the wire's centre-line radius.
+fn with_inputs(
+    r: &Resolver<'_>,
+    s: &RawCase,
+    c: &RawCase,
+    mut case: Case,
+) -> Result<Case, DataError> {
+    let uncertainties = merge_tables(s.uncertainty.as_ref(), c.uncertainty.as_ref())
+        .map_err(|(field, message)| r.fail(&field, message))?;
+    let chord_length_mm = match c.chord_length_mm.or(s.chord_length_mm) {
+        Some(v) => Some(r.check_positive("chord_length_mm", v)?),
+        None => None,
+    };
+    let convention = c
+        .amplitude_convention
+        .or(s.amplitude_convention)
+        .unwrap_or_default();
+    let half_wire = 0.5 * case.wire_diameter_mm;
+    match convention {
+        AmplitudeConvention::CentreLine => {}
+        AmplitudeConvention::Mandrel => case.amplitude_mm += half_wire,
+        AmplitudeConvention::Outer => {
+            if case.amplitude_mm <= half_wire {
+                return Err(r.fail(
+                    "amplitude_mm",
+                    format!(
+                        "an outer radius of {} mm leaves no centre-line radius for a {} mm wire",
+                        case.amplitude_mm, case.wire_diameter_mm
+                    ),
+                ));
+            }
+            case.amplitude_mm -= half_wire;
+        }
+    }
+    case.inputs = CaseInputs {
+        uncertainties,
+        chord_length_mm,
+        chord_fixed: c.chord_fixed.or(s.chord_fixed).unwrap_or(false) || chord_length_mm.is_some(),
+        amplitude_convention: convention,
+    };
     Ok(case)
 }
 

@@ -52,6 +52,22 @@ pub fn to_toml(data: &Dataset) -> String {
                 );
             }
         };
+        // The amplitude is written as the centre-line radius (the parser
+        // converted it), so no amplitude convention is written.
+        if let Some(l) = c.inputs.chord_length_mm {
+            num(&mut out, "chord_length_mm", l);
+        } else if c.inputs.chord_fixed {
+            let _ = writeln!(out, "chord_fixed = true");
+        }
+        if !c.inputs.uncertainties.is_empty() {
+            let kv: Vec<String> = c
+                .inputs
+                .uncertainties
+                .iter()
+                .map(|(k, u)| format!("{k} = {}", u.to_toml()))
+                .collect();
+            let _ = writeln!(out, "uncertainty = {{ {} }}", kv.join(", "));
+        }
         measured(&mut out, "u_mm_s", "u_ci_mm_s", &c.u_mm_s);
         if c.u_mm_s.is_some() {
             if let Some(m) = &c.omega_body_hz {

@@ -7,6 +7,7 @@ use crate::model::Model;
 use crate::workbench::compare::{compare, Comparison};
 use crate::workbench::diagnose::Diagnosis;
 use crate::workbench::features::{trends, FEATURES};
+use crate::workbench::propagate;
 use std::fmt::Write;
 
 /// Amplitude groups `(B_o, cases)` in the order of first appearance.
@@ -80,6 +81,12 @@ fn figure4(model: &Model, data: &Dataset, cmp: &Comparison, omega: bool) -> Resu
             .iter()
             .filter_map(|c| {
                 let k = cmp.cases.iter().find(|k| k.id == c.id)?;
+                // k = 2 input band (about 95 %), comparable with the measured CI.
+                let band = if omega {
+                    k.omega_ratio_input_sd
+                } else {
+                    k.u_over_u_wave_input_sd
+                };
                 Some((
                     c.n_waves(),
                     if omega {
@@ -87,7 +94,7 @@ fn figure4(model: &Model, data: &Dataset, cmp: &Comparison, omega: bool) -> Resu
                     } else {
                         k.u_over_u_wave_pred
                     },
-                    0.0,
+                    2.0 * band.unwrap_or(0.0),
                 ))
             })
             .collect();
@@ -131,10 +138,19 @@ fn parity(cmp: &Comparison, omega: bool) -> Result<String, String> {
         .cases
         .iter()
         .filter_map(|k| {
+            // Vertical bars: the prediction's k = 2 input band.
             if omega {
-                Some((k.omega_obs_hz?, k.omega_pred_hz, 0.0))
+                Some((
+                    k.omega_obs_hz?,
+                    k.omega_pred_hz,
+                    2.0 * k.omega_input_sd_hz.unwrap_or(0.0),
+                ))
             } else {
-                Some((k.u_obs_mm_s?, k.u_pred_mm_s, 0.0))
+                Some((
+                    k.u_obs_mm_s?,
+                    k.u_pred_mm_s,
+                    2.0 * k.u_input_sd_mm_s.unwrap_or(0.0),
+                ))
             }
         })
         .collect();
@@ -261,7 +277,11 @@ pub fn page(
     data: &Dataset,
     diagnosis: Option<&Diagnosis>,
 ) -> Result<String, crate::model::ModelError> {
-    let cmp = compare(model, data, 0)?;
+    let mut cmp = compare(model, data, 0)?;
+    let with_bands = propagate::has_input_uncertainty(data);
+    if with_bands {
+        cmp = cmp.with_bands(data, &propagate::bands(model, data)?);
+    }
     let mut h = String::new();
     let _ = write!(
         h,
@@ -311,7 +331,15 @@ pub fn page(
             escape(&d.verdict.note)
         );
     }
-    h.push_str("<h2>Dimensionless speed and rotation against the number of waves</h2><p>Filled: measured (95 % CI); hollow: the model at the measured cases; lines: the model at each group's mean chord length, varying the wavelength (cases without measurements, so an observed-U back-flow falls back to the predicted U).</p><div class=\"figs\">");
+    h.push_str("<h2>Dimensionless speed and rotation against the number of waves</h2><p>Filled: measured (95 % CI); hollow: the model at the measured cases; lines: the model at each group's mean chord length, varying the wavelength (cases without measurements, so an observed-U back-flow falls back to the predicted U).</p>");
+    if let (true, Some(sc)) = (with_bands, &cmp.summary_combined) {
+        let _ = write!(
+            h,
+            "<p>Bars on the model's points (here and in the parity plots): ± 2 standard uncertainties of the prediction from the dataset's input uncertainties. Against measurement and inputs combined in quadrature the reduced chi-square is {}.</p>",
+            sc.chi2_reduced.map_or("n/a".into(), |x| format!("{x:.4}"))
+        );
+    }
+    h.push_str("<div class=\"figs\">");
     h.push_str(&svg_or_note(figure4(model, data, &cmp, false)));
     h.push_str(&svg_or_note(figure4(model, data, &cmp, true)));
     h.push_str("</div><h2>Parity</h2><div class=\"figs\">");

@@ -242,6 +242,7 @@ impl Robot {
             coupler_length_mm: v.non_neg("body.coupler_length_mm", bd.coupler_length_mm)?,
             u_mm_s: None,
             omega_body_hz: None,
+            inputs: Default::default(),
         };
         if setup.body_diameter_mm >= setup.channel_diameter_mm {
             return Err(fail(

@@ -28,6 +28,18 @@ pub struct CaseComparison {
     pub omega_err_sigma: Option<f64>,
     pub u_over_u_wave_pred: f64,
     pub omega_ratio_pred: f64,
+    /// Input-uncertainty band of the prediction (standard uncertainty,
+    /// [`super::propagate`]); `None` until [`Comparison::with_bands`].
+    pub u_input_sd_mm_s: Option<f64>,
+    pub omega_input_sd_hz: Option<f64>,
+    pub u_over_u_wave_input_sd: Option<f64>,
+    pub omega_ratio_input_sd: Option<f64>,
+    /// The input that dominates each band.
+    pub u_dominant_input: Option<String>,
+    pub omega_dominant_input: Option<String>,
+    /// Error in combined standard errors (measurement and inputs in quadrature).
+    pub u_err_sigma_combined: Option<f64>,
+    pub omega_err_sigma_combined: Option<f64>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -36,6 +48,44 @@ pub struct Comparison {
     pub dataset: String,
     pub cases: Vec<CaseComparison>,
     pub summary: FitSummary,
+    /// The summary against the combined uncertainty, with bands attached.
+    pub summary_combined: Option<FitSummary>,
+}
+
+impl Comparison {
+    /// Attach the input-uncertainty bands (one per case, in order) and
+    /// judge the residuals against the combined uncertainty too.
+    pub fn with_bands(mut self, data: &Dataset, bands: &[super::propagate::Band]) -> Self {
+        let mut all = Vec::new();
+        for ((k, case), b) in self.cases.iter_mut().zip(&data.cases).zip(bands) {
+            k.u_input_sd_mm_s = Some(b.u_sd_mm_s);
+            k.omega_input_sd_hz = Some(b.omega_sd_hz);
+            k.u_over_u_wave_input_sd = Some(b.u_over_u_wave_sd);
+            k.omega_ratio_input_sd = Some(b.omega_ratio_sd);
+            k.u_dominant_input = b.dominant_u.map(str::to_string);
+            k.omega_dominant_input = b.dominant_omega.map(str::to_string);
+            let combined = |pred: f64, m: &Measured, u_in: f64| {
+                let c = super::propagate::combine(m, u_in);
+                Residual {
+                    predicted: pred,
+                    observed: c.mean,
+                    sigma: c.standard_error(),
+                }
+            };
+            if let Some(m) = &case.u_mm_s {
+                let r = combined(k.u_pred_mm_s, m, b.u_sd_mm_s);
+                k.u_err_sigma_combined = Some(r.normalised());
+                all.push(r);
+            }
+            if let Some(m) = &case.omega_body_hz {
+                let r = combined(k.omega_pred_hz, m, b.omega_sd_hz);
+                k.omega_err_sigma_combined = Some(r.normalised());
+                all.push(r);
+            }
+        }
+        self.summary_combined = Some(summarise(&all, self.summary.free_params));
+        self
+    }
 }
 
 /// Which measured quantity.
@@ -102,6 +152,14 @@ pub fn compare(
             omega_err_sigma: ro.map(|r| r.normalised()),
             u_over_u_wave_pred: p.u_over_u_wave,
             omega_ratio_pred: p.omega_ratio,
+            u_input_sd_mm_s: None,
+            omega_input_sd_hz: None,
+            u_over_u_wave_input_sd: None,
+            omega_ratio_input_sd: None,
+            u_dominant_input: None,
+            omega_dominant_input: None,
+            u_err_sigma_combined: None,
+            omega_err_sigma_combined: None,
         });
         all.extend(res.into_iter().map(|(_, r)| r));
     }
@@ -110,5 +168,6 @@ pub fn compare(
         dataset: data.name.clone(),
         cases,
         summary: summarise(&all, free_params),
+        summary_combined: None,
     })
 }

@@ -1,0 +1,99 @@
+//! `swimbot audit`: checks of the data themselves (geometry consistency,
+//! ratio tests against the model family, influence and outliers); see
+//! [`crate::workbench::audit`].
+
+use super::model_args::{DataArgs, ModelArgs};
+use super::output::{print_json, Format};
+use super::CliError;
+use crate::workbench::audit::{audit, Audit, AuditSettings};
+use clap::Args;
+
+#[derive(Args, Debug)]
+pub struct AuditArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// The base of the model family (the catalogue's cheap effects are added to it).
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// table or json (`flags: [{case, kind, detail, severity}]`).
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: Format,
+    /// Members of the model family sampled for the ratio test.
+    #[arg(long, default_value_t = 256)]
+    pub family_samples: usize,
+    /// Seed of the family's Latin hypercube.
+    #[arg(long, default_value_t = 12)]
+    pub seed: u64,
+}
+
+pub fn run(a: AuditArgs) -> Result<(), CliError> {
+    if !(16..=100_000).contains(&a.family_samples) {
+        return Err(CliError::input(format!(
+            "--family-samples must be between 16 and 100000, got {}",
+            a.family_samples
+        )));
+    }
+    if a.format == Format::Csv {
+        return Err(CliError::input("audit writes --format table or json"));
+    }
+    let data = a.data.load()?;
+    let model = a.model.model()?;
+    let settings = AuditSettings {
+        family_samples: a.family_samples,
+        seed: a.seed,
+    };
+    let report = audit(&model, &data, &settings)?;
+    match a.format {
+        Format::Json => print_json(&report),
+        _ => print_table(&report),
+    }
+    Ok(())
+}
+
+fn print_table(a: &Audit) {
+    println!(
+        "data:   {}\nfamily: {} + any of {{{}}}\n",
+        a.dataset,
+        a.model,
+        a.ratio.family_effects.join(", ")
+    );
+    if !a.chords.is_empty() {
+        println!("chord length implied by the recorded helix (the chord was kept fixed):");
+        println!(
+            "  {:<12} {:>10} {:>8} {:>10} {:>8} {:>6}",
+            "case", "ell mm", "± mm", "ref mm", "diff", "z"
+        );
+        for c in &a.chords {
+            println!(
+                "  {:<12} {:>10.1} {:>8.1} {:>10.1} {:>+7.1}% {:>+6.1}",
+                c.case,
+                c.chord_mm,
+                c.chord_sd_mm,
+                c.reference_mm,
+                100.0 * c.rel_diff,
+                c.z
+            );
+        }
+        println!();
+    }
+    println!(
+        "ratio test: {} pairs tested against {} family members ({} with finite predictions), {} out of range",
+        a.ratio.pairs_tested, a.ratio.members, a.ratio.members_used, a.ratio.pairs_out_of_range
+    );
+    println!(
+        "influence: best-supported model on all cases: {}",
+        a.influence
+            .conclusion
+            .as_deref()
+            .unwrap_or("undecided (no candidate ahead by 4 in AICc)")
+    );
+    println!();
+    if a.flags.is_empty() {
+        println!("no flags: the data are consistent with themselves and with the model family");
+        return;
+    }
+    println!("{} flag(s):", a.flags.len());
+    for f in &a.flags {
+        println!("  [{:?}] {}: {}", f.severity, f.kind, f.detail);
+    }
+}

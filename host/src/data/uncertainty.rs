@@ -1,0 +1,295 @@
+//! Input uncertainties of a dataset: standard uncertainties of the numeric
+//! inputs of a case (the tail's geometry and rate, the tube, the oil, the
+//! body), and the recording conventions the audit needs (what the recorded
+//! amplitude `B_o` measures; the wire's chord length when it was kept fixed).
+//!
+//! In the TOML file (see `docs/data-format.md`) an uncertainty is a number
+//! (absolute standard uncertainty in the field's own unit) or a string
+//! `"N%"` (relative standard uncertainty); `[setup.uncertainty]` gives
+//! defaults and `[case.uncertainty]` overrides them key by key. Every key
+//! must be one of [`super::quantities::FIELDS`].
+//!
+//! Correlation convention (GUM 5.2): the tail's own inputs
+//! ([`Scope::PerCase`]: wavelength, amplitude, tail length, wire diameter,
+//! tail rate) are measured tail by tail, so their errors are independent
+//! between cases; the others ([`Scope::Shared`]: tube, oil, body, coupler)
+//! are one physical object shared by every case, so their errors are fully
+//! correlated between cases and cancel, to first order, in ratios between
+//! cases.
+//!
+//! References: JCGM 100:2008 (GUM), *Evaluation of measurement data: Guide
+//! to the expression of uncertainty in measurement*, sections 4.3 (type B
+//! evaluation), 5.1-5.2 (combination, correlated inputs).
+
+use super::quantities::FIELDS;
+use super::Case;
+
+/// One standard uncertainty as the file gives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Uncertainty {
+    /// In the field's own unit.
+    Absolute(f64),
+    /// Per cent of the value (`"2%"` is stored as 2.0, so that it writes back exactly).
+    RelativePercent(f64),
+}
+
+impl Uncertainty {
+    /// The standard uncertainty of `value`, in the field's unit.
+    pub fn standard(&self, value: f64) -> f64 {
+        match *self {
+            Uncertainty::Absolute(u) => u,
+            Uncertainty::RelativePercent(p) => 0.01 * p * value.abs(),
+        }
+    }
+
+    /// Parse a TOML value: a number >= 0, or a string `"N%"` with N >= 0.
+    pub fn from_toml(v: &toml::Value) -> Result<Self, String> {
+        let check = |x: f64, what: &str| -> Result<f64, String> {
+            if !x.is_finite() {
+                return Err(format!("{what} must be a finite number, got {x}"));
+            }
+            if x < 0.0 {
+                return Err(format!("{what} must be >= 0, got {x}"));
+            }
+            Ok(x)
+        };
+        match v {
+            toml::Value::Float(x) => Ok(Uncertainty::Absolute(check(*x, "an uncertainty")?)),
+            toml::Value::Integer(i) => {
+                Ok(Uncertainty::Absolute(check(*i as f64, "an uncertainty")?))
+            }
+            toml::Value::String(s) => {
+                let num = s.trim().strip_suffix('%').ok_or_else(|| {
+                    format!("`{s}` is neither a number (absolute) nor a percentage like \"2%\"")
+                })?;
+                let p: f64 = num
+                    .trim()
+                    .parse()
+                    .map_err(|_| format!("`{s}` is not a percentage: `{num}` is not a number"))?;
+                Ok(Uncertainty::RelativePercent(check(
+                    p,
+                    "a relative uncertainty",
+                )?))
+            }
+            other => Err(format!(
+                "must be a number (absolute) or a string like \"2%\" (relative), got {other}"
+            )),
+        }
+    }
+
+    /// The form the file takes (round trip of the writer).
+    pub fn to_toml(&self) -> String {
+        match *self {
+            Uncertainty::Absolute(u) => format!("{u:?}"),
+            Uncertainty::RelativePercent(p) => format!("\"{p:?}%\""),
+        }
+    }
+}
+
+/// Which cases share an input's error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scope {
+    /// Recorded tail by tail: independent between cases.
+    PerCase,
+    /// One tube, one oil, one body: the same error in every case.
+    Shared,
+}
+
+/// The scope of a field (see the module docs).
+pub fn scope_of(field: &str) -> Scope {
+    match field {
+        "wavelength_mm" | "amplitude_mm" | "tail_length_mm" | "wire_diameter_mm"
+        | "frequency_hz" => Scope::PerCase,
+        _ => Scope::Shared,
+    }
+}
+
+/// What the recorded `amplitude_mm` measures. The model's `B_o` is the
+/// radius of the wire's centre line; the parser converts to it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AmplitudeConvention {
+    /// The wire's centre-line radius (the model's `B_o`; the default).
+    #[default]
+    CentreLine,
+    /// The mandrel's radius the wire was coiled on: `B_o = recorded + D_t/2`.
+    Mandrel,
+    /// The helix's outer radius: `B_o = recorded - D_t/2`.
+    Outer,
+}
+
+/// A case's input uncertainties and recording conventions, `[setup]` merged.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct CaseInputs {
+    /// `(field id, uncertainty)`, in the order of [`FIELDS`].
+    pub uncertainties: Vec<(&'static str, Uncertainty)>,
+    /// The wire's chord length as the experimenters stated it (mm).
+    pub chord_length_mm: Option<f64>,
+    /// The chord length was kept the same for every case (value unknown
+    /// unless `chord_length_mm` is given).
+    pub chord_fixed: bool,
+    /// What the recorded amplitude measured (already converted).
+    pub amplitude_convention: AmplitudeConvention,
+}
+
+impl CaseInputs {
+    /// The standard uncertainty of `field` in `case`, zero when none is given.
+    pub fn standard(&self, case: &Case, field: &str) -> f64 {
+        self.uncertainties
+            .iter()
+            .find(|(f, _)| *f == field)
+            .map(|(f, u)| u.standard(field_value(case, f).unwrap_or(0.0)))
+            .unwrap_or(0.0)
+    }
+
+    /// Fields with a non-zero uncertainty, with their standard uncertainties.
+    pub fn nonzero(&self, case: &Case) -> Vec<(&'static str, f64)> {
+        self.uncertainties
+            .iter()
+            .map(|(f, u)| (*f, u.standard(field_value(case, f).unwrap_or(0.0))))
+            .filter(|(_, s)| *s > 0.0)
+            .collect()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.uncertainties.is_empty()
+    }
+}
+
+/// The inputs [`set_field`] can vary (every numeric field of a case).
+const SETTABLE: &[&str] = &[
+    "wavelength_mm",
+    "amplitude_mm",
+    "tail_length_mm",
+    "wire_diameter_mm",
+    "frequency_hz",
+    "channel_diameter_mm",
+    "channel_length_mm",
+    "viscosity_pa_s",
+    "density_kg_m3",
+    "body_diameter_mm",
+    "body_length_mm",
+    "coupler_diameter_mm",
+    "coupler_length_mm",
+];
+
+/// The canonical `'static` name of a numeric input field that can carry
+/// an uncertainty (a field [`set_field`] can vary).
+pub fn field_id(name: &str) -> Option<&'static str> {
+    FIELDS
+        .iter()
+        .find(|q| q.id == name && SETTABLE.contains(&name))
+        .map(|q| q.id)
+}
+
+/// The value of a numeric input field.
+pub fn field_value(case: &Case, field: &str) -> Option<f64> {
+    FIELDS.iter().find(|q| q.id == field).map(|q| q.of(case))
+}
+
+/// Set a numeric input field; `false` for a name that is not one.
+pub fn set_field(case: &mut Case, field: &str, v: f64) -> bool {
+    let slot = match field {
+        "wavelength_mm" => &mut case.wavelength_mm,
+        "amplitude_mm" => &mut case.amplitude_mm,
+        "tail_length_mm" => &mut case.tail_length_mm,
+        "wire_diameter_mm" => &mut case.wire_diameter_mm,
+        "frequency_hz" => &mut case.frequency_hz,
+        "channel_diameter_mm" => &mut case.channel_diameter_mm,
+        "channel_length_mm" => &mut case.channel_length_mm,
+        "viscosity_pa_s" => &mut case.viscosity_pa_s,
+        "density_kg_m3" => &mut case.density_kg_m3,
+        "body_diameter_mm" => &mut case.body_diameter_mm,
+        "body_length_mm" => &mut case.body_length_mm,
+        "coupler_diameter_mm" => &mut case.coupler_diameter_mm,
+        "coupler_length_mm" => &mut case.coupler_length_mm,
+        _ => return false,
+    };
+    *slot = v;
+    true
+}
+
+/// Merge `[setup.uncertainty]` with a case's table; the error is
+/// `(field, message)` with the field written `uncertainty.KEY`.
+pub fn merge_tables(
+    setup: Option<&toml::Table>,
+    case: Option<&toml::Table>,
+) -> Result<Vec<(&'static str, Uncertainty)>, (String, String)> {
+    let mut out: Vec<(&'static str, Uncertainty)> = Vec::new();
+    for table in [setup, case].into_iter().flatten() {
+        for (k, v) in table {
+            let field = format!("uncertainty.{k}");
+            let id = field_id(k).ok_or_else(|| {
+                let known: Vec<&str> = FIELDS
+                    .iter()
+                    .map(|q| q.id)
+                    .filter(|id| SETTABLE.contains(id))
+                    .collect();
+                (
+                    field.clone(),
+                    format!(
+                        "`{k}` is not a numeric input; uncertainties may be given for: {}",
+                        known.join(", ")
+                    ),
+                )
+            })?;
+            let u = Uncertainty::from_toml(v).map_err(|m| (field.clone(), m))?;
+            match out.iter_mut().find(|(f, _)| *f == id) {
+                Some(slot) => slot.1 = u,
+                None => out.push((id, u)),
+            }
+        }
+    }
+    out.sort_by_key(|(f, _)| FIELDS.iter().position(|q| q.id == *f));
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_absolute_and_relative_and_rejects_the_rest() {
+        let v = |s: &str| -> toml::Value {
+            toml::from_str::<toml::Table>(&format!("x = {s}")).unwrap()["x"].clone()
+        };
+        assert_eq!(
+            Uncertainty::from_toml(&v("0.5")),
+            Ok(Uncertainty::Absolute(0.5))
+        );
+        assert_eq!(
+            Uncertainty::from_toml(&v("1")),
+            Ok(Uncertainty::Absolute(1.0))
+        );
+        assert_eq!(
+            Uncertainty::from_toml(&v("\"2.5%\"")),
+            Ok(Uncertainty::RelativePercent(2.5))
+        );
+        assert!(Uncertainty::from_toml(&v("-0.1"))
+            .unwrap_err()
+            .contains(">= 0"));
+        assert!(Uncertainty::from_toml(&v("nan"))
+            .unwrap_err()
+            .contains("finite"));
+        assert!(Uncertainty::from_toml(&v("\"2\"")).is_err());
+        assert!(Uncertainty::from_toml(&v("\"-2%\"")).is_err());
+        assert!(Uncertainty::from_toml(&v("true")).is_err());
+        assert_eq!(Uncertainty::RelativePercent(2.0).standard(-50.0), 1.0);
+    }
+
+    #[test]
+    fn every_field_can_be_set_and_scopes_are_stated() {
+        let mut c = crate::data::paper().cases[0].clone();
+        for q in FIELDS {
+            assert_eq!(field_id(q.id).is_some(), SETTABLE.contains(&q.id));
+        }
+        for q in FIELDS.iter().filter(|q| SETTABLE.contains(&q.id)) {
+            assert!(set_field(&mut c, q.id, 7.25), "{}", q.id);
+            assert_eq!(q.of(&c), 7.25, "{}", q.id);
+        }
+        assert!(!set_field(&mut c, "u_mm_s", 1.0));
+        assert_eq!(scope_of("amplitude_mm"), Scope::PerCase);
+        assert_eq!(scope_of("viscosity_pa_s"), Scope::Shared);
+    }
+}
