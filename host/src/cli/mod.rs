@@ -2,6 +2,7 @@
 //! subcommand validates its flags into a model, a dataset and settings
 //! before any work starts; input problems are [`CliError::Input`] (exit 2).
 
+mod body;
 mod compare;
 mod diagnose;
 mod effects;
@@ -53,6 +54,8 @@ pub enum Command {
     Report(report::ReportArgs),
     /// Whole-robot simulation: remote script -> controller -> motor and cell -> swimmer model -> climb.
     Sim(sim::SimArgs),
+    /// The body's exact axial drag and rotational drag in free space or in the tube.
+    Body(body::BodyArgs),
 }
 
 /// Run a parsed command line.
@@ -67,5 +70,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Synth(a) => synth::run(a),
         Command::Report(a) => report::run(a),
         Command::Sim(a) => sim::run(a),
+        Command::Body(a) => body::run(a),
     }
 }
