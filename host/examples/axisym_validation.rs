@@ -9,7 +9,9 @@
 //! with section one of `free`, `tube`, `cylinder`, `paper`, `all` (default).
 
 use std::f64::consts::PI;
-use swimbot::nonlocal::axisym::{annular_formula, solve_body, AxisymSettings, BodySolve, Confinement};
+use swimbot::nonlocal::axisym::{
+    annular_formula, solve_body, AxisymSettings, BodySolve, Confinement,
+};
 use swimbot::physics::profile::BodyProfile;
 
 fn settings(resolution: f64) -> AxisymSettings {
@@ -48,9 +50,15 @@ fn bohlin(l: f64) -> f64 {
 
 fn free() {
     println!("\n### Free space\n");
-    println!("| body | resolution | elements | drag / exact - 1 | torque / exact - 1 | time (ms) |");
+    println!(
+        "| body | resolution | elements | drag / exact - 1 | torque / exact - 1 | time (ms) |"
+    );
     println!("|---|---|---|---|---|---|");
-    for (name, a, b) in [("sphere", 1.0, 1.0), ("spheroid 2.5:1", 2.5, 1.0), ("spheroid 10:1", 10.0, 1.0)] {
+    for (name, a, b) in [
+        ("sphere", 1.0, 1.0),
+        ("spheroid 2.5:1", 2.5, 1.0),
+        ("spheroid 10:1", 10.0, 1.0),
+    ] {
         let p = BodyProfile::spheroid(2e3 * a, 2e3 * b);
         let (f, t) = if a == b {
             (6.0 * PI * a, 8.0 * PI * a.powi(3))
@@ -133,39 +141,67 @@ fn tube_of(closed: bool, diameter_m: f64, length_m: f64) -> Confinement {
     }
 }
 
+/// Per-length drag and torque of a cylinder of radius 1 from lengths
+/// `l1 < l2`, in a tube of radius `1/k` reaching `margin` beyond its ends.
+fn per_length(
+    closed: bool,
+    k: f64,
+    res: f64,
+    margin: f64,
+    l1: f64,
+    l2: f64,
+) -> (f64, f64, BodySolve) {
+    let b = 1.0 / k;
+    let run = |len: f64| {
+        solve(
+            &BodyProfile::cylinder(1e3 * len, 2e3, 0.0),
+            tube_of(closed, 2.0 * b, len + 2.0 * margin),
+            res,
+        )
+    };
+    let (s1, s2) = (run(l1), run(l2));
+    let df = (s2.drag_n_s_per_m - s1.drag_n_s_per_m) / (l2 - l1);
+    let dt = (s2.rotational_drag_n_m_s - s1.rotational_drag_n_m_s) / (l2 - l1);
+    (df, dt, s2)
+}
+
 fn cylinder() {
-    println!("\n### Long cylinder (a = 1), per-length drag and torque from lengths 8 and 16\n");
-    println!("| tube | k = a/b | resolution | drag/length vs closed form | torque/length vs Couette | flux error | elements |");
-    println!("|---|---|---|---|---|---|---|");
-    for closed in [true, false] {
-        for k in [0.5, 0.8] {
-            for res in [4.0, 8.0, 16.0] {
-                let b = 1.0 / k;
-                let margin = if closed { 3.0 * b } else { b };
-                let run = |len: f64| {
-                    solve(
-                        &BodyProfile::cylinder(1e3 * len, 2e3, 0.0),
-                        tube_of(closed, 2.0 * b, len + 2.0 * margin),
-                        res,
-                    )
-                };
-                let (s1, s2) = (run(8.0), run(16.0));
-                let df = (s2.drag_n_s_per_m - s1.drag_n_s_per_m) / 8.0;
-                let dt = (s2.rotational_drag_n_m_s - s1.rotational_drag_n_m_s) / 8.0;
-                let (f, t) = annular_formula(1.0, b, 1.0, 1.0, closed);
-                println!(
-                    "| {} | {k} | {res} | {:+.3}% | {:+.3}% | {:.1e} | {} |",
-                    if closed { "closed" } else { "open" },
-                    100.0 * (df / f - 1.0),
-                    100.0 * (dt / t - 1.0),
-                    s2.flux_error().unwrap(),
-                    s2.body_elements + s2.wall_elements
-                );
-                if res == 8.0 {
-                    assert!((df / f - 1.0).abs() < 0.01 && (dt / t - 1.0).abs() < 0.01);
-                }
+    println!("\n### Long cylinder (a = 1) in a closed tube (caps 3 b beyond its ends), per-length drag and torque from lengths 8 and 16\n");
+    println!("| k = a/b | resolution | drag/length vs Couette-Poiseuille | torque/length vs Couette | flux error | elements |");
+    println!("|---|---|---|---|---|---|");
+    for k in [0.5, 0.8] {
+        for res in [4.0, 8.0, 16.0] {
+            let (df, dt, s2) = per_length(true, k, res, 3.0 / k, 8.0, 16.0);
+            let (f, t) = annular_formula(1.0, 1.0 / k, 1.0, 1.0, true);
+            println!(
+                "| {k} | {res} | {:+.3}% | {:+.3}% | {:.1e} | {} |",
+                100.0 * (df / f - 1.0),
+                100.0 * (dt / t - 1.0),
+                s2.flux_error().unwrap(),
+                s2.body_elements + s2.wall_elements
+            );
+            if res == 8.0 {
+                assert!((df / f - 1.0).abs() < 0.01 && (dt / t - 1.0).abs() < 0.01);
             }
         }
+    }
+    println!("\n### Long cylinder in an open tube (k = 0.5, resolution 8): the pressure drop of a finite open pipe\n");
+    println!("| pipe beyond each end | lengths | drag/length vs Couette (ln 1/k) | torque/length vs Couette | flux error |");
+    println!("|---|---|---|---|---|");
+    for (margin_b, l1, l2) in [
+        (1.0, 8.0, 16.0),
+        (0.25, 8.0, 16.0),
+        (0.25, 16.0, 32.0),
+        (0.1, 16.0, 32.0),
+    ] {
+        let (df, dt, s2) = per_length(false, 0.5, 8.0, margin_b * 2.0, l1, l2);
+        let (f, t) = annular_formula(1.0, 2.0, 1.0, 1.0, false);
+        println!(
+            "| {margin_b} b | {l1}, {l2} | {:+.3}% | {:+.3}% | {:.1e} |",
+            100.0 * (df / f - 1.0),
+            100.0 * (dt / t - 1.0),
+            s2.flux_error().unwrap()
+        );
     }
 }
 
@@ -173,7 +209,10 @@ fn paper() {
     let (d_mm, l_mm, mu) = (35.0, 350.0, 3.5);
     let bodies = [
         ("spheroid 50 x 20", BodyProfile::spheroid(50.0, 20.0)),
-        ("cylinder 50 x 20, sharp", BodyProfile::cylinder(50.0, 20.0, 0.0)),
+        (
+            "cylinder 50 x 20, sharp",
+            BodyProfile::cylinder(50.0, 20.0, 0.0),
+        ),
         (
             "paper body 10:20,30:18,10:20",
             BodyProfile::parse_sections("10:20,30:18,10:20", 0.0).unwrap(),
@@ -193,7 +232,14 @@ fn paper() {
         println!("| body | drag (N s/m) | / free | / annular | rot. drag (N m s) | / free | / annular | flux error | elements | time (ms) |");
         println!("|---|---|---|---|---|---|---|---|---|---|");
         for (name, p) in &bodies {
-            let s = solve_body(p, &tube_of(closed, d_mm * 1e-3, l_mm * 1e-3), 0.0, mu, &settings(8.0)).unwrap();
+            let s = solve_body(
+                p,
+                &tube_of(closed, d_mm * 1e-3, l_mm * 1e-3),
+                0.0,
+                mu,
+                &settings(8.0),
+            )
+            .unwrap();
             let free = solve_body(p, &Confinement::Free, 0.0, mu, &settings(8.0)).unwrap();
             println!(
                 "| {name} | {:.4} | {:.2} | {:.3} | {:.4e} | {:.3} | {:.3} | {:.1e} | {} | {:.0} |",
@@ -212,7 +258,14 @@ fn paper() {
     println!("\n### Resolution and position (paper spheroid, closed tube)\n");
     println!("| resolution | body centre (mm) | drag (N s/m) | rot. drag (N m s) | flux error | elements | time (ms) |");
     println!("|---|---|---|---|---|---|---|");
-    for (res, pos) in [(4.0, 0.0), (8.0, 0.0), (16.0, 0.0), (32.0, 0.0), (8.0, 100.0), (8.0, 140.0)] {
+    for (res, pos) in [
+        (4.0, 0.0),
+        (8.0, 0.0),
+        (16.0, 0.0),
+        (32.0, 0.0),
+        (8.0, 100.0),
+        (8.0, 140.0),
+    ] {
         let s = solve_body(
             &BodyProfile::spheroid(50.0, 20.0),
             &tube_of(true, 0.035, 0.35),

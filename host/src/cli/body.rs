@@ -85,7 +85,9 @@ fn positive(flag: &str, v: f64) -> Result<f64, CliError> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(CliError::input(format!("--{flag} must be a positive number, got {v}")))
+        Err(CliError::input(format!(
+            "--{flag} must be a positive number, got {v}"
+        )))
     }
 }
 
@@ -171,8 +173,8 @@ pub fn run(a: BodyArgs) -> Result<(), CliError> {
     };
     let solved = solve_body(&profile, &confinement, a.position_mm * 1e-3, mu, &settings)
         .map_err(CliError::input)?;
-    let free = solve_body(&profile, &Confinement::Free, 0.0, mu, &settings)
-        .map_err(CliError::input)?;
+    let free =
+        solve_body(&profile, &Confinement::Free, 0.0, mu, &settings).map_err(CliError::input)?;
     let annular = channel.map(|(d, _, closed)| {
         annular_formula(
             0.5e-3 * profile.max_diameter_mm(),
@@ -215,7 +217,10 @@ fn print_table(o: &BodyOut) {
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.5e}"));
     println!("body: {}", o.body);
     println!("in: {}, viscosity {} Pa s", o.confinement, o.viscosity_pa_s);
-    println!("{:<34} {:>14} {:>14} {:>14}", "", "solver", "free space", "annular formula");
+    println!(
+        "{:<34} {:>14} {:>14} {:>14}",
+        "", "solver", "free space", "annular formula"
+    );
     println!(
         "{:<34} {:>14.5e} {:>14.5e} {:>14}",
         "drag_n_s_per_m",
@@ -232,7 +237,8 @@ fn print_table(o: &BodyOut) {
     );
     println!(
         "flux error {}, elements {} body + {} wall, solve {:.1} ms",
-        o.flux_error.map_or("- (free space)".into(), |e| format!("{e:.2e}")),
+        o.flux_error
+            .map_or("- (free space)".into(), |e| format!("{e:.2e}")),
         o.body_elements,
         o.wall_elements,
         1e3 * o.solve_seconds

@@ -116,9 +116,9 @@ impl Case {
     /// The body's surface of revolution: the dataset's `body_profile` if
     /// given, else the model's spheroid `body_length_mm x body_diameter_mm`.
     pub fn body_profile(&self) -> BodyProfile {
-        self.body_profile.clone().unwrap_or_else(|| {
-            BodyProfile::spheroid(self.body_length_mm, self.body_diameter_mm)
-        })
+        self.body_profile
+            .clone()
+            .unwrap_or_else(|| BodyProfile::spheroid(self.body_length_mm, self.body_diameter_mm))
     }
 
     pub fn coupler(&self) -> Coupler {

@@ -321,7 +321,10 @@ fn body_profile(
         return Ok(None);
     };
     if sections.is_empty() {
-        return Err(r.fail("body_profile", "needs at least one [length_mm, diameter_mm] section"));
+        return Err(r.fail(
+            "body_profile",
+            "needs at least one [length_mm, diameter_mm] section",
+        ));
     }
     for (i, [l, d]) in sections.iter().enumerate() {
         let field = format!("body_profile[{i}]");
@@ -329,7 +332,9 @@ fn body_profile(
             if !v.is_finite() || *v <= 0.0 {
                 return Err(r.fail(
                     &field,
-                    format!("section {i} (nose = 0): {what} must be a positive finite number, got {v}"),
+                    format!(
+                        "section {i} (nose = 0): {what} must be a positive finite number, got {v}"
+                    ),
                 ));
             }
         }

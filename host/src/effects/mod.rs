@@ -19,6 +19,7 @@
 
 mod backflow;
 mod body_confinement;
+mod body_confinement_exact;
 mod body_correction;
 mod buoyancy;
 mod coupler;
@@ -27,7 +28,6 @@ mod nonlocal_tail;
 pub mod place;
 mod spec;
 mod tail_confinement;
-mod tube_body;
 mod tube_tail;
 mod wall_contact;
 
@@ -51,7 +51,7 @@ pub static CATALOGUE: &[&dyn Effect] = &[
     &coupler::Coupler,
     &nonlocal_tail::NonlocalTail,
     &tube_tail::TubeTail,
-    &tube_body::TubeBody,
+    &body_confinement_exact::BodyConfinementExact,
 ];
 
 /// Look an effect up by its command-line name.

@@ -40,7 +40,10 @@ pub enum BodyProfile {
 /// points are `[x, sigma]` in metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Piece {
-    Line { a: [f64; 2], b: [f64; 2] },
+    Line {
+        a: [f64; 2],
+        b: [f64; 2],
+    },
     /// Circular arc about `centre`, angle measured from `+x` towards `+sigma`.
     Arc {
         centre: [f64; 2],
@@ -147,7 +150,10 @@ impl BodyProfile {
         let mut sections = Vec::new();
         for (i, part) in spec.split(',').enumerate() {
             let (l, d) = part.split_once(':').ok_or_else(|| {
-                format!("section {} `{part}`: expected `length_mm:diameter_mm`", i + 1)
+                format!(
+                    "section {} `{part}`: expected `length_mm:diameter_mm`",
+                    i + 1
+                )
             })?;
             let num = |v: &str, what: &str| {
                 v.trim().parse::<f64>().map_err(|_| {
@@ -276,7 +282,8 @@ impl BodyProfile {
                     let big = 0.5 * d;
                     2.0 * PI * (r * r * (1.0 - PI / 4.0) * big - r.powi(3) * (5.0 / 6.0 - PI / 4.0))
                 };
-                let ends = rim(sections[0].diameter_mm) + rim(sections[sections.len() - 1].diameter_mm);
+                let ends =
+                    rim(sections[0].diameter_mm) + rim(sections[sections.len() - 1].diameter_mm);
                 (cyl - ends) * 1e-9
             }
         }
@@ -369,7 +376,10 @@ mod tests {
     use super::*;
 
     fn ends(m: &Meridian) -> ([f64; 2], [f64; 2]) {
-        (m.pieces[0].point(0.0), m.pieces[m.pieces.len() - 1].point(1.0))
+        (
+            m.pieces[0].point(0.0),
+            m.pieces[m.pieces.len() - 1].point(1.0),
+        )
     }
 
     #[test]
@@ -386,7 +396,10 @@ mod tests {
             assert!((b[0] - 0.01 + 0.5e-3 * p.length_mm()).abs() < 1e-12 && b[1].abs() < 1e-15);
             for w in m.pieces.windows(2) {
                 let (e, s) = (w[0].point(1.0), w[1].point(0.0));
-                assert!((e[0] - s[0]).hypot(e[1] - s[1]) < 1e-12, "{p:?}: gap {e:?} {s:?}");
+                assert!(
+                    (e[0] - s[0]).hypot(e[1] - s[1]) < 1e-12,
+                    "{p:?}: gap {e:?} {s:?}"
+                );
             }
         }
     }

@@ -57,9 +57,15 @@ pub const MAX_DENSE_BYTES: usize = 1_000_000_000;
 pub enum Confinement {
     Free,
     /// Tube with flat end caps: zero net flux through every section.
-    Closed { diameter_m: f64, length_m: f64 },
+    Closed {
+        diameter_m: f64,
+        length_m: f64,
+    },
     /// Tube without caps, in unbounded fluid.
-    Open { diameter_m: f64, length_m: f64 },
+    Open {
+        diameter_m: f64,
+        length_m: f64,
+    },
 }
 
 impl Confinement {

@@ -1,7 +1,7 @@
 //! Integrals of the ring kernels over one straight element.
 //!
-//! * Regular and near-singular elements: Gauss-Legendre (4 points when the
-//!   target is farther than four panel lengths, else 8) on panels bisected
+//! * Regular and near-singular elements: Gauss-Legendre (2 points when the
+//!   target is farther than twelve panel lengths, 4 beyond four, else 8) on panels bisected
 //!   until the target is at least 1.2 panel lengths from the panel's
 //!   centre, so the near-logarithmic and `x^2/d^2` parts of the kernel are
 //!   resolved also for field points close to a boundary.
@@ -49,10 +49,12 @@ pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 }
 
 fn rule(n: usize) -> &'static [(f64, f64)] {
+    static R2: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
     static R4: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
     static R8: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
     static R12: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
     match n {
+        2 => R2.get_or_init(|| gauss_legendre(2)),
         4 => R4.get_or_init(|| gauss_legendre(4)),
         8 => R8.get_or_init(|| gauss_legendre(8)),
         _ => R12.get_or_init(|| gauss_legendre(12)),
@@ -68,7 +70,13 @@ fn add_panel(t: [f64; 2], p: [f64; 2], q: [f64; 2], depth: u32, acc: &mut Ring) 
         add_panel(t, mid, q, depth + 1, acc);
         return;
     }
-    let n = if dist > 4.0 * len { 4 } else { 8 };
+    let n = if dist > 12.0 * len {
+        2
+    } else if dist > 4.0 * len {
+        4
+    } else {
+        8
+    };
     for &(u, w) in rule(n) {
         let y = [p[0] + u * (q[0] - p[0]), p[1] + u * (q[1] - p[1])];
         acc.add_scaled(&ring(t[0], t[1], y[0], y[1]), w * len);

@@ -88,7 +88,12 @@ pub fn build_mesh(
             )));
         }
         h0 = h0.min((radius - a_max) / s.resolution);
-        h_max = 0.5 * radius;
+        // An open tube carries the displaced flux along its whole length,
+        // so its far wall must hold a Poiseuille flow without leaking
+        // between collocation points: finer than a closed tube's, where
+        // the flow decays within a radius or two of the body.
+        let (_, _, closed) = confinement.tube().unwrap_or((0.0, 0.0, true));
+        h_max = if closed { 0.5 * radius } else { 0.25 * radius };
     }
     let meridian = profile.meridian(centre_m);
     let mut corners: Vec<([f64; 2], f64)> =
@@ -237,7 +242,10 @@ pub fn solve_mesh(
         }
     });
     let rhs_s = DVector::from_fn(n, |r, _| if is_body[r] { els[r].mid()[1] } else { 0.0 });
-    let fm = linalg::solve(merid, &DMatrix::from_column_slice(2 * n, 1, rhs_m.as_slice()))?;
+    let fm = linalg::solve(
+        merid,
+        &DMatrix::from_column_slice(2 * n, 1, rhs_m.as_slice()),
+    )?;
     let fsw = linalg::solve(swirl, &DMatrix::from_column_slice(n, 1, rhs_s.as_slice()))?;
     let fx: Vec<f64> = (0..n).map(|j| fm[(2 * j, 0)]).collect();
     let fs: Vec<f64> = (0..n).map(|j| fm[(2 * j + 1, 0)]).collect();
