@@ -341,7 +341,7 @@ fn sections_meridian(sections: &[Section], rf: f64, centre_x: f64) -> Meridian {
     }
     let mut x = xn - rf;
     let mut x_end = xn;
-    for i in 0..=last {
+    for (i, section) in sections.iter().enumerate() {
         let r = radius(i);
         if i > 0 {
             let rp = radius(i - 1);
@@ -351,7 +351,7 @@ fn sections_meridian(sections: &[Section], rf: f64, centre_x: f64) -> Meridian {
                 corners.push([x, r]);
             }
         }
-        x_end -= sections[i].length_mm * 1e-3;
+        x_end -= section.length_mm * 1e-3;
         let stop = if i == last { xt + rf } else { x_end };
         line([x, r], [stop, r], &mut pieces);
         x = stop;
