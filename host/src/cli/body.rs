@@ -214,25 +214,26 @@ pub fn run(a: BodyArgs) -> Result<(), CliError> {
 }
 
 fn print_table(o: &BodyOut) {
-    let opt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.5e}"));
+    let num = |v: f64| crate::report::fmt_sig(v, 6);
+    let opt = |v: Option<f64>| v.map_or("-".to_string(), num);
     println!("body: {}", o.body);
     println!("in: {}, viscosity {} Pa s", o.confinement, o.viscosity_pa_s);
     println!(
-        "{:<34} {:>14} {:>14} {:>14}",
+        "{:<24} {:>14} {:>14} {:>16}",
         "", "solver", "free space", "annular formula"
     );
     println!(
-        "{:<34} {:>14.5e} {:>14.5e} {:>14}",
+        "{:<24} {:>14} {:>14} {:>16}",
         "drag_n_s_per_m",
-        o.drag_n_s_per_m,
-        o.free_drag_n_s_per_m,
+        num(o.drag_n_s_per_m),
+        num(o.free_drag_n_s_per_m),
         opt(o.annular_drag_n_s_per_m)
     );
     println!(
-        "{:<34} {:>14.5e} {:>14.5e} {:>14}",
+        "{:<24} {:>14} {:>14} {:>16}",
         "rotational_drag_n_m_s",
-        o.rotational_drag_n_m_s,
-        o.free_rotational_drag_n_m_s,
+        num(o.rotational_drag_n_m_s),
+        num(o.free_rotational_drag_n_m_s),
         opt(o.annular_rotational_drag_n_m_s)
     );
     println!(
