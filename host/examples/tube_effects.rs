@@ -1,5 +1,5 @@
 //! The wall-resolved confinement effects (`tail-confinement-stokeslets`,
-//! `body-confinement-stokeslets`) on the paper data, and the resolution
+//! `body-confinement-exact`) on the paper data, and the resolution
 //! study behind their settings. Release build:
 //!
 //! `cargo run --release -p swimbot --example tube_effects` compares the base
@@ -19,7 +19,7 @@ use swimbot::nonlocal::{
 };
 use swimbot::workbench::compare::compare;
 
-const EFFECTS: [&str; 2] = ["body-confinement-stokeslets", "tail-confinement-stokeslets"];
+const EFFECTS: [&str; 2] = ["body-confinement-exact", "tail-confinement-stokeslets"];
 
 fn compare_once() {
     let mut model = Model::base();

@@ -1,5 +1,5 @@
 //! The wall-resolved confinement effects `tail-confinement-stokeslets` and
-//! `body-confinement-stokeslets`, and the non-local matrix cache behind
+//! `body-confinement-exact`, and the non-local matrix cache behind
 //! them. One cheap geometry keeps the solves short: the paper's tail #6
 //! (wavelength 11 mm, amplitude 7.5 mm, the widest, nearest the wall) cut
 //! to two turns, and the paper's body, in the closed 35 mm channel.
@@ -19,7 +19,7 @@ use swimbot::nonlocal::cache::{cached_matrix_in, DiskCache, CACHE_DIR_ENV};
 use swimbot::nonlocal::{tail_resistance, tail_resistance_in_channel, NonlocalSettings};
 
 const TUBE_TAIL: &str = "tail-confinement-stokeslets";
-const TUBE_BODY: &str = "body-confinement-stokeslets";
+const TUBE_BODY: &str = "body-confinement-exact";
 
 /// A fresh cache directory for this test process, set before any solve.
 fn fresh_cache() -> &'static std::path::Path {
@@ -106,7 +106,8 @@ fn the_wall_raises_the_bodys_drag_towards_the_annular_gap_limit() {
     let tube = with(TUBE_BODY).body_matrix(&case).unwrap();
     // The coaxial-cylinder (annular Couette-Poiseuille) drag of
     // `body-confinement`, closed tube: an upper bound of sorts, since the
-    // spheroid's tapered ends leave a much wider gap than the cylinder's.
+    // spheroid's tapered ends leave a much wider gap than the cylinder's
+    // (the exact spheroid: 0.58 of it, see docs/notes/body-axisym.md).
     let k = case.body_diameter_mm / case.channel_diameter_mm;
     let cylinder = 2.0 * PI * case.viscosity_pa_s * case.body_length_mm * 1e-3
         / ((1.0 / k).ln() - (1.0 - k * k) / (1.0 + k * k));

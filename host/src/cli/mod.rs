@@ -3,6 +3,7 @@
 //! before any work starts; input problems are [`CliError::Input`] (exit 2).
 
 mod audit;
+mod body;
 mod compare;
 mod diagnose;
 mod effects;
@@ -56,6 +57,8 @@ pub enum Command {
     Report(report::ReportArgs),
     /// Whole-robot simulation: remote script -> controller -> motor and cell -> swimmer model -> climb.
     Sim(sim::SimArgs),
+    /// The body's exact axial drag and rotational drag in free space or in the tube.
+    Body(body::BodyArgs),
 }
 
 /// Run a parsed command line.
@@ -71,5 +74,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Synth(a) => synth::run(a),
         Command::Report(a) => report::run(a),
         Command::Sim(a) => sim::run(a),
+        Command::Body(a) => body::run(a),
     }
 }

@@ -13,6 +13,7 @@ pub use parse::{load_file, parse_str};
 pub use write::to_toml;
 
 use crate::physics::geometry::{Body, Channel, Coupler, Handedness, Helix};
+use crate::physics::profile::BodyProfile;
 
 /// The built-in dataset: the paper's six tails.
 pub const PAPER_TOML: &str = include_str!("../../data/paper.toml");
@@ -86,6 +87,9 @@ pub struct Case {
     pub body_length_mm: f64,
     pub coupler_diameter_mm: f64,
     pub coupler_length_mm: f64,
+    /// The body's shape as cylindrical sections (`body_profile`), if given;
+    /// see [`Case::body_profile`].
+    pub body_profile: Option<BodyProfile>,
     /// Swimming speed along the channel (mm/s), if measured.
     pub u_mm_s: Option<Measured>,
     /// Body counter-rotation rate (Hz), if measured.
@@ -111,6 +115,14 @@ impl Case {
 
     pub fn body(&self) -> Body {
         Body::from_mm(self.body_length_mm, self.body_diameter_mm)
+    }
+
+    /// The body's surface of revolution: the dataset's `body_profile` if
+    /// given, else the model's spheroid `body_length_mm x body_diameter_mm`.
+    pub fn body_profile(&self) -> BodyProfile {
+        self.body_profile
+            .clone()
+            .unwrap_or_else(|| BodyProfile::spheroid(self.body_length_mm, self.body_diameter_mm))
     }
 
     pub fn coupler(&self) -> Coupler {

@@ -38,6 +38,18 @@ pub fn to_toml(data: &Dataset) -> String {
         num(&mut out, "body_length_mm", c.body_length_mm);
         num(&mut out, "coupler_diameter_mm", c.coupler_diameter_mm);
         num(&mut out, "coupler_length_mm", c.coupler_length_mm);
+        if let Some(crate::physics::profile::BodyProfile::Sections {
+            sections,
+            rounded_mm,
+        }) = &c.body_profile
+        {
+            let pairs: Vec<String> = sections
+                .iter()
+                .map(|s| format!("[{:?}, {:?}]", s.length_mm, s.diameter_mm))
+                .collect();
+            let _ = writeln!(out, "body_profile = [{}]", pairs.join(", "));
+            num(&mut out, "body_rounded_mm", *rounded_mm);
+        }
         let measured = |out: &mut String, mean_key: &str, ci_key: &str, m: &Option<Measured>| {
             if let Some(m) = m {
                 let _ = writeln!(

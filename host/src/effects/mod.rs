@@ -21,6 +21,7 @@
 
 mod backflow;
 mod body_confinement;
+mod body_confinement_exact;
 mod body_correction;
 mod buoyancy;
 mod coupler;
@@ -32,7 +33,6 @@ pub mod place;
 mod registry;
 mod spec;
 mod tail_confinement;
-mod tube_body;
 mod tube_tail;
 pub mod user_file;
 mod wall_contact;
@@ -58,7 +58,7 @@ pub static CATALOGUE: &[&dyn Effect] = &[
     &coupler::Coupler,
     &nonlocal_tail::NonlocalTail,
     &tube_tail::TubeTail,
-    &tube_body::TubeBody,
+    &body_confinement_exact::BodyConfinementExact,
 ];
 
 /// Look an effect (catalogue or user) up by its command-line name.

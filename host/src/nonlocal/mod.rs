@@ -52,6 +52,7 @@
 //! (N = 17 000 points), but its LU (`2/3 (3N)^3` flops at the ~20 Gflop/s
 //! measured) would take over an hour; `3N ~ 20 000` (3 GB, ~4 min) is the
 //! practical limit.
+pub mod axisym;
 pub mod cache;
 pub mod confined;
 pub mod curve;

@@ -3,5 +3,6 @@
 pub mod body;
 pub mod coefficients;
 pub mod geometry;
+pub mod profile;
 pub mod solve;
 pub mod tail;

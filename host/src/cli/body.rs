@@ -1,0 +1,247 @@
+//! `swimbot body`: the body's axial drag and axial rotational drag, exact
+//! for its axisymmetric shape, in free space or on the axis of a closed or
+//! open tube (`crate::nonlocal::axisym`), with the free-space and
+//! annular-formula values beside them and the solver's diagnostics (mass
+//! conservation error, elements, time).
+//!
+//! The body is `--profile length:diameter,...` (mm, nose first; flat ends,
+//! rims rounded by `--rounded-mm`), `--spheroid length:diameter`, or the
+//! body of a dataset case (`--data F --case ID`: its `body_profile` if
+//! given, else its spheroid, and its channel and viscosity unless
+//! overridden). Without a channel the body is in free space.
+
+use super::output::{print_json, Format};
+use super::CliError;
+use crate::nonlocal::axisym::{annular_formula, solve_body, AxisymSettings, Confinement};
+use crate::physics::profile::BodyProfile;
+use clap::Args;
+
+#[derive(Args, Debug)]
+pub struct BodyArgs {
+    /// Cylindrical sections `length:diameter,...` in mm, nose first.
+    #[arg(long, conflicts_with_all = ["spheroid", "data"])]
+    pub profile: Option<String>,
+    /// Fillet radius of the profile's nose and tail rims (mm).
+    #[arg(long, default_value_t = 0.0, requires = "profile")]
+    pub rounded_mm: f64,
+    /// Prolate spheroid `length:diameter` in mm.
+    #[arg(long, conflicts_with = "data")]
+    pub spheroid: Option<String>,
+    /// Dataset file whose case supplies body, channel and viscosity.
+    #[arg(long, requires = "case")]
+    pub data: Option<std::path::PathBuf>,
+    /// Case id in --data.
+    #[arg(long, requires = "data")]
+    pub case: Option<String>,
+    /// Tube inner diameter (mm); none: free space (unless from --case).
+    #[arg(long)]
+    pub channel_diameter_mm: Option<f64>,
+    /// Tube length (mm); default: the case's, else the body's length plus
+    /// eight tube diameters (caps four diameters away from the body).
+    #[arg(long)]
+    pub channel_length_mm: Option<f64>,
+    /// Open tube (no end caps) instead of closed.
+    #[arg(long)]
+    pub open: bool,
+    /// Default: the case's, else 3.5 Pa s (the paper's silicone oil).
+    #[arg(long)]
+    pub viscosity_pa_s: Option<f64>,
+    /// Axial position of the body's centre from the tube's centre (mm).
+    #[arg(long, default_value_t = 0.0)]
+    pub position_mm: f64,
+    /// Elements across the smaller of the body radius and the gap.
+    #[arg(long, default_value_t = AxisymSettings::default().resolution)]
+    pub resolution: f64,
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: Format,
+}
+
+#[derive(serde::Serialize)]
+struct BodyOut {
+    body: String,
+    confinement: String,
+    viscosity_pa_s: f64,
+    drag_n_s_per_m: f64,
+    rotational_drag_n_m_s: f64,
+    free_drag_n_s_per_m: f64,
+    free_rotational_drag_n_m_s: f64,
+    annular_drag_n_s_per_m: Option<f64>,
+    annular_rotational_drag_n_m_s: Option<f64>,
+    flux_error: Option<f64>,
+    body_elements: usize,
+    wall_elements: usize,
+    solve_seconds: f64,
+}
+
+fn pair(flag: &str, v: &str) -> Result<(f64, f64), CliError> {
+    let bad = || CliError::input(format!("--{flag} `{v}`: expected `length_mm:diameter_mm`"));
+    let (l, d) = v.split_once(':').ok_or_else(bad)?;
+    let l: f64 = l.trim().parse().map_err(|_| bad())?;
+    let d: f64 = d.trim().parse().map_err(|_| bad())?;
+    Ok((l, d))
+}
+
+fn positive(flag: &str, v: f64) -> Result<f64, CliError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(CliError::input(format!(
+            "--{flag} must be a positive number, got {v}"
+        )))
+    }
+}
+
+pub fn run(a: BodyArgs) -> Result<(), CliError> {
+    let mut mu = 3.5;
+    let mut channel: Option<(f64, f64, bool)> = None;
+    let profile = if let Some(spec) = &a.profile {
+        if !(a.rounded_mm.is_finite() && a.rounded_mm >= 0.0) {
+            return Err(CliError::input(format!(
+                "--rounded-mm must be a number >= 0, got {}",
+                a.rounded_mm
+            )));
+        }
+        BodyProfile::parse_sections(spec, a.rounded_mm)
+            .map_err(|e| CliError::input(format!("--profile: {e}")))?
+    } else if let Some(spec) = &a.spheroid {
+        let (l, d) = pair("spheroid", spec)?;
+        let p = BodyProfile::spheroid(l, d);
+        p.validate()
+            .map_err(|e| CliError::input(format!("--spheroid: {e}")))?;
+        p
+    } else if let (Some(path), Some(id)) = (&a.data, &a.case) {
+        let data = crate::data::load_file(path)?;
+        let case = data.cases.iter().find(|c| &c.id == id).ok_or_else(|| {
+            let ids: Vec<&str> = data.cases.iter().map(|c| c.id.as_str()).collect();
+            CliError::input(format!(
+                "{}: no case `{id}` (cases: {})",
+                path.display(),
+                ids.join(", ")
+            ))
+        })?;
+        mu = case.viscosity_pa_s;
+        channel = Some((
+            case.channel_diameter_mm,
+            case.channel_length_mm,
+            case.channel_closed,
+        ));
+        case.body_profile()
+    } else {
+        return Err(CliError::input(
+            "give the body: --profile L:D,..., --spheroid L:D, or --data FILE --case ID",
+        ));
+    };
+    if let Some(v) = a.viscosity_pa_s {
+        mu = positive("viscosity-pa-s", v)?;
+    }
+    if let Some(d) = a.channel_diameter_mm {
+        let d = positive("channel-diameter-mm", d)?;
+        let default_len = profile.length_mm() + 8.0 * d;
+        let len = channel.map(|c| c.1).unwrap_or(default_len);
+        channel = Some((d, len, true));
+    }
+    if let Some(l) = a.channel_length_mm {
+        let l = positive("channel-length-mm", l)?;
+        let c = channel.ok_or_else(|| {
+            CliError::input("--channel-length-mm needs a channel (--channel-diameter-mm or --case)")
+        })?;
+        channel = Some((c.0, l, c.2));
+    }
+    if a.open {
+        let c = channel.ok_or_else(|| {
+            CliError::input("--open needs a channel (--channel-diameter-mm or --case)")
+        })?;
+        channel = Some((c.0, c.1, false));
+    }
+    if !a.position_mm.is_finite() {
+        return Err(CliError::input("--position-mm must be a finite number"));
+    }
+    let confinement = match channel {
+        None => Confinement::Free,
+        Some((d, l, true)) => Confinement::Closed {
+            diameter_m: d * 1e-3,
+            length_m: l * 1e-3,
+        },
+        Some((d, l, false)) => Confinement::Open {
+            diameter_m: d * 1e-3,
+            length_m: l * 1e-3,
+        },
+    };
+    let settings = AxisymSettings {
+        resolution: a.resolution,
+        ..AxisymSettings::default()
+    };
+    let solved = solve_body(&profile, &confinement, a.position_mm * 1e-3, mu, &settings)
+        .map_err(CliError::input)?;
+    let free =
+        solve_body(&profile, &Confinement::Free, 0.0, mu, &settings).map_err(CliError::input)?;
+    let annular = channel.map(|(d, _, closed)| {
+        annular_formula(
+            0.5e-3 * profile.max_diameter_mm(),
+            0.5e-3 * d,
+            1e-3 * profile.length_mm(),
+            mu,
+            closed,
+        )
+    });
+    let out = BodyOut {
+        body: profile.describe(),
+        confinement: match channel {
+            None => "free space".into(),
+            Some((d, l, closed)) => format!(
+                "{} tube, {d} mm x {l} mm, body centre at {} mm",
+                if closed { "closed" } else { "open" },
+                a.position_mm
+            ),
+        },
+        viscosity_pa_s: mu,
+        drag_n_s_per_m: solved.drag_n_s_per_m,
+        rotational_drag_n_m_s: solved.rotational_drag_n_m_s,
+        free_drag_n_s_per_m: free.drag_n_s_per_m,
+        free_rotational_drag_n_m_s: free.rotational_drag_n_m_s,
+        annular_drag_n_s_per_m: annular.map(|a| a.0),
+        annular_rotational_drag_n_m_s: annular.map(|a| a.1),
+        flux_error: solved.flux_error(),
+        body_elements: solved.body_elements,
+        wall_elements: solved.wall_elements,
+        solve_seconds: solved.seconds,
+    };
+    match a.format {
+        Format::Json => print_json(&out),
+        _ => print_table(&out),
+    }
+    Ok(())
+}
+
+fn print_table(o: &BodyOut) {
+    let num = |v: f64| crate::report::fmt_sig(v, 6);
+    let opt = |v: Option<f64>| v.map_or("-".to_string(), num);
+    println!("body: {}", o.body);
+    println!("in: {}, viscosity {} Pa s", o.confinement, o.viscosity_pa_s);
+    println!(
+        "{:<24} {:>14} {:>14} {:>16}",
+        "", "solver", "free space", "annular formula"
+    );
+    println!(
+        "{:<24} {:>14} {:>14} {:>16}",
+        "drag_n_s_per_m",
+        num(o.drag_n_s_per_m),
+        num(o.free_drag_n_s_per_m),
+        opt(o.annular_drag_n_s_per_m)
+    );
+    println!(
+        "{:<24} {:>14} {:>14} {:>16}",
+        "rotational_drag_n_m_s",
+        num(o.rotational_drag_n_m_s),
+        num(o.free_rotational_drag_n_m_s),
+        opt(o.annular_rotational_drag_n_m_s)
+    );
+    println!(
+        "flux error {}, elements {} body + {} wall, solve {:.1} ms",
+        o.flux_error
+            .map_or("- (free space)".into(), |e| format!("{e:.2e}")),
+        o.body_elements,
+        o.wall_elements,
+        1e3 * o.solve_seconds
+    );
+}
