@@ -21,6 +21,7 @@ mod backflow;
 mod body_confinement;
 mod body_correction;
 mod buoyancy;
+pub mod correction;
 mod coupler;
 mod motor_frame;
 mod nonlocal_tail;

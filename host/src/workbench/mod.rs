@@ -3,7 +3,9 @@
 pub mod compare;
 pub mod design;
 pub mod diagnose;
+pub mod discovery;
 pub mod features;
 pub mod fit;
 pub mod noise;
 pub mod synth;
+pub mod verdict;
