@@ -95,11 +95,11 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
 /// The correction to write: the verdict's first located one, else the
 /// search's best (a partial finding is still a starting point to refine).
 fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<(), CliError> {
-    let best = d.verdict.located.first().or_else(|| {
-        d.discovery
-            .as_ref()
-            .and_then(|x| x.located.first())
-    });
+    let best = d
+        .verdict
+        .located
+        .first()
+        .or_else(|| d.discovery.as_ref().and_then(|x| x.located.first()));
     let Some(l) = best else {
         return Err(CliError::input(format!(
             "--write-effect {}: nothing was located ({}), so there is no correction to write",
@@ -109,7 +109,10 @@ fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<
     };
     let text = crate::workbench::discovery::write::to_toml(l, dataset);
     std::fs::write(path, text).map_err(|e| {
-        CliError::input(format!("--write-effect {}: cannot write: {e}", path.display()))
+        CliError::input(format!(
+            "--write-effect {}: cannot write: {e}",
+            path.display()
+        ))
     })?;
     eprintln!("wrote {} ({})", path.display(), l.describe());
     Ok(())

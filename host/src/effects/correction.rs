@@ -291,20 +291,20 @@ mod tests {
                 if matches!(form, Form::Proportional | Form::PowerLaw) && !place.is_additive() {
                     values[0] = 1.0;
                 }
-                let m = Model::base().with_effect(EffectInstance {
-                    effect: c,
-                    values,
-                });
+                let m = Model::base().with_effect(EffectInstance { effect: c, values });
                 let case = &paper.cases[1];
                 let mut at_one = case.clone();
                 // Put the feature at its reference value so that x = 1.
-                at_one.channel_diameter_mm =
-                    2.0 * (case.amplitude_mm + 0.5 * case.wire_diameter_mm)
-                        + case.wire_diameter_mm / 0.1;
+                at_one.channel_diameter_mm = 2.0
+                    * (case.amplitude_mm + 0.5 * case.wire_diameter_mm)
+                    + case.wire_diameter_mm / 0.1;
                 assert!((c.x(&at_one) - 1.0).abs() < 1e-12);
                 let a = Model::base().predict(&at_one).unwrap();
                 let b = m.predict(&at_one).unwrap();
-                assert!((a.u_mm_s - b.u_mm_s).abs() < 1e-12 * a.u_mm_s.abs(), "{c:?}");
+                assert!(
+                    (a.u_mm_s - b.u_mm_s).abs() < 1e-12 * a.u_mm_s.abs(),
+                    "{c:?}"
+                );
                 assert!((a.omega_body_hz - b.omega_body_hz).abs() < 1e-12, "{c:?}");
             }
         }
@@ -333,7 +333,9 @@ mod tests {
         let g = by_id("body_ratio").unwrap();
         assert!(LocatedCorrection::new(Place::LoadForce, Some(g), Form::Power, 1.0, 1.0).is_none());
         assert!(LocatedCorrection::new(Place::TailNormal, None, Form::Linear, 1.0, 1.0).is_none());
-        assert!(LocatedCorrection::new(Place::TailNormal, Some(g), Form::Constant, 1.0, 1.0).is_none());
+        assert!(
+            LocatedCorrection::new(Place::TailNormal, Some(g), Form::Constant, 1.0, 1.0).is_none()
+        );
         let c = LocatedCorrection::new(Place::TailNormal, Some(g), Form::Power, 0.5, 1.0).unwrap();
         assert_eq!(c.formula(), "1 + k * (body_ratio / 0.5)^p");
         assert_eq!(c.params().len(), 2);

@@ -255,7 +255,16 @@ pub fn diagnose(
     let trends = trends(data, &cmp);
     let base_len = model.effects.len();
     say("fitting the catalogue's effects");
-    let mut ranking: Vec<Candidate> = candidates(model, s.include_costly)
+    let cands = candidates(model, s.include_costly);
+    // Warm the memoised non-local solves in parallel over cases (a
+    // catalogue fit walks its cases serially; milliseconds per case).
+    for e in &cands {
+        let m = model.clone().with_effect(EffectInstance::default_of(*e));
+        data.cases.par_iter().for_each(|c| {
+            let _ = m.predict(c);
+        });
+    }
+    let mut ranking: Vec<Candidate> = cands
         .par_iter()
         .filter_map(|e| {
             let m = model.clone().with_effect(EffectInstance::default_of(*e));
@@ -337,4 +346,3 @@ fn forward_selection(
     sort_by_aicc(&mut pairs);
     pairs
 }
-

@@ -37,13 +37,64 @@ fn fmt(x: Option<f64>) -> String {
 }
 
 fn frac(x: Option<f64>) -> String {
-    x.map(|v| format!("{:.0} %", 100.0 * v))
-        .unwrap_or_else(|| "n/a".into())
+    x.map(|v| {
+        if v > 0.99 && v < 1.0 {
+            format!("{:.2} %", 100.0 * v)
+        } else {
+            format!("{:.0} %", 100.0 * v)
+        }
+    })
+    .unwrap_or_else(|| "n/a".into())
 }
 
-fn supported(l: &Located, base: &Baseline, searched: usize) -> bool {
+/// The finding to report from a discovery: among supported corrections
+/// within the AICc margin of the best at the best's place, the one with the
+/// fewest parameters (a near-constant law with a free exponent is not a
+/// finding about its feature), ties by AICc.
+fn parsimonious<'a>(
+    d: &'a Discovery,
+    base: &Baseline,
+    margin: f64,
+    data: &Dataset,
+) -> Option<&'a Located> {
+    // Choosing among the laws at one place is itself a search: charge it
+    // like the whole search (2 ln of the laws per place).
+    let margin = margin + 2.0 * ((d.screened.max(11) / 11) as f64).ln();
+    let best = d
+        .located
+        .first()
+        .filter(|l| supported(l, base, d.screened, data))?;
+    d.located
+        .iter()
+        .filter(|l| {
+            l.place == best.place
+                && supported(l, base, d.screened, data)
+                && aicc(l) - aicc(best) < margin
+        })
+        .min_by(|a, b| {
+            a.params
+                .len()
+                .cmp(&b.params.len())
+                .then(aicc(a).total_cmp(&aicc(b)))
+        })
+}
+
+/// The MARE a perfect model shows out of sample: twice the expected
+/// |relative error| of a normal variable, `2 sqrt(2/pi)` times the median
+/// relative standard error (the factor 2 allows for five-trial SEs).
+fn noise_mare(data: &Dataset) -> f64 {
+    2.0 * super::design::median_rel_se(data) * (2.0 / std::f64::consts::PI).sqrt()
+}
+
+/// Whether a located correction is a finding: at the noise floor, or (an
+/// approximate law) removing 95 % of the excess with a cross-validated
+/// MARE at the noise level; its CV MARE below the baseline's; and its
+/// chi-square drop above `2k + 2 ln M` (see the module docs).
+fn supported(l: &Located, base: &Baseline, searched: usize, data: &Dataset) -> bool {
     let k = l.params.len() as f64;
-    l.at_noise_floor
+    let approximate =
+        l.explained_fraction.is_some_and(|f| f >= 0.95) && l.cv_mare <= noise_mare(data);
+    (l.at_noise_floor || approximate)
         && l.cv_mare < base.mare
         && base.chi2 - l.chi2 >= 2.0 * k + 2.0 * (searched.max(1) as f64).ln()
 }
@@ -64,6 +115,11 @@ pub fn remainders(
     s: &DiagnoseSettings,
 ) -> Result<Option<Remainder>, FitError> {
     if ranking.iter().any(|c| c.at_noise_floor) {
+        return Ok(None);
+    }
+    // Parsimony: a correction that reaches the floor alone leaves nothing a
+    // combination could add at this data's precision.
+    if parsimonious(_alone, base, s.clear_margin, data).is_some() {
         return Ok(None);
     }
     let floor0 = floor(0);
@@ -106,7 +162,11 @@ fn aicc(l: &Located) -> f64 {
     l.aicc.unwrap_or(f64::INFINITY)
 }
 
-/// Rivals of `best` among `pool`: supported, within the margin, a different finding.
+/// Rivals of `best` among `pool`: supported, within the margin, and a
+/// different finding (another place; or, when `best` scales with a
+/// feature, a non-equivalent feature at the same place). A feature law at
+/// the place of a constant `best` is not a rival: parsimony already chose
+/// the constant. One rival per finding.
 fn rivals<'a>(
     best: &Located,
     pool: &'a [Located],
@@ -115,13 +175,19 @@ fn rivals<'a>(
     data: &Dataset,
     margin: f64,
 ) -> Vec<&'a Located> {
-    pool.iter()
-        .filter(|l| {
-            supported(l, base, searched)
-                && aicc(l) - aicc(best) < margin
-                && !best.same_finding(l, data)
-        })
-        .collect()
+    let mut out: Vec<&Located> = Vec::new();
+    for l in pool {
+        let near = supported(l, base, searched, data) && aicc(l) - aicc(best) < margin;
+        let same_place_simpler = l.place == best.place && best.feature.is_none();
+        if near
+            && !same_place_simpler
+            && !best.same_finding(l, data)
+            && !out.iter().any(|o| o.same_finding(l, data))
+        {
+            out.push(l);
+        }
+    }
+    out
 }
 
 fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
@@ -147,7 +213,14 @@ fn finding(
     effect: Option<&Candidate>,
     s: &DiagnoseSettings,
 ) -> Verdict {
-    let rivals = rivals(best, &pool.located, base, pool.screened, data, s.clear_margin);
+    let rivals = rivals(
+        best,
+        &pool.located,
+        base,
+        pool.screened,
+        data,
+        s.clear_margin,
+    );
     let floor0 = base.noise_floor_chi2_reduced.map(|r| r * base_n(base));
     let how = format!(
         "MARE {:.1} % -> {:.1} % (cross-validated {:.1} %), reduced chi-square {} -> {} (noise floor {})",
@@ -245,12 +318,7 @@ pub fn verdict(
         );
     }
     let floor0 = base.noise_floor_chi2_reduced.map(|r| r * base_n(base));
-    let alone = disc.and_then(|d| {
-        d.located
-            .first()
-            .filter(|l| supported(l, base, d.screened))
-            .map(|l| (l, d))
-    });
+    let alone = disc.and_then(|d| parsimonious(d, base, s.clear_margin, data).map(|l| (l, d)));
     let pool: &[Candidate] = if ranking.iter().any(|c| c.at_noise_floor) || pairs.is_empty() {
         ranking
     } else {
@@ -268,15 +336,43 @@ pub fn verdict(
                 return v;
             }
         }
-        return catalogue_verdict(data, base, pool, cb, floor0, s);
+        let mut v = catalogue_verdict(data, base, pool, cb, floor0, s);
+        if v.kind == VerdictKind::Identified {
+            if let Some((l, _)) = alone {
+                // A located law as good as the named effect: the same
+                // physics if no nearby experiment separates them by 3
+                // standard errors, else the data cannot tell them apart.
+                if aicc(l) < cb.aicc.unwrap_or(f64::INFINITY) + s.clear_margin {
+                    if let Some(g) = best_discriminating_case(data, &cb.model, &l.model)
+                        .filter(|g| g.in_sigma >= 3.0)
+                    {
+                        v.kind = VerdictKind::Indistinguishable;
+                        v.explained = true;
+                        v.indistinguishable = vec![cb.effect.clone(), l.describe()];
+                        v.note = format!(
+                            "indistinguishable on this data: {} and the located {} ({}) fit equally well (AICc {:.1} against {:.1}); to tell them apart, measure {} with {} ({} differs by {:.0} %, about {:.0} standard errors)",
+                            cb.effect,
+                            l.describe(),
+                            l.interpretation,
+                            cb.aicc.unwrap_or(f64::NAN),
+                            aicc(l),
+                            g.base_case,
+                            g.change,
+                            g.quantity,
+                            100.0 * g.rel_difference,
+                            g.in_sigma
+                        );
+                        v.effect = None;
+                        v.suggestion = Some(g);
+                        v.located = vec![l.clone()];
+                    }
+                }
+            }
+        }
+        return v;
     }
-    let with_rem = rem.and_then(|r| {
-        r.discovery
-            .located
-            .first()
-            .filter(|l| supported(l, base, r.discovery.screened))
-            .map(|l| (l, r))
-    });
+    let with_rem =
+        rem.and_then(|r| parsimonious(&r.discovery, base, s.clear_margin, data).map(|l| (l, r)));
     match (alone, with_rem) {
         (Some((l, d)), Some((rl, _))) if aicc(l) < aicc(rl) + s.clear_margin => {
             finding(data, base, l, d, None, s)
@@ -317,7 +413,14 @@ fn unexplained(
             "; no catalogue effect removes even half of the excess chi-square".into()
         });
     let mut located: Vec<Located> = disc
-        .map(|d| d.located.iter().filter(|l| partial(l, base)).take(3).cloned().collect())
+        .map(|d| {
+            d.located
+                .iter()
+                .filter(|l| partial(l, base))
+                .take(3)
+                .cloned()
+                .collect()
+        })
         .unwrap_or_default();
     if let Some(r) = rem {
         if let Some(l) = r.discovery.located.first() {
@@ -390,6 +493,19 @@ fn catalogue_verdict(
         v.effect = Some(best.effect.clone());
         v.effect_explained_fraction = fraction;
         return v;
+    }
+    if rivals.is_empty() {
+        return verdict_of(
+            VerdictKind::NoneNeeded,
+            format!(
+                "none needed: the baseline's chi-square is above the noise floor (reduced {} against {}), but the best candidate, {}, does not lower the cross-validated error ({:.2} % against the baseline's {:.2} %): the excess is not an effect this data can support",
+                fmt(base.chi2_reduced),
+                fmt(base.noise_floor_chi2_reduced),
+                best.effect,
+                100.0 * best.cv_mare,
+                100.0 * base.mare
+            ),
+        );
     }
     let suggestion = rivals
         .first()

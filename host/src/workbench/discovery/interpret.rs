@@ -44,7 +44,12 @@ fn grows_towards_wall(q: &Quantity) -> bool {
 /// One sentence for a correction at `place` with `feature`; `rising` is
 /// whether the multiplier (or load) grows with the feature across the data,
 /// `mean_value` its mean (multiplier, or load in mN / µN m).
-pub fn interpret(place: Place, feature: Option<&Quantity>, rising: bool, mean_value: f64) -> String {
+pub fn interpret(
+    place: Place,
+    feature: Option<&Quantity>,
+    rising: bool,
+    mean_value: f64,
+) -> String {
     let what = place.meaning();
     let Some(q) = feature else {
         return match place {
@@ -118,9 +123,11 @@ mod tests {
     #[test]
     fn the_issue_sentences_come_out() {
         let w = by_id("wire_over_gap").unwrap();
-        assert!(interpret(Place::TailNormal, Some(w), true, 1.2).contains("nears the wall: wall proximity"));
+        assert!(interpret(Place::TailNormal, Some(w), true, 1.2)
+            .contains("nears the wall: wall proximity"));
         let g = by_id("tail_gap_ratio").unwrap();
-        assert!(interpret(Place::TailNormal, Some(g), false, 1.2).contains("rising as the helix nears the wall"));
+        assert!(interpret(Place::TailNormal, Some(g), false, 1.2)
+            .contains("rising as the helix nears the wall"));
         let s = by_id("shear_rate").unwrap();
         assert!(interpret(Place::TailViscosity, Some(s), false, 0.8).contains("shear-thinning"));
         assert!(interpret(Place::DriveRate, None, false, 0.85).contains("slower than recorded"));

@@ -45,7 +45,7 @@ use serde::Serialize;
 pub struct DiscoverySettings {
     /// Candidates refitted exactly (10).
     pub top: usize,
-    /// Most cases used for screening (300).
+    /// Most cases used for screening (100).
     pub screen_cases: usize,
     /// Cross-validation folds above ten cases (10).
     pub folds: usize,
@@ -55,7 +55,7 @@ impl Default for DiscoverySettings {
     fn default() -> Self {
         DiscoverySettings {
             top: 10,
-            screen_cases: 300,
+            screen_cases: 100,
             folds: 10,
         }
     }
@@ -149,7 +149,24 @@ pub fn discover(
         aicc(x.chi2, n_screen, reference.k + x.params.len()).unwrap_or(x.chi2)
     };
     screened.sort_by(|a, b| key(a).total_cmp(&key(b)));
-    screened.truncate(s.top);
+    // The best `top`, plus at each of their places the constant and the
+    // best one-parameter law, so that parsimony can choose among them.
+    let mut keep: Vec<usize> = (0..screened.len().min(s.top)).collect();
+    let places: Vec<_> = keep.iter().map(|&i| screened[i].correction.place).collect();
+    for place in places {
+        for constant in [true, false] {
+            if let Some(i) = screened.iter().position(|x| {
+                x.correction.place == place
+                    && x.params.len() == 1
+                    && (x.correction.form == Form::Constant) == constant
+            }) {
+                if !keep.contains(&i) {
+                    keep.push(i);
+                }
+            }
+        }
+    }
+    let screened: Vec<_> = keep.into_iter().map(|i| screened[i].clone()).collect();
     let folds = if n_cases <= 10 { n_cases } else { s.folds };
     let floor0 = (reference.floor)(0);
     let mut located: Vec<Located> = screened
@@ -193,7 +210,13 @@ fn refit(
     let k = reference.k + free.len();
     let cmp = compare(&full.model, data, k)?;
     let n = cmp.summary.n;
-    let values = full.model.effects.last().expect("just added").values.clone();
+    let values = full
+        .model
+        .effects
+        .last()
+        .expect("just added")
+        .values
+        .clone();
     // Rising or falling across the data, judged at the extreme cases.
     let by_x = |a: &&crate::data::Case, b: &&crate::data::Case| c.x(a).total_cmp(&c.x(b));
     let lo = data.cases.iter().min_by(by_x).expect("cases");

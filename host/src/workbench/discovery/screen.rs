@@ -74,7 +74,11 @@ fn predictions(model: &Model, data: &Dataset) -> Result<Vec<f64>, ModelError> {
     let mut out = Vec::new();
     for case in &data.cases {
         let p = model.predict(case)?;
-        out.extend(case_residuals(case, &p).into_iter().map(|(_, r)| r.predicted));
+        out.extend(
+            case_residuals(case, &p)
+                .into_iter()
+                .map(|(_, r)| r.predicted),
+        );
     }
     Ok(out)
 }
@@ -210,7 +214,11 @@ fn interpolate(row: &[f64], m: f64) -> f64 {
     let p1 = row[i];
     let p2 = row[i + 1];
     let p0 = if i > 0 { row[i - 1] } else { 2.0 * p1 - p2 };
-    let p3 = if i + 2 < GRID { row[i + 2] } else { 2.0 * p2 - p1 };
+    let p3 = if i + 2 < GRID {
+        row[i + 2]
+    } else {
+        2.0 * p2 - p1
+    };
     let (u2, u3) = (u * u, u * u * u);
     0.5 * ((2.0 * p1)
         + (-p0 + p2) * u

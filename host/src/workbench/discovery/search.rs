@@ -116,7 +116,7 @@ pub fn fit_on_table(
     let mut f = chi2(table, c, &p, xs, sub);
     let mut lambda = 1e-3;
     let (mut r, mut rp) = (Vec::new(), Vec::new());
-    for _ in 0..60 {
+    for _ in 0..40 {
         table.residuals_into(c, &p, xs, sub, &mut r);
         let mut jac = vec![vec![0.0; r.len()]; k];
         for (i, col) in jac.iter_mut().enumerate() {
@@ -147,7 +147,8 @@ pub fn fit_on_table(
             clamp(&mut q);
             let fq = chi2(table, c, &q, xs, sub);
             if fq < f {
-                let done = (f - fq) <= 1e-10 * f.max(1e-300);
+                // Screening needs a ranking, not the last digit: 1e-8 relative.
+                let done = (f - fq) <= 1e-8 * f.max(1e-300);
                 p = q;
                 f = fq;
                 lambda = (lambda / 4.0).max(1e-9);
