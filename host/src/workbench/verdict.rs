@@ -326,7 +326,11 @@ pub fn verdict(
     };
     if let Some(cb) = pool.iter().find(|c| c.at_noise_floor) {
         if let Some((l, d)) = alone {
-            if aicc(l) + s.clear_margin <= cb.aicc.unwrap_or(f64::INFINITY) {
+            // The located law is the best of `M` searched, the catalogue
+            // effect one of a dozen stated in advance: the law must beat it
+            // by the margin plus the search's charge 2 ln M.
+            let charge = 2.0 * (d.screened.max(1) as f64).ln();
+            if aicc(l) + s.clear_margin + charge <= cb.aicc.unwrap_or(f64::INFINITY) {
                 let mut v = finding(data, base, l, d, None, s);
                 v.note.push_str(&format!(
                     "; it beats the best catalogue effect at the floor, {}, by {:.1} in AICc",
@@ -342,7 +346,13 @@ pub fn verdict(
                 // A located law as good as the named effect: the same
                 // physics if no nearby experiment separates them by 3
                 // standard errors, else the data cannot tell them apart.
-                if aicc(l) < cb.aicc.unwrap_or(f64::INFINITY) + s.clear_margin {
+                // Only a law no more complex than the named effect competes
+                // with it on equal terms; a richer one mimicking it within the
+                // margin does not unseat stated physics.
+                let k_cat = cb.params.len();
+                if l.params.len() <= k_cat
+                    && aicc(l) < cb.aicc.unwrap_or(f64::INFINITY) + s.clear_margin
+                {
                     if let Some(g) = best_discriminating_case(data, &cb.model, &l.model)
                         .filter(|g| g.in_sigma >= 3.0)
                     {
