@@ -5,6 +5,7 @@ use super::output::{opt, print_json, Format};
 use super::CliError;
 use crate::report::fmt_sig;
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
+use crate::workbench::discovery::Located;
 use clap::Args;
 use indicatif::ProgressBar;
 
@@ -33,6 +34,21 @@ pub struct DiagnoseArgs {
     /// inputs explain does not call for an effect.
     #[arg(long)]
     pub input_uncertainty: bool,
+    /// Do not search beyond the catalogue (place x feature x form).
+    #[arg(long)]
+    pub no_discovery: bool,
+    /// Write the best located correction as a user-effect file (TOML), fitted values as defaults.
+    #[arg(long, value_name = "F.toml")]
+    pub write_effect: Option<std::path::PathBuf>,
+}
+
+/// The spinner `diagnose` reports its stages to (a fn pointer cannot capture it).
+static SPINNER: std::sync::OnceLock<ProgressBar> = std::sync::OnceLock::new();
+
+fn stage(message: &str) {
+    if let Some(s) = SPINNER.get() {
+        s.set_message(message.to_string());
+    }
 }
 
 pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
@@ -60,18 +76,20 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
         clear_margin: a.margin,
         second_effect: !a.no_pairs,
         include_costly: a.nonlocal,
+        discover: !a.no_discovery,
+        progress: Some(stage),
+        ..Default::default()
     };
+    // Paper-sized data takes well under a second; a spinner from 20 cases.
     let spinner = if data.cases.len() >= 20 || a.nonlocal {
         let s = ProgressBar::new_spinner();
-        s.set_message(format!(
-            "diagnosing {} cases against the catalogue",
-            data.cases.len()
-        ));
+        s.set_message(format!("diagnosing {} cases", data.cases.len()));
         s.enable_steady_tick(std::time::Duration::from_millis(120));
         s
     } else {
         ProgressBar::hidden()
     };
+    let _ = SPINNER.set(spinner.clone());
     let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
     spinner.finish_and_clear();
     match a.format {
@@ -83,7 +101,74 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
             print_table(&d)
         }
     }
+    if let Some(path) = &a.write_effect {
+        write_effect(&d, &data.name, path)?;
+    }
     Ok(())
+}
+
+/// The correction to write: the verdict's first located one, else the
+/// search's best (a partial finding is still a starting point to refine).
+fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<(), CliError> {
+    let best = d
+        .verdict
+        .located
+        .first()
+        .or_else(|| d.discovery.as_ref().and_then(|x| x.located.first()));
+    let Some(l) = best else {
+        return Err(CliError::input(format!(
+            "--write-effect {}: nothing was located ({}), so there is no correction to write",
+            path.display(),
+            d.verdict.note
+        )));
+    };
+    let text = crate::workbench::discovery::write::to_toml(l, dataset);
+    std::fs::write(path, text).map_err(|e| {
+        CliError::input(format!(
+            "--write-effect {}: cannot write: {e}",
+            path.display()
+        ))
+    })?;
+    eprintln!("wrote {} ({})", path.display(), l.describe());
+    Ok(())
+}
+
+fn print_located(title: &str, list: &[Located]) {
+    if list.is_empty() {
+        return;
+    }
+    println!("\n{title}");
+    println!(
+        "  {:<58} {:>8} {:>8} {:>10} {:>7} {:>5}  parameters (95 % CI)",
+        "correction", "MARE", "CV MARE", "chi2_red", "explains", "noise"
+    );
+    for l in list {
+        let ps = l
+            .params
+            .iter()
+            .map(|p| {
+                let ci = p
+                    .ci95
+                    .map(|x| format!(" ± {}", fmt_sig(x, 2)))
+                    .unwrap_or_else(|| " (±?)".into());
+                format!("{}={}{ci}", p.name, fmt_sig(p.value, 4))
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        println!(
+            "  {:<58} {:>7.2}% {:>7.2}% {:>10} {:>7} {:>5}  {}",
+            format!("{} = {}", l.place, l.formula),
+            100.0 * l.mare,
+            100.0 * l.cv_mare,
+            opt(l.chi2_reduced, 4),
+            l.explained_fraction
+                .map(|f| format!("{:.0}%", 100.0 * f))
+                .unwrap_or_else(|| "-".into()),
+            if l.at_noise_floor { "yes" } else { "no" },
+            ps
+        );
+        println!("  {:<58} {}", "", l.interpretation);
+    }
 }
 
 fn params(c: &Candidate) -> String {
@@ -173,5 +258,27 @@ fn print_table(d: &Diagnosis) {
         "forward selection, the best effect with a second one:",
         &d.pairs,
     );
-    println!("\nverdict: {}", d.verdict.note);
+    if let Some(x) = &d.discovery {
+        print_located(
+            &format!(
+                "beyond the catalogue: the best of {} laws (place x feature x form), refitted exactly, by AICc:",
+                x.screened
+            ),
+            &x.located[..x.located.len().min(6)],
+        );
+    }
+    if let Some(r) = &d.remainder {
+        print_located(
+            &format!("what {} leaves, located on top of it:", r.effect),
+            &r.discovery.located[..r.discovery.located.len().min(3)],
+        );
+    }
+    println!(
+        "\nverdict ({}): {}",
+        serde_json::to_value(d.verdict.kind)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_default(),
+        d.verdict.note
+    );
 }

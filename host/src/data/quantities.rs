@@ -118,6 +118,14 @@ pub const FEATURES: &[Quantity] = &[
         value: |c| 1.0 - c.body_diameter_mm / c.channel_diameter_mm,
     },
     Quantity {
+        id: "body_over_gap",
+        name: "R_body/(R_ch - R_body)",
+        unit: "1",
+        doc:
+            "body radius over the annular gap to the wall: lubrication along the body grows with it",
+        value: |c| c.body_diameter_mm / (c.channel_diameter_mm - c.body_diameter_mm),
+    },
+    Quantity {
         id: "tail_length_ratio",
         name: "L_t/D_ch",
         unit: "1",

@@ -24,6 +24,7 @@ mod body_confinement;
 mod body_confinement_exact;
 mod body_correction;
 mod buoyancy;
+pub mod correction;
 mod coupler;
 pub mod expr;
 pub mod formula;

@@ -1,58 +1,24 @@
-//! Where the model fails: relative residuals against physical features of
-//! the cases (amplitude against body radius, number of waves, confinement
-//! of tail and body, frequency, tail length against channel diameter). A
-//! strong correlation points at the physics that depends on that feature.
+//! Where the model fails: relative residuals against the library of case
+//! quantities ([`crate::data::quantities::FEATURES`]: amplitude against body
+//! radius, number of waves, pitch angle, gap ratios of tail and body to the
+//! wall, L_t/D_ch, f, the wire's shear rate, ...). A strong correlation
+//! points at the physics that depends on that feature; the located search
+//! ([`super::discovery`]) then tests laws in it at each place of the model.
 
 use super::compare::{Comparison, Quantity};
 use crate::data::{Case, Dataset};
 use serde::Serialize;
 
-/// A named feature of a case.
-pub struct Feature {
-    pub name: &'static str,
-    pub value: fn(&Case) -> f64,
-}
-
-pub const FEATURES: &[Feature] = &[
-    Feature {
-        name: "B_o/R_body",
-        value: |c| c.amplitude_ratio(),
-    },
-    Feature {
-        name: "N_lambda",
-        value: |c| c.n_waves(),
-    },
-    Feature {
-        name: "(B_o+D_t/2)/R_ch",
-        value: |c| (c.amplitude_mm + 0.5 * c.wire_diameter_mm) / (0.5 * c.channel_diameter_mm),
-    },
-    Feature {
-        name: "R_body/R_ch",
-        value: |c| c.body_diameter_mm / c.channel_diameter_mm,
-    },
-    Feature {
-        name: "f_Hz",
-        value: |c| c.frequency_hz,
-    },
-    Feature {
-        name: "L_t/D_ch",
-        value: |c| c.tail_length_mm / c.channel_diameter_mm,
-    },
-    Feature {
-        name: "pitch_angle_deg",
-        value: |c| {
-            (2.0 * std::f64::consts::PI * c.amplitude_mm / c.wavelength_mm)
-                .atan()
-                .to_degrees()
-        },
-    },
-];
+pub use crate::data::quantities::FEATURES;
 
 /// Correlation of one quantity's relative residual with one feature.
 #[derive(Debug, Clone, Serialize)]
 pub struct Trend {
     pub quantity: Quantity,
+    /// The feature's formula in the paper's symbols.
     pub feature: &'static str,
+    /// Its id in [`crate::data::quantities`].
+    pub feature_id: &'static str,
     /// Pearson correlation over the cases.
     pub r: f64,
     /// Least-squares slope of the relative error per unit feature.
@@ -77,12 +43,13 @@ pub fn trends(data: &Dataset, cmp: &Comparison) -> Vec<Trend> {
             continue;
         }
         for f in FEATURES {
-            let xs: Vec<f64> = pts.iter().map(|(c, _)| (f.value)(c)).collect();
+            let xs: Vec<f64> = pts.iter().map(|(c, _)| f.of(c)).collect();
             let ys: Vec<f64> = pts.iter().map(|(_, e)| *e).collect();
             if let Some((r, slope)) = pearson(&xs, &ys) {
                 out.push(Trend {
                     quantity: q,
                     feature: f.name,
+                    feature_id: f.id,
                     r,
                     slope,
                 });

@@ -92,3 +92,30 @@ pub fn varied_design(paper: &Dataset) -> Dataset {
     }
     out
 }
+
+/// A richer design for discovery studies: each paper tail in three
+/// channels (28, 35, 50 mm) at two rates (as recorded and 1.6 times), plus
+/// a 1.4 times longer tail in the paper's channel: channel, rate, tail
+/// length, amplitude and wavelength all vary, and channel and rate are not
+/// confounded (they are in [`varied_design`]).
+pub fn rich_design(paper: &Dataset) -> Dataset {
+    let mut out = paper.clone();
+    out.name = format!("{} (rich design)", paper.name);
+    out.cases.clear();
+    for c in &paper.cases {
+        for d_ch in [28.0, 35.0, 50.0] {
+            for rate in [1.0, 1.6] {
+                let mut v = c.clone();
+                v.id = format!("{}-d{d_ch}-x{rate}", c.id);
+                v.channel_diameter_mm = d_ch;
+                v.frequency_hz *= rate;
+                out.cases.push(v);
+            }
+        }
+        let mut long = c.clone();
+        long.id = format!("{}-long", c.id);
+        long.tail_length_mm *= 1.4;
+        out.cases.push(long);
+    }
+    out
+}

@@ -1,0 +1,135 @@
+//! The physics-sentence table: what a located correction means, in one
+//! sentence a fluid dynamicist would write, from its place, the family of
+//! its feature and whether it rises or falls across the data.
+//!
+//! The families follow the quantity library ([`crate::data::quantities`]):
+//! wall proximity of the tail (the gap features), confinement of the body,
+//! the rate (shear rate, f, wave speed), and the helix geometry. Where the
+//! table has no entry the sentence is composed from the place's meaning.
+//!
+//! References: J. Happel & H. Brenner, *Low Reynolds number hydrodynamics*
+//! (1983), ch. 7 (walls raise resistance); R. B. Bird, R. C. Armstrong &
+//! O. Hassager, *Dynamics of Polymeric Liquids* vol. 1 (1987), ch. 4
+//! (shear-thinning); J. Lighthill, SIAM Rev. 18 (1976) 161 (RFT's
+//! geometry dependence).
+
+use crate::data::quantities::Quantity;
+use crate::effects::place::{Part, Place};
+
+/// The family a feature belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    TailWall,
+    BodyWall,
+    Rate,
+    Geometry,
+}
+
+pub fn family(q: &Quantity) -> Family {
+    match q.id {
+        "tail_clearance" | "tail_gap_ratio" | "wire_over_gap" | "tail_length_ratio"
+        | "wavelength_ratio" => Family::TailWall,
+        "body_ratio" | "body_gap_ratio" | "body_over_gap" => Family::BodyWall,
+        "frequency" | "shear_rate" | "wave_speed" => Family::Rate,
+        _ => Family::Geometry,
+    }
+}
+
+/// Whether a quantity grows as the tail nears the wall (`tail_gap_ratio`
+/// shrinks then): the sentence speaks of the wall, not of the feature.
+fn grows_towards_wall(q: &Quantity) -> bool {
+    !matches!(q.id, "tail_gap_ratio" | "body_gap_ratio")
+}
+
+/// One sentence for a correction at `place` with `feature`; `rising` is
+/// whether the multiplier (or load) grows with the feature across the data,
+/// `mean_value` its mean (multiplier, or load in mN / µN m).
+pub fn interpret(
+    place: Place,
+    feature: Option<&Quantity>,
+    rising: bool,
+    mean_value: f64,
+) -> String {
+    let what = place.meaning();
+    let Some(q) = feature else {
+        return match place {
+            Place::DriveRate if mean_value < 1.0 => format!(
+                "tail turning slower than recorded (by {:.0} %): the recorded f overstates the tail's rate",
+                100.0 * (1.0 - mean_value)
+            ),
+            Place::DriveRate => "tail turning faster than recorded: the recorded f understates the tail's rate".into(),
+            Place::LoadForce => format!(
+                "a constant axial force of {mean_value:.3} mN on the robot: a buoyancy trim error or a tether"
+            ),
+            Place::LoadTorque => format!(
+                "a constant axial torque of {mean_value:.3} µN m on the body: friction in the joint or at the wall"
+            ),
+            _ => format!(
+                "{what} {} by a constant factor {mean_value:.3}: a coefficient or viscosity error",
+                if mean_value > 1.0 { "too small" } else { "too large" }
+            ),
+        };
+    };
+    let towards_wall = rising == grows_towards_wall(q);
+    let updown = |up: bool| if up { "rising" } else { "falling" };
+    match (place.part(), family(q)) {
+        (Part::Tail, Family::TailWall) => format!(
+            "{what} {} as the helix nears the wall: wall proximity (scaling with {})",
+            updown(towards_wall),
+            q.name
+        ),
+        (Part::Tail, Family::Rate) => {
+            if rising {
+                format!("{what} rising with shear rate ({}): a shear-thickening oil", q.name)
+            } else {
+                format!("{what} falling with shear rate ({}): a shear-thinning oil", q.name)
+            }
+        }
+        (Part::Body, Family::BodyWall) => format!(
+            "{what} {} with confinement ({}): the narrow annular gap around the body",
+            updown(towards_wall),
+            q.name
+        ),
+        (Part::Drive, Family::Rate) => format!(
+            "the tail's true rate {} with the recorded rate ({}): the drive slips more at {} speed",
+            if rising { "gaining" } else { "lagging" },
+            q.name,
+            if rising { "low" } else { "high" }
+        ),
+        (Part::Drive, _) => format!(
+            "tail turning {} than recorded, depending on {}: a load-dependent drive slip",
+            if mean_value < 1.0 { "slower" } else { "faster" },
+            q.name
+        ),
+        (Part::Tail, Family::Geometry) => format!(
+            "{what} {} with {}: the RFT coefficients' dependence on the helix geometry is off (non-local hydrodynamics)",
+            updown(rising),
+            q.name
+        ),
+        (Part::Load, _) => format!(
+            "{what} {} with {}: a load outside the model's hydrodynamics",
+            updown(rising),
+            q.name
+        ),
+        _ => format!("{what} {} with {}", updown(rising), q.name),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::quantities::by_id;
+
+    #[test]
+    fn the_issue_sentences_come_out() {
+        let w = by_id("wire_over_gap").unwrap();
+        assert!(interpret(Place::TailNormal, Some(w), true, 1.2)
+            .contains("nears the wall: wall proximity"));
+        let g = by_id("tail_gap_ratio").unwrap();
+        assert!(interpret(Place::TailNormal, Some(g), false, 1.2)
+            .contains("rising as the helix nears the wall"));
+        let s = by_id("shear_rate").unwrap();
+        assert!(interpret(Place::TailViscosity, Some(s), false, 0.8).contains("shear-thinning"));
+        assert!(interpret(Place::DriveRate, None, false, 0.85).contains("slower than recorded"));
+    }
+}

@@ -1,0 +1,323 @@
+//! Discovery beyond the catalogue: locate the missing effect in the
+//! model's structure and state it as a formula.
+//!
+//! 1. [`screen`]: the response of every measured quantity to a change at
+//!    each place of the model ([`crate::effects::place`]), tabulated once.
+//! 2. [`search`]: every law `(place, feature, form)` of
+//!    [`crate::effects::correction`] (at most two free parameters) is fitted
+//!    on the table, weighted by the measurement CIs, and ranked by AICc.
+//!    On large datasets the screening uses an evenly strided subset of at
+//!    most `screen_cases` cases; the ranking only picks who is refitted.
+//! 3. The best `top` are refitted on every case with the real model
+//!    ([`crate::workbench::fit`], starting from the screened optimum), which
+//!    gives exact chi-square, MARE and 95 % CIs; their cross-validated MARE
+//!    is k-fold on the table (leave-one-case-out up to ten cases).
+//! 4. Each is given its explained fraction of the excess chi-square above
+//!    the noise floor and a physics sentence ([`interpret`]).
+//!
+//! Deciding what the results mean (located, indistinguishable, ...) is
+//! [`crate::workbench::diagnose`]'s job.
+//!
+//! References: Burnham & Anderson, *Model Selection and Multimodel
+//! Inference*, 2nd ed. (2002); S. L. Brunton, J. L. Proctor & J. N. Kutz,
+//! PNAS 113 (2016) 3932 (sparse identification of a model's missing terms
+//! from a library of candidate functions).
+
+pub mod interpret;
+pub mod screen;
+pub mod search;
+pub mod write;
+
+use super::compare::compare;
+use super::fit::{fit, free_params_of, Estimate, FitError};
+use crate::data::Dataset;
+use crate::effects::correction::{Form, LocatedCorrection};
+use crate::effects::place::Part;
+use crate::effects::EffectInstance;
+use crate::model::Model;
+use rayon::prelude::*;
+use screen::Table;
+use search::{corrections, cv_mare, fit_on_table, screen_one};
+use serde::Serialize;
+
+/// Settings of [`discover`]; `Default` gives the documented values.
+#[derive(Debug, Clone)]
+pub struct DiscoverySettings {
+    /// Candidates refitted exactly (10).
+    pub top: usize,
+    /// Most cases used for screening (100).
+    pub screen_cases: usize,
+    /// Cross-validation folds above ten cases (10).
+    pub folds: usize,
+}
+
+impl Default for DiscoverySettings {
+    fn default() -> Self {
+        DiscoverySettings {
+            top: 10,
+            screen_cases: 100,
+            folds: 10,
+        }
+    }
+}
+
+/// A located correction, fitted and scored.
+#[derive(Debug, Clone, Serialize)]
+pub struct Located {
+    pub part: Part,
+    pub target: &'static str,
+    /// `part.target`.
+    pub place: &'static str,
+    /// The feature's id, `None` for a constant.
+    pub feature: Option<&'static str>,
+    /// The feature's formula in the paper's symbols.
+    pub feature_name: Option<&'static str>,
+    pub form: Form,
+    /// The law with quantity ids, as written in an effect file.
+    pub formula: String,
+    pub params: Vec<Estimate>,
+    pub mare: f64,
+    pub cv_mare: f64,
+    pub chi2: f64,
+    pub chi2_reduced: Option<f64>,
+    pub aicc: Option<f64>,
+    pub at_noise_floor: bool,
+    /// Share of the reference model's chi-square above the noise floor that
+    /// this correction removes (1 = all of it; negative = worse).
+    pub explained_fraction: Option<f64>,
+    pub interpretation: String,
+    pub non_identifiable: Vec<String>,
+    #[serde(skip)]
+    pub model: Model,
+    #[serde(skip)]
+    pub correction: &'static LocatedCorrection,
+}
+
+/// What the search found.
+#[derive(Debug, Clone, Serialize)]
+pub struct Discovery {
+    /// Corrections screened on the table.
+    pub screened: usize,
+    /// The exact refits, best AICc first.
+    pub located: Vec<Located>,
+}
+
+/// What the search compares against: the reference model's chi-square,
+/// its already fitted parameters and the noise floor.
+pub struct Reference<'a> {
+    pub chi2: f64,
+    /// Free parameters already fitted in the model (counted in AICc).
+    pub k: usize,
+    pub floor: &'a (dyn Fn(usize) -> Option<f64> + Sync),
+}
+
+pub fn aicc(chi2: f64, n: usize, k: usize) -> Option<f64> {
+    let denom = n as i64 - k as i64 - 1;
+    (denom > 0).then(|| chi2 + 2.0 * k as f64 + 2.0 * (k * (k + 1)) as f64 / denom as f64)
+}
+
+/// Fraction of `reference`'s excess over the floor that `chi2` removes.
+pub fn explained_fraction(reference: f64, chi2: f64, floor0: Option<f64>) -> Option<f64> {
+    let excess = reference - floor0?;
+    (excess > 0.0).then(|| ((reference - chi2) / excess).min(1.0))
+}
+
+/// Search for the correction `model` misses on `data`.
+pub fn discover(
+    model: &Model,
+    data: &Dataset,
+    reference: &Reference,
+    s: &DiscoverySettings,
+) -> Result<Discovery, FitError> {
+    let table = Table::build(model, data)?;
+    let n_cases = data.cases.len();
+    let all: Vec<usize> = (0..table.obs.len()).collect();
+    let stride = n_cases.div_ceil(s.screen_cases.max(1)).max(1);
+    let screen_set: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&o| table.obs[o].case % stride == 0)
+        .collect();
+    let list = corrections(&table, data);
+    let n_screen = screen_set.len();
+    let mut screened: Vec<_> = list
+        .par_iter()
+        .map(|c| screen_one(&table, c, data, &screen_set))
+        .filter(|x| x.chi2.is_finite())
+        .collect();
+    let key = |x: &search::Screened| {
+        aicc(x.chi2, n_screen, reference.k + x.params.len()).unwrap_or(x.chi2)
+    };
+    screened.sort_by(|a, b| key(a).total_cmp(&key(b)));
+    // The best `top`, plus at each of their places the constant and the
+    // best one-parameter law, so that parsimony can choose among them.
+    let mut keep: Vec<usize> = (0..screened.len().min(s.top)).collect();
+    let places: Vec<_> = keep.iter().map(|&i| screened[i].correction.place).collect();
+    for place in places {
+        for constant in [true, false] {
+            if let Some(i) = screened.iter().position(|x| {
+                x.correction.place == place
+                    && x.params.len() == 1
+                    && (x.correction.form == Form::Constant) == constant
+            }) {
+                if !keep.contains(&i) {
+                    keep.push(i);
+                }
+            }
+        }
+    }
+    let screened: Vec<_> = keep.into_iter().map(|i| screened[i].clone()).collect();
+    let folds = if n_cases <= 10 { n_cases } else { s.folds };
+    let floor0 = (reference.floor)(0);
+    let mut located: Vec<Located> = screened
+        .into_par_iter()
+        .filter_map(|mut x| {
+            if stride > 1 {
+                let (p, f) = fit_on_table(&table, x.correction, &x.xs, &all, &x.params);
+                x.params = p;
+                x.chi2 = f;
+            }
+            let cv = cv_mare(&table, &x, n_cases, folds);
+            refit(model, data, x, cv, reference, floor0).ok()
+        })
+        .collect();
+    located.sort_by(|a, b| {
+        let k = |l: &Located| l.aicc.unwrap_or(f64::INFINITY);
+        k(a).total_cmp(&k(b))
+    });
+    Ok(Discovery {
+        screened: list.len(),
+        located,
+    })
+}
+
+/// The exact refit of one screened correction.
+fn refit(
+    model: &Model,
+    data: &Dataset,
+    x: search::Screened,
+    cv_mare: f64,
+    reference: &Reference,
+    floor0: Option<f64>,
+) -> Result<Located, FitError> {
+    let c = x.correction;
+    let m = model.clone().with_effect(EffectInstance {
+        effect: c,
+        values: x.params.clone(),
+    });
+    let free = free_params_of(&m, &[m.effects.len() - 1]);
+    let full = fit(&m, data, None, &free, false)?;
+    let k = reference.k + free.len();
+    let cmp = compare(&full.model, data, k)?;
+    let n = cmp.summary.n;
+    let values = full
+        .model
+        .effects
+        .last()
+        .expect("just added")
+        .values
+        .clone();
+    // Rising or falling across the data, judged at the extreme cases.
+    let by_x = |a: &&crate::data::Case, b: &&crate::data::Case| c.x(a).total_cmp(&c.x(b));
+    let lo = data.cases.iter().min_by(by_x).expect("cases");
+    let hi = data.cases.iter().max_by(by_x).expect("cases");
+    let rising = c.value(&values, hi) > c.value(&values, lo);
+    let mean_value =
+        data.cases.iter().map(|k| c.value(&values, k)).sum::<f64>() / data.cases.len() as f64;
+    Ok(Located {
+        part: c.place.part(),
+        target: c.place.target(),
+        place: c.place.name(),
+        feature: c.feature.map(|q| q.id),
+        feature_name: c.feature.map(|q| q.name),
+        form: c.form,
+        formula: c.formula(),
+        params: full.estimates.clone(),
+        mare: cmp.summary.mare,
+        cv_mare,
+        chi2: full.chi2,
+        chi2_reduced: cmp.summary.chi2_reduced,
+        aicc: aicc(full.chi2, n, k),
+        at_noise_floor: (reference.floor)(k).is_some_and(|f| full.chi2 <= f),
+        explained_fraction: explained_fraction(reference.chi2, full.chi2, floor0),
+        interpretation: interpret::interpret(c.place, c.feature, rising, mean_value),
+        non_identifiable: full.non_identifiable.clone(),
+        model: full.model,
+        correction: c,
+    })
+}
+
+impl Located {
+    /// `tail.c_n = 1 + k (wire_over_gap/0.1)^p` with fitted values.
+    pub fn describe(&self) -> String {
+        let params = self
+            .params
+            .iter()
+            .map(|p| format!("{}={}", p.name, crate::report::fmt_sig(p.value, 4)))
+            .collect::<Vec<_>>()
+            .join(", ");
+        format!("{} = {} ({params})", self.place, self.formula)
+    }
+
+    /// Whether two findings name the same physics: same place, and the same
+    /// feature or features ordered identically across the cases (monotone
+    /// functions of each other on this design, which no fit can tell apart).
+    pub fn same_finding(&self, other: &Located, data: &Dataset) -> bool {
+        if self.place != other.place {
+            return false;
+        }
+        match (self.correction.feature, other.correction.feature) {
+            (None, None) => true,
+            (Some(a), Some(b)) => a.id == b.id || equivalent(a, b, data),
+            _ => false,
+        }
+    }
+}
+
+/// Two features are equivalent on a design when their Spearman rank
+/// correlation is +-1 (within 1e-9): one is a monotone function of the
+/// other over the cases.
+pub fn equivalent(
+    a: &crate::data::quantities::Quantity,
+    b: &crate::data::quantities::Quantity,
+    data: &Dataset,
+) -> bool {
+    let rank = |q: &crate::data::quantities::Quantity| {
+        let v: Vec<f64> = data.cases.iter().map(|c| q.of(c)).collect();
+        let mut idx: Vec<usize> = (0..v.len()).collect();
+        idx.sort_by(|&i, &j| v[i].total_cmp(&v[j]));
+        let mut r = vec![0.0; v.len()];
+        for (pos, &i) in idx.iter().enumerate() {
+            r[i] = pos as f64;
+        }
+        // Ties share their mean rank.
+        let mut i = 0;
+        while i < idx.len() {
+            let mut j = i;
+            while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
+                j += 1;
+            }
+            let mean = 0.5 * (i + j) as f64;
+            for &t in &idx[i..=j] {
+                r[t] = mean;
+            }
+            i = j + 1;
+        }
+        r
+    };
+    let (ra, rb) = (rank(a), rank(b));
+    let n = ra.len() as f64;
+    let m = (n - 1.0) / 2.0;
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for (x, y) in ra.iter().zip(&rb) {
+        sab += (x - m) * (y - m);
+        saa += (x - m) * (x - m);
+        sbb += (y - m) * (y - m);
+    }
+    saa > 0.0 && sbb > 0.0 && (sab / (saa * sbb).sqrt()).abs() > 1.0 - 1e-9
+}
+
+/// Whether a form is a constant (no feature).
+pub fn is_constant(l: &Located) -> bool {
+    l.form == Form::Constant
+}
