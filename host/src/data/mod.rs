@@ -4,10 +4,12 @@
 //! `docs/data-format.md`; the paper's Tables I, II and IV ship built in.
 
 mod parse;
+mod profile;
 pub mod quantities;
 mod write;
 
 pub use parse::{load_file, parse_str};
+pub use profile::PROFILE_TOLERANCE;
 pub use write::to_toml;
 
 use crate::physics::geometry::{Body, Channel, Coupler, Handedness, Helix};
