@@ -161,6 +161,8 @@ pub struct BodySolve {
     pub flux: Option<FluxCheck>,
     /// Wall-clock time of assembly, solves and diagnostics.
     pub seconds: f64,
+    /// Of which the flux diagnostic.
+    pub flux_seconds: f64,
 }
 
 impl BodySolve {
