@@ -114,8 +114,9 @@ pub struct AxisymSettings {
 }
 
 impl Default for AxisymSettings {
-    /// 8 elements per gap: within 0.3 % of the finest setting on the
-    /// paper's body (convergence table in the notes), about 300 elements.
+    /// 8 elements per gap: within 0.1 % of resolution 32 on the paper's
+    /// spheroid in the paper's tube (convergence table in the notes), about
+    /// 200 elements.
     fn default() -> Self {
         AxisymSettings {
             resolution: 8.0,

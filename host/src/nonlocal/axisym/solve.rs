@@ -101,7 +101,8 @@ pub fn build_mesh(
     let mut wall_pieces = Vec::new();
     if let Some((radius, length, closed)) = confinement.tube() {
         let (lo, hi) = (-0.5 * length, 0.5 * length);
-        // Nearest tube end to the body: finer than the body's size only if close.
+        // The tube's rims: the open pipe's free edge has a singular
+        // traction; a closed tube's concave corner is mild but cheap to refine.
         for x in [lo, hi] {
             corners.push(([x, radius], 0.5 * h0));
         }
