@@ -237,3 +237,25 @@ fn the_dataset_profile_parses_round_trips_and_defaults_to_the_spheroid() {
         "{e}"
     );
 }
+
+#[test]
+fn a_cylinder_with_hemispherical_ends_and_no_length_is_the_sphere() {
+    // Section 20 x 20 mm with 10 mm rim fillets: two quarter arcs meeting
+    // at the equator, i.e. the sphere, through the profile's arc pieces.
+    let capsule = BodyProfile::cylinder(20.0, 20.0, 10.0);
+    let sphere = BodyProfile::spheroid(20.0, 20.0);
+    let tube = Confinement::Closed {
+        diameter_m: 0.05,
+        length_m: 0.2,
+    };
+    let s = AxisymSettings::default();
+    let c = solve_body(&capsule, &tube, 0.0, 1.0, &s).unwrap();
+    let p = solve_body(&sphere, &tube, 0.0, 1.0, &s).unwrap();
+    assert!(
+        rel(c.drag_n_s_per_m, p.drag_n_s_per_m).abs() < 1e-3,
+        "{c:?} {p:?}"
+    );
+    assert!(rel(c.rotational_drag_n_m_s, p.rotational_drag_n_m_s).abs() < 1e-3);
+    // And a/R = 0.4 is Bohlin's 3.588 within 0.5 %.
+    assert!(rel(c.drag_n_s_per_m / (6.0 * PI * 0.01), 3.5884).abs() < 0.005);
+}

@@ -9,6 +9,10 @@
 //! body of a dataset case (`--data F --case ID`: its `body_profile` if
 //! given, else its spheroid, and its channel and viscosity unless
 //! overridden). Without a channel the body is in free space.
+//!
+//! References: the solver and its checks, `crate::nonlocal::axisym`
+//! (Pozrikidis 1992); the annular closed forms, Chen, Lescarboura & Swift,
+//! AIChE J. 14 (1968) 123.
 
 use super::output::{print_json, Format};
 use super::CliError;

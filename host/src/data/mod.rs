@@ -5,11 +5,13 @@
 
 pub mod limits;
 mod parse;
+mod profile;
 pub mod quantities;
 pub mod uncertainty;
 mod write;
 
 pub use parse::{load_file, parse_str};
+pub use profile::PROFILE_TOLERANCE;
 pub use write::to_toml;
 
 use crate::physics::geometry::{Body, Channel, Coupler, Handedness, Helix};

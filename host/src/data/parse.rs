@@ -5,7 +5,6 @@
 use super::uncertainty::{merge_tables, AmplitudeConvention, CaseInputs};
 use super::{Case, DataError, Dataset, Measured, Orientation};
 use crate::physics::geometry::Handedness;
-use crate::physics::profile::{BodyProfile, Section};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -314,7 +313,7 @@ fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, D
     let profile = c.body_profile.as_ref().or(s.body_profile.as_ref());
     let rounded = c.body_rounded_mm.or(s.body_rounded_mm);
     let case = Case {
-        body_profile: body_profile(&r, &case, profile, rounded)?,
+        body_profile: super::profile::resolve(|f, m| r.fail(f, m), &case, profile, rounded)?,
         ..case
     };
     Ok(case)
@@ -362,88 +361,6 @@ fn with_inputs(
         amplitude_convention: convention,
     };
     Ok(case)
-}
-
-/// Relative tolerance between the profile's total length and largest
-/// diameter and `body_length_mm` / `body_diameter_mm`, which the rest of
-/// the model (RFT body, buoyancy, back-flow) keeps using.
-pub const PROFILE_TOLERANCE: f64 = 0.01;
-
-fn body_profile(
-    r: &Resolver<'_>,
-    case: &Case,
-    sections: Option<&Vec<[f64; 2]>>,
-    rounded_mm: Option<f64>,
-) -> Result<Option<BodyProfile>, DataError> {
-    let Some(sections) = sections else {
-        if rounded_mm.is_some() {
-            return Err(r.fail("body_rounded_mm", "given without `body_profile`"));
-        }
-        return Ok(None);
-    };
-    if sections.is_empty() {
-        return Err(r.fail(
-            "body_profile",
-            "needs at least one [length_mm, diameter_mm] section",
-        ));
-    }
-    for (i, [l, d]) in sections.iter().enumerate() {
-        let field = format!("body_profile[{i}]");
-        for (what, v) in [("length_mm", l), ("diameter_mm", d)] {
-            if !v.is_finite() || *v <= 0.0 {
-                return Err(r.fail(
-                    &field,
-                    format!(
-                        "section {i} (nose = 0): {what} must be a positive finite number, got {v}"
-                    ),
-                ));
-            }
-        }
-        if *d >= case.channel_diameter_mm {
-            return Err(r.fail(
-                &field,
-                format!(
-                    "section {i} (nose = 0): diameter {d} mm does not fit in the {} mm channel",
-                    case.channel_diameter_mm
-                ),
-            ));
-        }
-    }
-    let profile = BodyProfile::Sections {
-        sections: sections
-            .iter()
-            .map(|&[length_mm, diameter_mm]| Section {
-                length_mm,
-                diameter_mm,
-            })
-            .collect(),
-        rounded_mm: rounded_mm.unwrap_or(0.0),
-    };
-    profile
-        .validate()
-        .map_err(|e| r.fail("body_rounded_mm", e))?;
-    let (len, dia) = (profile.length_mm(), profile.max_diameter_mm());
-    if (len / case.body_length_mm - 1.0).abs() > PROFILE_TOLERANCE {
-        return Err(r.fail(
-            "body_profile",
-            format!(
-                "the sections add up to {len} mm, but body_length_mm is {} mm (allowed: within {} %)",
-                case.body_length_mm,
-                100.0 * PROFILE_TOLERANCE
-            ),
-        ));
-    }
-    if (dia / case.body_diameter_mm - 1.0).abs() > PROFILE_TOLERANCE {
-        return Err(r.fail(
-            "body_profile",
-            format!(
-                "the largest section diameter is {dia} mm, but body_diameter_mm is {} mm (allowed: within {} %)",
-                case.body_diameter_mm,
-                100.0 * PROFILE_TOLERANCE
-            ),
-        ));
-    }
-    Ok(Some(profile))
 }
 
 /// Relations between fields that the physics needs.

@@ -114,8 +114,9 @@ pub struct AxisymSettings {
 }
 
 impl Default for AxisymSettings {
-    /// 8 elements per gap: within 0.3 % of the finest setting on the
-    /// paper's body (convergence table in the notes), about 300 elements.
+    /// 8 elements per gap: within 0.1 % of resolution 32 on the paper's
+    /// spheroid in the paper's tube (convergence table in the notes), about
+    /// 200 elements.
     fn default() -> Self {
         AxisymSettings {
             resolution: 8.0,
@@ -161,6 +162,8 @@ pub struct BodySolve {
     pub flux: Option<FluxCheck>,
     /// Wall-clock time of assembly, solves and diagnostics.
     pub seconds: f64,
+    /// Of which the flux diagnostic.
+    pub flux_seconds: f64,
 }
 
 impl BodySolve {
