@@ -31,6 +31,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         super::output::check_output_dir(&args.report)?;
     }
     let cmp = compare(&model, &data, 0)?;
+    super::output::check_finite("comparison", &cmp)?;
     // The report is written before anything is printed, so that a failure
     // does not follow a complete-looking table.
     let report = if args.no_report {

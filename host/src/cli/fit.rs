@@ -84,6 +84,8 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
     }
     let result = fit(&model, &data, only.as_deref(), &free, true).map_err(CliError::input)?;
     let all = compare(&result.model, &data, free.len())?;
+    super::output::check_finite("fit", &result)?;
+    super::output::check_finite("comparison", &all)?;
     if a.format == Format::Json {
         print_json(&serde_json::json!({ "fit": result, "comparison": all }));
         return Ok(());

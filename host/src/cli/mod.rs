@@ -6,6 +6,7 @@ mod compare;
 mod diagnose;
 mod effects;
 mod error;
+mod finite;
 mod fit;
 mod helix;
 mod model_args;
