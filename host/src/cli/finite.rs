@@ -60,7 +60,7 @@ macro_rules! pass {
     };
 }
 
-impl<'a> ser::Serializer for &'a mut Check {
+impl ser::Serializer for &mut Check {
     type Ok = ();
     type Error = NonFinite;
     type SerializeSeq = Self;
