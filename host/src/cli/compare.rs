@@ -30,7 +30,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     if !args.no_report {
         super::output::check_output_dir(&args.report)?;
     }
-    let cmp = compare(&model, &data, 0)?;
+    let cmp = compare(&model, &data, 0).map_err(super::model_args::in_data(&args.data.data))?;
     super::output::check_finite("comparison", &cmp)?;
     // The report is written before anything is printed, so that a failure
     // does not follow a complete-looking table.
