@@ -185,7 +185,7 @@ impl Resolver<'_> {
                 return Err(self.fail(trials_name, format!("contains a non-finite value {bad}")));
             }
             let (m, half) = crate::stats::mean_and_ci(values, confidence);
-            if !(half > super::limits::MIN_RELATIVE_CI * m.abs()) {
+            if half <= super::limits::MIN_RELATIVE_CI * m.abs() {
                 let why = "the trials are (nearly) identical: a zero-width interval gives the measurement an infinite weight";
                 return Err(self.fail(trials_name, why));
             }
