@@ -64,7 +64,8 @@ impl Residual {
 /// Summary of a set of residuals.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct FitSummary {
-    /// Mean absolute relative error over all compared quantities.
+    /// Mean absolute relative error over all compared quantities (0 when
+    /// there is nothing to compare, `n = 0`: never NaN).
     pub mare: f64,
     pub max_abs_rel_err: f64,
     /// Chi-square over (n - k); `None` when n - k <= 0.
@@ -81,7 +82,7 @@ pub fn summarise(residuals: &[Residual], free_params: usize) -> FitSummary {
     let dof = n as i64 - free_params as i64;
     FitSummary {
         mare: if n == 0 {
-            f64::NAN
+            0.0
         } else {
             rel.iter().sum::<f64>() / n as f64
         },

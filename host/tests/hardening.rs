@@ -81,7 +81,7 @@ fn dataset_nonsense_is_refused_with_file_case_and_field() {
         (
             "u_mm_s = 0.5860\nu_ci_mm_s = 0.0640",
             "u_trials_mm_s = [0.5, 0.5, 0.5]",
-            &["identical trials"],
+            &["u_trials_mm_s", "identical"],
         ),
         (
             "coupler_diameter_mm = 6.0",

@@ -16,7 +16,12 @@ fuzz_target!(|bytes: &[u8]| {
     };
     assert!(!data.cases.is_empty() && data.cases.len() <= limits::MAX_CASES);
     for c in &data.cases {
-        assert_eq!(limits::check_case(c), Ok(()), "accepted case {} breaks a limit", c.id);
+        assert_eq!(
+            limits::check_case(c),
+            Ok(()),
+            "accepted case {} breaks a limit",
+            c.id
+        );
         for m in [c.u_mm_s, c.omega_body_hz].into_iter().flatten() {
             assert!(m.standard_error().is_finite() && m.standard_error() > 0.0);
         }

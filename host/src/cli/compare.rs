@@ -50,7 +50,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     if !args.no_report {
         super::output::check_output_dir(&args.report)?;
     }
-    let mut cmp = compare(&model, &data, 0)?;
+    let mut cmp = compare(&model, &data, 0).map_err(super::model_args::in_data(&args.data.data))?;
     let mut checks = Vec::new();
     if has_inputs {
         let bands = bands(&model, &data)?;
@@ -63,6 +63,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         }
         cmp = cmp.with_bands(&data, &bands);
     }
+    super::output::check_finite("comparison", &cmp)?;
     // The report is written before anything is printed, so that a failure
     // does not follow a complete-looking table.
     let report = if args.no_report {

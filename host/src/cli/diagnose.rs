@@ -91,6 +91,7 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     };
     let _ = SPINNER.set(spinner.clone());
     let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
+    super::output::check_finite("diagnosis", &d)?;
     spinner.finish_and_clear();
     match a.format {
         Format::Json => print_json(&d),

@@ -83,7 +83,10 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
         )));
     }
     let result = fit(&model, &data, only.as_deref(), &free, true).map_err(CliError::input)?;
-    let all = compare(&result.model, &data, free.len())?;
+    let all = compare(&result.model, &data, free.len())
+        .map_err(super::model_args::in_data(&a.data.data))?;
+    super::output::check_finite("fit", &result)?;
+    super::output::check_finite("comparison", &all)?;
     if a.format == Format::Json {
         print_json(&serde_json::json!({ "fit": result, "comparison": all }));
         return Ok(());

@@ -153,6 +153,7 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
         c_t_pa_s: drag.tangential,
         c_n_pa_s: drag.normal,
     };
+    super::output::check_finite("resistance matrix", &out)?;
     match a.format {
         Format::Json => print_json(&out),
         _ => print_table(&out),

@@ -8,6 +8,7 @@ mod compare;
 mod diagnose;
 mod effects;
 mod error;
+mod finite;
 mod fit;
 mod helix;
 mod model_args;

@@ -161,6 +161,19 @@ impl DataArgs {
     }
 }
 
+/// Prefix a model failure with the dataset it came from, so that a message
+/// like "case `x`: the force balance is singular" also names the file.
+pub fn in_data(path: &Option<PathBuf>) -> impl Fn(crate::model::ModelError) -> CliError + '_ {
+    move |e| {
+        let file = path
+            .as_ref()
+            .map_or("<built-in paper data>".to_string(), |p| {
+                p.display().to_string()
+            });
+        CliError::input(format!("{file}: {e}"))
+    }
+}
+
 /// `path` or the built-in paper data.
 pub fn load_data(path: &Option<PathBuf>) -> Result<Dataset, CliError> {
     match path {

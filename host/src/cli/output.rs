@@ -22,6 +22,18 @@ pub fn print_json<T: serde::Serialize>(value: &T) {
     );
 }
 
+/// Refuse to print a result with a non-finite number (JSON would show it as
+/// `null`, a table as NaN): valid input that yields one is a fault of the
+/// computation (exit 1), reported with the number's path.
+pub fn check_finite<T: serde::Serialize + ?Sized>(what: &str, value: &T) -> Result<(), CliError> {
+    match super::finite::first_non_finite(value) {
+        None => Ok(()),
+        Some(at) => Err(CliError::failure(format!(
+            "the {what} has a non-finite number ({at}); nothing was printed"
+        ))),
+    }
+}
+
 /// `Some(x)` formatted to `sig` digits, `-` for none.
 pub fn opt(v: Option<f64>, sig: usize) -> String {
     v.map(|x| crate::report::fmt_sig(x, sig))

@@ -194,6 +194,10 @@ impl Resolver<'_> {
                 return Err(self.fail(trials_name, format!("contains a non-finite value {bad}")));
             }
             let (m, half) = crate::stats::mean_and_ci(values, confidence);
+            if half <= super::limits::MIN_RELATIVE_CI * m.abs() {
+                let why = "the trials are (nearly) identical: a zero-width interval gives the measurement an infinite weight";
+                return Err(self.fail(trials_name, why));
+            }
             return Ok(Some(Measured {
                 mean: m,
                 ci_half_width: half,

@@ -32,6 +32,13 @@ pub fn write_report(
     let page = html::page(model, data, diagnosis).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
     let path = dir.join("index.html");
-    std::fs::write(&path, page).map_err(|e| e.to_string())?;
+    // Temporary file, then rename: a failed write never leaves half a page.
+    let tmp = dir.join(format!(".index.html.tmp-{}", std::process::id()));
+    std::fs::write(&tmp, page)
+        .and_then(|()| std::fs::rename(&tmp, &path))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            e.to_string()
+        })?;
     Ok(path)
 }
