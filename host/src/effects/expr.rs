@@ -46,6 +46,8 @@ enum Node {
     Quantity(&'static Quantity),
     Neg(Box<Node>),
     Bin(BinOp, Box<Node>, Box<Node>),
+    /// `x^n` with a constant integer exponent: `powi` is exact and ~10x faster than `powf`.
+    PowI(Box<Node>, i32),
     Call1(Fn1, Box<Node>),
     Call2(Fn2, Box<Node>, Box<Node>),
 }
@@ -172,6 +174,7 @@ impl Node {
                     BinOp::Pow => a.powf(b),
                 }
             }
+            Node::PowI(a, n) => a.eval(p, case).powi(*n),
             Node::Call1(f, a) => f(a.eval(p, case)),
             Node::Call2(f, a, b) => f(a.eval(p, case), b.eval(p, case)),
         }
@@ -180,7 +183,7 @@ impl Node {
     fn visit(&self, f: &mut dyn FnMut(&Node)) {
         f(self);
         match self {
-            Node::Neg(a) | Node::Call1(_, a) => a.visit(f),
+            Node::Neg(a) | Node::PowI(a, _) | Node::Call1(_, a) => a.visit(f),
             Node::Bin(_, a, b) | Node::Call2(_, a, b) => {
                 a.visit(f);
                 b.visit(f);
@@ -351,7 +354,15 @@ impl Parser<'_> {
         if self.peek_op() == Some('^') {
             self.pos += 1;
             let exponent = self.unary()?;
-            return Ok(Node::Bin(BinOp::Pow, Box::new(base), Box::new(exponent)));
+            let small_int = |x: f64| x.fract() == 0.0 && x.abs() <= 64.0;
+            return Ok(match exponent {
+                Node::Num(x) if small_int(x) => Node::PowI(Box::new(base), x as i32),
+                Node::Neg(ref inner) => match **inner {
+                    Node::Num(x) if small_int(x) => Node::PowI(Box::new(base), -(x as i32)),
+                    _ => Node::Bin(BinOp::Pow, Box::new(base), Box::new(exponent)),
+                },
+                _ => Node::Bin(BinOp::Pow, Box::new(base), Box::new(exponent)),
+            });
         }
         Ok(base)
     }
@@ -521,6 +532,11 @@ mod tests {
         assert_eq!(eval("-2^2", &[], &[]), -4.0);
         assert_eq!(eval("2^3^2", &[], &[]), 512.0);
         assert_eq!(eval("2^-1", &[], &[]), 0.5);
+        assert_eq!(
+            eval("k^2 + k^-2 + k^0.5", &["k"], &[4.0]),
+            16.0 + 0.0625 + 2.0
+        );
+        assert_eq!(eval("(-2)^3", &[], &[]), -8.0);
         assert_eq!(eval("1/2", &[], &[]), 0.5);
         assert_eq!(eval("8 / 2 / 2", &[], &[]), 2.0);
         assert_eq!(eval("1 - 2 - 3", &[], &[]), -4.0);
