@@ -25,6 +25,7 @@ mod body_correction;
 mod buoyancy;
 mod coupler;
 pub mod expr;
+mod expr_lex;
 pub mod formula;
 mod motor_frame;
 mod nonlocal_tail;
