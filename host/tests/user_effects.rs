@@ -15,9 +15,12 @@ fn fixture(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// Run the binary in a fresh directory (compare writes its report beside it).
 fn swimbot(args: &[&str]) -> Output {
+    let cwd = tempfile::tempdir().unwrap();
     Command::new(env!("CARGO_BIN_EXE_swimbot"))
         .args(args)
+        .current_dir(cwd.path())
         .output()
         .expect("the swimbot binary runs")
 }

@@ -30,6 +30,8 @@
 //! trap for physics formulas; `fasteval` and `meval` are unmaintained. The
 //! whole language is ~250 lines here, tested below, with exact positions.
 
+pub use super::expr_lex::suggest;
+use super::expr_lex::{lex, Kind, Token};
 use crate::data::quantities::{self, Quantity};
 use crate::data::Case;
 
@@ -46,6 +48,8 @@ enum Node {
     Quantity(&'static Quantity),
     Neg(Box<Node>),
     Bin(BinOp, Box<Node>, Box<Node>),
+    /// `x^n` with a constant integer exponent: `powi` is exact and ~10x faster than `powf`.
+    PowI(Box<Node>, i32),
     Call1(Fn1, Box<Node>),
     Call2(Fn2, Box<Node>, Box<Node>),
 }
@@ -172,6 +176,7 @@ impl Node {
                     BinOp::Pow => a.powf(b),
                 }
             }
+            Node::PowI(a, n) => a.eval(p, case).powi(*n),
             Node::Call1(f, a) => f(a.eval(p, case)),
             Node::Call2(f, a, b) => f(a.eval(p, case), b.eval(p, case)),
         }
@@ -180,7 +185,7 @@ impl Node {
     fn visit(&self, f: &mut dyn FnMut(&Node)) {
         f(self);
         match self {
-            Node::Neg(a) | Node::Call1(_, a) => a.visit(f),
+            Node::Neg(a) | Node::PowI(a, _) | Node::Call1(_, a) => a.visit(f),
             Node::Bin(_, a, b) | Node::Call2(_, a, b) => {
                 a.visit(f);
                 b.visit(f);
@@ -188,88 +193,6 @@ impl Node {
             _ => {}
         }
     }
-}
-
-#[derive(Debug, Clone, PartialEq)]
-enum Kind {
-    Num(f64),
-    Ident,
-    Op(char),
-}
-
-#[derive(Debug, Clone)]
-struct Token {
-    kind: Kind,
-    text: String,
-    column: usize,
-}
-
-fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
-    let chars: Vec<char> = text.chars().collect();
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        let column = i + 1;
-        if c.is_whitespace() {
-            i += 1;
-        } else if c.is_ascii_digit()
-            || (c == '.' && chars.get(i + 1).is_some_and(char::is_ascii_digit))
-        {
-            let start = i;
-            while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
-                i += 1;
-            }
-            // An exponent only when digits follow, so `2e` stays an error, not 2.
-            if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
-                let mut j = i + 1;
-                if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
-                    j += 1;
-                }
-                if j < chars.len() && chars[j].is_ascii_digit() {
-                    i = j;
-                    while i < chars.len() && chars[i].is_ascii_digit() {
-                        i += 1;
-                    }
-                }
-            }
-            let s: String = chars[start..i].iter().collect();
-            let x: f64 = s.parse().map_err(|_| ExprError {
-                column,
-                message: format!("`{s}` is not a number"),
-            })?;
-            out.push(Token {
-                kind: Kind::Num(x),
-                text: s,
-                column,
-            });
-        } else if c.is_ascii_alphabetic() || c == '_' {
-            let start = i;
-            while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
-                i += 1;
-            }
-            out.push(Token {
-                kind: Kind::Ident,
-                text: chars[start..i].iter().collect(),
-                column,
-            });
-        } else if "+-*/^(),".contains(c) {
-            out.push(Token {
-                kind: Kind::Op(c),
-                text: c.to_string(),
-                column,
-            });
-            i += 1;
-        } else {
-            return Err(ExprError {
-                column,
-                message: format!(
-                    "unexpected character `{c}`; allowed: numbers, names, + - * / ^ ( ) and commas"
-                ),
-            });
-        }
-    }
-    Ok(out)
 }
 
 struct Parser<'a> {
@@ -351,7 +274,15 @@ impl Parser<'_> {
         if self.peek_op() == Some('^') {
             self.pos += 1;
             let exponent = self.unary()?;
-            return Ok(Node::Bin(BinOp::Pow, Box::new(base), Box::new(exponent)));
+            let small_int = |x: f64| x.fract() == 0.0 && x.abs() <= 64.0;
+            return Ok(match exponent {
+                Node::Num(x) if small_int(x) => Node::PowI(Box::new(base), x as i32),
+                Node::Neg(ref inner) => match **inner {
+                    Node::Num(x) if small_int(x) => Node::PowI(Box::new(base), -(x as i32)),
+                    _ => Node::Bin(BinOp::Pow, Box::new(base), Box::new(exponent)),
+                },
+                _ => Node::Bin(BinOp::Pow, Box::new(base), Box::new(exponent)),
+            });
         }
         Ok(base)
     }
@@ -465,42 +396,6 @@ impl Parser<'_> {
     }
 }
 
-/// `" (did you mean `a`, `b`?)"` for the closest candidates, or nothing.
-pub fn suggest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> String {
-    let mut close: Vec<(usize, &str)> = candidates
-        .filter_map(|c| {
-            let d = edit_distance(name, c);
-            let near = d <= 2.max(name.len() / 4)
-                || (name.len() >= 3 && (c.contains(name) || name.contains(c) && c.len() >= 3));
-            near.then_some((d, c))
-        })
-        .collect();
-    close.sort();
-    close.dedup_by(|a, b| a.1 == b.1);
-    if close.is_empty() {
-        return String::new();
-    }
-    let names: Vec<String> = close.iter().take(4).map(|c| format!("`{}`", c.1)).collect();
-    format!(" (did you mean {}?)", names.join(", "))
-}
-
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for j in 0..b.len() {
-            let cur = row[j + 1];
-            row[j + 1] = (prev + usize::from(ca != b[j]))
-                .min(row[j] + 1)
-                .min(cur + 1);
-            prev = cur;
-        }
-    }
-    row[b.len()]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -521,6 +416,11 @@ mod tests {
         assert_eq!(eval("-2^2", &[], &[]), -4.0);
         assert_eq!(eval("2^3^2", &[], &[]), 512.0);
         assert_eq!(eval("2^-1", &[], &[]), 0.5);
+        assert_eq!(
+            eval("k^2 + k^-2 + k^0.5", &["k"], &[4.0]),
+            16.0 + 0.0625 + 2.0
+        );
+        assert_eq!(eval("(-2)^3", &[], &[]), -8.0);
         assert_eq!(eval("1/2", &[], &[]), 0.5);
         assert_eq!(eval("8 / 2 / 2", &[], &[]), 2.0);
         assert_eq!(eval("1 - 2 - 3", &[], &[]), -4.0);

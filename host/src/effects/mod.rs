@@ -27,6 +27,7 @@ mod buoyancy;
 pub mod correction;
 mod coupler;
 pub mod expr;
+mod expr_lex;
 pub mod formula;
 mod motor_frame;
 mod nonlocal_tail;

@@ -118,3 +118,47 @@ pub fn all() -> Vec<&'static dyn Effect> {
     v.extend(user_effects().into_iter().map(|e| e as &'static dyn Effect));
     v
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::effects::formula::UserEffectSpec;
+    use crate::effects::place::Place;
+
+    fn effect(name: &str, formula: &str, source: &str) -> FormulaEffect {
+        let spec = UserEffectSpec {
+            name: name.into(),
+            statement: "s".into(),
+            reference: "r".into(),
+            applies_to: None,
+            params: Vec::new(),
+            places: vec![(Place::DriveRate, formula.into())],
+        };
+        FormulaEffect::new(spec, source).unwrap()
+    }
+
+    #[test]
+    fn the_same_effect_twice_is_one_effect_and_a_different_one_of_that_name_is_refused() {
+        let a = register_user_effects(vec![effect("registry-test-a", "0.9", "a.toml")]).unwrap();
+        let again =
+            register_user_effects(vec![effect("registry-test-a", "0.9", "a.toml")]).unwrap();
+        assert!(std::ptr::eq(a[0], again[0]));
+        let err = register_user_effects(vec![effect("registry-test-a", "0.8", "b.toml")])
+            .err()
+            .unwrap();
+        assert!(err.contains("b.toml") && err.contains("a.toml"), "{err}");
+        let err = register_user_effects(vec![effect("backflow", "0.8", "b.toml")])
+            .err()
+            .unwrap();
+        assert!(err.contains("catalogue"), "{err}");
+        assert!(crate::effects::by_name("registry-test-a").is_some());
+        assert!(all().iter().any(|e| e.name() == "registry-test-a"));
+        assert_eq!(
+            user_effects()
+                .iter()
+                .filter(|e| e.spec().name == "registry-test-a")
+                .count(),
+            1
+        );
+    }
+}

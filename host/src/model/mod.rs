@@ -145,6 +145,11 @@ impl Model {
     /// [`crate::physics::geometry::Helix::phase_rad`]).
     pub fn tail_matrix_at(&self, case: &Case, phase_rad: f64) -> Result<Matrix6<f64>, ModelError> {
         self.check_effects(case)?;
+        self.tail_matrix_checked(case, phase_rad)
+    }
+
+    /// [`Self::tail_matrix_at`] once the effects are checked.
+    fn tail_matrix_checked(&self, case: &Case, phase_rad: f64) -> Result<Matrix6<f64>, ModelError> {
         let helix = crate::physics::geometry::Helix {
             phase_rad,
             ..case.helix()
@@ -199,6 +204,11 @@ impl Model {
     /// The body matrix for a case, effects applied.
     pub fn body_matrix(&self, case: &Case) -> Result<Matrix6<f64>, ModelError> {
         self.check_effects(case)?;
+        self.body_matrix_checked(case)
+    }
+
+    /// [`Self::body_matrix`] once the effects are checked.
+    fn body_matrix_checked(&self, case: &Case) -> Result<Matrix6<f64>, ModelError> {
         let mut b = BodyResistance::prolate_spheroid(&case.body(), case.viscosity_pa_s)
             .map_err(|source| ModelError::Body {
                 case: case.id.clone(),
@@ -222,8 +232,11 @@ impl Model {
         case: &Case,
         phase_rad: f64,
     ) -> Result<ForceBalance, ModelError> {
-        let tail = self.tail_matrix_at(case, phase_rad)?;
-        let mut fb = ForceBalance::new(self.body_matrix(case)?, tail, case.tail_rate_rad_s());
+        // One check serves every stage of this prediction.
+        self.check_effects(case)?;
+        let tail = self.tail_matrix_checked(case, phase_rad)?;
+        let body = self.body_matrix_checked(case)?;
+        let mut fb = ForceBalance::new(body, tail, case.tail_rate_rad_s());
         fb.dofs = self.dofs;
         for e in self.active(case) {
             e.effect.balance(&e.values, case, &mut fb);
