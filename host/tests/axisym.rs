@@ -217,10 +217,16 @@ fn the_dataset_profile_parses_round_trips_and_defaults_to_the_spheroid() {
     );
     assert_eq!(parse_str(&to_toml(&d), "again").unwrap(), d);
     // Without the key: the model's spheroid, as before.
+    let plain = text.replace(
+        "body_profile = [[10.0, 20.0], [30.0, 18.0], [10.0, 20.0]]",
+        "",
+    );
     assert_eq!(
-        paper().cases[0].body_profile(),
+        parse_str(&plain, "plain.toml").unwrap().cases[0].body_profile(),
         BodyProfile::spheroid(50.0, 20.0)
     );
+    // The built-in data carries the robot's parts (the same assumed profile).
+    assert_eq!(paper().cases[0].body_profile(), p);
     let rounded = text.replace(
         "body_profile = [[10.0, 20.0], [30.0, 18.0], [10.0, 20.0]]",
         "body_profile = [[10.0, 20.0], [30.0, 18.0], [10.0, 20.0]]\nbody_rounded_mm = 12.0",

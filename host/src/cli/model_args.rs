@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug, Clone)]
 pub struct ModelArgs {
-    /// Named model: base, paper, paper-lighthill (default base).
+    /// Named model: base, paper, paper-lighthill, physics (default base). physics: the zero-parameter Stokes model, slow on first use, then cached.
     #[arg(long)]
     pub preset: Option<String>,
     /// Local drag coefficient set (overrides the preset's).
