@@ -62,6 +62,7 @@ pub mod robot;
 pub mod sbt;
 pub mod stokeslet;
 pub mod surface;
+pub mod tube;
 
 pub use confined::{
     body_resistance, robot_resistance, sphere_resistance, tail_resistance_in_channel,
