@@ -29,9 +29,8 @@ fn bench(c: &mut Criterion) {
     // warm: the effect's memoised matrix (first call solves, then memory)
     let dir = tempfile::tempdir().unwrap();
     std::env::set_var(swimbot::nonlocal::cache::CACHE_DIR_ENV, dir.path());
-    let model = swimbot::model::Model::base().with_effect(
-        swimbot::effects::parse_effect_spec("tail-confinement-stokeslets").unwrap(),
-    );
+    let model = swimbot::model::Model::base()
+        .with_effect(swimbot::effects::parse_effect_spec("tail-confinement-stokeslets").unwrap());
     let _ = model.tail_matrix(&case).unwrap();
     group.bench_function("cached", |b| b.iter(|| model.tail_matrix(&case).unwrap()));
     group.finish();

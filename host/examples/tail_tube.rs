@@ -7,7 +7,8 @@
 //! - `offset`, `margin`: convergence in the source offset and cap distance;
 //! - `paper`: the six paper tails, closed 35 mm tube, against free space and
 //!   the old leaky wall, with timings;
-//! - `robot`: body-tail interaction in the tube, change of U and Omega_b.
+//! - `robot [tail]`: body-tail interaction in the tube, change of U and
+//!   Omega_b (all six tails, or one).
 //!
 //! Each study asserts its own convergence claims (panics if they fail).
 use std::time::Instant;
@@ -176,10 +177,10 @@ fn swim(g: &nalgebra::SMatrix<f64, 12, 12>, omega: f64) -> (f64, f64) {
     (x[0], x[1])
 }
 
-fn robot_study() {
+fn robot_study(only: Option<usize>) {
     println!("body-tail interaction in the closed 35 mm tube (MFS, axial motions, zero net force and torque)");
     println!("case  U coupled   U uncoupled   dU      Ob coupled  Ob uncoupled  dOb   3N   time");
-    for tail in 1..=6 {
+    for tail in (1..=6).filter(|t| only.is_none_or(|o| o == *t)) {
         let c = case(tail, 0.0);
         let helix: Helix = c.helix();
         let t0 = Instant::now();
@@ -227,7 +228,7 @@ fn main() {
         Some("offset") => offset_study(tail, turns),
         Some("margin") => margin_study(tail, turns),
         Some("paper") => paper_study(),
-        Some("robot") => robot_study(),
+        Some("robot") => robot_study(args.get(1).and_then(|s| s.parse().ok())),
         _ => eprintln!("usage: tail_tube wall|offset|margin [tail] [turns] | paper | robot"),
     }
 }

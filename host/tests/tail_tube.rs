@@ -99,8 +99,14 @@ fn mfs_wall_keeps_the_flux_the_old_wall_leaks() {
     .unwrap();
     let (dm, dl) = (&mfs.diagnostics, &leaky.diagnostics);
     println!("MFS: {dm:?}\nleaky: {dl:?}");
-    let qm = dm.flux_over_piston_translation.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let ql = dl.flux_over_piston_translation.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let qm = dm
+        .flux_over_piston_translation
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    let ql = dl
+        .flux_over_piston_translation
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
     assert!(qm < 0.04, "MFS flux {qm}");
     assert!(ql > 0.12, "old wall flux {ql}");
     // the leak costs the old wall a large part of the axial drag and thrust
@@ -160,7 +166,10 @@ fn sphere_on_the_axis_matches_haberman_sayre() {
     };
     let t = sphere_resistance_in_tube(1.0, 0.25, &ch, 1.0, &s).unwrap();
     let k = t.matrix[(0, 0)] / free[(0, 0)];
-    println!("K = {k:.4}, Haberman & Sayre {k_hs:.4}; {:?}", t.diagnostics);
+    println!(
+        "K = {k:.4}, Haberman & Sayre {k_hs:.4}; {:?}",
+        t.diagnostics
+    );
     assert!(rel(k, k_hs) < 0.02, "{k} vs {k_hs}");
     // the old wall at the same spacing is far off (it leaks)
     let old = swimbot::nonlocal::sphere_resistance(
@@ -218,7 +227,11 @@ fn cli_gives_the_tube_matrix_with_its_diagnostics() {
     let mut a = TAIL6_2.to_vec();
     a.extend(["--channel-diameter-mm", "35", "--wall-spacing-mm", "6"]);
     let out = swimbot(&a);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let free = swimbot(&[&TAIL6_2[..], &["--method", "stokeslets"]].concat());
     let f: serde_json::Value = serde_json::from_slice(&free.stdout).unwrap();
@@ -228,7 +241,10 @@ fn cli_gives_the_tube_matrix_with_its_diagnostics() {
     }
     let d = &v["tube"]["diagnostics"];
     assert_eq!(v["tube"]["closed"], true);
-    assert_eq!(d["flux_over_piston_translation"].as_array().unwrap().len(), 3);
+    assert_eq!(
+        d["flux_over_piston_translation"].as_array().unwrap().len(),
+        3
+    );
     assert!(d["wall_slip_over_u"].as_f64().unwrap() >= 0.0);
 }
 
@@ -237,7 +253,10 @@ fn cli_rejects_bad_tubes_with_exit_2() {
     let cases: [(&[&str], &str); 4] = [
         (&["--channel-diameter-mm", "12"], "does not fit"),
         (&["--channel-diameter-mm=-5"], "channel-diameter-mm"),
-        (&["--channel-diameter-mm", "35", "--max-memory-gb", "0.001"], "GB"),
+        (
+            &["--channel-diameter-mm", "35", "--max-memory-gb", "0.001"],
+            "GB",
+        ),
         (
             &["--channel-diameter-mm", "35", "--channel-length-mm", "10"],
             "channel of length",

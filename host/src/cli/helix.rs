@@ -297,7 +297,11 @@ fn print_table(o: &HelixOut) {
                 .map(|x| format!("{:.1}", x * 1e3))
                 .collect::<Vec<_>>()
                 .join(", "),
-            if t.closed { "must vanish" } else { "pumped flux" },
+            if t.closed {
+                "must vanish"
+            } else {
+                "pumped flux"
+            },
             pct(&d.flux_over_piston_translation),
             pct(&d.flux_over_piston_rotation)
         );

@@ -7,10 +7,10 @@
 //! wall-resolved counterpart of `tail-confinement`, with no free parameter.
 //!
 //! The previous version put regularized Stokeslets ON the wall; that wall is
-//! porous (the closed tube's back-flow partly passes through it: 15-18 % of
-//! the piston flux through a cross-section, against about 1 % now) and
-//! missed about a quarter of the wall's effect on the axial drag and thrust
-//! coupling (`docs/notes/tail-tube.md`).
+//! porous (the closed tube's back-flow partly passes through it: 16-27 % of
+//! the piston flux through a cross-section for the paper's tails, against
+//! 2-4 % now) and missed 24-36 % of the tube's axial drag and thrust
+//! coupling; the axial torque agrees within 1 % (`docs/notes/tail-tube.md`).
 //!
 //! Not proposed by the default `diagnose` (`costly()` is true): a cold
 //! solve costs seconds per tail; `diagnose --nonlocal` includes it.

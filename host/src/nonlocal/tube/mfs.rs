@@ -97,7 +97,11 @@ impl Wall {
             for (x, out) in [(x0_m, -d), (x1_m, d)] {
                 let cap = surface::disc(x, radius_m, spacing_m);
                 sources_m.extend(cap.points_m.iter().map(|p| p + Vector3::new(out, 0.0, 0.0)));
-                normals.extend(cap.points_m.iter().map(|_| Vector3::new(out.signum(), 0.0, 0.0)));
+                normals.extend(
+                    cap.points_m
+                        .iter()
+                        .map(|_| Vector3::new(out.signum(), 0.0, 0.0)),
+                );
                 collocation_m.extend(cap.points_m);
                 // The rim where cylinder meets cap is collocated too, its
                 // sources pushed out along the bisector: without it the
@@ -290,7 +294,9 @@ pub fn solve<'a>(
     });
     let mut rhs = DMatrix::zeros(3 * n, 6 * moving.len());
     for q in 0..moving.len() {
-        let mask: Vec<bool> = (0..n).map(|i| i >= starts[q] && i < starts[q + 1]).collect();
+        let mask: Vec<bool> = (0..n)
+            .map(|i| i >= starts[q] && i < starts[q + 1])
+            .collect();
         rhs.columns_mut(6 * q, 6)
             .copy_from(&rigid::unit_motions(&targets, &mask));
     }

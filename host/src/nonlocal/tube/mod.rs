@@ -6,8 +6,9 @@
 //! the wall. Between its points the velocity is not zero, so the pressure
 //! difference that a closed tube builds across a translating tail drives
 //! oil through the wall instead of back through the gap: measured here, the
-//! net flux through a cross-section of the closed tube is 10-40 % of the
-//! piston flux (see `docs/notes/tail-tube.md`) where it must vanish.
+//! net flux through a cross-section of the closed tube is 16-27 % of the
+//! piston flux for the paper's tails (MFS: 2-4 %) where it must vanish
+//! (`docs/notes/tail-tube.md`).
 //!
 //! # Method: the method of fundamental solutions (MFS), [`mfs`]
 //! Singular Stokeslets outside the fluid, one per wall collocation point,
@@ -79,8 +80,10 @@ pub struct TubeSettings {
 }
 
 impl Default for TubeSettings {
-    /// The setting converged to 1 % for the paper's tails in the 35 mm tube
-    /// (`docs/notes/tail-tube.md`).
+    /// Measured on two-turn tail #6 in the closed 35 mm tube: the axial
+    /// entries at 3 mm are within 0.3 % of 2.5 mm; an offset below one
+    /// spacing leaks (net flux 5-21 %); caps 1.5 radii away are within
+    /// about 1 % of 1 and 2 radii (`docs/notes/tail-tube.md`).
     fn default() -> Self {
         TubeSettings {
             tail: NonlocalSettings::default(),
@@ -103,7 +106,10 @@ impl TubeSettings {
         }
         for (name, v) in [
             ("wall_spacing_m", self.wall_spacing_m),
-            ("source_offset_over_spacing", self.source_offset_over_spacing),
+            (
+                "source_offset_over_spacing",
+                self.source_offset_over_spacing,
+            ),
             ("cap_margin_over_radius", self.cap_margin_over_radius),
         ] {
             if !(v.is_finite() && v > 0.0) {
@@ -155,6 +161,17 @@ fn wall_for(
             "object of radius {:.3} mm does not fit in the channel of radius {:.3} mm",
             radial_m * 1e3,
             r * 1e3
+        )));
+    }
+    // The wall cannot resolve a gap narrower than its own spacing (and the
+    // regularized tail would overlap it): refuse rather than predict.
+    if r - radial_m < s.wall_spacing_m {
+        return Err(NonlocalError::Geometry(format!(
+            "the gap of {:.3} mm between the object (radius {:.3} mm) and the wall (radius {:.3} mm) is narrower than the wall spacing {:.3} mm; use a finer wall",
+            (r - radial_m) * 1e3,
+            radial_m * 1e3,
+            r * 1e3,
+            s.wall_spacing_m * 1e3
         )));
     }
     let mut margin = s.cap_margin_over_radius * r;
@@ -264,12 +281,8 @@ pub fn tail_resistance_in_tube(
     let sol = mfs::solve(&moving, &wall, viscosity_pa_s, settings.max_peak_bytes)?;
     let mut matrix = sol.block(0, 0);
     add_spin(&mut matrix, helix, viscosity_pa_s, &settings.tail);
-    let diagnostics = diagnostics::diagnose(
-        &sol,
-        0,
-        &sections(&wall, x0, x1),
-        helix.envelope_radius_m(),
-    );
+    let diagnostics =
+        diagnostics::diagnose(&sol, 0, &sections(&wall, x0, x1), helix.envelope_radius_m());
     Ok(TubeResistance {
         matrix,
         diagnostics,
