@@ -80,7 +80,7 @@ fn wall_study(tail: usize, turns: f64) {
     let f = free(&c);
     println!("tail #{tail}, {turns} turns (0 = whole), closed 35 mm tube");
     header();
-    let mut last = None;
+    let mut mfs = vec![];
     for h_mm in [6.0, 4.5, 3.5, 3.0, 2.5] {
         let s = TubeSettings {
             wall_spacing_m: h_mm * 1e-3,
@@ -88,9 +88,9 @@ fn wall_study(tail: usize, turns: f64) {
         };
         let (a, q, sl, t, n) = run(&c, &s);
         row(&format!("MFS h = {h_mm} mm"), a, f, q, sl, t, n);
-        last = Some(a);
+        mfs.push((a, q));
     }
-    let _ = last;
+    let mut leaky_flux = f64::INFINITY;
     for h_mm in [4.0, 3.0] {
         let s = TubeSettings {
             wall: WallModel::Leaky,
@@ -100,7 +100,17 @@ fn wall_study(tail: usize, turns: f64) {
         };
         let (a, q, sl, t, n) = run(&c, &s);
         row(&format!("leaky h = {h_mm} mm"), a, f, q, sl, t, n);
+        leaky_flux = leaky_flux.min(q);
     }
+    // the claims of the notes: 3 mm within 1 % of 2.5 mm, and 5x less leak
+    let (a3, a25) = (mfs[3].0, mfs[4].0);
+    for k in 0..3 {
+        assert!(
+            (a3[k] / a25[k] - 1.0).abs() < 0.01,
+            "entry {k}: {a3:?} vs {a25:?}"
+        );
+    }
+    assert!(mfs[4].1 < 0.2 * leaky_flux, "{} vs {leaky_flux}", mfs[4].1);
 }
 
 fn offset_study(tail: usize, turns: f64) {
@@ -147,8 +157,10 @@ fn paper_study() {
             cap_margin_over_radius: 2.0,
             ..TubeSettings::default()
         };
-        let (a, q, sl, t, n) = run(&c, &leaky);
-        row(&format!("#{tail} leaky 4 mm"), a, f, q, sl, t, n);
+        let (al, ql, sl, t, n) = run(&c, &leaky);
+        row(&format!("#{tail} leaky 4 mm"), al, f, ql, sl, t, n);
+        assert!(q < 0.3 * ql, "#{tail}: MFS flux {q} vs old wall {ql}");
+        assert!(a[0] > al[0] && (a[2] / al[2] - 1.0).abs() < 0.02);
         println!(
             "#{tail} free: Bxx {:.5e} N s/m, Bx,wx {:.5e} N s, Bwx,wx {:.5e} N m s",
             f[0], f[1], f[2]
