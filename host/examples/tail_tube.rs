@@ -116,9 +116,9 @@ fn wall_study(tail: usize, turns: f64) {
 fn offset_study(tail: usize, turns: f64) {
     let c = case(tail, turns);
     let f = free(&c);
-    println!("tail #{tail}, {turns} turns, closed 35 mm tube, h = 3 mm");
+    println!("tail #{tail}, {turns} turns, closed 35 mm tube, default h");
     header();
-    for off in [0.35, 0.5, 0.75, 1.0] {
+    for off in [1.0, 1.5, 2.0] {
         let s = TubeSettings {
             source_offset_over_spacing: off,
             ..TubeSettings::default()
@@ -131,7 +131,7 @@ fn offset_study(tail: usize, turns: f64) {
 fn margin_study(tail: usize, turns: f64) {
     let c = case(tail, turns);
     let f = free(&c);
-    println!("tail #{tail}, {turns} turns, closed 35 mm tube, h = 3 mm");
+    println!("tail #{tail}, {turns} turns, closed 35 mm tube, default h");
     header();
     for m in [1.0, 1.5, 2.0] {
         let s = TubeSettings {

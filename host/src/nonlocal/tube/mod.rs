@@ -89,7 +89,7 @@ impl Default for TubeSettings {
             tail: NonlocalSettings::default(),
             wall: WallModel::Mfs,
             wall_spacing_m: 3.0e-3,
-            source_offset_over_spacing: 1.0,
+            source_offset_over_spacing: 1.5,
             cap_margin_over_radius: 1.5,
             max_peak_bytes: DEFAULT_MAX_PEAK_BYTES,
         }
