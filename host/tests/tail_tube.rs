@@ -107,7 +107,7 @@ fn mfs_wall_keeps_the_flux_the_old_wall_leaks() {
         .flux_over_piston_translation
         .iter()
         .fold(0.0_f64, |m, v| m.max(v.abs()));
-    assert!(qm < 0.04, "MFS flux {qm}");
+    assert!(qm < 0.01, "MFS flux {qm}");
     assert!(ql > 0.12, "old wall flux {ql}");
     // the leak costs the old wall a large part of the axial drag and thrust
     let (am, al) = (axial(&mfs.matrix), axial(&leaky.matrix));
@@ -154,23 +154,45 @@ fn sphere_on_the_axis_matches_haberman_sayre() {
         / (1.0 - 2.1050 * lam + 2.0865 * lam.powi(3) - 1.7068 * lam.powi(5)
             + 0.72603 * lam.powi(6));
     let ch = closed(2.0 / lam);
-    let ns = NonlocalSettings {
-        body_spacing_m: 0.25,
-        ..NonlocalSettings::default()
-    };
-    let free = sphere_resistance(1.0, None, 1.0, &ns).unwrap();
-    let s = TubeSettings {
-        tail: ns,
-        wall_spacing_m: 0.7,
-        ..TubeSettings::default()
-    };
-    let t = sphere_resistance_in_tube(1.0, 0.25, &ch, 1.0, &s).unwrap();
-    let k = t.matrix[(0, 0)] / free[(0, 0)];
-    println!(
-        "K = {k:.4}, Haberman & Sayre {k_hs:.4}; {:?}",
-        t.diagnostics
+    // The MFS wall is converged at 0.7 a (0.14 % from 0.5 a, measured); the
+    // remaining error is the sphere's own first-order regularization error,
+    // so refine the sphere and extrapolate linearly in its spacing.
+    let mut k = vec![];
+    let spacings = [0.3, 0.22];
+    for hs in spacings {
+        let ns = NonlocalSettings {
+            body_spacing_m: hs,
+            ..NonlocalSettings::default()
+        };
+        let free = sphere_resistance(1.0, None, 1.0, &ns).unwrap();
+        let s = TubeSettings {
+            tail: ns,
+            wall_spacing_m: 0.7,
+            ..TubeSettings::default()
+        };
+        let t = sphere_resistance_in_tube(1.0, hs, &ch, 1.0, &s).unwrap();
+        println!(
+            "sphere spacing {hs}: K = {:.4}; {:?}",
+            t.matrix[(0, 0)] / free[(0, 0)],
+            t.diagnostics
+        );
+        assert!(t.diagnostics.max_flux() < 0.01, "{:?}", t.diagnostics);
+        k.push(t.matrix[(0, 0)] / free[(0, 0)]);
+    }
+    let k_extra = k[1] - (k[0] - k[1]) * spacings[1] / (spacings[0] - spacings[1]);
+    println!("K {k:?}, extrapolated {k_extra:.4}, Haberman & Sayre {k_hs:.4}");
+    assert!(
+        rel(k[1], k_hs) < rel(k[0], k_hs) && rel(k[1], k_hs) < 0.03,
+        "{k:?}"
     );
-    assert!(rel(k, k_hs) < 0.02, "{k} vs {k_hs}");
+    assert!(rel(k_extra, k_hs) < 0.015, "{k_extra} vs {k_hs}");
+    let (k, ns) = (
+        k[1],
+        NonlocalSettings {
+            body_spacing_m: 0.22,
+            ..NonlocalSettings::default()
+        },
+    );
     // the old wall at the same spacing is far off (it leaks)
     let old = swimbot::nonlocal::sphere_resistance(
         1.0,
@@ -182,6 +204,7 @@ fn sphere_on_the_axis_matches_haberman_sayre() {
         },
     )
     .unwrap();
+    let free = sphere_resistance(1.0, None, 1.0, &ns).unwrap();
     let k_old = old[(0, 0)] / free[(0, 0)];
     assert!(rel(k_old, k_hs) > 2.0 * rel(k, k_hs), "{k_old}");
 }

@@ -9,8 +9,9 @@
 //! The previous version put regularized Stokeslets ON the wall; that wall is
 //! porous (the closed tube's back-flow partly passes through it: 16-27 % of
 //! the piston flux through a cross-section for the paper's tails, against
-//! 2-4 % now) and missed 24-36 % of the tube's axial drag and thrust
-//! coupling; the axial torque agrees within 1 % (`docs/notes/tail-tube.md`).
+//! well under 1 % now) and missed about a third of the tube's axial drag and
+//! thrust coupling; the axial torque agrees within about 1 %
+//! (`docs/notes/tail-tube.md`).
 //!
 //! Not proposed by the default `diagnose` (`costly()` is true): a cold
 //! solve costs seconds per tail; `diagnose --nonlocal` includes it.
@@ -29,8 +30,10 @@ use nalgebra::Matrix6;
 pub struct TubeTail;
 
 /// The solver settings of this effect: the tube module's default (wall
-/// points 3 mm apart, sources one spacing outside, caps 1.5 radii beyond
-/// the tail), within 0.3 % of a 2.5 mm wall on the axial entries.
+/// points 3 mm apart, sources 1.5 spacings outside, caps 1.5 radii beyond
+/// the tail): within 0.1 % of a 2.5 mm wall, of sources 2 spacings out and
+/// of caps 2 radii away on the axial entries, net flux through sections
+/// below 0.1 % of the piston flux (two-turn tail #6, 35 mm tube).
 pub fn settings() -> TubeSettings {
     TubeSettings::default()
 }

@@ -7,7 +7,7 @@
 //! difference that a closed tube builds across a translating tail drives
 //! oil through the wall instead of back through the gap: measured here, the
 //! net flux through a cross-section of the closed tube is 16-27 % of the
-//! piston flux for the paper's tails (MFS: 2-4 %) where it must vanish
+//! piston flux for the paper's tails (MFS: below 1 %) where it must vanish
 //! (`docs/notes/tail-tube.md`).
 //!
 //! # Method: the method of fundamental solutions (MFS), [`mfs`]
@@ -81,9 +81,11 @@ pub struct TubeSettings {
 
 impl Default for TubeSettings {
     /// Measured on two-turn tail #6 in the closed 35 mm tube: the axial
-    /// entries at 3 mm are within 0.3 % of 2.5 mm; an offset below one
-    /// spacing leaks (net flux 5-21 %); caps 1.5 radii away are within
-    /// about 1 % of 1 and 2 radii (`docs/notes/tail-tube.md`).
+    /// entries at 3 mm are within 0.03 % of 2.5 mm, within 0.15 % of
+    /// sources 2 spacings out, within 0.1 % of caps 1 and 2 radii away, net
+    /// flux 0.08 % of the piston flux; offsets of 0.35-1 spacing leak (21 %
+    /// to 1.3 %), and 4.5 mm walls can excite spurious cap modes
+    /// (`docs/notes/tail-tube.md`).
     fn default() -> Self {
         TubeSettings {
             tail: NonlocalSettings::default(),
