@@ -1,4 +1,7 @@
-//! `swimbot helix`: the tail's 6x6 resistance matrix (eq. 3) for one helix.
+//! `swimbot helix`: the tail's 6x6 resistance matrix (eq. 3) for one helix,
+//! in free space or, with `--channel-diameter-mm`, coaxial in the tube by
+//! the leak-free solver of `crate::nonlocal::tube` (regularized Stokeslets
+//! on the centre-line, MFS wall), with its leak diagnostics.
 
 use super::output::{print_json, Format};
 use super::CliError;
@@ -22,8 +25,10 @@ pub struct HelixArgs {
     pub viscosity_pa_s: f64,
     #[arg(long, value_enum, default_value = "gray-hancock")]
     pub coefficients: super::model_args::CoefficientsArg,
-    #[arg(long, value_enum, default_value = "exact")]
-    pub method: HelixMethod,
+    /// Default: exact (RFT) in free space, stokeslets in a channel (the
+    /// only method the tube solver has).
+    #[arg(long, value_enum)]
+    pub method: Option<HelixMethod>,
     /// Quadrature nodes per wavelength (with --method quadrature).
     #[arg(long, default_value_t = 100)]
     pub nodes_per_wavelength: usize,
@@ -33,6 +38,23 @@ pub struct HelixArgs {
     /// Left-handed helix instead of the paper's right-handed one.
     #[arg(long)]
     pub left_handed: bool,
+    /// Put the helix coaxially in a tube of this inner diameter (leak-free
+    /// MFS wall, closed by end caps unless --open).
+    #[arg(long)]
+    pub channel_diameter_mm: Option<f64>,
+    /// Tube length: caps (or open ends) at most half the spare length beyond
+    /// the helix. Default: a long tube (caps 1.5 radii beyond the helix).
+    #[arg(long, requires = "channel_diameter_mm")]
+    pub channel_length_mm: Option<f64>,
+    /// Open tube ends (no caps, net flux allowed).
+    #[arg(long, requires = "channel_diameter_mm")]
+    pub open: bool,
+    /// Tube wall collocation spacing.
+    #[arg(long, default_value_t = 3.0, requires = "channel_diameter_mm")]
+    pub wall_spacing_mm: f64,
+    /// Refuse a dense tube solve needing more memory than this.
+    #[arg(long, default_value_t = 4.0)]
+    pub max_memory_gb: f64,
     #[arg(long, value_enum, default_value = "table")]
     pub format: Format,
 }
@@ -60,6 +82,18 @@ struct HelixOut {
     n_waves: f64,
     c_t_pa_s: f64,
     c_n_pa_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tube: Option<TubeOut>,
+}
+
+#[derive(serde::Serialize)]
+struct TubeOut {
+    diameter_mm: f64,
+    /// `null` for a long tube.
+    length_mm: Option<f64>,
+    closed: bool,
+    wall_spacing_mm: f64,
+    diagnostics: crate::nonlocal::tube::Diagnostics,
 }
 
 fn positive(name: &str, v: f64) -> Result<f64, CliError> {
@@ -110,7 +144,19 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
         super::model_args::CoefficientsArg::Lighthill => CoefficientSet::Lighthill,
     };
     let drag = set.local_drag(&h, mu).map_err(CliError::input)?;
-    let (m, method) = match a.method {
+    if let Some(d_mm) = a.channel_diameter_mm {
+        if let Some(m) = a.method {
+            if !matches!(m, HelixMethod::Stokeslets) {
+                return Err(CliError::input(format!(
+                    "--method {m:?} is not available in a channel: the tube solver uses stokeslets"
+                )));
+            }
+        }
+        let (m, tube) = tube_matrix(&a, &h, mu, d_mm)?;
+        let method = "regularized Stokeslets in the tube (MFS wall)";
+        return print(&a, &h, drag, set, m, method, Some(tube));
+    }
+    let (m, method) = match a.method.unwrap_or(HelixMethod::Exact) {
         HelixMethod::Exact => (tail::matrix_exact(&h, drag), "exact"),
         HelixMethod::Quadrature => {
             crate::data::limits::check_quadrature(a.nodes_per_wavelength, h.n_waves())
@@ -121,7 +167,7 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
             )
         }
         HelixMethod::Sbt | HelixMethod::Stokeslets => {
-            let (method, name) = if matches!(a.method, HelixMethod::Sbt) {
+            let (method, name) = if matches!(a.method, Some(HelixMethod::Sbt)) {
                 (
                     crate::nonlocal::TailMethod::SlenderBody,
                     "slender-body theory",
@@ -139,6 +185,75 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
             (m, name)
         }
     };
+    print(&a, &h, drag, set, m, method, None)
+}
+
+fn tube_matrix(
+    a: &HelixArgs,
+    h: &Helix,
+    mu: f64,
+    d_mm: f64,
+) -> Result<(nalgebra::Matrix6<f64>, TubeOut), CliError> {
+    use crate::nonlocal::tube::{tail_resistance_in_tube, TubeSettings};
+    let d_mm = positive("channel-diameter-mm", d_mm)?;
+    let length_mm = match a.channel_length_mm {
+        Some(l) => Some(positive("channel-length-mm", l)?),
+        None => None,
+    };
+    let max_gb = positive("max-memory-gb", a.max_memory_gb)?;
+    let settings = TubeSettings {
+        tail: crate::nonlocal::NonlocalSettings::default()
+            .with_segments_per_turn(a.segments_per_turn),
+        wall_spacing_m: positive("wall-spacing-mm", a.wall_spacing_mm)? * 1e-3,
+        max_peak_bytes: (max_gb * 1e9).min(usize::MAX as f64) as usize,
+        ..TubeSettings::default()
+    };
+    if a.wall_spacing_mm >= 0.5 * d_mm {
+        return Err(CliError::input(format!(
+            "--wall-spacing-mm {} must be below the tube radius {} mm",
+            a.wall_spacing_mm,
+            0.5 * d_mm
+        )));
+    }
+    let channel = crate::physics::geometry::Channel {
+        diameter_m: d_mm * 1e-3,
+        length_m: length_mm.map_or(f64::INFINITY, |l| l * 1e-3),
+        closed: !a.open,
+        vertical: true,
+    };
+    // Memory estimated before anything dense is built.
+    let points = crate::nonlocal::tube::tail_in_tube_points(h, &channel, &settings)
+        .map_err(CliError::input)?;
+    let need = crate::nonlocal::tube::mfs::peak_bytes(points);
+    if need > settings.max_peak_bytes {
+        return Err(CliError::input(format!(
+            "the tube solve has {} unknowns and needs {:.2} GB, above --max-memory-gb {max_gb}: raise --wall-spacing-mm or lower --segments-per-turn",
+            3 * points,
+            need as f64 / 1e9
+        )));
+    }
+    let r = tail_resistance_in_tube(h, &channel, mu, &settings).map_err(CliError::input)?;
+    Ok((
+        r.matrix,
+        TubeOut {
+            diameter_mm: d_mm,
+            length_mm,
+            closed: channel.closed,
+            wall_spacing_mm: a.wall_spacing_mm,
+            diagnostics: r.diagnostics,
+        },
+    ))
+}
+
+fn print(
+    a: &HelixArgs,
+    h: &Helix,
+    drag: crate::physics::coefficients::LocalDrag,
+    set: CoefficientSet,
+    m: nalgebra::Matrix6<f64>,
+    method: &'static str,
+    tube: Option<TubeOut>,
+) -> Result<(), CliError> {
     let out = HelixOut {
         method,
         coefficients: set.to_string(),
@@ -152,6 +267,7 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
         n_waves: h.n_waves(),
         c_t_pa_s: drag.tangential,
         c_n_pa_s: drag.normal,
+        tube,
     };
     super::output::check_finite("resistance matrix", &out)?;
     match a.format {
@@ -178,4 +294,43 @@ fn print_table(o: &HelixOut) {
         "arc length {:.2} mm, {:.3} waves, c_t = {:.4} Pa s, c_n = {:.4} Pa s",
         o.arc_length_mm, o.n_waves, o.c_t_pa_s, o.c_n_pa_s
     );
+    if let Some(t) = &o.tube {
+        let d = &t.diagnostics;
+        println!(
+            "tube: diameter {} mm, {}, {}; wall spacing {} mm; {} unknowns, {:.2} GB peak",
+            t.diameter_mm,
+            t.length_mm
+                .map_or("long".to_string(), |l| format!("length {l} mm")),
+            if t.closed { "closed" } else { "open" },
+            t.wall_spacing_mm,
+            3 * d.n_points,
+            d.peak_bytes as f64 / 1e9
+        );
+        let pct = |v: &[f64]| {
+            v.iter()
+                .map(|q| format!("{:+.3} %", 100.0 * q))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        println!(
+            "net flux / piston flux at x = {} mm ({}): translation {}; rotation {}",
+            d.sections_x_m
+                .iter()
+                .map(|x| format!("{:.1}", x * 1e3))
+                .collect::<Vec<_>>()
+                .join(", "),
+            if t.closed {
+                "must vanish"
+            } else {
+                "pumped flux"
+            },
+            pct(&d.flux_over_piston_translation),
+            pct(&d.flux_over_piston_rotation)
+        );
+        println!(
+            "wall speed between collocation points: {:.3} % of U, {:.3} % of Omega r_env",
+            100.0 * d.wall_slip_over_u,
+            100.0 * d.wall_slip_over_omega_r
+        );
+    }
 }

@@ -15,7 +15,9 @@
 //!   Medovikov (2005) regularized Stokeslets along the centre-line, blob
 //!   `eps = e^(1/2) a` matched to SBT, see [`mrs_line`].
 //! - Body (prolate spheroid) and channel wall (cylinder with end caps):
-//!   surfaces of regularized Stokeslets, see [`surface`] and [`robot`].
+//!   surfaces of regularized Stokeslets, see [`surface`] and [`robot`]; this
+//!   wall leaks. The leak-free wall (method of fundamental solutions) with
+//!   its flux diagnostics is [`tube`].
 //!
 //! Both tail methods also add the local torque of the wire spinning about
 //! its own axis, `4 pi mu a^2` per length (`wire_spin`), which RFT omits.
@@ -63,6 +65,7 @@ pub mod robot;
 pub mod sbt;
 pub mod stokeslet;
 pub mod surface;
+pub mod tube;
 
 pub use confined::{
     body_resistance, robot_resistance, sphere_resistance, tail_resistance_in_channel,

@@ -37,21 +37,21 @@ pub enum Object {
 }
 
 impl Object {
-    fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         match self {
             Object::Line(l) => l.seg.n,
             Object::Surface(s) => s.points.len(),
         }
     }
 
-    fn target(&self, k: usize) -> Vector3<f64> {
+    pub(crate) fn target(&self, k: usize) -> Vector3<f64> {
         match self {
             Object::Line(l) => l.seg.mid_point_m[k],
             Object::Surface(s) => s.points.points_m[k],
         }
     }
 
-    fn lever(&self, k: usize) -> Vector3<f64> {
+    pub(crate) fn lever(&self, k: usize) -> Vector3<f64> {
         match self {
             Object::Line(l) => l.centroids[k],
             Object::Surface(s) => s.points.points_m[k],
