@@ -5,7 +5,9 @@ use super::output::{opt, pct, print_json, Format};
 use super::CliError;
 use crate::report::fmt_sig;
 use crate::workbench::compare::{compare, Comparison};
-use crate::workbench::propagate::{bands, has_input_uncertainty, monte_carlo, MonteCarloCheck};
+use crate::workbench::propagate::{
+    affordable, bands, has_input_uncertainty, monte_carlo, MonteCarloCheck,
+};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -35,8 +37,15 @@ pub struct CompareArgs {
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
     let data = args.data.load()?;
     let model = args.model.model()?;
-    let has_inputs = has_input_uncertainty(&data);
-    if args.input_uncertainty && !has_inputs {
+    let declared = has_input_uncertainty(&data);
+    let cheap = affordable(&model);
+    if declared && !cheap && !args.input_uncertainty {
+        eprintln!("note: input-uncertainty bands skipped: this model's solves are costly (non-local tail or wall-resolved effects); --input-uncertainty computes them (two solves per uncertain input per case)");
+    }
+    let has_inputs = declared && (cheap || args.input_uncertainty);
+    // The Monte-Carlo check would be hundreds of cold solves per case.
+    let mc_draws = if cheap { args.mc_draws } else { 0 };
+    if args.input_uncertainty && !declared {
         return Err(CliError::input(
             "--input-uncertainty: the dataset declares no input uncertainties (add a [setup.uncertainty] table, see docs/data-format.md)",
         ));
@@ -54,10 +63,10 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     let mut checks = Vec::new();
     if has_inputs {
         let bands = bands(&model, &data)?;
-        if args.mc_draws >= 2 {
+        if mc_draws >= 2 {
             for (case, b) in data.cases.iter().zip(&bands) {
                 if !case.inputs.is_empty() {
-                    checks.push(monte_carlo(&model, case, b, args.mc_draws, 0x5eed)?);
+                    checks.push(monte_carlo(&model, case, b, mc_draws, 0x5eed)?);
                 }
             }
         }

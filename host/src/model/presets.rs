@@ -73,7 +73,11 @@ mod tests {
         let physics = preset("physics").unwrap();
         assert_eq!(physics.effects.len(), 3);
         for e in &physics.effects {
-            assert!(e.free_indices().is_empty(), "{} has a free parameter", e.name());
+            assert!(
+                e.free_indices().is_empty(),
+                "{} has a free parameter",
+                e.name()
+            );
         }
         // the paper's drive: the recorded f is the tail's lab-frame rate
         assert!(physics.effects.iter().all(|e| e.name() != "motor-frame"));

@@ -278,7 +278,7 @@ pub fn page(
     diagnosis: Option<&Diagnosis>,
 ) -> Result<String, crate::model::ModelError> {
     let mut cmp = compare(model, data, 0)?;
-    let with_bands = propagate::has_input_uncertainty(data);
+    let with_bands = propagate::has_input_uncertainty(data) && propagate::affordable(model);
     if with_bands {
         cmp = cmp.with_bands(data, &propagate::bands(model, data)?);
     }

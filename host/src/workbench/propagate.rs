@@ -139,6 +139,19 @@ pub fn has_input_uncertainty(data: &Dataset) -> bool {
     data.cases.iter().any(|c| !c.inputs.is_empty())
 }
 
+/// Whether bands come cheaply with every comparison: true for local models.
+/// Each uncertain input of each case costs two more predictions, and every
+/// perturbed geometry is a new cold solve for a non-local tail or a costly
+/// (wall-resolved) effect: seconds to a minute each. Such models get bands
+/// only when the user asks for them (`--input-uncertainty`).
+pub fn affordable(model: &Model) -> bool {
+    use crate::model::TailMethod;
+    matches!(
+        model.tail_method,
+        TailMethod::Exact | TailMethod::Quadrature { .. }
+    ) && model.effects.iter().all(|e| !e.effect.costly())
+}
+
 /// The Monte-Carlo check of one case's linear band.
 #[derive(Debug, Clone, Serialize)]
 pub struct MonteCarloCheck {
