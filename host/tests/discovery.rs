@@ -163,7 +163,7 @@ fn names_the_catalogue_effect_and_locates_the_remainder() {
 
 #[test]
 fn the_null_control_needs_nothing_and_locates_nothing() {
-    let (d, data) = run(Model::base());
+    let (d, _data) = run(Model::base());
     assert_eq!(
         d.verdict.kind,
         VerdictKind::NoneNeeded,
