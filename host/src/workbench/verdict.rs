@@ -445,6 +445,7 @@ fn unexplained(
             }
         }
     }
+    located.sort_by(|a, b| aicc(a).total_cmp(&aicc(b)));
     let partial_note = located
         .first()
         .map(|l| {
@@ -468,7 +469,7 @@ fn unexplained(
     if let Some(a) = located.first() {
         if let Some(b) = located[1..]
             .iter()
-            .find(|b| !a.same_finding(b, data) && aicc(b) - aicc(a) < s.clear_margin)
+            .find(|b| !a.same_finding(b, data) && (aicc(b) - aicc(a)).abs() < s.clear_margin)
         {
             let g = best_discriminating_case(data, &a.model, &b.model);
             v.indistinguishable = vec![a.describe(), b.describe()];
