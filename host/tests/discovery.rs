@@ -163,7 +163,7 @@ fn names_the_catalogue_effect_and_locates_the_remainder() {
 
 #[test]
 fn the_null_control_needs_nothing_and_locates_nothing() {
-    let (d, data) = run(Model::base());
+    let (d, _data) = run(Model::base());
     assert_eq!(
         d.verdict.kind,
         VerdictKind::NoneNeeded,
@@ -172,4 +172,59 @@ fn the_null_control_needs_nothing_and_locates_nothing() {
     );
     assert!(d.verdict.located.is_empty());
     assert_eq!(d.verdict.effect, None);
+}
+
+#[test]
+fn write_effect_gives_a_file_in_the_agreed_format_through_the_binary() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("located.toml");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(["diagnose", "--format", "json", "--write-effect"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let kind = json["verdict"]["kind"].as_str().unwrap();
+    assert!(["located", "unexplained", "indistinguishable", "identified"].contains(&kind));
+    let v: toml::Value = toml::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let e = &v["effect"][0];
+    let name = e["name"].as_str().unwrap();
+    assert!(
+        name.starts_with("located-")
+            && name
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+    );
+    assert!(e["reference"]
+        .as_str()
+        .unwrap()
+        .contains("located by swimbot diagnose"));
+    let places = e["places"].as_table().unwrap();
+    assert_eq!(places.len(), 1);
+    let (place, formula) = places.iter().next().unwrap();
+    assert!(
+        swimbot::effects::place::Place::from_name(place).is_some(),
+        "{place}"
+    );
+    let formula = formula.as_str().unwrap();
+    for p in e["param"].as_array().unwrap() {
+        let (d, lo, hi) = (
+            p["default"].as_float().unwrap(),
+            p["min"].as_float().unwrap(),
+            p["max"].as_float().unwrap(),
+        );
+        assert!(lo <= d && d <= hi, "{p:?}");
+        assert!(formula.contains(p["name"].as_str().unwrap()));
+    }
+    // The formula names its feature by a quantity id.
+    let located = &json["verdict"]["located"][0];
+    if let Some(f) = located["feature"].as_str() {
+        assert!(formula.contains(f), "{formula}");
+        assert!(swimbot::data::quantities::by_id(f).is_some());
+    }
 }

@@ -170,7 +170,17 @@ pub fn evaluate(
 ) -> Result<Candidate, FitError> {
     let free = free_params_of(model, added);
     let k = free.len();
-    let full = fit(model, data, None, &free, true)?;
+    // Multi-start is what makes a fit trustworthy and what makes it slow:
+    // above 60 cases run it on a strided subset of about 50, then refine
+    // from that optimum on every case.
+    let n_cases = data.cases.len();
+    let full = if n_cases > 60 && !free.is_empty() {
+        let sub: Vec<usize> = (0..n_cases).step_by(n_cases.div_ceil(50)).collect();
+        let pre = fit(model, data, Some(&sub), &free, true)?;
+        fit(&pre.model, data, None, &free, false)?
+    } else {
+        fit(model, data, None, &free, true)?
+    };
     let cmp = compare(&full.model, data, k)?;
     let n = cmp.summary.n;
     let cv_mare = if k == 0 {

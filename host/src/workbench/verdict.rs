@@ -392,17 +392,20 @@ pub fn verdict(
             finding(data, base, rl, &r.discovery, c, s)
         }
         (Some((l, d)), None) => finding(data, base, l, d, None, s),
-        (None, None) => unexplained(base, ranking, pairs, disc, rem, floor0),
+        (None, None) => unexplained(data, base, ranking, pairs, disc, rem, floor0, s),
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn unexplained(
+    data: &Dataset,
     base: &Baseline,
     ranking: &[Candidate],
     pairs: &[Candidate],
     disc: Option<&Discovery>,
     rem: Option<&Remainder>,
     floor0: Option<f64>,
+    s: &DiagnoseSettings,
 ) -> Verdict {
     let closest = ranking
         .iter()
@@ -442,6 +445,7 @@ fn unexplained(
             }
         }
     }
+    located.sort_by(|a, b| aicc(a).total_cmp(&aicc(b)));
     let partial_note = located
         .first()
         .map(|l| {
@@ -461,6 +465,28 @@ fn unexplained(
             fmt(base.noise_floor_chi2_reduced)
         ),
     );
+    // Can this design tell the two best partial findings apart?
+    if let Some(a) = located.first() {
+        if let Some(b) = located[1..]
+            .iter()
+            .find(|b| !a.same_finding(b, data) && (aicc(b) - aicc(a)).abs() < s.clear_margin)
+        {
+            let g = best_discriminating_case(data, &a.model, &b.model);
+            v.indistinguishable = vec![a.describe(), b.describe()];
+            v.note.push_str(&format!(
+                "; it and {} are indistinguishable on this design (AICc within {})",
+                b.describe(),
+                s.clear_margin
+            ));
+            if let Some(g) = &g {
+                v.note.push_str(&format!(
+                    "; to tell them apart, measure {} with {} ({} differs by {:.0} %, about {:.0} standard errors)",
+                    g.base_case, g.change, g.quantity, 100.0 * g.rel_difference, g.in_sigma
+                ));
+            }
+            v.suggestion = g;
+        }
+    }
     v.located = located;
     v
 }

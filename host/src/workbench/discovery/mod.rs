@@ -43,7 +43,7 @@ use serde::Serialize;
 /// Settings of [`discover`]; `Default` gives the documented values.
 #[derive(Debug, Clone)]
 pub struct DiscoverySettings {
-    /// Candidates refitted exactly (10).
+    /// Candidates refitted exactly (10; half above 200 cases).
     pub top: usize,
     /// Most cases used for screening (100).
     pub screen_cases: usize,
@@ -151,7 +151,13 @@ pub fn discover(
     screened.sort_by(|a, b| key(a).total_cmp(&key(b)));
     // The best `top`, plus at each of their places the constant and the
     // best one-parameter law, so that parsimony can choose among them.
-    let mut keep: Vec<usize> = (0..screened.len().min(s.top)).collect();
+    // Exact refits cost a full fit each: halve them on large datasets.
+    let top = if n_cases > 200 {
+        s.top.div_ceil(2)
+    } else {
+        s.top
+    };
+    let mut keep: Vec<usize> = (0..screened.len().min(top)).collect();
     let places: Vec<_> = keep.iter().map(|&i| screened[i].correction.place).collect();
     for place in places {
         for constant in [true, false] {

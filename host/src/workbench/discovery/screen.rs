@@ -6,9 +6,10 @@
 //! functions of it. The table samples them once:
 //!
 //! - multiplier places: on a uniform grid in `ln m` over
-//!   `[ln MIN_MULTIPLIER, ln 50]` (161 points, step 0.053), read back by
-//!   cubic Catmull-Rom interpolation (error O(h^3), about 1e-5 relative on
-//!   the paper's cases: see the unit test); outside the grid the end value;
+//!   `[ln MIN_MULTIPLIER, ln 50]` (81 points, step 0.106), read back by
+//!   cubic Catmull-Rom interpolation (error O(h^3), below 1e-3 relative on
+//!   the paper's cases: see the unit test; the exact refits do not use it);
+//!   outside the grid the end value;
 //! - load places: the force balance (eq. 11) is linear in the load, so the
 //!   answer is exactly `y0 + s load`, with `s` from one extra solve.
 //!
@@ -24,7 +25,7 @@ use crate::model::{Model, ModelError};
 use crate::workbench::compare::case_residuals;
 use rayon::prelude::*;
 
-const GRID: usize = 161;
+const GRID: usize = 81;
 const LN_MAX: f64 = 3.912_023_005_428_146; // ln 50
 
 fn ln_min() -> f64 {
@@ -60,6 +61,8 @@ pub struct Table {
     load_scales: Vec<(Place, f64)>,
 }
 
+/// The model with a constant correction at `place` (leaked once per place
+/// and build; the value is set in the instance).
 fn with_value(model: &Model, place: Place, v: f64) -> Model {
     let c = LocatedCorrection::new(place, None, Form::Constant, 1.0, 1.0)
         .expect("a constant fits every place")
@@ -68,6 +71,10 @@ fn with_value(model: &Model, place: Place, v: f64) -> Model {
         effect: c,
         values: vec![v],
     })
+}
+
+fn set_value(m: &mut Model, v: f64) {
+    m.effects.last_mut().expect("with_value added it").values[0] = v;
 }
 
 fn predictions(model: &Model, data: &Dataset) -> Result<Vec<f64>, ModelError> {
@@ -105,9 +112,10 @@ impl Table {
                     return Ok((place, Response::Linear(s)));
                 }
                 let mut y = vec![0.0; base.len() * GRID];
+                let mut probe = with_value(model, place, 1.0);
                 for g in 0..GRID {
-                    let m = (ln_min() + g as f64 * step()).exp();
-                    let yg = predictions(&with_value(model, place, m), data)?;
+                    set_value(&mut probe, (ln_min() + g as f64 * step()).exp());
+                    let yg = predictions(&probe, data)?;
                     for (o, v) in yg.into_iter().enumerate() {
                         y[o * GRID + g] = v;
                     }
@@ -245,7 +253,8 @@ mod tests {
                 }
             }
         }
-        assert!(worst < 1e-4, "worst relative interpolation error {worst}");
+        assert!(worst < 1e-3, "worst relative interpolation error {worst}");
+        eprintln!("worst relative interpolation error {worst:.2e}");
         assert!(t.is_sensitive(Place::DriveRate) && t.is_sensitive(Place::LoadTorque));
     }
 }

@@ -79,13 +79,17 @@ pub fn to_toml(l: &Located, dataset: &str) -> String {
         }],
     };
     let body = toml::to_string(&file).expect("plain structs serialise");
+    // The model it was fitted on top of: use it with the same effects.
+    let mut beneath = l.model.clone();
+    beneath.effects.pop();
     format!(
-        "# A correction located by `swimbot diagnose`: {}\n# MARE {:.2} %, cross-validated {:.2} %, explained fraction of the excess chi-square {}.\n# Rename it, refine the formula, and use it with --effects FILE.\n{body}",
+        "# A correction located by `swimbot diagnose`: {}\n# MARE {:.2} %, cross-validated {:.2} %, explained fraction of the excess chi-square {}.\n# Fitted on top of: {}.\n# Rename it, refine the formula, and use it with --effects FILE.\n{body}",
         l.describe(),
         100.0 * l.mare,
         100.0 * l.cv_mare,
         l.explained_fraction
             .map(|f| format!("{f:.3}"))
-            .unwrap_or_else(|| "n/a".into())
+            .unwrap_or_else(|| "n/a".into()),
+        beneath.describe()
     )
 }
