@@ -3,38 +3,13 @@
 //! and `[effect.places]`, formulas over quantity ids), fitted values as
 //! defaults, ready to rename, refine and load with `--effects F.toml`.
 //!
-//! Serialised with the `toml` crate from plain structs, so quoting and
-//! number formats are TOML's own.
+//! Serialised by the effect file's own writer
+//! ([`crate::effects::formula::to_toml`]), so what is written is exactly
+//! what the loader reads back.
 
 use super::Located;
-use serde::Serialize;
-use std::collections::BTreeMap;
-
-#[derive(Serialize)]
-struct File {
-    effect: Vec<EffectToml>,
-}
-
-#[derive(Serialize)]
-struct EffectToml {
-    name: String,
-    statement: String,
-    reference: String,
-    applies_to: String,
-    param: Vec<ParamToml>,
-    places: BTreeMap<String, String>,
-}
-
-#[derive(Serialize)]
-struct ParamToml {
-    name: String,
-    unit: String,
-    default: f64,
-    min: f64,
-    max: f64,
-    free: bool,
-    doc: String,
-}
+use crate::effects::formula::{self, UserEffectSpec, UserParam};
+use crate::effects::place::Place;
 
 /// `located-tail-c-n`: kebab-case, `[a-z][a-z0-9-]*`, no catalogue clash.
 pub fn effect_name(l: &Located) -> String {
@@ -52,10 +27,10 @@ pub fn effect_name(l: &Located) -> String {
 /// The effect file for one located correction found on `dataset`.
 pub fn to_toml(l: &Located, dataset: &str) -> String {
     let specs = crate::effects::Effect::params(l.correction);
-    let param = specs
+    let params = specs
         .iter()
         .zip(&l.params)
-        .map(|(s, e)| ParamToml {
+        .map(|(s, e)| UserParam {
             name: s.name.to_string(),
             unit: s.unit.to_string(),
             default: e.value,
@@ -68,17 +43,16 @@ pub fn to_toml(l: &Located, dataset: &str) -> String {
             },
         })
         .collect();
-    let file = File {
-        effect: vec![EffectToml {
-            name: effect_name(l),
-            statement: l.interpretation.clone(),
-            reference: format!("located by swimbot diagnose on {dataset}"),
-            applies_to: "all cases".into(),
-            param,
-            places: BTreeMap::from([(l.place.to_string(), l.formula.clone())]),
-        }],
+    let place = Place::from_name(l.place).expect("a located correction acts at a known place");
+    let spec = UserEffectSpec {
+        name: effect_name(l),
+        statement: l.interpretation.clone(),
+        reference: format!("located by swimbot diagnose on {dataset}"),
+        applies_to: Some("all cases".into()),
+        params,
+        places: vec![(place, l.formula.clone())],
     };
-    let body = toml::to_string(&file).expect("plain structs serialise");
+    let body = formula::to_toml(&[spec]);
     // The model it was fitted on top of: use it with the same effects.
     let mut beneath = l.model.clone();
     beneath.effects.pop();
