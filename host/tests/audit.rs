@@ -3,7 +3,8 @@
 //! case; a consistent dataset gives no flags; the paper's data give the
 //! documented JSON.
 
-use std::process::{Command, Output};
+mod common;
+use common::swimbot;
 use swimbot::data::{self, to_toml, Dataset};
 use swimbot::effects::parse_effect_list;
 use swimbot::model::Model;
@@ -11,13 +12,6 @@ use swimbot::workbench::synth::{generate, SynthSettings};
 
 const TRUTH: &str = "backflow + body-correction:translation=16,rotation=1.4";
 const CHORD_MM: f64 = 185.0;
-
-fn swimbot(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .output()
-        .expect("the swimbot binary runs")
-}
 
 fn truth() -> Model {
     let mut m = Model::base();

@@ -1,22 +1,9 @@
 //! The real `swimbot` binary on temporary directories: outputs, exit codes,
 //! and error messages for bad input.
 
-use std::process::{Command, Output};
-
-fn swimbot(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .output()
-        .expect("the swimbot binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::{stderr, stdout, swimbot};
+use std::process::Output;
 
 fn assert_input_error(o: &Output, needles: &[&str]) {
     assert_eq!(o.status.code(), Some(2), "stderr: {}", stderr(o));

@@ -1,15 +1,10 @@
 //! `swimbot body` as a user runs it: the real binary, JSON output checked
 //! against exact values, bad input exits with 2 and a clear message.
 
+mod common;
+use common::swimbot;
 use std::f64::consts::PI;
-use std::process::{Command, Output};
-
-fn swimbot(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .output()
-        .expect("the swimbot binary runs")
-}
+use std::process::Output;
 
 fn json(o: &Output) -> serde_json::Value {
     assert_eq!(

@@ -4,8 +4,9 @@
 //! `helix --channel-diameter-mm` command. Small cases only (coarse walls,
 //! two-turn tails); the converged studies are in `examples/tail_tube.rs`.
 
+mod common;
+use common::swimbot;
 use nalgebra::Matrix6;
-use std::process::Command;
 use swimbot::data::paper;
 use swimbot::nonlocal::rigid::spd_check;
 use swimbot::nonlocal::tube::{
@@ -225,13 +226,6 @@ fn tube_matrix_is_symmetric_positive_definite() {
     println!("min eigenvalue {min_eig:.3e}, asymmetry {asym:.3e}");
     assert!(min_eig > 0.0, "{min_eig}");
     assert!(asym < 0.02, "{asym}");
-}
-
-fn swimbot(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 const TAIL6_2: [&str; 8] = [

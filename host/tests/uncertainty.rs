@@ -2,17 +2,11 @@
 //! linear propagation against exact scalings and against Monte Carlo, and
 //! the combined uncertainty that `compare --input-uncertainty` judges with.
 
-use std::process::{Command, Output};
+mod common;
+use common::swimbot;
 use swimbot::data::{self, parse_str};
 use swimbot::model::{preset, Model};
 use swimbot::workbench::propagate::{combine, linear_band, monte_carlo, with_input_uncertainty};
-
-fn swimbot(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .output()
-        .expect("the swimbot binary runs")
-}
 
 /// The paper's data with its `[setup.uncertainty]` table replaced by `table`.
 fn paper_with(table: &str) -> String {

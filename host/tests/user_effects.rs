@@ -4,8 +4,10 @@
 //! line), and a user effect working in compare, synth, fit, diagnose, sweep
 //! and the effects listing.
 
+mod common;
+use common::{stderr, stdout, swimbot};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use swimbot::effects::{load_effect_files, parse_effect_spec};
 use swimbot::model::Model;
 
@@ -13,24 +15,6 @@ fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures")
         .join(name)
-}
-
-/// Run the binary in a fresh directory (compare writes its report beside it).
-fn swimbot(args: &[&str]) -> Output {
-    let cwd = tempfile::tempdir().unwrap();
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .current_dir(cwd.path())
-        .output()
-        .expect("the swimbot binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn json(o: &Output) -> serde_json::Value {
