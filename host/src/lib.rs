@@ -7,6 +7,7 @@
 pub mod cli;
 pub mod data;
 pub mod effects;
+pub mod format;
 pub mod model;
 pub mod nonlocal;
 pub mod physics;

@@ -218,7 +218,7 @@ pub fn run(a: BodyArgs) -> Result<(), CliError> {
 }
 
 fn print_table(o: &BodyOut) {
-    let num = |v: f64| crate::report::fmt_sig(v, 6);
+    let num = |v: f64| crate::format::fmt_sig(v, 6);
     let opt = |v: Option<f64>| v.map_or("-".to_string(), num);
     println!("body: {}", o.body);
     println!("in: {}, viscosity {} Pa s", o.confinement, o.viscosity_pa_s);

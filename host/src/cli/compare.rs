@@ -3,7 +3,7 @@
 use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, Format};
 use super::CliError;
-use crate::report::fmt_sig;
+use crate::format::fmt_sig;
 use crate::workbench::compare::{compare, Comparison};
 use crate::workbench::propagate::{
     affordable, bands, has_input_uncertainty, monte_carlo, MonteCarloCheck,

@@ -3,7 +3,7 @@
 use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, print_json, Format};
 use super::CliError;
-use crate::report::fmt_sig;
+use crate::format::fmt_sig;
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
 use crate::workbench::discovery::Located;
 use clap::Args;

@@ -6,7 +6,7 @@ use super::model_args::EffectFiles;
 use super::output::{print_json, Format};
 use super::CliError;
 use crate::data::quantities::{FEATURES, FIELDS};
-use crate::report::fmt_sig;
+use crate::format::fmt_sig;
 use clap::Args;
 
 #[derive(Args, Debug)]

@@ -4,7 +4,7 @@
 use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, Format};
 use super::CliError;
-use crate::report::fmt_sig;
+use crate::format::fmt_sig;
 use crate::workbench::compare::compare;
 use crate::workbench::fit::{fit, free_params_of};
 use clap::Args;

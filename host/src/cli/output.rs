@@ -36,7 +36,7 @@ pub fn check_finite<T: serde::Serialize + ?Sized>(what: &str, value: &T) -> Resu
 
 /// `Some(x)` formatted to `sig` digits, `-` for none.
 pub fn opt(v: Option<f64>, sig: usize) -> String {
-    v.map(|x| crate::report::fmt_sig(x, sig))
+    v.map(|x| crate::format::fmt_sig(x, sig))
         .unwrap_or_else(|| "-".into())
 }
 

@@ -170,7 +170,7 @@ impl EffectInstance {
         let kv: Vec<String> = params
             .iter()
             .zip(&self.values)
-            .map(|(p, v)| format!("{}={}", p.name, crate::report::fmt_sig(*v, 4)))
+            .map(|(p, v)| format!("{}={}", p.name, crate::format::fmt_sig(*v, 4)))
             .collect();
         format!("{}:{}", self.name(), kv.join(","))
     }

@@ -18,6 +18,45 @@ pub struct Series {
     pub hollow: bool,
 }
 
+impl Series {
+    /// Measured points: filled markers with their error bars.
+    pub fn measured(
+        label: impl Into<String>,
+        color: RGBColor,
+        points: Vec<(f64, f64, f64)>,
+    ) -> Self {
+        Self {
+            label: label.into(),
+            color,
+            points,
+            line: false,
+            hollow: false,
+        }
+    }
+
+    /// The model at the measured cases: hollow markers.
+    pub fn model(label: impl Into<String>, color: RGBColor, points: Vec<(f64, f64, f64)>) -> Self {
+        Self {
+            label: label.into(),
+            color,
+            points,
+            line: false,
+            hollow: true,
+        }
+    }
+
+    /// A model curve: a line through `points` (their error column is ignored).
+    pub fn curve(label: impl Into<String>, color: RGBColor, points: Vec<(f64, f64, f64)>) -> Self {
+        Self {
+            label: label.into(),
+            color,
+            points,
+            line: true,
+            hollow: false,
+        }
+    }
+}
+
 pub const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),

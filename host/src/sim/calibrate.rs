@@ -20,7 +20,7 @@ use super::hydro::Hydro;
 use super::robot::Robot;
 use super::SimError;
 use crate::data::{Case, Dataset};
-use crate::report::fmt_sig;
+use crate::format::fmt_sig;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
 

@@ -6,7 +6,7 @@
 
 use super::dynamics::{End, Outcome, Sample};
 use super::robot::Robot;
-use crate::report::fmt_sig;
+use crate::format::fmt_sig;
 use crate::report::plots::PALETTE;
 use plotters::prelude::*;
 use std::fmt::Write as _;

@@ -179,9 +179,9 @@ pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>)
                             detail: format!(
                                 "{}: leaving it out moves the fitted {} {} from {} to {}, beyond its 95 % interval ±{}: this case drives the fitted value",
                                 case.id, e.effect, e.name,
-                                crate::report::fmt_sig(e.value, 3),
-                                crate::report::fmt_sig(el.value, 3),
-                                crate::report::fmt_sig(ci, 2)
+                                crate::format::fmt_sig(e.value, 3),
+                                crate::format::fmt_sig(el.value, 3),
+                                crate::format::fmt_sig(ci, 2)
                             ),
                             severity: Severity::Warning,
                         });

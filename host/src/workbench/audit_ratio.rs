@@ -180,9 +180,9 @@ pub fn ratio_test(
                         "{label}({})/{label}({}) = {} measured, the family gives {} to {} ({z:.1} standard uncertainties outside)",
                         data.cases[i].id,
                         data.cases[j].id,
-                        crate::report::fmt_sig(r, 3),
-                        crate::report::fmt_sig(lo, 3),
-                        crate::report::fmt_sig(hi, 3)
+                        crate::format::fmt_sig(r, 3),
+                        crate::format::fmt_sig(lo, 3),
+                        crate::format::fmt_sig(hi, 3)
                     );
                     bad[i].push((j, text.clone()));
                     bad[j].push((i, text.clone()));

@@ -259,7 +259,7 @@ impl Located {
         let params = self
             .params
             .iter()
-            .map(|p| format!("{}={}", p.name, crate::report::fmt_sig(p.value, 4)))
+            .map(|p| format!("{}={}", p.name, crate::format::fmt_sig(p.value, 4)))
             .collect::<Vec<_>>()
             .join(", ");
         format!("{} = {} ({params})", self.place, self.formula)
