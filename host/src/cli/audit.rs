@@ -3,7 +3,7 @@
 //! [`crate::workbench::audit`].
 
 use super::model_args::{DataArgs, ModelArgs};
-use super::output::{print_json, Format};
+use super::output::{print_json, TableOrJson};
 use super::CliError;
 use crate::workbench::audit::{audit, Audit, AuditSettings};
 use clap::Args;
@@ -15,13 +15,13 @@ pub struct AuditArgs {
     /// The base of the model family (the catalogue's cheap effects are added to it).
     #[command(flatten)]
     pub model: ModelArgs,
-    /// table or json (`flags: [{case, kind, detail, severity}]`).
+    /// Output format on stdout (json: `flags: [{case, kind, detail, severity}]`).
     #[arg(long, value_enum, default_value = "table")]
-    pub format: Format,
+    pub format: TableOrJson,
     /// Members of the model family sampled for the ratio test.
     #[arg(long, default_value_t = 256)]
     pub family_samples: usize,
-    /// Seed of the family's Latin hypercube.
+    /// Seed of the family's Latin hypercube (the same seed gives the same audit).
     #[arg(long, default_value_t = 12)]
     pub seed: u64,
 }
@@ -33,9 +33,6 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
             a.family_samples
         )));
     }
-    if a.format == Format::Csv {
-        return Err(CliError::input("audit writes --format table or json"));
-    }
     let data = a.data.load()?;
     let model = a.model.model()?;
     let settings = AuditSettings {
@@ -44,8 +41,8 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
     };
     let report = audit(&model, &data, &settings)?;
     match a.format {
-        Format::Json => print_json(&report),
-        _ => print_table(&report),
+        TableOrJson::Json => print_json(&report),
+        TableOrJson::Table => print_table(&report),
     }
     Ok(())
 }

@@ -14,7 +14,7 @@
 //! (Pozrikidis 1992); the annular closed forms, Chen, Lescarboura & Swift,
 //! AIChE J. 14 (1968) 123.
 
-use super::output::{print_json, Format};
+use super::output::{print_json, TableOrJson};
 use super::CliError;
 use crate::nonlocal::axisym::{annular_formula, solve_body, AxisymSettings, Confinement};
 use crate::physics::profile::BodyProfile;
@@ -22,42 +22,44 @@ use clap::Args;
 
 #[derive(Args, Debug)]
 pub struct BodyArgs {
-    /// Cylindrical sections `length:diameter,...` in mm, nose first.
+    /// The body as cylindrical sections `length:diameter,...` in mm, nose first
+    /// (give the body by one of --profile, --spheroid, --data with --case; none is the default).
     #[arg(long, conflicts_with_all = ["spheroid", "data"])]
     pub profile: Option<String>,
     /// Fillet radius of the profile's nose and tail rims (mm).
     #[arg(long, default_value_t = 0.0, requires = "profile")]
     pub rounded_mm: f64,
-    /// Prolate spheroid `length:diameter` in mm.
+    /// The body as a prolate spheroid `length:diameter` in mm (one of the three ways; none is the default).
     #[arg(long, conflicts_with = "data")]
     pub spheroid: Option<String>,
-    /// Dataset file whose case supplies body, channel and viscosity.
-    #[arg(long, requires = "case")]
+    /// Dataset file whose case supplies body, channel and viscosity (with --case;
+    /// one of the three ways to give the body, none is the default).
+    #[arg(long, value_name = "FILE.toml", requires = "case")]
     pub data: Option<std::path::PathBuf>,
-    /// Case id in --data.
+    /// Case id in --data (required with --data, no default).
     #[arg(long, requires = "data")]
     pub case: Option<String>,
-    /// Tube inner diameter (mm); none: free space (unless from --case).
+    /// Tube inner diameter in mm [default: the case's with --case, else none: free space].
     #[arg(long)]
     pub channel_diameter_mm: Option<f64>,
-    /// Tube length (mm); default: the case's, else the body's length plus
-    /// eight tube diameters (caps four diameters away from the body).
+    /// Tube length in mm [default: the case's, else the body's length plus
+    /// eight tube diameters (caps four diameters away from the body)].
     #[arg(long)]
     pub channel_length_mm: Option<f64>,
     /// Open tube (no end caps) instead of closed.
     #[arg(long)]
     pub open: bool,
-    /// Default: the case's, else 3.5 Pa s (the paper's silicone oil).
+    /// Fluid viscosity in Pa s [default: the case's, else 3.5, the paper's silicone oil].
     #[arg(long)]
     pub viscosity_pa_s: Option<f64>,
-    /// Axial position of the body's centre from the tube's centre (mm).
+    /// Axial position of the body's centre from the tube's centre, in mm.
     #[arg(long, default_value_t = 0.0)]
     pub position_mm: f64,
-    /// Elements across the smaller of the body radius and the gap.
+    /// Boundary elements across the smaller of the body radius and the gap (mesh resolution).
     #[arg(long, default_value_t = AxisymSettings::default().resolution)]
     pub resolution: f64,
-    #[arg(long, value_enum, default_value = "table")]
-    pub format: Format,
+    #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
+    pub format: TableOrJson,
 }
 
 #[derive(serde::Serialize)]
@@ -211,8 +213,8 @@ pub fn run(a: BodyArgs) -> Result<(), CliError> {
         solve_seconds: solved.seconds,
     };
     match a.format {
-        Format::Json => print_json(&out),
-        _ => print_table(&out),
+        TableOrJson::Json => print_json(&out),
+        TableOrJson::Table => print_table(&out),
     }
     Ok(())
 }

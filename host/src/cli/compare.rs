@@ -3,7 +3,7 @@
 use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, Format};
 use super::CliError;
-use crate::format::fmt_sig;
+use crate::format::{fmt_sig, fmt_value_unc};
 use crate::workbench::compare::{compare, Comparison};
 use crate::workbench::propagate::{
     affordable, bands, has_input_uncertainty, monte_carlo, MonteCarloCheck,
@@ -17,13 +17,13 @@ pub struct CompareArgs {
     pub data: DataArgs,
     #[command(flatten)]
     pub model: ModelArgs,
-    #[arg(long, value_enum, default_value = "table")]
+    #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
     pub format: Format,
-    /// Directory for the HTML report.
-    #[arg(long, default_value = "report")]
-    pub report: PathBuf,
+    /// Directory for the HTML report (index.html); `--report` is its old, hidden name.
+    #[arg(short, long, alias = "report", value_name = "DIR", default_value = super::output::DEFAULT_REPORT_DIR)]
+    pub output: PathBuf,
     /// Do not write the HTML report.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "output")]
     pub no_report: bool,
     /// Judge residuals against the combined uncertainty: measurement and the
     /// dataset's input uncertainties propagated through the model, in quadrature.
@@ -57,7 +57,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         )));
     }
     if !args.no_report {
-        super::output::check_output_dir(&args.report)?;
+        super::output::check_output_dir(&args.output)?;
     }
     let mut cmp = compare(&model, &data, 0).map_err(super::model_args::in_data(&args.data.data))?;
     let mut checks = Vec::new();
@@ -79,10 +79,10 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         None
     } else {
         Some(
-            crate::report::write_report(&args.report, &model, &data, None).map_err(|e| {
+            crate::report::write_report(&args.output, &model, &data, None).map_err(|e| {
                 CliError::input(format!(
                     "writing the report to {}: {e}",
-                    args.report.display()
+                    args.output.display()
                 ))
             })?,
         )
@@ -127,7 +127,7 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
     );
     for k in &c.cases {
         let obs = |m: Option<f64>, ci: Option<f64>| match (m, ci) {
-            (Some(m), Some(ci)) => format!("{} ± {}", fmt_sig(m, 4), fmt_sig(ci, 2)),
+            (Some(m), Some(ci)) => fmt_value_unc(m, ci),
             _ => "-".into(),
         };
         println!(
@@ -151,7 +151,7 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
     } else {
         &c.summary
     };
-    println!("\n(U in mm/s, Ω = body counter-rotation in Hz; ± inputs = standard uncertainty of the prediction from the input uncertainties;");
+    println!("\n(U in mm/s; Ω = Omega_b, the body's counter-rotation rate in Hz, positive when it turns against the tail; ± CI = 95 % confidence half-width; ± inputs = standard uncertainty of the prediction from the input uncertainties;");
     if combined {
         println!(" σ = error in combined standard errors: measurement and inputs in quadrature, Welch-Satterthwaite degrees of freedom)");
     } else {
@@ -203,11 +203,5 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
 }
 
 fn print_csv(c: &Comparison) -> Result<(), CliError> {
-    let mut w = csv::Writer::from_writer(std::io::stdout());
-    for k in &c.cases {
-        w.serialize(k)
-            .map_err(|e| CliError::failure(format!("writing CSV: {e}")))?;
-    }
-    w.flush()
-        .map_err(|e| CliError::failure(format!("writing CSV: {e}")))
+    super::output::write_csv_rows(&c.cases, std::io::stdout().lock())
 }

@@ -1,7 +1,7 @@
 //! `swimbot diagnose`: where the model fails and which effect is missing.
 
 use super::model_args::{DataArgs, ModelArgs};
-use super::output::{opt, print_json, Format};
+use super::output::{opt, print_json, TableOrJson};
 use super::CliError;
 use crate::format::fmt_sig;
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
@@ -15,12 +15,12 @@ pub struct DiagnoseArgs {
     pub data: DataArgs,
     #[command(flatten)]
     pub model: ModelArgs,
-    #[arg(long, value_enum, default_value = "table")]
-    pub format: Format,
-    /// Quantile of a perfect model's chi-square taken as the noise floor.
+    #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
+    pub format: TableOrJson,
+    /// Quantile of a perfect model's chi-square distribution taken as the noise floor (0.5 to 1).
     #[arg(long, default_value_t = 0.95)]
     pub level: f64,
-    /// AICc margin that makes a winner clear.
+    /// AICc margin by which the best candidate must beat the next to be a clear winner.
     #[arg(long, default_value_t = 4.0)]
     pub margin: f64,
     /// Do not try pairs of effects.
@@ -37,8 +37,9 @@ pub struct DiagnoseArgs {
     /// Do not search beyond the catalogue (place x feature x form).
     #[arg(long)]
     pub no_discovery: bool,
-    /// Write the best located correction as a user-effect file (TOML), fitted values as defaults.
-    #[arg(long, value_name = "F.toml")]
+    /// Also write the best located correction as a user-effect file (TOML), fitted values as
+    /// defaults [default: none written].
+    #[arg(long, value_name = "FILE.toml")]
     pub write_effect: Option<std::path::PathBuf>,
 }
 
@@ -63,6 +64,9 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
             "--margin must be a number >= 0, got {}",
             a.margin
         )));
+    }
+    if let Some(path) = &a.write_effect {
+        super::output::check_output_file(path)?;
     }
     let data = a.data.load()?;
     let model = a.model.model()?;
@@ -94,8 +98,8 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     super::output::check_finite("diagnosis", &d)?;
     spinner.finish_and_clear();
     match a.format {
-        Format::Json => print_json(&d),
-        _ => {
+        TableOrJson::Json => print_json(&d),
+        TableOrJson::Table => {
             if a.input_uncertainty {
                 println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
             }
@@ -124,12 +128,7 @@ fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<
         )));
     };
     let text = crate::workbench::discovery::write::to_toml(l, dataset);
-    std::fs::write(path, text).map_err(|e| {
-        CliError::input(format!(
-            "--write-effect {}: cannot write: {e}",
-            path.display()
-        ))
-    })?;
+    super::output::write_atomically(path, text.as_bytes())?;
     eprintln!("wrote {} ({})", path.display(), l.describe());
     Ok(())
 }

@@ -3,7 +3,7 @@
 //! with `--quantities`, the case quantities a formula may use.
 
 use super::model_args::EffectFiles;
-use super::output::{print_json, Format};
+use super::output::{print_json, TableOrJson};
 use super::CliError;
 use crate::data::quantities::{FEATURES, FIELDS};
 use crate::format::fmt_sig;
@@ -11,8 +11,8 @@ use clap::Args;
 
 #[derive(Args, Debug)]
 pub struct EffectsArgs {
-    #[arg(long, value_enum, default_value = "table")]
-    pub format: Format,
+    #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
+    pub format: TableOrJson,
     #[command(flatten)]
     pub effect_files: EffectFiles,
     /// List the case quantities (features and fields) usable in formulas instead.
@@ -43,7 +43,7 @@ struct QuantityEntry {
     doc: &'static str,
 }
 
-fn quantities(format: Format) {
+fn quantities(format: TableOrJson) {
     let entries: Vec<QuantityEntry> = FEATURES
         .iter()
         .map(|q| (q, "feature"))
@@ -56,7 +56,7 @@ fn quantities(format: Format) {
             doc: q.doc,
         })
         .collect();
-    if format == Format::Json {
+    if format == TableOrJson::Json {
         print_json(&entries);
         return;
     }
@@ -96,7 +96,7 @@ pub fn run(args: EffectsArgs) -> Result<(), CliError> {
             }
         })
         .collect();
-    if args.format == Format::Json {
+    if args.format == TableOrJson::Json {
         print_json(&entries);
         return Ok(());
     }

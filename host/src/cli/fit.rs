@@ -2,7 +2,7 @@
 //! error on all cases (as the paper calibrated on the B_o/R_body = 0.45 tails).
 
 use super::model_args::{DataArgs, ModelArgs};
-use super::output::{opt, pct, print_json, Format};
+use super::output::{opt, pct, print_json, TableOrJson};
 use super::CliError;
 use crate::format::fmt_sig;
 use crate::workbench::compare::compare;
@@ -15,11 +15,11 @@ pub struct FitArgs {
     pub data: DataArgs,
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Calibrate on these case ids only (comma-separated; default all).
+    /// Calibrate on these case ids only (comma-separated) [default: all cases].
     #[arg(long, value_delimiter = ',')]
     pub cases: Vec<String>,
-    #[arg(long, value_enum, default_value = "table")]
-    pub format: Format,
+    #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
+    pub format: TableOrJson,
 }
 
 pub fn run(a: FitArgs) -> Result<(), CliError> {
@@ -87,7 +87,7 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
         .map_err(super::model_args::in_data(&a.data.data))?;
     super::output::check_finite("fit", &result)?;
     super::output::check_finite("comparison", &all)?;
-    if a.format == Format::Json {
+    if a.format == TableOrJson::Json {
         print_json(&serde_json::json!({ "fit": result, "comparison": all }));
         return Ok(());
     }

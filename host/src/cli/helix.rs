@@ -3,8 +3,10 @@
 //! the leak-free solver of `crate::nonlocal::tube` (regularized Stokeslets
 //! on the centre-line, MFS wall), with its leak diagnostics.
 
-use super::output::{print_json, Format};
+use super::model_args::TailModelArg;
+use super::output::{print_json, TableOrJson};
 use super::CliError;
+use crate::format::fmt_sig;
 use crate::physics::coefficients::CoefficientSet;
 use crate::physics::geometry::{Handedness, Helix};
 use crate::physics::tail;
@@ -12,61 +14,105 @@ use clap::{Args, ValueEnum};
 
 #[derive(Args, Debug)]
 pub struct HelixArgs {
+    /// Helix wavelength lambda in mm.
     #[arg(long)]
     pub wavelength_mm: f64,
+    /// Helix amplitude B (radius of the helix's centre-line) in mm.
     #[arg(long)]
     pub amplitude_mm: f64,
-    /// Axial length L_t.
-    #[arg(long)]
-    pub length_mm: f64,
+    /// Axial tail length L_t in mm; `--length-mm` is its old, hidden name.
+    #[arg(long, alias = "length-mm")]
+    pub tail_length_mm: f64,
+    /// Wire diameter D_t in mm.
     #[arg(long, default_value_t = 1.0)]
     pub wire_diameter_mm: f64,
+    /// Fluid viscosity mu in Pa s (the paper's silicone oil: 3.5).
     #[arg(long, default_value_t = 3.5)]
     pub viscosity_pa_s: f64,
+    /// Local drag coefficient set of eq. 3.
     #[arg(long, value_enum, default_value = "gray-hancock")]
     pub coefficients: super::model_args::CoefficientsArg,
-    /// Default: exact (RFT) in free space, stokeslets in a channel (the
-    /// only method the tube solver has).
+    /// How eq. 3 is integrated along the tail (with --tail-model rft) [default: exact].
     #[arg(long, value_enum)]
     pub method: Option<HelixMethod>,
-    /// Quadrature nodes per wavelength (with --method quadrature).
+    /// Quadrature nodes per wavelength (with --method quadrature; the paper used 100).
     #[arg(long, default_value_t = 100)]
     pub nodes_per_wavelength: usize,
-    /// Segments per turn (with --method sbt|stokeslets).
+    /// Tail hydrodynamics: local RFT (eq. 3), or non-local slender-body theory /
+    /// regularized Stokeslets [default: rft in free space, stokeslets in a channel, the
+    /// only model the tube solver has].
+    #[arg(long, value_enum)]
+    pub tail_model: Option<TailModelArg>,
+    /// Segments per helix turn of the non-local tail models, sbt and stokeslets (12 is converged to 1 %).
     #[arg(long, default_value_t = 12)]
     pub segments_per_turn: usize,
     /// Left-handed helix instead of the paper's right-handed one.
     #[arg(long)]
     pub left_handed: bool,
-    /// Put the helix coaxially in a tube of this inner diameter (leak-free
-    /// MFS wall, closed by end caps unless --open).
+    /// Put the helix coaxially in a tube of this inner diameter in mm (leak-free
+    /// MFS wall, closed by end caps unless --open) [default: free space].
     #[arg(long)]
     pub channel_diameter_mm: Option<f64>,
-    /// Tube length: caps (or open ends) at most half the spare length beyond
-    /// the helix. Default: a long tube (caps 1.5 radii beyond the helix).
+    /// Tube length in mm: caps (or open ends) at most half the spare length beyond
+    /// the helix [default: a long tube, caps 1.5 radii beyond the helix].
     #[arg(long, requires = "channel_diameter_mm")]
     pub channel_length_mm: Option<f64>,
     /// Open tube ends (no caps, net flux allowed).
     #[arg(long, requires = "channel_diameter_mm")]
     pub open: bool,
-    /// Tube wall collocation spacing.
+    /// Tube wall collocation spacing in mm.
     #[arg(long, default_value_t = 3.0, requires = "channel_diameter_mm")]
     pub wall_spacing_mm: f64,
-    /// Refuse a dense tube solve needing more memory than this.
+    /// Refuse a dense tube solve needing more memory than this, in GB.
     #[arg(long, default_value_t = 4.0)]
     pub max_memory_gb: f64,
-    #[arg(long, value_enum, default_value = "table")]
-    pub format: Format,
+    #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
+    pub format: TableOrJson,
 }
 
-#[derive(ValueEnum, Clone, Copy, Debug)]
+/// `--method` of `helix`: the integration of eq. 3, as in the other
+/// commands. `sbt` and `stokeslets` were values of this flag before
+/// `--tail-model` took them; they are accepted, hidden, for old scripts.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HelixMethod {
+    /// Closed form.
     Exact,
+    /// Numerical, --nodes-per-wavelength nodes.
     Quadrature,
-    /// Johnson's slender-body theory (non-local).
+    #[value(hide = true)]
     Sbt,
-    /// Regularized Stokeslets (non-local).
+    #[value(hide = true)]
     Stokeslets,
+}
+
+/// The tail model and integration a command line asks for, with the old
+/// `--method sbt|stokeslets` spellings folded into `--tail-model`.
+fn tail_choice(a: &HelixArgs, in_channel: bool) -> Result<(TailModelArg, bool), CliError> {
+    let from_method = match a.method {
+        Some(HelixMethod::Sbt) => Some(TailModelArg::Sbt),
+        Some(HelixMethod::Stokeslets) => Some(TailModelArg::Stokeslets),
+        _ => None,
+    };
+    let tail = match (a.tail_model, from_method) {
+        (Some(t), Some(m)) if t != m => {
+            return Err(CliError::input(format!(
+                "--tail-model {} and --method {} disagree: give the tail model once, with --tail-model",
+                t.name(),
+                m.name()
+            )))
+        }
+        (Some(t), _) | (None, Some(t)) => t,
+        (None, None) if in_channel => TailModelArg::Stokeslets,
+        (None, None) => TailModelArg::Rft,
+    };
+    let quadrature = a.method == Some(HelixMethod::Quadrature);
+    if quadrature && tail != TailModelArg::Rft {
+        return Err(CliError::input(format!(
+            "--method quadrature integrates eq. 3 (--tail-model rft), not --tail-model {}",
+            tail.name()
+        )));
+    }
+    Ok((tail, quadrature))
 }
 
 #[derive(serde::Serialize)]
@@ -112,16 +158,16 @@ fn helix_limits(a: &HelixArgs) -> Result<(), CliError> {
     for (flag, field, v) in [
         ("wavelength-mm", "wavelength_mm", a.wavelength_mm),
         ("amplitude-mm", "amplitude_mm", a.amplitude_mm),
-        ("length-mm", "tail_length_mm", a.length_mm),
+        ("tail-length-mm", "tail_length_mm", a.tail_length_mm),
         ("wire-diameter-mm", "wire_diameter_mm", a.wire_diameter_mm),
         ("viscosity-pa-s", "viscosity_pa_s", a.viscosity_pa_s),
     ] {
         check_value(field, v).map_err(|e| CliError::input(format!("--{flag}: {e}")))?;
     }
-    if a.length_mm / a.wavelength_mm > MAX_TURNS {
+    if a.tail_length_mm / a.wavelength_mm > MAX_TURNS {
         return Err(CliError::input(format!(
-            "--length-mm / --wavelength-mm: {} turns, at most {MAX_TURNS}",
-            a.length_mm / a.wavelength_mm
+            "--tail-length-mm / --wavelength-mm: {} turns, at most {MAX_TURNS}",
+            crate::format::fmt_sig(a.tail_length_mm / a.wavelength_mm, 3)
         )));
     }
     Ok(())
@@ -131,7 +177,7 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
     let mut h = Helix::from_mm(
         positive("wavelength-mm", a.wavelength_mm)?,
         positive("amplitude-mm", a.amplitude_mm)?,
-        positive("length-mm", a.length_mm)?,
+        positive("tail-length-mm", a.tail_length_mm)?,
         positive("wire-diameter-mm", a.wire_diameter_mm)?,
     );
     helix_limits(&a)?;
@@ -144,21 +190,21 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
         super::model_args::CoefficientsArg::Lighthill => CoefficientSet::Lighthill,
     };
     let drag = set.local_drag(&h, mu).map_err(CliError::input)?;
+    let (tail_model, quadrature) = tail_choice(&a, a.channel_diameter_mm.is_some())?;
     if let Some(d_mm) = a.channel_diameter_mm {
-        if let Some(m) = a.method {
-            if !matches!(m, HelixMethod::Stokeslets) {
-                return Err(CliError::input(format!(
-                    "--method {m:?} is not available in a channel: the tube solver uses stokeslets"
-                )));
-            }
+        if tail_model != TailModelArg::Stokeslets {
+            return Err(CliError::input(format!(
+                "--tail-model {} is not available in a channel: the tube solver uses stokeslets",
+                tail_model.name()
+            )));
         }
         let (m, tube) = tube_matrix(&a, &h, mu, d_mm)?;
         let method = "regularized Stokeslets in the tube (MFS wall)";
         return print(&a, &h, drag, set, m, method, Some(tube));
     }
-    let (m, method) = match a.method.unwrap_or(HelixMethod::Exact) {
-        HelixMethod::Exact => (tail::matrix_exact(&h, drag), "exact"),
-        HelixMethod::Quadrature => {
+    let (m, method) = match tail_model {
+        TailModelArg::Rft if !quadrature => (tail::matrix_exact(&h, drag), "exact"),
+        TailModelArg::Rft => {
             crate::data::limits::check_quadrature(a.nodes_per_wavelength, h.n_waves())
                 .map_err(|e| CliError::input(format!("--nodes-per-wavelength: {e}")))?;
             (
@@ -166,8 +212,8 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
                 "quadrature",
             )
         }
-        HelixMethod::Sbt | HelixMethod::Stokeslets => {
-            let (method, name) = if matches!(a.method, Some(HelixMethod::Sbt)) {
+        TailModelArg::Sbt | TailModelArg::Stokeslets => {
+            let (method, name) = if tail_model == TailModelArg::Sbt {
                 (
                     crate::nonlocal::TailMethod::SlenderBody,
                     "slender-body theory",
@@ -271,8 +317,8 @@ fn print(
     };
     super::output::check_finite("resistance matrix", &out)?;
     match a.format {
-        Format::Json => print_json(&out),
-        _ => print_table(&out),
+        TableOrJson::Json => print_json(&out),
+        TableOrJson::Table => print_table(&out),
     }
     Ok(())
 }
@@ -284,27 +330,30 @@ fn print_table(o: &HelixOut) {
     );
     println!("rows/cols: Fx Fy Fz Tx Ty Tz / Ux Uy Uz Ωx Ωy Ωz");
     for row in &o.matrix {
-        let cells: Vec<String> = row.iter().map(|v| format!("{v:>12.4e}")).collect();
+        let cells: Vec<String> = row.iter().map(|v| format!("{:>11}", fmt_sig(*v, 5))).collect();
         println!("  {}", cells.join(" "));
     }
-    println!("axial drag        B(1,1) = {:.6e} N s/m", o.drag_n_s_per_m);
-    println!("thrust per rate   B(1,4) = {:.6e} N s", o.thrust_n_s);
-    println!("torque per rate   B(4,4) = {:.6e} N m s", o.torque_n_m_s);
+    println!("axial drag        B(1,1) = {} N s/m", fmt_sig(o.drag_n_s_per_m, 6));
+    println!("thrust per rate   B(1,4) = {} N s", fmt_sig(o.thrust_n_s, 6));
+    println!("torque per rate   B(4,4) = {} N m s", fmt_sig(o.torque_n_m_s, 6));
     println!(
-        "arc length {:.2} mm, {:.3} waves, c_t = {:.4} Pa s, c_n = {:.4} Pa s",
-        o.arc_length_mm, o.n_waves, o.c_t_pa_s, o.c_n_pa_s
+        "arc length {} mm, {} waves, c_t = {} Pa s, c_n = {} Pa s",
+        fmt_sig(o.arc_length_mm, 4),
+        fmt_sig(o.n_waves, 4),
+        fmt_sig(o.c_t_pa_s, 4),
+        fmt_sig(o.c_n_pa_s, 4)
     );
     if let Some(t) = &o.tube {
         let d = &t.diagnostics;
         println!(
-            "tube: diameter {} mm, {}, {}; wall spacing {} mm; {} unknowns, {:.2} GB peak",
+            "tube: diameter {} mm, {}, {}; wall spacing {} mm; {} unknowns, {} GB peak",
             t.diameter_mm,
             t.length_mm
                 .map_or("long".to_string(), |l| format!("length {l} mm")),
             if t.closed { "closed" } else { "open" },
             t.wall_spacing_mm,
             3 * d.n_points,
-            d.peak_bytes as f64 / 1e9
+            fmt_sig(d.peak_bytes as f64 / 1e9, 3)
         );
         let pct = |v: &[f64]| {
             v.iter()

@@ -11,6 +11,7 @@ mod error;
 mod finite;
 mod fit;
 mod helix;
+mod help_lint;
 mod model_args;
 mod output;
 mod report;

@@ -9,12 +9,16 @@ use crate::physics::solve::Dofs;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
+/// The help of `--preset` (sim replaces it: there the robot file's model
+/// is the default).
+pub const PRESET_HELP: &str = "Named model: base, paper, paper-lighthill, physics [default: base]. \
+    physics: the zero-parameter Stokes model, slow on first use, then cached";
+
 #[derive(Args, Debug, Clone)]
 pub struct ModelArgs {
-    /// Named model: base, paper, paper-lighthill, physics (default base). physics: the zero-parameter Stokes model, slow on first use, then cached.
-    #[arg(long)]
+    #[arg(long, help = PRESET_HELP)]
     pub preset: Option<String>,
-    /// Local drag coefficient set (overrides the preset's).
+    /// Local drag coefficient set [default: the preset's; gray-hancock for base].
     #[arg(long, value_enum)]
     pub coefficients: Option<CoefficientsArg>,
     /// Add an effect: NAME or NAME:param=value,... (repeatable; see `swimbot effects`).
@@ -22,7 +26,8 @@ pub struct ModelArgs {
     pub effects: Vec<String>,
     #[command(flatten)]
     pub effect_files: EffectFiles,
-    /// How eq. 3 is integrated.
+    /// How eq. 3 is integrated along the tail: exact (closed form) or
+    /// quadrature (numerical, --nodes-per-wavelength nodes).
     #[arg(long, value_enum, default_value = "exact")]
     pub method: MethodArg,
     /// Quadrature nodes per wavelength (with --method quadrature; the paper used 100).
@@ -31,7 +36,7 @@ pub struct ModelArgs {
     /// Tail hydrodynamics: local RFT (eq. 3), or non-local slender-body theory / regularized Stokeslets.
     #[arg(long, value_enum, default_value = "rft")]
     pub tail_model: TailModelArg,
-    /// Segments per helix turn of the non-local tail models (12 is converged to 1 %).
+    /// Segments per helix turn of the non-local tail models, sbt and stokeslets (12 is converged to 1 %).
     #[arg(long, default_value_t = 12)]
     pub segments_per_turn: usize,
     /// Degrees of freedom: axial (x-translation and x-rotation, the paper) or all six.
@@ -47,15 +52,31 @@ pub enum CoefficientsArg {
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
 pub enum MethodArg {
+    /// Closed form.
     Exact,
+    /// Numerical, --nodes-per-wavelength nodes.
     Quadrature,
 }
 
-#[derive(ValueEnum, Clone, Copy, Debug)]
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TailModelArg {
+    /// Local resistive-force theory (eq. 3).
     Rft,
+    /// Johnson's slender-body theory (non-local).
     Sbt,
+    /// Regularized Stokeslets (non-local).
     Stokeslets,
+}
+
+impl TailModelArg {
+    /// The value as typed on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            TailModelArg::Rft => "rft",
+            TailModelArg::Sbt => "sbt",
+            TailModelArg::Stokeslets => "stokeslets",
+        }
+    }
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
@@ -64,11 +85,12 @@ pub enum DofsArg {
     All,
 }
 
-/// `--effects FILE.toml`: user effects, loaded before anything names them.
+/// `--effect-file FILE.toml`: user effects, loaded before anything names
+/// them. (`--effects` was its name before; kept hidden for old scripts.)
 #[derive(Args, Debug, Clone, Default)]
 pub struct EffectFiles {
     /// Load user effects stated as formulas (repeatable; docs/effects-format.md).
-    #[arg(long = "effects", value_name = "FILE.toml")]
+    #[arg(long = "effect-file", alias = "effects", value_name = "FILE.toml")]
     pub files: Vec<PathBuf>,
 }
 
@@ -149,8 +171,8 @@ impl ModelArgs {
 /// `--data F`, shared by the subcommands that read measurements.
 #[derive(Args, Debug, Clone)]
 pub struct DataArgs {
-    /// Dataset (TOML, see docs/data-format.md); the paper's built-in data if absent.
-    #[arg(long)]
+    /// Dataset (TOML, docs/data-format.md) [default: the paper's built-in data].
+    #[arg(long, value_name = "FILE.toml")]
     pub data: Option<PathBuf>,
 }
 

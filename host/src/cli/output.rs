@@ -7,12 +7,36 @@ use clap::ValueEnum;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// `--format` of the commands with a per-case table (compare).
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// Aligned console table (significant figures, see `crate::format`).
     Table,
+    /// JSON on stdout, full precision.
     Json,
+    /// CSV on stdout, one row per case, plain decimals.
     Csv,
 }
+
+/// `--format` of the commands whose output has no rows for a CSV.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableOrJson {
+    /// Console text (significant figures, see `crate::format`).
+    Table,
+    /// JSON on stdout, full precision.
+    Json,
+}
+
+/// The help of every `--format`.
+pub const FORMAT_HELP: &str = "Output format on stdout";
+
+/// Default output directories: all under one `swimbot-out/` in the working
+/// directory, `swimbot-out/`, so that no run litters a source tree (it is
+/// git-ignored).
+/// `compare`'s HTML report.
+pub const DEFAULT_REPORT_DIR: &str = "swimbot-out/report";
+/// `sim`'s CSV and SVG.
+pub const DEFAULT_SIM_DIR: &str = "swimbot-out/sim";
 
 /// Print JSON to stdout (serialisation of our own types cannot fail).
 pub fn print_json<T: serde::Serialize>(value: &T) {
@@ -20,6 +44,46 @@ pub fn print_json<T: serde::Serialize>(value: &T) {
         "{}",
         serde_json::to_string_pretty(value).expect("serialisable")
     );
+}
+
+/// Rows of flat structs as CSV with every number in the one CSV style
+/// ([`crate::format::csv_f64`]): the csv crate's own float writer switches
+/// to `1e-7` notation for small and large values. Columns in the struct's
+/// declared order; `None` is an empty cell.
+pub fn write_csv_rows<T: serde::Serialize>(
+    rows: &[T],
+    out: impl std::io::Write,
+) -> Result<(), CliError> {
+    let fail = |e: &dyn std::fmt::Display| CliError::failure(format!("writing CSV: {e}"));
+    let Some(first) = rows.first() else {
+        return Ok(());
+    };
+    // The header, in declared order, from the csv crate's serde support.
+    let mut probe = csv::Writer::from_writer(Vec::new());
+    probe.serialize(first).map_err(|e| fail(&e))?;
+    let bytes = probe.into_inner().map_err(|e| fail(&e))?;
+    let header: Vec<String> = csv::Reader::from_reader(bytes.as_slice())
+        .headers()
+        .map_err(|e| fail(&e))?
+        .iter()
+        .map(str::to_string)
+        .collect();
+    let mut w = csv::Writer::from_writer(out);
+    w.write_record(&header).map_err(|e| fail(&e))?;
+    for row in rows {
+        let v = serde_json::to_value(row).map_err(|e| fail(&e))?;
+        let cells = header.iter().map(|h| match v.get(h) {
+            Some(serde_json::Value::Number(n)) if n.is_f64() => {
+                crate::format::csv_f64(n.as_f64().unwrap_or(f64::NAN))
+            }
+            Some(serde_json::Value::Number(n)) => n.to_string(),
+            Some(serde_json::Value::String(s)) => s.clone(),
+            Some(serde_json::Value::Bool(b)) => b.to_string(),
+            _ => String::new(),
+        });
+        w.write_record(cells).map_err(|e| fail(&e))?;
+    }
+    w.flush().map_err(|e| fail(&e))
 }
 
 /// Refuse to print a result with a non-finite number (JSON would show it as
@@ -34,7 +98,7 @@ pub fn check_finite<T: serde::Serialize + ?Sized>(what: &str, value: &T) -> Resu
     }
 }
 
-/// `Some(x)` formatted to `sig` digits, `-` for none.
+/// `Some(x)` formatted to `sig` significant figures, `-` for none.
 pub fn opt(v: Option<f64>, sig: usize) -> String {
     v.map(|x| crate::format::fmt_sig(x, sig))
         .unwrap_or_else(|| "-".into())
@@ -198,5 +262,30 @@ mod tests {
         let e = write_atomically(&dir.path().join("no/such/dir/x"), b"").unwrap_err();
         assert_eq!(e.exit_code(), 2);
         assert_eq!(check_output_dir(&p).unwrap_err().exit_code(), 2);
+    }
+
+    #[test]
+    fn csv_rows_keep_declared_order_and_plain_decimals() {
+        #[derive(serde::Serialize)]
+        struct R {
+            id: String,
+            tiny: f64,
+            big: f64,
+            n: usize,
+            none: Option<f64>,
+        }
+        let rows = [R {
+            id: "1e3".into(),
+            tiny: 1.2e-7,
+            big: 3.0e17,
+            n: 4,
+            none: None,
+        }];
+        let mut out = Vec::new();
+        write_csv_rows(&rows, &mut out).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "id,tiny,big,n,none\n1e3,0.00000012,300000000000000000,4,\n"
+        );
     }
 }

@@ -10,40 +10,46 @@ use crate::sim::{self, calibrate, output, Options, Robot, Script, SimError};
 use clap::Args;
 use std::path::PathBuf;
 
+/// `--preset` in `sim`: the default is the robot file's model, not `base`.
+const SIM_PRESET_HELP: &str = "Named model replacing the robot file's: base, paper, paper-lighthill, physics \
+    [default: the robot file's [model]; the built-in robot's is gray-hancock + backflow + body-correction]";
+
 #[derive(Args, Debug)]
+#[command(mut_arg("preset", |a| a.help(SIM_PRESET_HELP)))]
+#[command(mut_arg("coefficients", |a| a.help("Local drag coefficient set replacing the robot file's [default: the robot file's]")))]
 pub struct SimArgs {
-    /// Robot description (TOML, docs/robot-format.md); the built-in paper robot if absent.
-    #[arg(long)]
+    /// Robot description (TOML, docs/robot-format.md) [default: the built-in paper robot].
+    #[arg(long, value_name = "FILE.toml")]
     pub robot: Option<PathBuf>,
     /// Which of the robot's tails: its number (1-based) or its id.
     #[arg(long, default_value = "1")]
     pub tail: String,
-    /// Remote commands, e.g. "on@0s,off@300s" or "nec:0x00:0x45@1s" (default on@0s).
+    /// Remote commands, e.g. "on@0s,off@300s" or "nec:0x00:0x45@1s" [default: on@0s].
     #[arg(long, conflicts_with = "script_file")]
     pub script: Option<String>,
-    /// The script from a file (one item per line or comma-separated, # comments).
-    #[arg(long)]
+    /// The script from a file (one item per line or comma-separated, # comments) [default: --script].
+    #[arg(long, value_name = "FILE")]
     pub script_file: Option<PathBuf>,
     /// Model options; --preset or --coefficients replace the robot file's model, --effect adds to it.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Output directory for sim.csv and sim.svg.
-    #[arg(short = 'o', long = "out", default_value = "sim-out")]
-    pub out: PathBuf,
-    /// Robot-time limit (s).
-    #[arg(long, default_value_t = 1800.0)]
-    pub max_time: f64,
-    /// CSV sampling interval (s).
-    #[arg(long, default_value_t = 0.1)]
-    pub sample_every: f64,
+    /// Output directory for sim.csv and sim.svg; `--out` is its old, hidden name.
+    #[arg(short, long, alias = "out", value_name = "DIR", default_value = super::output::DEFAULT_SIM_DIR)]
+    pub output: PathBuf,
+    /// Robot-time limit in s; `--max-time` is its old, hidden name.
+    #[arg(long, alias = "max-time", default_value_t = 1800.0)]
+    pub max_time_s: f64,
+    /// CSV sampling interval in s; `--sample-every` is its old, hidden name.
+    #[arg(long, alias = "sample-every", default_value_t = 0.1)]
+    pub sample_every_s: f64,
     /// Keep going past the channel's top (the height then exceeds the channel).
     #[arg(long)]
     pub no_stop_at_top: bool,
     /// Fit one motor to the observed tail rates of all cases instead of simulating.
     #[arg(long)]
     pub fit_motor: bool,
-    /// Dataset for --fit-motor; the paper's built-in data if absent.
-    #[arg(long, requires = "fit_motor")]
+    /// Dataset for --fit-motor [default: the paper's built-in data].
+    #[arg(long, value_name = "FILE.toml", requires = "fit_motor")]
     pub data: Option<PathBuf>,
 }
 
@@ -115,8 +121,8 @@ const MAX_SAMPLES: f64 = 1e6;
 
 fn check_times(args: &SimArgs) -> Result<(), CliError> {
     for (name, v) in [
-        ("--max-time", args.max_time),
-        ("--sample-every", args.sample_every),
+        ("--max-time-s", args.max_time_s),
+        ("--sample-every-s", args.sample_every_s),
     ] {
         if !(v.is_finite() && v > 0.0 && v <= MAX_TIME_S) {
             return Err(CliError::input(format!(
@@ -124,10 +130,11 @@ fn check_times(args: &SimArgs) -> Result<(), CliError> {
             )));
         }
     }
-    if args.max_time / args.sample_every > MAX_SAMPLES {
+    if args.max_time_s / args.sample_every_s > MAX_SAMPLES {
         return Err(CliError::input(format!(
-            "--max-time / --sample-every = {} samples; at most {MAX_SAMPLES:e} (sample less often)",
-            args.max_time / args.sample_every
+            "--max-time-s / --sample-every-s = {} samples; at most {} (sample less often)",
+            crate::format::fmt_sig(args.max_time_s / args.sample_every_s, 3),
+            crate::format::fmt_sig(MAX_SAMPLES, 1)
         )));
     }
     Ok(())
@@ -184,11 +191,11 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         ));
     }
     check_times(&args)?;
-    super::output::check_output_dir(&args.out)?;
+    super::output::check_output_dir(&args.output)?;
     let opts = Options {
         tail,
-        max_time_s: args.max_time,
-        sample_every_s: args.sample_every,
+        max_time_s: args.max_time_s,
+        sample_every_s: args.sample_every_s,
         stop_at_top: !args.no_stop_at_top,
     };
     let outcome = sim::simulate(&robot, &script, &opts)?;
@@ -199,16 +206,16 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         output::svg(&outcome).map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
     super::output::write_all_atomically(&[
         (
-            args.out.join("sim.csv"),
+            args.output.join("sim.csv"),
             output::csv(&outcome.samples).into_bytes(),
         ),
-        (args.out.join("sim.svg"), svg.into_bytes()),
+        (args.output.join("sim.svg"), svg.into_bytes()),
     ])?;
     print!("{}", output::summary(&robot, &outcome));
     println!(
         "wrote {} and {}",
-        args.out.join("sim.csv").display(),
-        args.out.join("sim.svg").display()
+        args.output.join("sim.csv").display(),
+        args.output.join("sim.svg").display()
     );
     Ok(())
 }

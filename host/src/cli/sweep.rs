@@ -13,15 +13,18 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct SweepArgs {
-    /// start:stop:count, or one value.
     // Hyphen values are accepted so that `-1:20:3` reaches the range
     // parser (and its message) instead of being read as a flag.
+    /// Helix wavelength lambda in mm: start:stop:count (count values, ends included) or one value.
     #[arg(long, value_name = "A:B:N", allow_hyphen_values = true)]
     pub wavelength_mm: String,
+    /// Helix amplitude B (radius of the helix's centre-line) in mm: start:stop:count or one value.
     #[arg(long, value_name = "A:B:N", allow_hyphen_values = true)]
     pub amplitude_mm: String,
+    /// Axial tail length L_t in mm: start:stop:count or one value.
     #[arg(long, value_name = "A:B:N", allow_hyphen_values = true)]
     pub tail_length_mm: String,
+    /// Tail rotation rate f in Hz: start:stop:count or one value.
     #[arg(
         long,
         value_name = "A:B:N",
@@ -29,6 +32,8 @@ pub struct SweepArgs {
         allow_hyphen_values = true
     )]
     pub frequency_hz: String,
+    /// Channel inner diameter in mm: start:stop:count or one value (the rest of the
+    /// case, body and fluid, is the paper's first case).
     #[arg(
         long,
         value_name = "A:B:N",
@@ -38,8 +43,8 @@ pub struct SweepArgs {
     pub channel_diameter_mm: String,
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Output CSV (stdout if absent).
-    #[arg(short, long)]
+    /// Output CSV file [default: stdout].
+    #[arg(short, long, value_name = "FILE.csv")]
     pub output: Option<PathBuf>,
 }
 
@@ -151,6 +156,7 @@ impl Grid {
 /// Predictions of one grid point.
 struct Row {
     u_mm_s: f64,
+    /// Body counter-rotation Omega_b (Hz), positive against the tail.
     omega_hz: f64,
     u_ratio: f64,
     omega_ratio: f64,
@@ -278,14 +284,15 @@ fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<
     let fail = |e: std::io::Error| CliError::failure(format!("writing the sweep CSV: {e}"));
     writeln!(
         w,
-        "wavelength_mm,amplitude_mm,tail_length_mm,frequency_hz,channel_diameter_mm,u_mm_s,omega_body_hz,u_over_u_wave,omega_ratio"
+        "wavelength_mm,amplitude_mm,tail_length_mm,frequency_hz,channel_diameter_mm,u_mm_s,omega_body_counter_hz,u_over_u_wave,omega_body_counter_over_f"
     )
     .map_err(fail)?;
     for (i, r) in rows.iter().enumerate() {
         let c = g.case(t, i);
         writeln!(
             w,
-            "{},{},{},{},{},{:.6e},{:.6e},{:.6e},{:.6e}",
+            // One CSV style (crate::format): shortest round-trip decimals.
+            "{},{},{},{},{},{},{},{},{}",
             c.wavelength_mm,
             c.amplitude_mm,
             c.tail_length_mm,

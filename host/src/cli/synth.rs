@@ -10,22 +10,24 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct SynthArgs {
-    /// Case design (TOML; measurements in it are replaced); the paper's cases if absent.
-    #[arg(long)]
+    /// Case design (TOML; measurements in it are replaced) [default: the paper's cases].
+    #[arg(long, value_name = "FILE.toml")]
     pub data: Option<PathBuf>,
     /// The truth: a preset or coefficient set, then effects, joined by `+`,
     /// e.g. "base + backflow + buoyancy:net_force_mn=0.2".
     #[arg(long)]
     pub truth: String,
-    /// Relative noise of one trial (0.02 = 2 %).
+    /// Relative noise (standard deviation) of one trial, as a fraction (0.02 = 2 %).
     #[arg(long, default_value_t = 0.02)]
     pub noise: f64,
+    /// Trials per case (each measured mean and its 95 % CI come from them).
     #[arg(long, default_value_t = 5)]
     pub trials: u32,
+    /// Seed of the noise generator (the same seed gives the same data).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Output dataset (TOML).
-    #[arg(short, long)]
+    /// Output dataset file (TOML).
+    #[arg(short, long, value_name = "FILE.toml")]
     pub output: PathBuf,
     #[command(flatten)]
     pub effect_files: super::model_args::EffectFiles,

@@ -12,7 +12,10 @@ use plotters::prelude::*;
 use std::fmt::Write as _;
 use swimbot_shared::MotorState as State;
 
-pub const CSV_HEADER: &str = "time_s,duty,battery_v,current_a,motor_current_a,motor_rate_hz,tail_rate_hz,body_rate_hz,u_mm_s,height_mm,soc,state";
+/// Rates: the tail's in the lab frame, the motor's relative (tail - body),
+/// and the body's as Omega_b, its counter-rotation, positive when it turns
+/// against the tail (the paper's Table IV convention, as in every output).
+pub const CSV_HEADER: &str = "time_s,duty,battery_v,current_a,motor_current_a,motor_rate_hz,tail_rate_hz,omega_body_counter_hz,u_mm_s,height_mm,soc,state";
 
 fn state_name(s: State) -> &'static str {
     match s {
@@ -22,7 +25,8 @@ fn state_name(s: State) -> &'static str {
     }
 }
 
-/// The samples as CSV text (header first).
+/// The samples as CSV text (header first), numbers in the one CSV style
+/// of `crate::format` (shortest round-trip decimals).
 pub fn csv(samples: &[Sample]) -> String {
     let mut out = String::with_capacity(100 * (samples.len() + 1));
     out.push_str(CSV_HEADER);
@@ -30,7 +34,7 @@ pub fn csv(samples: &[Sample]) -> String {
     for s in samples {
         let _ = writeln!(
             out,
-            "{:.3},{:.5},{:.5},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.6},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
             s.t_s,
             s.duty,
             s.battery_v,
@@ -38,7 +42,8 @@ pub fn csv(samples: &[Sample]) -> String {
             s.motor_current_a,
             s.motor_rate_hz,
             s.tail_rate_hz,
-            s.body_rate_hz,
+            // The lab-frame body rate is negative when the body counter-rotates.
+            -s.body_rate_hz,
             s.u_mm_s,
             s.height_mm,
             s.soc,
