@@ -24,7 +24,7 @@ fn compare_json_has_the_documented_keys_and_writes_the_report() {
         "paper",
         "--format",
         "json",
-        "--report",
+        "--output",
         report.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -84,7 +84,7 @@ fn helix_prints_the_matrix_and_its_entries() {
         "15.5",
         "--amplitude-mm",
         "2.5",
-        "--length-mm",
+        "--tail-length-mm",
         "130",
         "--wire-diameter-mm",
         "1",
@@ -106,7 +106,7 @@ fn helix_prints_the_matrix_and_its_entries() {
         "15.5",
         "--amplitude-mm",
         "2.5",
-        "--length-mm",
+        "--tail-length-mm",
         "130",
         "--method",
         "quadrature",
@@ -124,7 +124,7 @@ fn helix_prints_the_matrix_and_its_entries() {
             "-1",
             "--amplitude-mm",
             "2.5",
-            "--length-mm",
+            "--tail-length-mm",
             "130",
         ]),
         &["--wavelength-mm"],
@@ -136,7 +136,7 @@ fn helix_prints_the_matrix_and_its_entries() {
             "0.5",
             "--amplitude-mm",
             "2.5",
-            "--length-mm",
+            "--tail-length-mm",
             "130",
         ]),
         &["gray-hancock"],
@@ -168,6 +168,18 @@ fn sweep_writes_one_row_per_grid_point() {
     assert!(lines[1..]
         .iter()
         .all(|l| l.split(',').count() == 9 && !l.contains("NaN")));
+    // Omega_b as a positive counter-rotation (the summaries' convention),
+    // every number in plain decimals (no `1.110260e0`).
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let omega = header
+        .iter()
+        .position(|h| *h == "omega_body_counter_hz")
+        .expect("the counter-rotation column");
+    for l in &lines[1..] {
+        let w: f64 = l.split(',').nth(omega).unwrap().parse().unwrap();
+        assert!(w > 0.0, "{l}");
+        assert!(!l.contains('e'), "scientific notation: {l}");
+    }
     assert_input_error(
         &swimbot(&[
             "sweep",
@@ -366,4 +378,95 @@ fn report_writes_a_page_with_the_diagnosis_and_every_chart() {
     assert!(page.contains("Diagnosis") && page.contains("unexplained"));
     assert!(page.matches("<svg").count() >= 9, "charts missing");
     assert!(!page.contains("chart failed"));
+}
+
+/// The binary in `dir` as its working directory.
+fn swimbot_in(dir: &std::path::Path, args: &[&str]) -> Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the swimbot binary runs")
+}
+
+#[test]
+fn default_outputs_go_under_swimbot_out_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = swimbot_in(dir.path(), &["sim", "--max-time-s", "3", "--sample-every-s", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("swimbot-out/sim/sim.csv").is_file());
+    let top: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(top, ["swimbot-out"], "sim wrote beside swimbot-out/");
+    // The default shown in the help is the one used.
+    let help = stdout(&swimbot(&["sim", "--help"]));
+    assert!(help.contains("[default: swimbot-out/sim]"), "{help}");
+    let help = stdout(&swimbot(&["compare", "--help"]));
+    assert!(help.contains("[default: swimbot-out/report]"), "{help}");
+}
+
+#[test]
+fn old_flag_spellings_still_work_but_are_not_advertised() {
+    let helix = |len_flag: &str| {
+        stdout(&swimbot(&[
+            "helix",
+            "--wavelength-mm",
+            "15.5",
+            "--amplitude-mm",
+            "2.5",
+            len_flag,
+            "130",
+            "--format",
+            "json",
+        ]))
+    };
+    let new = helix("--tail-length-mm");
+    assert!(new.contains("drag_n_s_per_m"), "{new}");
+    assert_eq!(helix("--length-mm"), new);
+    let dir = tempfile::tempdir().unwrap();
+    let o = swimbot_in(
+        dir.path(),
+        &["sim", "--max-time", "2", "--sample-every", "1", "--out", "old"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("old/sim.csv").is_file());
+    for (cmd, old) in [
+        ("sim", "--out "),
+        ("sim", "--max-time "),
+        ("sim", "--sample-every "),
+        ("compare", "--report "),
+        ("compare", "--effects "),
+        ("helix", " --length-mm"),
+    ] {
+        let help = stdout(&swimbot(&[cmd, "--help"]));
+        assert!(!help.contains(old), "{cmd} --help shows {old}");
+    }
+    // The old `helix --method stokeslets` and the new `--tail-model` must agree.
+    assert_input_error(
+        &swimbot(&[
+            "helix",
+            "--wavelength-mm",
+            "15.5",
+            "--amplitude-mm",
+            "2.5",
+            "--tail-length-mm",
+            "130",
+            "--method",
+            "sbt",
+            "--tail-model",
+            "stokeslets",
+        ]),
+        &["--tail-model stokeslets", "--method sbt"],
+    );
+}
+
+#[test]
+fn commands_without_rows_refuse_csv_at_parse_time() {
+    for cmd in ["audit", "diagnose", "fit", "effects", "body"] {
+        let o = swimbot(&[cmd, "--format", "csv"]);
+        assert_eq!(o.status.code(), Some(2), "{cmd}: {}", stderr(&o));
+        assert!(stderr(&o).contains("possible values: table, json"), "{cmd}: {}", stderr(&o));
+    }
 }

@@ -132,14 +132,14 @@ fn unbounded_sizes_are_refused_before_any_work() {
         "15",
         "--amplitude-mm",
         "2.5",
-        "--length-mm",
+        "--tail-length-mm",
         "130",
     ];
     let runs: Vec<(Vec<&str>, &[&str])> = vec![
         (
             [
                 &helix[..],
-                &["--method", "stokeslets", "--segments-per-turn", "100000"],
+                &["--tail-model", "stokeslets", "--segments-per-turn", "100000"],
             ]
             .concat(),
             &["GiB", "segments"],
@@ -207,11 +207,11 @@ fn unbounded_sizes_are_refused_before_any_work() {
             &["--wavelength-mm", "`-1`"],
         ),
         (
-            vec!["sim", "--max-time", "1e300", "-o", "o"],
-            &["--max-time"],
+            vec!["sim", "--max-time-s", "1e300", "-o", "o"],
+            &["--max-time-s"],
         ),
         (
-            vec!["sim", "--sample-every", "1e-9", "-o", "o"],
+            vec!["sim", "--sample-every-s", "1e-9", "-o", "o"],
             &["samples"],
         ),
     ];
@@ -310,7 +310,7 @@ fn robot_file_nonsense_is_refused_and_sim_answers_are_finite() {
             "sim",
             "--script",
             "on@1s,off@1s",
-            "--max-time",
+            "--max-time-s",
             "5",
             "-o",
             "o",
@@ -329,17 +329,17 @@ fn outputs_are_checked_first_and_never_left_half_written() {
     let p = d.path();
     std::fs::write(p.join("file"), "x").unwrap();
     // The output "directory" is a file: refused before the simulation.
-    let o = swimbot_in(p, &["sim", "--max-time", "5", "-o", "file"]);
+    let o = swimbot_in(p, &["sim", "--max-time-s", "5", "-o", "file"]);
     refused(&o, &["file", "not a directory"]);
     assert!(o.stdout.is_empty());
     // compare prints nothing when its report cannot be written.
-    let o = swimbot_in(p, &["compare", "--report", "file"]);
+    let o = swimbot_in(p, &["compare", "-o", "file"]);
     refused(&o, &["file"]);
     assert!(o.stdout.is_empty(), "table printed before the failure");
     let o = swimbot_in(p, &["synth", "--truth", "base", "-o", "no/such/dir/s.toml"]);
     refused(&o, &["no/such/dir"]);
     // sim writes both of its files, and no temporary file is left behind.
-    let o = swimbot_in(p, &["sim", "--max-time", "5", "-o", "out"]);
+    let o = swimbot_in(p, &["sim", "--max-time-s", "5", "-o", "out"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let mut names: Vec<String> = std::fs::read_dir(p.join("out"))
         .unwrap()

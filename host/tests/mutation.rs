@@ -212,7 +212,7 @@ fn one(k: usize, seed: u64, root: &Path) -> Result<i32, String> {
             "sim",
             "--robot",
             "robot.toml",
-            "--max-time",
+            "--max-time-s",
             "30",
             "-o",
             "out",
@@ -224,7 +224,7 @@ fn one(k: usize, seed: u64, root: &Path) -> Result<i32, String> {
         std::fs::write(dir.join("data.toml"), text).unwrap();
         let cmd: &[&str] = match pick {
             30..=64 => &["compare", "--no-report"],
-            65..=69 => &["compare", "--report", "rep", "--format", "csv"],
+            65..=69 => &["compare", "-o", "rep", "--format", "csv"],
             70..=94 => &["fit", "--effect", "body-correction"],
             _ => &["diagnose", "--no-pairs"],
         };

@@ -302,6 +302,20 @@ fn the_binary_writes_csv_and_svg() {
     );
     let csv = std::fs::read_to_string(dir.path().join("sim.csv")).unwrap();
     assert!(csv.starts_with("time_s,duty,battery_v") && csv.lines().count() > 50);
+    // Omega_b is the counter-rotation, positive while the motor runs (as
+    // in the summary and the paper's Table IV); numbers in plain decimals.
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (omega, state) = (col("omega_body_counter_hz"), col("state"));
+    let running: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|r| r[state] == "running")
+        .map(|r| r[omega].parse().unwrap())
+        .collect();
+    assert!(!running.is_empty() && running.iter().all(|w| *w > 0.0), "{running:?}");
+    assert!(!csv.contains("e-") && !csv.contains("e0"), "scientific notation in the CSV");
     let svg = std::fs::read_to_string(dir.path().join("sim.svg")).unwrap();
     assert!(svg.contains("<svg"));
     assert!(String::from_utf8_lossy(&out.stdout).contains("battery left"));

@@ -234,7 +234,7 @@ const TAIL6_2: [&str; 8] = [
     "11",
     "--amplitude-mm",
     "7.5",
-    "--length-mm",
+    "--tail-length-mm",
     "22",
     "--format=json",
 ];
@@ -250,7 +250,7 @@ fn cli_gives_the_tube_matrix_with_its_diagnostics() {
         String::from_utf8_lossy(&out.stderr)
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let free = swimbot(&[&TAIL6_2[..], &["--method", "stokeslets"]].concat());
+    let free = swimbot(&[&TAIL6_2[..], &["--tail-model", "stokeslets"]].concat());
     let f: serde_json::Value = serde_json::from_slice(&free.stdout).unwrap();
     for key in ["drag_n_s_per_m", "thrust_n_s", "torque_n_m_s"] {
         let (t, f) = (v[key].as_f64().unwrap(), f[key].as_f64().unwrap());

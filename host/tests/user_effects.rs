@@ -71,7 +71,7 @@ fn catalogue_effects_restated_as_formulas_predict_the_same() {
 fn load_error(dir: &Path, name: &str, text: &str) -> String {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
-    let o = swimbot(&["effects", "--effects", path.to_str().unwrap()]);
+    let o = swimbot(&["effects", "--effect-file", path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
     let err = stderr(&o);
     assert!(!err.contains("panicked"), "{err}");
@@ -239,7 +239,7 @@ fn a_user_effect_works_in_synth_fit_diagnose_compare_sweep_and_the_listing() {
         design.to_str().unwrap(),
         "--truth",
         "base + shear-thinning-tail:k=-0.3",
-        "--effects",
+        "--effect-file",
         shear,
         "--seed",
         "5",
@@ -254,7 +254,7 @@ fn a_user_effect_works_in_synth_fit_diagnose_compare_sweep_and_the_listing() {
         "fit",
         "--data",
         data,
-        "--effects",
+        "--effect-file",
         shear,
         "--effect",
         "shear-thinning-tail",
@@ -271,7 +271,7 @@ fn a_user_effect_works_in_synth_fit_diagnose_compare_sweep_and_the_listing() {
         "diagnose",
         "--data",
         data,
-        "--effects",
+        "--effect-file",
         shear,
         "--no-pairs",
         "--format",
@@ -290,7 +290,7 @@ fn a_user_effect_works_in_synth_fit_diagnose_compare_sweep_and_the_listing() {
             "compare",
             "--data",
             data,
-            "--effects",
+            "--effect-file",
             shear,
             "--format",
             "json",
@@ -311,7 +311,7 @@ fn a_user_effect_works_in_synth_fit_diagnose_compare_sweep_and_the_listing() {
             "2.5",
             "--tail-length-mm",
             "130",
-            "--effects",
+            "--effect-file",
             shear,
         ];
         args.extend_from_slice(extra);
@@ -329,7 +329,7 @@ fn a_user_effect_works_in_synth_fit_diagnose_compare_sweep_and_the_listing() {
     // listing: the user effect with its formula and file.
     let v = json(&swimbot(&[
         "effects",
-        "--effects",
+        "--effect-file",
         shear,
         "--format",
         "json",
@@ -359,7 +359,7 @@ fn a_bad_multiplier_at_evaluation_is_exit_2_naming_case_and_effect() {
     .unwrap();
     let o = swimbot(&[
         "compare",
-        "--effects",
+        "--effect-file",
         path.to_str().unwrap(),
         "--effect",
         "my-effect:k=4",
@@ -380,9 +380,9 @@ fn the_documented_worked_example_lowers_the_error_on_the_paper_data() {
     let shear = docs.join("shear-thinning-tail.toml");
     let v = json(&swimbot(&[
         "effects",
-        "--effects",
+        "--effect-file",
         annular,
-        "--effects",
+        "--effect-file",
         shear.to_str().unwrap(),
         "--format",
         "json",
@@ -396,7 +396,7 @@ fn the_documented_worked_example_lowers_the_error_on_the_paper_data() {
     assert!(names.contains(&"annular-body") && names.contains(&"shear-thinning-tail"));
     let fit = json(&swimbot(&[
         "fit",
-        "--effects",
+        "--effect-file",
         annular,
         "--effect",
         "annular-body",
@@ -405,7 +405,7 @@ fn the_documented_worked_example_lowers_the_error_on_the_paper_data() {
     ]));
     let piston = fit["fit"]["estimates"][0]["value"].as_f64().unwrap();
     let mare = |extra: &[&str]| {
-        let mut args = vec!["compare", "--effects", annular, "--format", "json"];
+        let mut args = vec!["compare", "--effect-file", annular, "--format", "json"];
         args.extend_from_slice(extra);
         json(&swimbot(&args))["summary"]["mare"].as_f64().unwrap()
     };

@@ -19,7 +19,8 @@ pub struct CompareArgs {
     pub model: ModelArgs,
     #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
     pub format: Format,
-    /// Directory for the HTML report (index.html); `--report` is its old, hidden name.
+    // `--report`: its old name, hidden, for old scripts.
+    /// Directory for the HTML report (index.html).
     #[arg(short, long, alias = "report", value_name = "DIR", default_value = super::output::DEFAULT_REPORT_DIR)]
     pub output: PathBuf,
     /// Do not write the HTML report.

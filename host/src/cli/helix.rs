@@ -20,7 +20,8 @@ pub struct HelixArgs {
     /// Helix amplitude B (radius of the helix's centre-line) in mm.
     #[arg(long)]
     pub amplitude_mm: f64,
-    /// Axial tail length L_t in mm; `--length-mm` is its old, hidden name.
+    // `--length-mm`: its old name, hidden, for old scripts.
+    /// Axial tail length L_t in mm.
     #[arg(long, alias = "length-mm")]
     pub tail_length_mm: f64,
     /// Wire diameter D_t in mm.

@@ -33,13 +33,14 @@ pub struct SimArgs {
     /// Model options; --preset or --coefficients replace the robot file's model, --effect adds to it.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Output directory for sim.csv and sim.svg; `--out` is its old, hidden name.
+    // `--out`, `--max-time`, `--sample-every`: the old names, hidden, for old scripts.
+    /// Output directory for sim.csv and sim.svg.
     #[arg(short, long, alias = "out", value_name = "DIR", default_value = super::output::DEFAULT_SIM_DIR)]
     pub output: PathBuf,
-    /// Robot-time limit in s; `--max-time` is its old, hidden name.
+    /// Robot-time limit in s.
     #[arg(long, alias = "max-time", default_value_t = 1800.0)]
     pub max_time_s: f64,
-    /// CSV sampling interval in s; `--sample-every` is its old, hidden name.
+    /// CSV sampling interval in s.
     #[arg(long, alias = "sample-every", default_value_t = 0.1)]
     pub sample_every_s: f64,
     /// Keep going past the channel's top (the height then exceeds the channel).

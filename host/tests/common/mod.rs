@@ -5,7 +5,7 @@
 use std::process::{Command, Output};
 
 /// Run the binary in a fresh temporary working directory, so that default
-/// outputs (`report/`, `sim-out/`) never land in the repository.
+/// outputs (`swimbot-out/`, `report/`) never land in the repository.
 pub fn swimbot(args: &[&str]) -> Output {
     let cwd = tempfile::tempdir().expect("a temporary directory");
     Command::new(env!("CARGO_BIN_EXE_swimbot"))
