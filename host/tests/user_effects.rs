@@ -1,4 +1,4 @@
-//! User effects from files (`--effects FILE.toml`): an independent-method
+//! User effects from files (`--effect-file FILE.toml`): an independent-method
 //! check (catalogue effects restated as formulas give the same predictions),
 //! every load error through the real binary (exit 2, file, effect, field,
 //! line), and a user effect working in compare, synth, fit, diagnose, sweep

@@ -57,16 +57,15 @@ fn print_table(a: &Audit) {
     if !a.chords.is_empty() {
         println!("chord length implied by the recorded helix (the chord was kept fixed):");
         println!(
-            "  {:<12} {:>10} {:>8} {:>10} {:>8} {:>6}",
-            "case", "ell mm", "± mm", "ref mm", "diff", "z"
+            "  {:<12} {:>16} {:>10} {:>8} {:>6}",
+            "case", "ell ± sd mm", "ref mm", "diff", "z"
         );
         for c in &a.chords {
             println!(
-                "  {:<12} {:>10.1} {:>8.1} {:>10.1} {:>+7.1}% {:>+6.1}",
+                "  {:<12} {:>16} {:>10} {:>+7.1}% {:>+6.1}",
                 c.case,
-                c.chord_mm,
-                c.chord_sd_mm,
-                c.reference_mm,
+                crate::format::fmt_value_unc(c.chord_mm, c.chord_sd_mm),
+                crate::format::fmt_sig(c.reference_mm, 4),
                 100.0 * c.rel_diff,
                 c.z
             );

@@ -243,11 +243,11 @@ fn print_table(o: &BodyOut) {
         opt(o.annular_rotational_drag_n_m_s)
     );
     println!(
-        "flux error {}, elements {} body + {} wall, solve {:.1} ms",
+        "flux error {}, elements {} body + {} wall, solve {} ms",
         o.flux_error
-            .map_or("- (free space)".into(), |e| format!("{e:.2e}")),
+            .map_or("- (free space)".into(), |e| crate::format::fmt_sig(e, 2)),
         o.body_elements,
         o.wall_elements,
-        1e3 * o.solve_seconds
+        crate::format::fmt_sig(1e3 * o.solve_seconds, 2)
     );
 }

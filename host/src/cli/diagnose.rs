@@ -3,7 +3,7 @@
 use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, print_json, TableOrJson};
 use super::CliError;
-use crate::format::fmt_sig;
+use crate::format::{fmt_estimate, fmt_sig};
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
 use crate::workbench::discovery::Located;
 use clap::Args;
@@ -146,13 +146,7 @@ fn print_located(title: &str, list: &[Located]) {
         let ps = l
             .params
             .iter()
-            .map(|p| {
-                let ci = p
-                    .ci95
-                    .map(|x| format!(" ± {}", fmt_sig(x, 2)))
-                    .unwrap_or_else(|| " (±?)".into());
-                format!("{}={}{ci}", p.name, fmt_sig(p.value, 4))
-            })
+            .map(|p| format!("{}={}", p.name, fmt_estimate(p.value, p.ci95)))
             .collect::<Vec<_>>()
             .join(", ");
         println!(
@@ -178,12 +172,8 @@ fn params(c: &Candidate) -> String {
     c.params
         .iter()
         .map(|p| {
-            let ci = p
-                .ci95
-                .map(|x| format!(" ± {}", fmt_sig(x, 2)))
-                .unwrap_or_else(|| " (±?)".into());
             let bound = if p.at_bound { " [at bound]" } else { "" };
-            format!("{}={}{ci}{bound}", p.name, fmt_sig(p.value, 4))
+            format!("{}={}{bound}", p.name, fmt_estimate(p.value, p.ci95))
         })
         .collect::<Vec<_>>()
         .join(", ")
@@ -208,7 +198,7 @@ fn print_candidates(title: &str, list: &[Candidate]) {
             opt(c.chi2_reduced, 4),
             opt(c.aicc, 5),
             c.aicc
-                .map(|a| format!("{:.1}", a - best))
+                .map(|a| fmt_sig(a - best, 3))
                 .unwrap_or_else(|| "-".into()),
             if c.at_noise_floor { "yes" } else { "no" },
             params(c)
@@ -240,11 +230,11 @@ fn print_table(d: &Diagnosis) {
     println!("\nwhere it fails (relative error against case features, strongest first):");
     for t in d.trends.iter().take(6) {
         println!(
-            "  {:<8} vs {:<18} r = {:+.2}   slope {:+.3} per unit",
+            "  {:<8} vs {:<18} r = {:+.2}   slope {} per unit",
             t.quantity.label(),
             t.feature,
             t.r,
-            t.slope
+            fmt_sig(t.slope, 3)
         );
     }
     if d.trends.is_empty() {

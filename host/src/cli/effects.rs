@@ -1,12 +1,12 @@
 //! `swimbot effects`: the catalogue of physical effects, the user effects
-//! loaded with `--effects FILE.toml` (with their formulas and file), and,
+//! loaded with `--effect-file FILE.toml` (with their formulas and file), and,
 //! with `--quantities`, the case quantities a formula may use.
 
 use super::model_args::EffectFiles;
 use super::output::{print_json, TableOrJson};
 use super::CliError;
 use crate::data::quantities::{FEATURES, FIELDS};
-use crate::format::fmt_sig;
+use crate::format::{fmt_trim, with_unit};
 use clap::Args;
 
 #[derive(Args, Debug)]
@@ -63,7 +63,11 @@ fn quantities(format: TableOrJson) {
     for q in &entries {
         println!(
             "{:<20} {:<8} {:<30} {:<7} {}",
-            q.id, q.kind, q.name, q.unit, q.doc
+            q.id,
+            q.kind,
+            q.name,
+            with_unit("", q.unit).trim(),
+            q.doc
         );
     }
 }
@@ -115,13 +119,15 @@ pub fn run(args: EffectsArgs) -> Result<(), CliError> {
             println!("  parameters: none (fixed by physics)");
         }
         for p in e.params {
+            // Defaults and bounds are settings: trimmed, not padded with zeros.
+            let unit = with_unit("", p.unit);
             println!(
-                "  param {:<18} default {:>6} in [{}, {}] {:<3} {}{}",
+                "  param {:<18} default {:>6} in [{}, {}]{:<4} {}{}",
                 p.name,
-                fmt_sig(p.default, 3),
-                fmt_sig(p.min, 3),
-                fmt_sig(p.max, 3),
-                p.unit,
+                fmt_trim(p.default, 3),
+                fmt_trim(p.min, 3),
+                fmt_trim(p.max, 3),
+                unit,
                 if p.free { "" } else { "(fixed) " },
                 p.doc
             );

@@ -4,7 +4,7 @@
 use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, TableOrJson};
 use super::CliError;
-use crate::format::fmt_sig;
+use crate::format::{fmt_estimate, fmt_sig, with_unit};
 use crate::workbench::compare::compare;
 use crate::workbench::fit::{fit, free_params_of};
 use clap::Args;
@@ -101,12 +101,10 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
     );
     for e in &result.estimates {
         println!(
-            "  {}.{} = {} {}  (95 % CI ± {}){}",
+            "  {}.{} = {}  (± 95 % CI){}",
             e.effect,
             e.name,
-            fmt_sig(e.value, 5),
-            e.unit,
-            opt(e.ci95, 3),
+            with_unit(&fmt_estimate(e.value, e.ci95), &e.unit),
             if e.at_bound {
                 "  [at its bound: the data push beyond the allowed range]"
             } else {

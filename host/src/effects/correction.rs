@@ -178,7 +178,7 @@ impl LocatedCorrection {
                 place.name(),
                 form.symbols(additive),
                 q.id,
-                crate::format::fmt_sig(scale, 4)
+                crate::format::fmt_trim(scale, 4)
             ),
             None => format!("{} = {}", place.name(), form.symbols(additive)),
         };
@@ -228,7 +228,7 @@ impl LocatedCorrection {
     /// `1 + k * (wire_over_gap / 0.1)^p`.
     pub fn formula(&self) -> String {
         let x = self.feature.map_or(String::new(), |q| {
-            format!("({} / {})", q.id, crate::format::fmt_sig(self.scale, 6))
+            format!("({} / {})", q.id, crate::format::fmt_trim(self.scale, 6))
         });
         match self.form {
             Form::Constant => "k".into(),

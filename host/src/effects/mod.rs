@@ -17,7 +17,7 @@
 //! and add one line (`&your_file::YourEffect,`) to [`CATALOGUE`]. The README
 //! has a worked example. Without recompiling: state the effect as formulas
 //! in an effects file (docs/effects-format.md, [`formula`]) and pass
-//! `--effects FILE.toml`; [`all`] and [`by_name`] then know it too.
+//! `--effect-file FILE.toml`; [`all`] and [`by_name`] then know it too.
 
 mod backflow;
 mod body_confinement;
@@ -170,7 +170,7 @@ impl EffectInstance {
         let kv: Vec<String> = params
             .iter()
             .zip(&self.values)
-            .map(|(p, v)| format!("{}={}", p.name, crate::format::fmt_sig(*v, 4)))
+            .map(|(p, v)| format!("{}={}", p.name, crate::format::fmt_trim(*v, 4)))
             .collect();
         format!("{}:{}", self.name(), kv.join(","))
     }

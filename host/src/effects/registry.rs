@@ -1,5 +1,5 @@
 //! The effects known to this process: the compiled-in [`super::CATALOGUE`]
-//! and the user effects loaded from effects files (`--effects FILE.toml`).
+//! and the user effects loaded from effects files (`--effect-file FILE.toml`).
 //!
 //! User effects are registered once per process and never removed, which
 //! is what lets them be `&'static dyn Effect` like the catalogue's.

@@ -5,7 +5,7 @@ use super::{all, by_name, EffectInstance};
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EffectSpecError {
-    #[error("unknown effect `{name}`; known effects: {known} (a user effect needs --effects FILE.toml before it can be named)")]
+    #[error("unknown effect `{name}`; known effects: {known} (a user effect needs --effect-file FILE.toml before it can be named)")]
     UnknownEffect { name: String, known: String },
     #[error("effect `{effect}` has no parameter `{param}`; its parameters: {known}")]
     UnknownParam {

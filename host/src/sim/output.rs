@@ -35,15 +35,18 @@ pub fn csv(samples: &[Sample]) -> String {
         let _ = writeln!(
             out,
             "{},{},{},{},{},{},{},{},{},{},{},{}",
-            s.t_s,
+            // Robot time is whole microsecond ticks: rounding there drops
+            // the float sum's 0.09999999999999999.
+            (s.t_s * 1e6).round() / 1e6,
             s.duty,
             s.battery_v,
             s.current_a,
             s.motor_current_a,
             s.motor_rate_hz,
             s.tail_rate_hz,
-            // The lab-frame body rate is negative when the body counter-rotates.
-            -s.body_rate_hz,
+            // The lab-frame body rate is negative when the body counter-rotates
+            // (`0.0 -` so that rest prints 0, not -0).
+            0.0 - s.body_rate_hz,
             s.u_mm_s,
             s.height_mm,
             s.soc,
@@ -147,10 +150,10 @@ pub fn summary(robot: &Robot, o: &Outcome) -> String {
     );
     let _ = writeln!(
         s,
-        "motor load from the model: {} N m + {} N m s x motor rate  (tail torque per tail rate; body turns {} rad/s per rad/s)",
+        "motor load from the model: {} N m + {} N m s x motor rate  (tail torque per tail rate; the body counter-rotates {} rad/s per rad/s of motor rate)",
         fmt_sig(h.tau0_n_m, 3),
         fmt_sig(h.damping_n_m_s, 4),
-        fmt_sig(h.dv[3], 3)
+        fmt_sig(0.0 - h.dv[3], 3)
     );
     let end = match o.end {
         End::TopReached => "the nose reached the channel's top".to_string(),

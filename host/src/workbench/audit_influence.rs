@@ -177,11 +177,10 @@ pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>)
                             case: case.id.clone(),
                             kind: "influence-parameter".into(),
                             detail: format!(
-                                "{}: leaving it out moves the fitted {} {} from {} to {}, beyond its 95 % interval ±{}: this case drives the fitted value",
+                                "{}: leaving it out moves the fitted {} {} from {} (95 % interval) to {}, beyond the interval: this case drives the fitted value",
                                 case.id, e.effect, e.name,
-                                crate::format::fmt_sig(e.value, 3),
-                                crate::format::fmt_sig(el.value, 3),
-                                crate::format::fmt_sig(ci, 2)
+                                crate::format::fmt_value_unc(e.value, ci),
+                                crate::format::fmt_sig(el.value, 3)
                             ),
                             severity: Severity::Warning,
                         });

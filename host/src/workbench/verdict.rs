@@ -32,8 +32,10 @@ use crate::data::Dataset;
 /// Share of the excess a partial finding must remove to be shown.
 const PARTIAL: f64 = 0.5;
 
+/// A reduced chi-square in a note: 3 significant figures (`crate::format`).
 fn fmt(x: Option<f64>) -> String {
-    x.map(|v| format!("{v:.3}")).unwrap_or_else(|| "n/a".into())
+    x.map(|v| crate::format::fmt_sig(v, 3))
+        .unwrap_or_else(|| "n/a".into())
 }
 
 fn frac(x: Option<f64>) -> String {

@@ -1,7 +1,7 @@
 //! `diagnose --write-effect F.toml`: a located correction as a user-effect
 //! file in the project's agreed format (`[[effect]]` with `[[effect.param]]`
 //! and `[effect.places]`, formulas over quantity ids), fitted values as
-//! defaults, ready to rename, refine and load with `--effects F.toml`.
+//! defaults, ready to rename, refine and load with `--effect-file F.toml`.
 //!
 //! Serialised by the effect file's own writer
 //! ([`crate::effects::formula::to_toml`]), so what is written is exactly
@@ -38,8 +38,16 @@ pub fn to_toml(l: &Located, dataset: &str) -> String {
             max: s.max,
             free: true,
             doc: match e.ci95 {
-                Some(ci) => format!("{} (fitted {} ± {} at 95 %)", s.doc, e.value, ci),
-                None => format!("{} (fitted {}, CI not identifiable)", s.doc, e.value),
+                Some(ci) => format!(
+                    "{} (fitted {} at 95 %)",
+                    s.doc,
+                    crate::format::fmt_estimate(e.value, Some(ci))
+                ),
+                None => format!(
+                    "{} (fitted {}, CI not identifiable)",
+                    s.doc,
+                    crate::format::fmt_sig(e.value, 4)
+                ),
             },
         })
         .collect();
@@ -57,7 +65,7 @@ pub fn to_toml(l: &Located, dataset: &str) -> String {
     let mut beneath = l.model.clone();
     beneath.effects.pop();
     format!(
-        "# A correction located by `swimbot diagnose`: {}\n# MARE {:.2} %, cross-validated {:.2} %, explained fraction of the excess chi-square {}.\n# Fitted on top of: {}.\n# Rename it, refine the formula, and use it with --effects FILE.\n{body}",
+        "# A correction located by `swimbot diagnose`: {}\n# MARE {:.2} %, cross-validated {:.2} %, explained fraction of the excess chi-square {}.\n# Fitted on top of: {}.\n# Rename it, refine the formula, and use it with --effect-file FILE.\n{body}",
         l.describe(),
         100.0 * l.mare,
         100.0 * l.cv_mare,
