@@ -158,7 +158,11 @@ pub const NOT_IDENTIFIED_RATIO: f64 = 10.0;
 pub fn fmt_estimate(value: f64, ci95: Option<f64>) -> String {
     match ci95 {
         None => format!("{} (±?)", fmt_sig(value, 4)),
-        Some(ci) if !ci.is_finite() => format!("not identified ({} ± {})", fmt_sig(value, 4), non_finite(ci.abs())),
+        Some(ci) if !ci.is_finite() => format!(
+            "not identified ({} ± {})",
+            fmt_sig(value, 4),
+            non_finite(ci.abs())
+        ),
         Some(ci) if ci.abs() > NOT_IDENTIFIED_RATIO * value.abs() => {
             format!("not identified ({})", fmt_value_unc(value, ci))
         }
@@ -193,7 +197,11 @@ mod tests {
         assert_eq!(fmt_sig(8228626.1208, 4), "8.229e6");
         assert_eq!(fmt_sig(12345.6, 3), "12300");
         assert_eq!(fmt_sig(99999.7, 3), "1.00e5", "rounding crosses 1e5");
-        assert_eq!(fmt_sig(0.00099996, 3), "0.00100", "rounds up into the plain range");
+        assert_eq!(
+            fmt_sig(0.00099996, 3),
+            "0.00100",
+            "rounds up into the plain range"
+        );
         assert_eq!(fmt_sig(0.0012345, 3), "0.00123");
         assert_eq!(fmt_sig(0.000999, 3), "9.99e-4");
         assert_eq!(fmt_sig(-1.623e-14, 4), "-1.623e-14");
@@ -246,10 +254,20 @@ mod tests {
     #[test]
     fn estimates_say_when_they_mean_nothing() {
         assert_eq!(fmt_estimate(0.52, Some(0.13)), "0.52 ± 0.13");
-        assert_eq!(fmt_estimate(1.623e-14, Some(1.3)), "not identified (0.0 ± 1.3)");
-        assert_eq!(fmt_estimate(0.1, Some(0.9)), "0.10 ± 0.90", "wide but within 10x");
+        assert_eq!(
+            fmt_estimate(1.623e-14, Some(1.3)),
+            "not identified (0.0 ± 1.3)"
+        );
+        assert_eq!(
+            fmt_estimate(0.1, Some(0.9)),
+            "0.10 ± 0.90",
+            "wide but within 10x"
+        );
         assert_eq!(fmt_estimate(0.25, None), "0.2500 (±?)");
-        assert_eq!(fmt_estimate(0.25, Some(f64::INFINITY)), "not identified (0.2500 ± inf)");
+        assert_eq!(
+            fmt_estimate(0.25, Some(f64::INFINITY)),
+            "not identified (0.2500 ± inf)"
+        );
     }
 
     #[test]

@@ -392,7 +392,10 @@ fn swimbot_in(dir: &std::path::Path, args: &[&str]) -> Output {
 #[test]
 fn default_outputs_go_under_swimbot_out_only() {
     let dir = tempfile::tempdir().unwrap();
-    let o = swimbot_in(dir.path(), &["sim", "--max-time-s", "3", "--sample-every-s", "1"]);
+    let o = swimbot_in(
+        dir.path(),
+        &["sim", "--max-time-s", "3", "--sample-every-s", "1"],
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(dir.path().join("swimbot-out/sim/sim.csv").is_file());
     let top: Vec<String> = std::fs::read_dir(dir.path())
@@ -428,7 +431,15 @@ fn old_flag_spellings_still_work_but_are_not_advertised() {
     let dir = tempfile::tempdir().unwrap();
     let o = swimbot_in(
         dir.path(),
-        &["sim", "--max-time", "2", "--sample-every", "1", "--out", "old"],
+        &[
+            "sim",
+            "--max-time",
+            "2",
+            "--sample-every",
+            "1",
+            "--out",
+            "old",
+        ],
     );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(dir.path().join("old/sim.csv").is_file());
@@ -467,6 +478,10 @@ fn commands_without_rows_refuse_csv_at_parse_time() {
     for cmd in ["audit", "diagnose", "fit", "effects", "body"] {
         let o = swimbot(&[cmd, "--format", "csv"]);
         assert_eq!(o.status.code(), Some(2), "{cmd}: {}", stderr(&o));
-        assert!(stderr(&o).contains("possible values: table, json"), "{cmd}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("possible values: table, json"),
+            "{cmd}: {}",
+            stderr(&o)
+        );
     }
 }

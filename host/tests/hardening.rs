@@ -139,7 +139,12 @@ fn unbounded_sizes_are_refused_before_any_work() {
         (
             [
                 &helix[..],
-                &["--tail-model", "stokeslets", "--segments-per-turn", "100000"],
+                &[
+                    "--tail-model",
+                    "stokeslets",
+                    "--segments-per-turn",
+                    "100000",
+                ],
             ]
             .concat(),
             &["GiB", "segments"],

@@ -314,8 +314,14 @@ fn the_binary_writes_csv_and_svg() {
         .filter(|r| r[state] == "running")
         .map(|r| r[omega].parse().unwrap())
         .collect();
-    assert!(!running.is_empty() && running.iter().all(|w| *w > 0.0), "{running:?}");
-    assert!(!csv.contains("e-") && !csv.contains("e0"), "scientific notation in the CSV");
+    assert!(
+        !running.is_empty() && running.iter().all(|w| *w > 0.0),
+        "{running:?}"
+    );
+    assert!(
+        !csv.contains("e-") && !csv.contains("e0"),
+        "scientific notation in the CSV"
+    );
     let svg = std::fs::read_to_string(dir.path().join("sim.svg")).unwrap();
     assert!(svg.contains("<svg"));
     assert!(String::from_utf8_lossy(&out.stdout).contains("battery left"));

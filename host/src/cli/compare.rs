@@ -27,10 +27,12 @@ pub struct CompareArgs {
     #[arg(long, conflicts_with = "output")]
     pub no_report: bool,
     /// Judge residuals against the combined uncertainty: measurement and the
-    /// dataset's input uncertainties propagated through the model, in quadrature.
+    /// dataset's input uncertainties propagated through the model, in quadrature
+    /// (for costly models, also the only way to get the input bands at all).
     #[arg(long)]
     pub input_uncertainty: bool,
-    /// Monte-Carlo draws per case that check the linearised bands (0: no check).
+    /// Monte-Carlo draws per case that check the linearised bands (0: no check; always
+    /// skipped for costly models: non-local tail or wall-resolved effects).
     #[arg(long, default_value_t = 300)]
     pub mc_draws: usize,
 }

@@ -95,13 +95,11 @@ fn tail_choice(a: &HelixArgs, in_channel: bool) -> Result<(TailModelArg, bool), 
         _ => None,
     };
     let tail = match (a.tail_model, from_method) {
-        (Some(t), Some(m)) if t != m => {
-            return Err(CliError::input(format!(
-                "--tail-model {} and --method {} disagree: give the tail model once, with --tail-model",
-                t.name(),
-                m.name()
-            )))
-        }
+        (Some(t), Some(m)) if t != m => return Err(CliError::input(format!(
+            "--tail-model {} and --method {} disagree: give the tail model once, with --tail-model",
+            t.name(),
+            m.name()
+        ))),
         (Some(t), _) | (None, Some(t)) => t,
         (None, None) if in_channel => TailModelArg::Stokeslets,
         (None, None) => TailModelArg::Rft,
@@ -331,12 +329,24 @@ fn print_table(o: &HelixOut) {
     );
     println!("rows/cols: Fx Fy Fz Tx Ty Tz / Ux Uy Uz Ωx Ωy Ωz");
     for row in &o.matrix {
-        let cells: Vec<String> = row.iter().map(|v| format!("{:>11}", fmt_sig(*v, 5))).collect();
+        let cells: Vec<String> = row
+            .iter()
+            .map(|v| format!("{:>11}", fmt_sig(*v, 5)))
+            .collect();
         println!("  {}", cells.join(" "));
     }
-    println!("axial drag        B(1,1) = {} N s/m", fmt_sig(o.drag_n_s_per_m, 6));
-    println!("thrust per rate   B(1,4) = {} N s", fmt_sig(o.thrust_n_s, 6));
-    println!("torque per rate   B(4,4) = {} N m s", fmt_sig(o.torque_n_m_s, 6));
+    println!(
+        "axial drag        B(1,1) = {} N s/m",
+        fmt_sig(o.drag_n_s_per_m, 6)
+    );
+    println!(
+        "thrust per rate   B(1,4) = {} N s",
+        fmt_sig(o.thrust_n_s, 6)
+    );
+    println!(
+        "torque per rate   B(4,4) = {} N m s",
+        fmt_sig(o.torque_n_m_s, 6)
+    );
     println!(
         "arc length {} mm, {} waves, c_t = {} Pa s, c_n = {} Pa s",
         fmt_sig(o.arc_length_mm, 4),

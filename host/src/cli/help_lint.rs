@@ -44,9 +44,7 @@ mod tests {
                 out.push(format!("{path} {name}: no help text"));
                 continue;
             }
-            if let Some((suffix, spellings)) =
-                UNITS.iter().find(|(s, _)| name.ends_with(s))
-            {
+            if let Some((suffix, spellings)) = UNITS.iter().find(|(s, _)| name.ends_with(s)) {
                 if !spellings.iter().any(|u| has_word(&help, u)) {
                     out.push(format!(
                         "{path} {name}: the help does not state the unit ({suffix}: one of {spellings:?})"
@@ -78,7 +76,12 @@ mod tests {
         cmd.clone().debug_assert();
         let mut out = Vec::new();
         problems(&cmd, "swimbot", &mut out);
-        assert!(out.is_empty(), "{} help problems:\n{}", out.len(), out.join("\n"));
+        assert!(
+            out.is_empty(),
+            "{} help problems:\n{}",
+            out.len(),
+            out.join("\n")
+        );
     }
 
     #[test]
@@ -86,8 +89,16 @@ mod tests {
         let bad = clap::Command::new("t")
             .arg(clap::Arg::new("a").long("wavelength-mm"))
             .arg(clap::Arg::new("b").long("time-s").help("how long"))
-            .arg(clap::Arg::new("c").long("rate-hz").help("the rate (Hz), default 1"))
-            .arg(clap::Arg::new("d").long("gas-s").help("in seconds, default 2"));
+            .arg(
+                clap::Arg::new("c")
+                    .long("rate-hz")
+                    .help("the rate (Hz), default 1"),
+            )
+            .arg(
+                clap::Arg::new("d")
+                    .long("gas-s")
+                    .help("in seconds, default 2"),
+            );
         let mut out = Vec::new();
         problems(&bad, "t", &mut out);
         assert_eq!(out.len(), 3, "{out:#?}");

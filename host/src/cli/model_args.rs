@@ -11,7 +11,8 @@ use std::path::PathBuf;
 
 /// The help of `--preset` (sim replaces it: there the robot file's model
 /// is the default).
-pub const PRESET_HELP: &str = "Named model: base, paper, paper-lighthill, physics [default: base]. \
+pub const PRESET_HELP: &str =
+    "Named model: base, paper, paper-lighthill, physics [default: base]. \
     physics: the zero-parameter Stokes model, slow on first use, then cached";
 
 #[derive(Args, Debug, Clone)]
