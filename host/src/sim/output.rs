@@ -1,14 +1,13 @@
-//! What `swimbot sim` writes: the time series as CSV, a four-panel SVG
-//! (height; tail, motor and body rates; cell voltage; cell current) drawn
-//! with plotters in the report's style, and the text summary (time to the
+//! What `swimbot sim` writes: the time series as CSV, a five-panel SVG
+//! (height; U; tail, motor and body rates; cell voltage; cell current) drawn
+//! with the report's chart engine, observed values as dashed reference lines, and the text summary (time to the
 //! channel's top, mean U, f and Omega_b while running, battery left, the
 //! energy ledger).
 
 use super::dynamics::{End, Outcome, Sample};
 use super::robot::Robot;
 use crate::format::fmt_sig;
-use crate::report::plots::PALETTE;
-use plotters::prelude::*;
+use crate::report::plots::{stack, Chart, Series, PALETTE};
 use std::fmt::Write as _;
 use swimbot_shared::MotorState as State;
 
@@ -48,84 +47,112 @@ pub fn csv(samples: &[Sample]) -> String {
     out
 }
 
-type Panel<'a> = (&'a str, Vec<(&'a str, Vec<(f64, f64)>)>);
+/// Observed values of the simulated tail, drawn as dashed reference lines.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Observed {
+    pub f_hz: Option<f64>,
+    pub u_mm_s: Option<f64>,
+    pub omega_b_hz: Option<f64>,
+    /// Where U and Omega_b come from (legend text), e.g. "paper, tail-1".
+    pub source: String,
+}
 
-/// The run as an SVG of four stacked panels sharing the time axis.
+impl Observed {
+    /// The robot file's observed f for the simulated tail, and the paper's
+    /// measured U and Omega_b when the built-in data has a case with the
+    /// same id, tail geometry, channel and oil (the paper's own robot).
+    pub fn of(robot: &Robot, tail_id: &str) -> Self {
+        let Some((i, tail)) = robot.tails.iter().enumerate().find(|(_, t)| t.id == tail_id) else {
+            return Self::default();
+        };
+        let mine = robot.case(i, tail.observed_f_hz.unwrap_or(1.0));
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.abs().max(b.abs()).max(1e-12);
+        let paper = crate::data::paper();
+        let case = paper.cases.iter().find(|c| {
+            c.id == mine.id
+                && same(c.wavelength_mm, mine.wavelength_mm)
+                && same(c.amplitude_mm, mine.amplitude_mm)
+                && same(c.tail_length_mm, mine.tail_length_mm)
+                && same(c.wire_diameter_mm, mine.wire_diameter_mm)
+                && same(c.channel_diameter_mm, mine.channel_diameter_mm)
+                && same(c.viscosity_pa_s, mine.viscosity_pa_s)
+        });
+        Self {
+            f_hz: tail.observed_f_hz,
+            u_mm_s: case.and_then(|c| c.u_mm_s).map(|m| m.mean),
+            omega_b_hz: case.and_then(|c| c.omega_body_hz).map(|m| m.mean),
+            source: case.map_or(String::new(), |c| format!("paper, {}", c.id)),
+        }
+    }
+}
+
+/// The run as an SVG of stacked panels sharing the time axis, without
+/// observed reference values.
 pub fn svg(o: &Outcome) -> Result<String, String> {
-    let t: Vec<f64> = o.samples.iter().map(|s| s.t_s).collect();
-    let series = |f: fn(&Sample) -> f64| -> Vec<(f64, f64)> {
-        t.iter().zip(&o.samples).map(|(t, s)| (*t, f(s))).collect()
+    svg_with(o, &Observed::default())
+}
+
+/// The run as an SVG with the robot's and the paper's observed f, U and
+/// Omega_b for this tail drawn as reference lines.
+pub fn figure(robot: &Robot, o: &Outcome) -> Result<String, String> {
+    svg_with(o, &Observed::of(robot, &o.tail_id))
+}
+
+/// Stacked panels: height, U, rates, cell voltage, currents.
+pub fn svg_with(o: &Outcome, obs: &Observed) -> Result<String, String> {
+    let line = |label: &str, color, f: fn(&Sample) -> f64| {
+        Series::curve(
+            label,
+            color,
+            o.samples.iter().map(|s| (s.t_s, f(s), 0.0)).collect(),
+        )
     };
-    let panels: Vec<Panel> = vec![
+    let [c0, c1, c2, ..] = PALETTE;
+    let t_end = o.samples.last().map_or(1.0, |s| s.t_s).max(1e-3);
+    let panel = |y: &str, x: &str| Chart::new("", x, y).size(760, 175).x_range(0.0, t_end);
+    let source = |q: &str| match obs.source.as_str() {
+        "" => format!("observed {q}"),
+        s => format!("observed {q} ({s})"),
+    };
+    let mut u = panel("U (mm/s)", "");
+    if let Some(v) = obs.u_mm_s {
+        u = u.hline(v, source("U"), c1);
+    }
+    // Taller: five legend entries must fit between the lines.
+    let mut rates = panel("rate (Hz)", "").size(760, 250);
+    if let Some(v) = obs.f_hz {
+        rates = rates.hline(v, "observed tail f (robot file)", c0);
+    }
+    if let Some(v) = obs.omega_b_hz {
+        rates = rates.hline(v, source("Omega_b"), c2);
+    }
+    let panels = vec![
         (
-            "height (mm)",
-            vec![("nose height", series(|s| s.height_mm))],
+            panel("height (mm)", "").hline(o.channel_length_mm, "channel top", c1),
+            vec![line("nose height", c0, |s| s.height_mm)],
         ),
+        (u, vec![line("U simulated", c0, |s| s.u_mm_s)]),
         (
-            "rate (Hz)",
+            rates,
             vec![
-                ("tail f (lab)", series(|s| s.tail_rate_hz)),
-                ("motor (tail - body)", series(|s| s.motor_rate_hz)),
-                ("body counter-rotation", series(|s| -s.body_rate_hz)),
+                line("tail f (lab)", c0, |s| s.tail_rate_hz),
+                line("motor (tail - body)", c1, |s| s.motor_rate_hz),
+                line("body counter-rotation Omega_b", c2, |s| -s.body_rate_hz),
             ],
         ),
-        ("cell (V)", vec![("terminal", series(|s| s.battery_v))]),
         (
-            "current (A)",
+            panel("cell (V)", ""),
+            vec![line("terminal voltage", c0, |s| s.battery_v)],
+        ),
+        (
+            panel("current (A)", "time (s)"),
             vec![
-                ("cell", series(|s| s.current_a)),
-                ("motor", series(|s| s.motor_current_a)),
+                line("cell", c0, |s| s.current_a),
+                line("motor", c1, |s| s.motor_current_a),
             ],
         ),
     ];
-    let t_end = t.last().copied().unwrap_or(1.0).max(1e-3);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (720, 760)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let root = root
-            .titled(&format!("swimbot sim: {}", o.tail_id), ("sans-serif", 17))
-            .map_err(|e| e.to_string())?;
-        for (area, (y_desc, lines)) in root.split_evenly((panels.len(), 1)).iter().zip(&panels) {
-            let ys = lines
-                .iter()
-                .flat_map(|l| l.1.iter().map(|p| p.1))
-                .filter(|v| v.is_finite());
-            let (lo, hi) = ys.fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
-            let (lo, hi) = if lo > hi { (0.0, 1.0) } else { (lo, hi) };
-            let pad = 0.08 * (hi - lo).max(1e-9 * hi.abs().max(1.0));
-            let mut c = ChartBuilder::on(area)
-                .margin(8)
-                .x_label_area_size(28)
-                .y_label_area_size(62)
-                .build_cartesian_2d(0.0..t_end, (lo - pad)..(hi + pad))
-                .map_err(|e| e.to_string())?;
-            c.configure_mesh()
-                .x_desc("time (s)")
-                .y_desc(*y_desc)
-                .light_line_style(WHITE.mix(0.0))
-                .draw()
-                .map_err(|e| e.to_string())?;
-            for (k, (label, pts)) in lines.iter().enumerate() {
-                let color = PALETTE[k % PALETTE.len()];
-                c.draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))
-                    .map_err(|e| e.to_string())?
-                    .label(*label)
-                    .legend(move |(x, y)| {
-                        PathElement::new([(x, y), (x + 16, y)], color.stroke_width(2))
-                    });
-            }
-            c.configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK.mix(0.3))
-                .label_font(("sans-serif", 11))
-                .draw()
-                .map_err(|e| e.to_string())?;
-        }
-        root.present().map_err(|e| e.to_string())?;
-    }
-    Ok(svg)
+    stack(&format!("swimbot sim: {}", o.tail_id), &panels)
 }
 
 /// The run in a few lines.
