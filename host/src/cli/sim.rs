@@ -196,7 +196,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
     // Both files are produced in memory first and renamed into place
     // together, so a failure leaves neither.
     let svg =
-        output::svg(&outcome).map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
+        output::figure(&robot, &outcome).map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
     super::output::write_all_atomically(&[
         (
             args.out.join("sim.csv"),
