@@ -155,6 +155,52 @@ pub fn svg_with(o: &Outcome, obs: &Observed) -> Result<String, String> {
     stack(&format!("swimbot sim: {}", o.tail_id), &panels)
 }
 
+#[cfg(test)]
+mod figure_tests {
+    use super::*;
+    use crate::report::plots::legend_clear;
+    use crate::sim::{default_robot, simulate, Options, Script};
+
+    fn run(robot: &Robot) -> Outcome {
+        let script = Script::parse("on@0s,off@20s").expect("script");
+        let opts = Options {
+            max_time_s: 25.0,
+            ..Options::default()
+        };
+        simulate(robot, &script, &opts).expect("simulation")
+    }
+
+    #[test]
+    fn the_sim_figure_shows_observed_values_and_legends_cover_nothing() {
+        let robot = default_robot();
+        let o = run(&robot);
+        let obs = Observed::of(&robot, &o.tail_id);
+        assert_eq!(obs.f_hz, robot.tails[0].observed_f_hz);
+        let paper = crate::data::paper();
+        let case = paper.cases.iter().find(|c| c.id == o.tail_id).expect("paper case");
+        assert_eq!(obs.u_mm_s, case.u_mm_s.map(|m| m.mean));
+        assert_eq!(obs.omega_b_hz, case.omega_body_hz.map(|m| m.mean));
+        let svg = figure(&robot, &o).expect("figure");
+        legend_clear(&svg).expect("legends clear");
+        for needle in ["observed U (paper, tail-1)", "observed tail f (robot file)", "time (s)"] {
+            assert!(svg.contains(needle), "{needle}");
+        }
+        // One time-axis title (the bottom panel's), so none collides.
+        assert_eq!(svg.matches("time (s)").count(), 1);
+    }
+
+    #[test]
+    fn a_tail_unlike_the_papers_gets_no_paper_values() {
+        let mut robot = default_robot();
+        robot.tails[0].wavelength_mm *= 1.1;
+        let obs = Observed::of(&robot, &robot.tails[0].id.clone());
+        assert_eq!(obs.u_mm_s, None);
+        assert_eq!(obs.omega_b_hz, None);
+        assert_eq!(obs.f_hz, robot.tails[0].observed_f_hz);
+        assert_eq!(Observed::of(&robot, "no-such-tail"), Observed::default());
+    }
+}
+
 /// The run in a few lines.
 pub fn summary(robot: &Robot, o: &Outcome) -> String {
     let mut s = String::new();

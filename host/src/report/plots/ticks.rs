@@ -4,6 +4,7 @@
 //! steps, no "360.0", powers of ten on log axes).
 
 use super::svg_text::power_of_ten;
+use crate::format::fmt_sig;
 
 /// One axis: the shown range of data values and its scale.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,7 +106,11 @@ impl Axis {
         }
         let (e0, e1) = (self.lo.log10().floor() as i32, self.hi.log10().ceil() as i32);
         if e1 - e0 > 8 {
-            return Vec::new();
+            // Many decades: the unlabelled powers of ten only.
+            return (e0..=e1)
+                .map(|e| 10f64.powi(e))
+                .filter(|v| *v >= self.lo && *v <= self.hi)
+                .collect();
         }
         (e0..=e1)
             .flat_map(|e| (2..10).map(move |m| m as f64 * 10f64.powi(e)))
@@ -127,9 +132,9 @@ impl Axis {
                 .map(|(v, e)| (v, linear_label(v, 10f64.powi(e))))
                 .collect();
         }
-        let every = ((e1 - e0) / 7 + 1).max(1);
+        let every = (e1 - e0) / 8 + 1;
         (e0..=e1)
-            .filter(|e| (e - e0) % every == 0)
+            .filter(|e| e.rem_euclid(every) == 0)
             .map(|e| (10f64.powi(e), power_of_ten(e)))
             .collect()
     }
@@ -148,25 +153,30 @@ fn nice_step(raw: f64) -> f64 {
         .unwrap_or(p)
 }
 
-/// A tick value with the decimals its step needs (none for integer steps),
-/// or as `m×10ⁿ` for magnitudes a reader should not count zeros in.
+/// A tick value with the digits its step needs and no trailing zeros
+/// ("1", "1.5", never "360.0"), or as `m×10ⁿ` for magnitudes a reader
+/// should not count zeros in.
 fn linear_label(v: f64, step: f64) -> String {
     if v.abs() < 1e-9 * step {
         return "0".into();
     }
     let mag = v.abs().log10().floor() as i32;
+    let step_mag = (step.log10() + 1e-9).floor() as i32;
     if mag >= 5 || mag <= -4 {
-        let m = v / 10f64.powi(mag);
-        let decimals = ((mag as f64) - step.log10()).round().clamp(0.0, 3.0) as usize;
-        let m = format!("{m:.decimals$}");
+        let decimals = (mag - step_mag).clamp(0, 3) as usize;
+        let m = format!("{:.decimals$}", v / 10f64.powi(mag));
+        let m = if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            m
+        };
         return if m == "1" {
             power_of_ten(mag)
         } else {
             format!("{m}×{}", power_of_ten(mag))
         };
     }
-    let decimals = (-(step.log10() + 1e-9).floor()).max(0.0) as usize;
-    format!("{v:.decimals$}")
+    fmt_sig(v, (mag - step_mag + 1).max(1) as usize)
 }
 
 #[cfg(test)]
@@ -184,7 +194,9 @@ mod tests {
         assert!(l.contains(&"100".to_string()), "{l:?}");
         assert!(l.iter().all(|s| !s.contains('.')), "{l:?}");
         let b = Axis::fit([0.1, 0.45].into_iter(), false, false);
-        assert!(labels(b).contains(&"0.20".to_string()) || labels(b).contains(&"0.2".to_string()));
+        assert!(labels(b).contains(&"0.2".to_string()), "{:?}", labels(b));
+        let c = Axis::fit([0.4, 2.1].into_iter(), false, false);
+        assert!(labels(c).contains(&"1".to_string()), "{:?}", labels(c));
     }
 
     #[test]
