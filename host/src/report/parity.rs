@@ -12,7 +12,12 @@ pub fn parity(cmp: &Comparison, omega: bool) -> Result<String, String> {
     let mut labels = Vec::new();
     for k in &cmp.cases {
         let (obs, ci, pred, sd) = if omega {
-            (k.omega_obs_hz, k.omega_ci_hz, k.omega_pred_hz, k.omega_input_sd_hz)
+            (
+                k.omega_obs_hz,
+                k.omega_ci_hz,
+                k.omega_pred_hz,
+                k.omega_input_sd_hz,
+            )
         } else {
             (k.u_obs_mm_s, k.u_ci_mm_s, k.u_pred_mm_s, k.u_input_sd_mm_s)
         };
@@ -21,7 +26,11 @@ pub fn parity(cmp: &Comparison, omega: bool) -> Result<String, String> {
         x_err.push(ci.unwrap_or(0.0));
         labels.push(k.id.clone());
     }
-    let (q, unit) = if omega { ("Omega_b", "Hz") } else { ("U", "mm/s") };
+    let (q, unit) = if omega {
+        ("Omega_b", "Hz")
+    } else {
+        ("U", "mm/s")
+    };
     let has_band = pts.iter().any(|p| p.2 > 0.0);
     let log = Axis::spans_decade(pts.iter().flat_map(|p| [p.0, p.1]));
     let color = PALETTE[0];

@@ -14,7 +14,11 @@ pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<Result<String, St
     let all = trends(data, cmp);
     [Quantity::U, Quantity::Omega]
         .into_iter()
-        .flat_map(|q| all.iter().filter(move |t| t.quantity == q).take(PER_QUANTITY))
+        .flat_map(|q| {
+            all.iter()
+                .filter(move |t| t.quantity == q)
+                .take(PER_QUANTITY)
+        })
         .map(|t| {
             let f = FEATURES
                 .iter()
@@ -38,7 +42,8 @@ pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<Result<String, St
                 None => f.name.to_string(),
             };
             let q = t.quantity.label();
-            let s = Series::measured(format!("cases (r = {:+.2})", t.r), PALETTE[1], pts).labels(labels);
+            let s = Series::measured(format!("cases (r = {:+.2})", t.r), PALETTE[1], pts)
+                .labels(labels);
             Chart::new(
                 &format!("{q} error against {symbol}"),
                 &x_desc,

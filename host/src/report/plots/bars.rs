@@ -2,12 +2,12 @@
 //! when the values span more than a decade, else a linear one from zero;
 //! each bar's value written on it; optional reference lines (a noise floor).
 
-use super::chart::wrap;
 use super::frame::{left_px, top_px, Frame, BOTTOM_PX, RIGHT_PX};
 use super::geom::{Rect, Shape};
+use super::labels::wrap;
 use super::legend::{self, Entry, Glyph};
 use super::svg::{rgb, Anchor, Stroke, Svg};
-use super::svg_text::width;
+use super::svg_text::{power_of_ten, width};
 use super::ticks::Axis;
 use super::{PlotResult, PALETTE};
 use crate::format::fmt_sig;
@@ -49,7 +49,10 @@ impl Bars {
     /// One bar per label; non-finite values (and non-positive ones on a
     /// log axis) are left out.
     pub fn render(&self, labels: &[String], values: &[f64]) -> PlotResult {
-        let shown = values.iter().chain(self.references.iter().map(|r| &r.0)).copied();
+        let shown = values
+            .iter()
+            .chain(self.references.iter().map(|r| &r.0))
+            .copied();
         let log = Axis::spans_decade(shown.clone());
         let y = Axis::fit(shown, log, !log);
         let y_ticks = y.ticks(6.0);
@@ -61,7 +64,12 @@ impl Bars {
             .iter()
             .map(|l| wrap_category(l, slot_guess - 4.0))
             .collect();
-        let extra_rows = cats.iter().map(Vec::len).max().unwrap_or(1).saturating_sub(1);
+        let extra_rows = cats
+            .iter()
+            .map(Vec::len)
+            .max()
+            .unwrap_or(1)
+            .saturating_sub(1);
         let top = top_px(&self.title);
         let bottom = BOTTOM_PX - 14.0 + 12.0 * extra_rows as f64;
         let plot = Rect::new(left, top, w - left - RIGHT_PX, h - top - bottom);
@@ -70,13 +78,21 @@ impl Bars {
         }
         let slot = plot.width() / n as f64;
         let py = |v: f64| y.frac(v).map(|f| plot.y1 - f * plot.height());
-        let base = if log { plot.y1 } else { py(0.0).unwrap_or(plot.y1) };
+        let base = if log {
+            plot.y1
+        } else {
+            py(0.0).unwrap_or(plot.y1)
+        };
 
         let mut svg = Svg::default();
         let y_px: Vec<(f64, String)> = y_ticks
             .iter()
             .filter_map(|(v, l)| Some((py(*v)?, l.clone())))
-            .chain(y.minor_ticks().into_iter().filter_map(|v| Some((py(v)?, String::new()))))
+            .chain(
+                y.minor_ticks()
+                    .into_iter()
+                    .filter_map(|v| Some((py(v)?, String::new()))),
+            )
             .collect();
         Frame {
             title: &self.title,
@@ -85,20 +101,21 @@ impl Bars {
             x_ticks: Vec::new(),
             y_ticks: y_px,
             x_grid: false,
+            left_of_plot: left,
         }
-        .draw(&mut svg, plot, (0.0, w), 0.0);
+        .draw(&mut svg, plot, 0.0);
 
         let mut obstacles = Vec::new();
         let mut texts = Vec::new();
         svg.group("data");
         for (i, v) in values.iter().enumerate() {
             let Some(top_y) = py(*v) else { continue };
-            let x0 = plot.x0 + slot * i as f64 + 0.18 * slot;
-            let bw = 0.64 * slot;
+            let bw = (0.64 * slot).min(90.0);
+            let x0 = plot.x0 + slot * (i as f64 + 0.5) - 0.5 * bw;
             let r = Rect::new(x0, top_y.min(base), bw, (base - top_y).abs());
             svg.rect(r.x0, r.y0, r.width(), r.height(), &rgb(PALETTE[0]), None);
             obstacles.push(Shape::Box(r));
-            let text = fmt_sig(*v, 3);
+            let text = value_label(*v);
             let at = (x0 + 0.5 * bw, r.y0 - 4.0);
             let tw = width(&text, VALUE_FONT_PX);
             obstacles.push(Shape::Box(Rect::new(at.0 - 0.5 * tw, at.1 - 9.0, tw, 10.0)));
@@ -106,8 +123,18 @@ impl Bars {
         }
         for (v, _, color) in &self.references {
             let Some(yv) = py(*v) else { continue };
-            svg.line((plot.x0, yv), (plot.x1, yv), Stroke { dashed: true, ..Stroke::solid(*color, 1.6) });
-            obstacles.push(Shape::Segment { a: (plot.x0, yv), b: (plot.x1, yv) });
+            svg.line(
+                (plot.x0, yv),
+                (plot.x1, yv),
+                Stroke {
+                    dashed: true,
+                    ..Stroke::solid(*color, 1.6)
+                },
+            );
+            obstacles.push(Shape::Segment {
+                a: (plot.x0, yv),
+                b: (plot.x1, yv),
+            });
         }
         svg.end_group();
         svg.group("labels");
@@ -117,7 +144,14 @@ impl Bars {
         for (i, lines) in cats.iter().enumerate() {
             let x = plot.x0 + slot * (i as f64 + 0.5);
             for (k, l) in lines.iter().enumerate() {
-                svg.text((x, plot.y1 + 15.0 + 12.0 * k as f64), l, CATEGORY_FONT_PX, Anchor::Middle, true, false);
+                svg.text(
+                    (x, plot.y1 + 15.0 + 12.0 * k as f64),
+                    l,
+                    CATEGORY_FONT_PX,
+                    Anchor::Middle,
+                    true,
+                    false,
+                );
             }
         }
         svg.end_group();
@@ -149,7 +183,23 @@ impl Bars {
 fn wrap_category(label: &str, max_px: f64) -> Vec<String> {
     let spaced = label.replace(':', " :").replace(',', ", ");
     let lines = wrap(&spaced, max_px);
-    lines.into_iter().map(|l| l.replace(" :", ":")).take(4).collect()
+    lines
+        .into_iter()
+        .map(|l| l.replace(" :", ":"))
+        .take(4)
+        .collect()
+}
+
+/// A bar's value: three significant figures, `m×10ⁿ` when large or small.
+fn value_label(v: f64) -> String {
+    let s = fmt_sig(v, 3);
+    match s.split_once('e') {
+        Some((m, e)) => match e.parse::<i32>() {
+            Ok(e) => format!("{m}×{}", power_of_ten(e)),
+            Err(_) => s,
+        },
+        None => s,
+    }
 }
 
 /// Bars of one value per step, for "watch the error fall".

@@ -59,7 +59,10 @@ fn shapes(body: &str) -> Result<Vec<Shape>, String> {
         });
     }
     for t in tags(body, "line") {
-        let v: Option<Vec<f64>> = ["x1", "y1", "x2", "y2"].iter().map(|n| attr(t, n)).collect();
+        let v: Option<Vec<f64>> = ["x1", "y1", "x2", "y2"]
+            .iter()
+            .map(|n| attr(t, n))
+            .collect();
         let v = v.ok_or_else(|| bad(t))?;
         out.push(Shape::Segment {
             a: (v[0], v[1]),
@@ -82,7 +85,10 @@ fn shapes(body: &str) -> Result<Vec<Shape>, String> {
         }
     }
     for t in tags(body, "rect") {
-        let v: Option<Vec<f64>> = ["x", "y", "width", "height"].iter().map(|n| attr(t, n)).collect();
+        let v: Option<Vec<f64>> = ["x", "y", "width", "height"]
+            .iter()
+            .map(|n| attr(t, n))
+            .collect();
         let v = v.ok_or_else(|| bad(t))?;
         out.push(Shape::Box(Rect::new(v[0], v[1], v[2], v[3])));
     }
@@ -104,11 +110,17 @@ pub fn legend_clear(svg: &str) -> Result<(), String> {
             .into_iter()
             .next()
             .ok_or("a legend group without its box")?;
-        let v: Option<Vec<f64>> = ["x", "y", "width", "height"].iter().map(|n| attr(t, n)).collect();
+        let v: Option<Vec<f64>> = ["x", "y", "width", "height"]
+            .iter()
+            .map(|n| attr(t, n))
+            .collect();
         let v = v.ok_or_else(|| format!("unreadable legend box: {t}"))?;
         let box_ = Rect::new(v[0], v[1], v[2], v[3]);
         if let Some(s) = data.iter().find(|s| box_.inflate(CHECK_MARGIN_PX).meets(s)) {
-            return Err(format!("the legend at ({:.0}, {:.0}) size {:.0} x {:.0} covers {s:?}", v[0], v[1], v[2], v[3]));
+            return Err(format!(
+                "the legend at ({:.0}, {:.0}) size {:.0} x {:.0} covers {s:?}",
+                v[0], v[1], v[2], v[3]
+            ));
         }
     }
     Ok(())

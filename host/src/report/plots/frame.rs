@@ -40,14 +40,16 @@ pub struct Frame<'a> {
     pub y_ticks: Vec<(f64, String)>,
     /// Grid lines at the labelled x ticks (off for category axes).
     pub x_grid: bool,
+    /// Width from the panel's left edge to the plot (the y title goes there).
+    pub left_of_plot: f64,
 }
 
 const AXIS: RGBColor = RGBColor(60, 60, 60);
 const GRID: RGBColor = RGBColor(232, 232, 232);
 
 impl Frame<'_> {
-    /// Draws the frame around `plot`; `canvas` spans the panel's width.
-    pub fn draw(&self, svg: &mut Svg, plot: Rect, canvas_x: (f64, f64), top: f64) {
+    /// Draws the frame around `plot`, the panel starting at `top`.
+    pub fn draw(&self, svg: &mut Svg, plot: Rect, top: f64) {
         svg.group("frame");
         let grid = Stroke::solid(GRID, 1.0);
         for (y, l) in &self.y_ticks {
@@ -69,14 +71,28 @@ impl Frame<'_> {
             let len = if l.is_empty() { 3.0 } else { 5.0 };
             svg.line((*x, plot.y1), (*x, plot.y1 + len), axis);
             if !l.is_empty() {
-                svg.text((*x, plot.y1 + 18.0), l, TICK_FONT_PX, Anchor::Middle, false, false);
+                svg.text(
+                    (*x, plot.y1 + 18.0),
+                    l,
+                    TICK_FONT_PX,
+                    Anchor::Middle,
+                    false,
+                    false,
+                );
             }
         }
         for (y, l) in &self.y_ticks {
             let len = if l.is_empty() { 3.0 } else { 5.0 };
             svg.line((plot.x0 - len, *y), (plot.x0, *y), axis);
             if !l.is_empty() {
-                svg.text((plot.x0 - 7.0, *y + 4.0), l, TICK_FONT_PX, Anchor::End, false, false);
+                svg.text(
+                    (plot.x0 - 7.0, *y + 4.0),
+                    l,
+                    TICK_FONT_PX,
+                    Anchor::End,
+                    false,
+                    false,
+                );
             }
         }
         if !self.x_desc.is_empty() {
@@ -91,7 +107,10 @@ impl Frame<'_> {
         }
         if !self.y_desc.is_empty() {
             svg.text(
-                (canvas_x.0 + 17.0, 0.5 * (plot.y0 + plot.y1)),
+                (
+                    plot.x0 - self.left_of_plot + 17.0,
+                    0.5 * (plot.y0 + plot.y1),
+                ),
                 self.y_desc,
                 AXIS_FONT_PX,
                 Anchor::Middle,
@@ -101,7 +120,7 @@ impl Frame<'_> {
         }
         if !self.title.is_empty() {
             svg.text(
-                (0.5 * (canvas_x.0 + canvas_x.1), top + 22.0),
+                (0.5 * (plot.x0 + plot.x1), top + 22.0),
                 self.title,
                 TITLE_FONT_PX,
                 Anchor::Middle,

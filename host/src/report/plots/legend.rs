@@ -12,8 +12,12 @@ use plotters::style::RGBColor;
 /// What an entry shows before its text.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Glyph {
-    Marker { hollow: bool },
-    Line { dashed: bool },
+    Marker {
+        hollow: bool,
+    },
+    Line {
+        dashed: bool,
+    },
     /// A horizontal error bar (e.g. a measured CI on the x axis).
     HBar,
     /// A vertical error bar.
@@ -86,14 +90,7 @@ pub fn place_inside(entries: &[Entry], plot: Rect, obstacles: &[Shape]) -> Optio
 
 pub fn draw(svg: &mut Svg, entries: &[Entry], at: Rect) {
     svg.group("legend");
-    svg.rect(
-        at.x0,
-        at.y0,
-        at.width(),
-        at.height(),
-        "white",
-        Some("#999"),
-    );
+    svg.rect(at.x0, at.y0, at.width(), at.height(), "white", Some("#999"));
     for (i, e) in entries.iter().enumerate() {
         let y = at.y0 + PAD_PX + ROW_PX * (i as f64 + 0.5) - 2.0;
         let (x0, x1) = (at.x0 + PAD_PX, at.x0 + PAD_PX + GLYPH_PX);

@@ -45,7 +45,12 @@ impl Stroke {
             self.width
         );
         if self.dashed {
-            let _ = write!(s, " stroke-dasharray=\"{} {}\"", 3.0 * self.width.max(1.5), 2.0 * self.width.max(1.5));
+            let _ = write!(
+                s,
+                " stroke-dasharray=\"{} {}\"",
+                3.0 * self.width.max(1.5),
+                2.0 * self.width.max(1.5)
+            );
         }
         if self.opacity < 1.0 {
             let _ = write!(s, " stroke-opacity=\"{}\"", self.opacity);
@@ -112,7 +117,10 @@ impl Svg {
                 rgb(color)
             )
         } else {
-            format!("fill=\"{}\" stroke=\"white\" stroke-width=\"0.6\"", rgb(color))
+            format!(
+                "fill=\"{}\" stroke=\"white\" stroke-width=\"0.6\"",
+                rgb(color)
+            )
         };
         let _ = writeln!(
             self.body,
@@ -139,7 +147,15 @@ impl Svg {
 
     /// Text at baseline point `p`; `physics` applies [`notation`] first;
     /// `rotate` turns it by -90 degrees about `p` (y-axis titles).
-    pub fn text(&mut self, p: (f64, f64), s: &str, size: f64, anchor: Anchor, physics: bool, rotate: bool) {
+    pub fn text(
+        &mut self,
+        p: (f64, f64),
+        s: &str,
+        size: f64,
+        anchor: Anchor,
+        physics: bool,
+        rotate: bool,
+    ) {
         let anchor = match anchor {
             Anchor::Start => "start",
             Anchor::Middle => "middle",

@@ -178,7 +178,10 @@ mod tests {
     fn code_names_become_physics_notation() {
         assert_eq!(notation("Omega_b / omega"), "Ω_b / ω");
         assert_eq!(notation("N_lambda = L_t/lambda"), "N_λ = L_t/λ");
-        assert_eq!(notation("psi = atan(2 pi B_o/lambda)"), "ψ = atan(2 π B_o/λ)");
+        assert_eq!(
+            notation("psi = atan(2 pi B_o/lambda)"),
+            "ψ = atan(2 π B_o/λ)"
+        );
         // Words that merely contain a symbol's name stay as they are.
         assert_eq!(notation("shell pitch"), "shell pitch");
         assert_eq!(unit("deg").as_deref(), Some("°"));

@@ -32,7 +32,10 @@ fn grid(skip: impl Fn(f64, f64) -> bool) -> Vec<(f64, f64, f64)> {
 }
 
 fn entries() -> Vec<Series> {
-    vec![Series::measured("a long legend label", C, vec![]), Series::model("model", PALETTE[1], vec![])]
+    vec![
+        Series::measured("a long legend label", C, vec![]),
+        Series::model("model", PALETTE[1], vec![]),
+    ]
 }
 
 #[test]
@@ -42,20 +45,31 @@ fn the_checker_rejects_a_covered_legend() {
     // A curve crossing the box with no vertex inside it.
     let crossing = "<svg><g class=\"data\">\n<polyline points=\"0,50 100,50\"/>\n</g>\n<g class=\"legend\">\n<rect x=\"40\" y=\"40\" width=\"30\" height=\"20\"/>\n</g></svg>";
     assert!(legend_clear(crossing).is_err());
-    let bar = crossing.replace("<polyline points=\"0,50 100,50\"/>", "<line x1=\"55\" y1=\"0\" x2=\"55\" y2=\"100\"/>");
+    let bar = crossing.replace(
+        "<polyline points=\"0,50 100,50\"/>",
+        "<line x1=\"55\" y1=\"0\" x2=\"55\" y2=\"100\"/>",
+    );
     assert!(legend_clear(&bar).is_err());
     let clear = crossing.replace("0,50 100,50", "0,90 100,90");
     assert!(legend_clear(&clear).is_ok());
 
     // A real chart, then a marker moved into its legend.
     let mut series = entries();
-    series.push(Series::measured("", C, vec![(0.0, 0.0, 0.1), (1.0, 1.0, 0.1)]));
+    series.push(Series::measured(
+        "",
+        C,
+        vec![(0.0, 0.0, 0.1), (1.0, 1.0, 0.1)],
+    ));
     let svg = chart("t", "x", "y", &series, false).unwrap();
     legend_clear(&svg).unwrap();
     let (x, y, w, h) = legend_box(&svg);
     let covered = svg.replacen(
         "<g class=\"data\">\n",
-        &format!("<g class=\"data\">\n<circle cx=\"{}\" cy=\"{}\" r=\"4\"/>\n", x + 0.5 * w, y + 0.5 * h),
+        &format!(
+            "<g class=\"data\">\n<circle cx=\"{}\" cy=\"{}\" r=\"4\"/>\n",
+            x + 0.5 * w,
+            y + 0.5 * h
+        ),
         1,
     );
     assert!(legend_clear(&covered).is_err());
@@ -64,7 +78,9 @@ fn the_checker_rejects_a_covered_legend() {
 #[test]
 fn the_legend_takes_the_free_corner() {
     // Data everywhere but one quadrant: the legend must go there.
-    let quadrants: [(fn(f64, f64) -> bool, bool, bool); 4] = [
+    // (which points to leave out, legend expected right, expected upper)
+    type Quadrant = (fn(f64, f64) -> bool, bool, bool);
+    let quadrants: [Quadrant; 4] = [
         (|x, y| x > 5.0 && y > 5.0, true, true),
         (|x, y| x < 5.0 && y > 5.0, false, true),
         (|x, y| x > 5.0 && y < 5.0, true, false),
@@ -92,7 +108,9 @@ fn with_data_everywhere_the_legend_goes_outside() {
     assert!(svg_width(&svg) > 560.0, "canvas enlarged");
     assert!(x + w <= svg_width(&svg));
     // A curve through every corner does the same.
-    let zigzag: Vec<(f64, f64, f64)> = (0..40).map(|i| (i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }, 0.0)).collect();
+    let zigzag: Vec<(f64, f64, f64)> = (0..40)
+        .map(|i| (i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }, 0.0))
+        .collect();
     let svg = chart("t", "x", "y", &[Series::curve("zigzag", C, zigzag)], false).unwrap();
     legend_clear(&svg).unwrap();
     assert!(svg_width(&svg) > 560.0);
@@ -121,12 +139,24 @@ fn texts(svg: &str) -> Vec<String> {
 }
 
 fn is_integer_with_point_zero(t: &str) -> bool {
-    t.strip_suffix(".0").is_some_and(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit() || c == '-'))
+    t.strip_suffix(".0")
+        .is_some_and(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit() || c == '-'))
 }
 
 #[test]
 fn ticks_read_like_a_paper() {
-    let svg = chart("t", "psi (deg)", "y", &[Series::measured("", C, vec![(0.0, 0.0, 0.0), (360.0, 1e7, 0.0)])], false).unwrap();
+    let svg = chart(
+        "t",
+        "psi (deg)",
+        "y",
+        &[Series::measured(
+            "",
+            C,
+            vec![(0.0, 0.0, 0.0), (360.0, 1e7, 0.0)],
+        )],
+        false,
+    )
+    .unwrap();
     let t = texts(&svg);
     assert!(t.iter().all(|s| !is_integer_with_point_zero(s)), "{t:?}");
     assert!(t.iter().all(|s| !s.contains("0000")), "{t:?}");
@@ -134,7 +164,11 @@ fn ticks_read_like_a_paper() {
     let log = Chart::new("t", "x", "y")
         .log_x()
         .log_y()
-        .render(&[Series::measured("", C, vec![(1e-2, 1.0, 0.0), (1e6, 1e3, 0.0)])])
+        .render(&[Series::measured(
+            "",
+            C,
+            vec![(1e-2, 1.0, 0.0), (1e6, 1e3, 0.0)],
+        )])
         .unwrap();
     let t = texts(&log);
     for p in ["10⁻²", "10⁰", "10⁶"] {
@@ -144,7 +178,14 @@ fn ticks_read_like_a_paper() {
 
 #[test]
 fn subscripts_are_real_in_the_svg() {
-    let svg = chart("Parity: Omega_b", "N_lambda", "Omega_b / omega", &[Series::measured("", C, vec![(1.0, 1.0, 0.0)])], false).unwrap();
+    let svg = chart(
+        "Parity: Omega_b",
+        "N_lambda",
+        "Omega_b / omega",
+        &[Series::measured("", C, vec![(1.0, 1.0, 0.0)])],
+        false,
+    )
+    .unwrap();
     assert!(svg.contains("Ω<tspan baseline-shift=\"sub\" font-size=\"75%\">b</tspan>"));
     assert!(svg.contains("N<tspan baseline-shift=\"sub\" font-size=\"75%\">λ</tspan>"));
     assert!(!svg.contains("Omega") && !svg.contains("lambda"));
@@ -156,18 +197,35 @@ fn error_bars_smaller_than_the_marker_are_drawn_and_noted() {
     let s = Series::measured("measured", C, pts).labels(vec!["a".into(), "b".into(), "c".into()]);
     let svg = chart("t", "x", "y", &[s], false).unwrap();
     let notes = &svg[svg.find("<g class=\"notes\">").expect("a note")..];
-    assert!(notes.contains("measured: a, c."), "{notes}");
+    assert!(
+        notes.contains("vertical bars of a, c (measured)."),
+        "{notes}"
+    );
     // Each bar is drawn (two caps and a stem per point).
-    let data = &svg[svg.find("<g class=\"data\">").unwrap()..svg.find("<g class=\"labels\">").unwrap()];
+    let data =
+        &svg[svg.find("<g class=\"data\">").unwrap()..svg.find("<g class=\"labels\">").unwrap()];
     assert_eq!(data.matches("<line ").count(), 9);
     // Large bars: no note.
-    let big = chart("t", "x", "y", &[Series::measured("m", C, vec![(0.0, 0.0, 0.5), (1.0, 1.0, 0.5)])], false).unwrap();
+    let big = chart(
+        "t",
+        "x",
+        "y",
+        &[Series::measured(
+            "m",
+            C,
+            vec![(0.0, 0.0, 0.5), (1.0, 1.0, 0.5)],
+        )],
+        false,
+    )
+    .unwrap();
     assert!(!big.contains("class=\"notes\""));
 }
 
 #[test]
 fn flat_series_are_not_zoomed_onto_noise() {
-    let flat: Vec<(f64, f64, f64)> = (0..200).map(|i| (i as f64, 4.0 + 1e-9 * (i % 2) as f64, 0.0)).collect();
+    let flat: Vec<(f64, f64, f64)> = (0..200)
+        .map(|i| (i as f64, 4.0 + 1e-9 * (i % 2) as f64, 0.0))
+        .collect();
     let svg = chart("t", "x", "y", &[Series::curve("flat", C, flat)], false).unwrap();
     let data = &svg[svg.find("<g class=\"data\">").unwrap()..];
     let pts = &data[data.find("points=\"").unwrap() + 8..];
@@ -175,7 +233,8 @@ fn flat_series_are_not_zoomed_onto_noise() {
         .split_whitespace()
         .map(|p| p.split_once(',').unwrap().1.parse().unwrap())
         .collect();
-    let spread = ys.iter().cloned().fold(f64::MIN, f64::max) - ys.iter().cloned().fold(f64::MAX, f64::min);
+    let spread =
+        ys.iter().cloned().fold(f64::MIN, f64::max) - ys.iter().cloned().fold(f64::MAX, f64::min);
     assert!(spread < 0.5, "a flat line spans {spread} px");
 }
 
@@ -186,8 +245,22 @@ fn stacked_panels_share_the_left_edge() {
     let svg = stack(
         "two",
         &[
-            (a, vec![Series::curve("a", C, vec![(0.0, 0.0, 0.0), (1.0, 1.0, 0.0)])]),
-            (b, vec![Series::curve("b", C, vec![(0.0, 0.0, 0.0), (1.0, 123456.0, 0.0)])]),
+            (
+                a,
+                vec![Series::curve(
+                    "a",
+                    C,
+                    vec![(0.0, 0.0, 0.0), (1.0, 1.0, 0.0)],
+                )],
+            ),
+            (
+                b,
+                vec![Series::curve(
+                    "b",
+                    C,
+                    vec![(0.0, 0.0, 0.0), (1.0, 123456.0, 0.0)],
+                )],
+            ),
         ],
     )
     .unwrap();
@@ -195,7 +268,10 @@ fn stacked_panels_share_the_left_edge() {
     let frames: Vec<&str> = svg.split("<g class=\"frame\">").skip(1).collect();
     let left_axis = |f: &str| {
         // The y axis is the second axis line drawn (after the x axis).
-        let lines: Vec<&str> = f.split("<line ").filter(|l| l.contains("#3c3c3c")).collect();
+        let lines: Vec<&str> = f
+            .split("<line ")
+            .filter(|l| l.contains("#3c3c3c"))
+            .collect();
         let l = lines[1];
         let s = &l[l.find("x1=\"").unwrap() + 4..];
         s[..s.find('"').unwrap()].to_string()
@@ -208,9 +284,14 @@ fn stacked_panels_share_the_left_edge() {
 fn every_figure_of_the_report_page_is_clear_and_readable() {
     let dir = tempfile::tempdir().unwrap();
     let data = crate::data::paper();
-    let path = crate::report::write_report(dir.path(), &crate::model::Model::base(), &data, None).unwrap();
+    let path =
+        crate::report::write_report(dir.path(), &crate::model::Model::base(), &data, None).unwrap();
     let page = std::fs::read_to_string(path).unwrap();
-    let svgs: Vec<&str> = page.split("<svg ").skip(1).map(|s| &s[..s.find("</svg>").unwrap()]).collect();
+    let svgs: Vec<&str> = page
+        .split("<svg ")
+        .skip(1)
+        .map(|s| &s[..s.find("</svg>").unwrap()])
+        .collect();
     assert!(svgs.len() >= 8, "{} figures", svgs.len());
     let mut residual_titles = Vec::new();
     for svg in &svgs {
@@ -226,14 +307,26 @@ fn every_figure_of_the_report_page_is_clear_and_readable() {
             residual_titles.push(title.clone());
         }
     }
-    assert!(residual_titles.iter().any(|t| t.starts_with("U ")), "{residual_titles:?}");
-    assert!(residual_titles.iter().any(|t| t.starts_with("Ωb ")), "{residual_titles:?}");
+    assert!(
+        residual_titles.iter().any(|t| t.starts_with("U ")),
+        "{residual_titles:?}"
+    );
+    assert!(
+        residual_titles.iter().any(|t| t.starts_with("Ωb ")),
+        "{residual_titles:?}"
+    );
     // Parity plots: case labels and a legend naming the bars.
-    let parity: Vec<&&str> = svgs.iter().filter(|s| texts(s).iter().any(|t| t.starts_with("Parity"))).collect();
+    let parity: Vec<&&str> = svgs
+        .iter()
+        .filter(|s| texts(s).iter().any(|t| t.starts_with("Parity")))
+        .collect();
     assert_eq!(parity.len(), 2);
     for p in parity {
         let t = texts(p);
-        assert!(t.contains(&"tail-1".to_string()) && t.contains(&"y = x".to_string()), "{t:?}");
+        assert!(
+            t.contains(&"tail-1".to_string()) && t.contains(&"y = x".to_string()),
+            "{t:?}"
+        );
         assert!(t.contains(&"measured 95 % CI".to_string()), "{t:?}");
     }
 }

@@ -104,7 +104,10 @@ impl Axis {
         if !self.log {
             return Vec::new();
         }
-        let (e0, e1) = (self.lo.log10().floor() as i32, self.hi.log10().ceil() as i32);
+        let (e0, e1) = (
+            self.lo.log10().floor() as i32,
+            self.hi.log10().ceil() as i32,
+        );
         if e1 - e0 > 8 {
             // Many decades: the unlabelled powers of ten only.
             return (e0..=e1)
@@ -229,7 +232,11 @@ mod tests {
 
     #[test]
     fn mapping_and_decade_test() {
-        let a = Axis { lo: 1.0, hi: 100.0, log: true };
+        let a = Axis {
+            lo: 1.0,
+            hi: 100.0,
+            log: true,
+        };
         assert!((a.frac(10.0).unwrap() - 0.5).abs() < 1e-12);
         assert_eq!(a.frac(0.0), None);
         assert!(Axis::spans_decade([0.2, 2.5].into_iter()));
