@@ -80,6 +80,15 @@ pub fn svg_with(o: &Outcome, obs: &Observed) -> Result<String, String> {
         "" => format!("observed {q}"),
         s => format!("observed {q} ({s})"),
     };
+    // The channel's top is drawn when the climb gets near it; far away it
+    // would squash the height curve flat.
+    let (h0, h1) = o.samples.iter().fold((f64::MAX, f64::MIN), |(a, b), s| {
+        (a.min(s.height_mm), b.max(s.height_mm))
+    });
+    let mut height = panel("height (mm)", "");
+    if o.top_reached_s.is_some() || o.channel_length_mm - h1 < (h1 - h0).max(0.0) {
+        height = height.hline(o.channel_length_mm, "channel top", c1);
+    }
     let mut u = panel("U (mm/s)", "");
     if let Some(v) = obs.u_mm_s {
         u = u.hline(v, source("U"), c1);
@@ -93,10 +102,7 @@ pub fn svg_with(o: &Outcome, obs: &Observed) -> Result<String, String> {
         rates = rates.hline(v, source("Omega_b"), c2);
     }
     let panels = vec![
-        (
-            panel("height (mm)", "").hline(o.channel_length_mm, "channel top", c1),
-            vec![line("nose height", c0, |s| s.height_mm)],
-        ),
+        (height, vec![line("nose height", c0, |s| s.height_mm)]),
         (u, vec![line("U simulated", c0, |s| s.u_mm_s)]),
         (
             rates,

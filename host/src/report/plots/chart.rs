@@ -204,12 +204,12 @@ pub(super) fn axes(c: &Chart, series: &[Series]) -> (Axis, Axis) {
 
 /// Pixels per x tick and per y tick a reader needs to take them in.
 pub(super) const X_TICK_PX: f64 = 80.0;
-const Y_TICK_PX: f64 = 35.0;
+const Y_TICK_PX: f64 = 50.0;
 
 /// The y ticks of a panel and the width left of its plot they need.
 pub(super) fn y_ticks_and_left(c: &Chart, series: &[Series]) -> (Vec<(f64, String)>, f64) {
     let (_, y) = axes(c, series);
-    let ticks = y.ticks((c.size.1 - top_px(&c.title) - BOTTOM_PX) / Y_TICK_PX);
+    let ticks = y.ticks(((c.size.1 - top_px(&c.title) - BOTTOM_PX) / Y_TICK_PX).max(4.0));
     let left = left_px(&ticks.iter().map(|t| t.1.clone()).collect::<Vec<_>>());
     (ticks, left)
 }
