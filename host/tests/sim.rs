@@ -324,5 +324,6 @@ fn the_binary_writes_csv_and_svg() {
     );
     let svg = std::fs::read_to_string(dir.path().join("sim.svg")).unwrap();
     assert!(svg.contains("<svg"));
+    swimbot::report::plots::legend_clear(&svg).unwrap();
     assert!(String::from_utf8_lossy(&out.stdout).contains("battery left"));
 }

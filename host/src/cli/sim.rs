@@ -203,8 +203,8 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
     check_finite(&outcome)?;
     // Both files are produced in memory first and renamed into place
     // together, so a failure leaves neither.
-    let svg =
-        output::svg(&outcome).map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
+    let svg = output::figure(&robot, &outcome)
+        .map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
     super::output::write_all_atomically(&[
         (
             args.output.join("sim.csv"),

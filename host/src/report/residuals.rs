@@ -1,40 +1,56 @@
-//! Residual plots: the relative error of U and Omega_b against the case
-//! features that correlate with it most (where the model fails).
+//! Residual plots: the relative error of U and of Omega_b, each against the
+//! case features it correlates with most (ranked by
+//! [`crate::workbench::features::trends`]): where the model fails.
 
-use super::plots::{chart, Series, PALETTE};
+use super::plots::{unit, Chart, Series, PALETTE};
 use crate::data::Dataset;
-use crate::workbench::compare::Comparison;
+use crate::workbench::compare::{Comparison, Quantity};
 use crate::workbench::features::{trends, FEATURES};
 
+/// Plots per quantity.
+const PER_QUANTITY: usize = 2;
+
 pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<Result<String, String>> {
-    trends(data, cmp)
-        .iter()
-        .take(4)
+    let all = trends(data, cmp);
+    [Quantity::U, Quantity::Omega]
+        .into_iter()
+        .flat_map(|q| {
+            all.iter()
+                .filter(move |t| t.quantity == q)
+                .take(PER_QUANTITY)
+        })
         .map(|t| {
             let f = FEATURES
                 .iter()
-                .find(|f| f.name == t.feature)
-                .expect("trend features come from FEATURES");
-            let pts = data
+                .find(|f| f.id == t.feature_id)
+                .ok_or_else(|| format!("unknown feature {}", t.feature_id))?;
+            let (pts, labels): (Vec<_>, Vec<_>) = data
                 .cases
                 .iter()
                 .zip(&cmp.cases)
                 .filter_map(|(c, k)| {
                     let e = match t.quantity {
-                        crate::workbench::compare::Quantity::U => k.u_rel_err,
-                        crate::workbench::compare::Quantity::Omega => k.omega_rel_err,
+                        Quantity::U => k.u_rel_err,
+                        Quantity::Omega => k.omega_rel_err,
                     }?;
-                    Some(((f.value)(c), e, 0.0))
+                    Some(((f.of(c), 100.0 * e, 0.0), k.id.clone()))
                 })
-                .collect();
-            let s = Series::measured(format!("r = {:+.2}", t.r), PALETTE[1], pts);
-            chart(
-                &format!("{} error vs {}", t.quantity.label(), t.feature),
-                t.feature,
-                "relative error",
-                &[s],
-                false,
+                .unzip();
+            let symbol = f.name.split(" = ").next().unwrap_or(f.name);
+            let x_desc = match unit(f.unit) {
+                Some(u) => format!("{} ({u})", f.name),
+                None => f.name.to_string(),
+            };
+            let q = t.quantity.label();
+            let s = Series::measured(format!("cases (r = {:+.2})", t.r), PALETTE[1], pts)
+                .labels(labels);
+            Chart::new(
+                &format!("{q} error against {symbol}"),
+                &x_desc,
+                &format!("{q}: (predicted - measured)/measured (%)"),
             )
+            .zero_line()
+            .render(&[s])
         })
         .collect()
 }

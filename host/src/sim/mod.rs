@@ -9,6 +9,7 @@
 pub mod calibrate;
 pub mod drive;
 pub mod dynamics;
+pub mod figure;
 pub mod hydro;
 pub mod output;
 mod raw;

@@ -1,14 +1,12 @@
-//! What `swimbot sim` writes: the time series as CSV, a four-panel SVG
-//! (height; tail, motor and body rates; cell voltage; cell current) drawn
-//! with plotters in the report's style, and the text summary (time to the
+//! What `swimbot sim` writes: the time series as CSV, the SVG figure
+//! ([`super::figure`]) and the text summary (time to the
 //! channel's top, mean U, f and Omega_b while running, battery left, the
 //! energy ledger).
 
 use super::dynamics::{End, Outcome, Sample};
+pub use super::figure::{figure, svg, svg_with, Observed};
 use super::robot::Robot;
 use crate::format::fmt_sig;
-use crate::report::plots::PALETTE;
-use plotters::prelude::*;
 use std::fmt::Write as _;
 use swimbot_shared::MotorState as State;
 
@@ -54,86 +52,6 @@ pub fn csv(samples: &[Sample]) -> String {
         );
     }
     out
-}
-
-type Panel<'a> = (&'a str, Vec<(&'a str, Vec<(f64, f64)>)>);
-
-/// The run as an SVG of four stacked panels sharing the time axis.
-pub fn svg(o: &Outcome) -> Result<String, String> {
-    let t: Vec<f64> = o.samples.iter().map(|s| s.t_s).collect();
-    let series = |f: fn(&Sample) -> f64| -> Vec<(f64, f64)> {
-        t.iter().zip(&o.samples).map(|(t, s)| (*t, f(s))).collect()
-    };
-    let panels: Vec<Panel> = vec![
-        (
-            "height (mm)",
-            vec![("nose height", series(|s| s.height_mm))],
-        ),
-        (
-            "rate (Hz)",
-            vec![
-                ("tail f (lab)", series(|s| s.tail_rate_hz)),
-                ("motor (tail - body)", series(|s| s.motor_rate_hz)),
-                ("body counter-rotation", series(|s| -s.body_rate_hz)),
-            ],
-        ),
-        ("cell (V)", vec![("terminal", series(|s| s.battery_v))]),
-        (
-            "current (A)",
-            vec![
-                ("cell", series(|s| s.current_a)),
-                ("motor", series(|s| s.motor_current_a)),
-            ],
-        ),
-    ];
-    let t_end = t.last().copied().unwrap_or(1.0).max(1e-3);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (720, 760)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let root = root
-            .titled(&format!("swimbot sim: {}", o.tail_id), ("sans-serif", 17))
-            .map_err(|e| e.to_string())?;
-        for (area, (y_desc, lines)) in root.split_evenly((panels.len(), 1)).iter().zip(&panels) {
-            let ys = lines
-                .iter()
-                .flat_map(|l| l.1.iter().map(|p| p.1))
-                .filter(|v| v.is_finite());
-            let (lo, hi) = ys.fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
-            let (lo, hi) = if lo > hi { (0.0, 1.0) } else { (lo, hi) };
-            let pad = 0.08 * (hi - lo).max(1e-9 * hi.abs().max(1.0));
-            let mut c = ChartBuilder::on(area)
-                .margin(8)
-                .x_label_area_size(28)
-                .y_label_area_size(62)
-                .build_cartesian_2d(0.0..t_end, (lo - pad)..(hi + pad))
-                .map_err(|e| e.to_string())?;
-            c.configure_mesh()
-                .x_desc("time (s)")
-                .y_desc(*y_desc)
-                .light_line_style(WHITE.mix(0.0))
-                .draw()
-                .map_err(|e| e.to_string())?;
-            for (k, (label, pts)) in lines.iter().enumerate() {
-                let color = PALETTE[k % PALETTE.len()];
-                c.draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))
-                    .map_err(|e| e.to_string())?
-                    .label(*label)
-                    .legend(move |(x, y)| {
-                        PathElement::new([(x, y), (x + 16, y)], color.stroke_width(2))
-                    });
-            }
-            c.configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK.mix(0.3))
-                .label_font(("sans-serif", 11))
-                .draw()
-                .map_err(|e| e.to_string())?;
-        }
-        root.present().map_err(|e| e.to_string())?;
-    }
-    Ok(svg)
 }
 
 /// The run in a few lines.

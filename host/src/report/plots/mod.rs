@@ -1,0 +1,57 @@
+//! The report's chart engine: SVG written directly (float coordinates, real
+//! subscripts, physics notation), with legends placed where they cover no
+//! data ([`legend_clear`] checks it), sensible ticks (powers of ten on log
+//! axes), per-point labels, error bars in x and y, and a note on the figure
+//! when error bars are smaller than their markers.
+//!
+//! The simple entry points [`chart`] and [`steps`] stay; [`Chart`] and
+//! [`Bars`] are the builders behind them.
+
+mod bars;
+mod chart;
+mod check;
+mod frame;
+mod geom;
+mod labels;
+mod legend;
+mod panel;
+mod series;
+mod svg;
+mod svg_text;
+mod ticks;
+
+#[cfg(test)]
+mod tests;
+
+pub use bars::{steps, Bars};
+pub use chart::{stack, Chart};
+pub use check::legend_clear;
+pub use legend::Glyph;
+pub use series::Series;
+pub use svg_text::{notation, unit};
+pub use ticks::Axis;
+
+use plotters::style::RGBColor;
+
+pub type PlotResult = Result<String, String>;
+
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(23, 190, 207),
+];
+
+/// A scatter/line chart; `diagonal` draws y = x (parity plots).
+pub fn chart(
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    series: &[Series],
+    diagonal: bool,
+) -> PlotResult {
+    let c = Chart::new(title, x_desc, y_desc);
+    if diagonal { c.diagonal() } else { c }.render(series)
+}

@@ -1,0 +1,89 @@
+//! One data series of a chart: measured points (filled markers with error
+//! bars), the model at the measured cases (hollow markers) or a curve, and
+//! the builder methods for what a publication figure adds (per-point
+//! labels, horizontal error bars, dashed lines).
+
+use plotters::style::RGBColor;
+
+/// One data series of a chart.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend text; empty: not in the legend.
+    pub label: String,
+    pub color: RGBColor,
+    /// (x, y, vertical error half-width)
+    pub points: Vec<(f64, f64, f64)>,
+    /// Drawn as a line instead of markers.
+    pub line: bool,
+    /// Hollow markers (model) instead of filled ones (measured).
+    pub hollow: bool,
+    /// Text next to each point (empty strings: none).
+    pub labels: Vec<String>,
+    /// Horizontal error half-widths, one per point (empty: none).
+    pub x_err: Vec<f64>,
+    /// Dashed line (with `line`).
+    pub dashed: bool,
+}
+
+impl Series {
+    fn new(label: impl Into<String>, color: RGBColor, points: Vec<(f64, f64, f64)>) -> Self {
+        Self {
+            label: label.into(),
+            color,
+            points,
+            line: false,
+            hollow: false,
+            labels: Vec::new(),
+            x_err: Vec::new(),
+            dashed: false,
+        }
+    }
+
+    /// Measured points: filled markers with their error bars.
+    pub fn measured(
+        label: impl Into<String>,
+        color: RGBColor,
+        points: Vec<(f64, f64, f64)>,
+    ) -> Self {
+        Self::new(label, color, points)
+    }
+
+    /// The model at the measured cases: hollow markers.
+    pub fn model(label: impl Into<String>, color: RGBColor, points: Vec<(f64, f64, f64)>) -> Self {
+        Self {
+            hollow: true,
+            ..Self::new(label, color, points)
+        }
+    }
+
+    /// A model curve: a line through `points` (their error column is ignored).
+    pub fn curve(label: impl Into<String>, color: RGBColor, points: Vec<(f64, f64, f64)>) -> Self {
+        Self {
+            line: true,
+            ..Self::new(label, color, points)
+        }
+    }
+
+    /// Text next to each point (e.g. the case ids).
+    pub fn labels(mut self, labels: Vec<String>) -> Self {
+        self.labels = labels;
+        self
+    }
+
+    /// Horizontal error half-widths, one per point.
+    pub fn x_errors(mut self, half_widths: Vec<f64>) -> Self {
+        self.x_err = half_widths;
+        self
+    }
+
+    /// A dashed line (reference values, alternative models).
+    pub fn dashed(mut self) -> Self {
+        self.dashed = true;
+        self
+    }
+
+    pub fn color(mut self, color: RGBColor) -> Self {
+        self.color = color;
+        self
+    }
+}
