@@ -4,6 +4,12 @@
 //! axes), per-point labels, error bars in x and y, and a note on the figure
 //! when error bars are smaller than their markers.
 //!
+//! Written by hand rather than drawn with plotters (still used for its colour
+//! type) because plotters rounds every coordinate to whole pixels (a 1 mHz
+//! controller ripple on a flat line became a sawtooth in the sim figure),
+//! cannot write SVG subscripts, and does not mark which elements form the
+//! legend, which the clear-legend check must know.
+//!
 //! The simple entry points [`chart`] and [`steps`] stay; [`Chart`] and
 //! [`Bars`] are the builders behind them.
 
