@@ -21,7 +21,7 @@ fn run_in(cwd: &Path, args: &[&str]) -> Output {
 /// The HTML of the `<figure id="...">` element.
 fn figure<'a>(page: &'a str, id: &str) -> &'a str {
     let start = page
-        .find(&format!("<figure id=\"{id}\">"))
+        .find(&format!("<figure id=\"{id}\""))
         .unwrap_or_else(|| panic!("no figure {id}"));
     let end = page[start..].find("</figure>").expect("closed figure") + start;
     &page[start..end]

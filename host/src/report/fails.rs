@@ -69,9 +69,10 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<String, crate::mod
     };
     let mut h = format!(
         "<p>The paper's model with Gray-Hancock's coefficients and {}, case by case. \
-         U in mm/s, Ω<sub>b</sub> (the body's counter-rotation) in Hz; measured: mean ± 95 % CI; \
+         U in mm/s, Ω<sub>b</sub> (the body's counter-rotation) in Hz; measured: mean ± {} CI; \
          error in σ: the error in standard errors of the measured mean.{}</p>",
         super::paper::table_iii(&paper.gray_hancock),
+        super::intro::confidence(data),
         if bands {
             " ± inputs: the prediction's standard uncertainty from the dataset's stated input \
              uncertainties (geometry, rate, viscosity)."

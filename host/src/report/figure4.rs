@@ -1,6 +1,6 @@
 //! The paper's Fig. 4: `U/U_wave` (panels a-c) and `Omega_b/omega`
 //! (panels d-f) against the number of waves `N_lambda`, one panel per
-//! amplitude group `B_o/R_body`: the measurements with their 95 % CIs and,
+//! amplitude group `B_o/R_body`: the measurements with their CIs and,
 //! for each model drawn, its markers at the measured cases and its curve
 //! through them ([`super::curve`]).
 
@@ -42,7 +42,13 @@ pub fn amplitude_groups(data: &Dataset) -> Vec<(f64, Vec<&Case>)> {
 }
 
 /// One panel: `omega` selects `Omega_b/omega`, else `U/U_wave`.
-fn panel(title: &str, cases: &[&Case], layers: &[Layer], omega: bool) -> Result<String, String> {
+fn panel(
+    title: &str,
+    cases: &[&Case],
+    layers: &[Layer],
+    omega: bool,
+    ci: &str,
+) -> Result<String, String> {
     let ratio: fn(&Prediction) -> f64 = if omega {
         |p| p.omega_ratio
     } else {
@@ -60,7 +66,11 @@ fn panel(title: &str, cases: &[&Case], layers: &[Layer], omega: bool) -> Result<
             Some((c.n_waves(), m.mean / scale, m.ci_half_width / scale))
         })
         .collect();
-    let mut series = vec![Series::measured("measured (95 % CI)", MEASURED, measured)];
+    let mut series = vec![Series::measured(
+        format!("measured ({ci} CI)"),
+        MEASURED,
+        measured,
+    )];
     for l in layers {
         let markers: Vec<(f64, f64, f64)> = cases
             .iter()
@@ -87,6 +97,7 @@ fn panel(title: &str, cases: &[&Case], layers: &[Layer], omega: bool) -> Result<
 /// first `U/U_wave` per group, then `Omega_b/omega` per group.
 pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> {
     let groups = amplitude_groups(data);
+    let ci = super::intro::confidence(data);
     let mut out = Vec::new();
     let mut letter = b'a';
     for omega in [false, true] {
@@ -97,7 +108,7 @@ pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> 
                 letter as char,
                 crate::format::fmt_sig(ratio, 2)
             );
-            out.push(panel(&title, cases, layers, omega));
+            out.push(panel(&title, cases, layers, omega, &ci));
             letter = letter.wrapping_add(1);
         }
     }

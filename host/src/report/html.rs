@@ -21,9 +21,11 @@ figcaption{font-size:.9em;color:#333;max-width:62em;margin-top:.3em}\
 .rise{color:#b2182b;font-weight:600}.fall{color:#1a7f37;font-weight:600}.flat{color:#666}\
 .note{color:#555;font-size:.9em}.err{color:#b00}.verdict{background:#fff7e6;border-left:4px solid #e6a23c;padding:.5em .9em}\
 .toc{columns:2;font-size:.95em}\
-@media (max-width:900px){.g3{grid-template-columns:repeat(2,1fr)}}\
+@media (max-width:900px){.g3{grid-template-columns:repeat(2,1fr)}\
+.flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}}\
 @media print{body{max-width:none;margin:0;padding:0;font-size:10pt}h2{break-after:avoid;page-break-after:avoid}\
 table,figure,.verdict{break-inside:avoid;page-break-inside:avoid}.toc{display:none}\
+.g3{grid-template-columns:repeat(2,1fr)}.flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}\
 @page{size:A4;margin:14mm}}";
 
 pub fn escape(s: &str) -> String {
@@ -47,8 +49,37 @@ pub fn figure(
     columns: usize,
     caption: &str,
 ) -> String {
+    figure_in(id, "", charts, columns, caption)
+}
+
+/// [`figure`] for panels given row by row that, on paper and on narrow
+/// screens (two columns), are laid out column by column instead, so that
+/// each printed row keeps one column of the wide layout together (Fig. 4:
+/// each group's U beside its Omega_b).
+pub fn figure_flow(
+    id: &str,
+    charts: &[Result<String, String>],
+    columns: usize,
+    caption: &str,
+) -> String {
+    let rows = charts.len().div_ceil(2).max(1);
+    let attrs = if columns == rows {
+        format!(" class=\"flow\" style=\"--rows:{rows}\"")
+    } else {
+        String::new()
+    };
+    figure_in(id, &attrs, charts, columns, caption)
+}
+
+fn figure_in(
+    id: &str,
+    attrs: &str,
+    charts: &[Result<String, String>],
+    columns: usize,
+    caption: &str,
+) -> String {
     let cls = if columns >= 3 { "g3" } else { "g2" };
-    let mut h = format!("<figure id=\"{id}\"><div class=\"grid {cls}\">");
+    let mut h = format!("<figure id=\"{id}\"{attrs}><div class=\"grid {cls}\">");
     for c in charts {
         h.push_str("<div>");
         h.push_str(&svg_or_note(c));

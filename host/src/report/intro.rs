@@ -18,6 +18,15 @@ fn span(values: impl Iterator<Item = f64>) -> String {
     }
 }
 
+/// The dataset's confidence level as printed (`95 %`), from its first measurement.
+pub fn confidence(data: &Dataset) -> String {
+    data.cases
+        .iter()
+        .find_map(|c| c.u_mm_s.or(c.omega_body_hz))
+        .map(|m| format!("{:.0} %", 100.0 * m.confidence))
+        .unwrap_or_else(|| "-".into())
+}
+
 fn measured(m: Option<Measured>) -> String {
     m.map_or("-".into(), |m| value_unc(m.mean, m.ci_half_width))
 }
@@ -32,12 +41,7 @@ pub fn section(data: &Dataset) -> String {
         .iter()
         .map(|c| c.u_mm_s.is_some() as usize + c.omega_body_hz.is_some() as usize)
         .sum::<usize>();
-    let ci = data
-        .cases
-        .iter()
-        .find_map(|c| c.u_mm_s.or(c.omega_body_hz))
-        .map(|m| format!("{:.0} %", 100.0 * m.confidence))
-        .unwrap_or_else(|| "-".into());
+    let ci = confidence(data);
     let trials = data
         .cases
         .iter()

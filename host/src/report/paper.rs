@@ -3,7 +3,7 @@
 //! Fig. 4 reproduced, and the summary errors of each set.
 
 use super::figure4::{figure4, Layer, BLACK, BLUE};
-use super::html::{escape, figure, table};
+use super::html::{escape, figure_flow, table};
 use super::wording::{pct, stat};
 use crate::data::Dataset;
 use crate::model::{preset, Model, ModelError};
@@ -144,15 +144,16 @@ impl PaperModels {
             },
         ];
         let charts = figure4(data, &layers);
+        let ci = super::intro::confidence(data);
         let last_u = (b'a' + groups as u8 - 1) as char;
         let first_w = (b'a' + groups as u8) as char;
         let last_w = (b'a' + 2 * groups as u8 - 1) as char;
-        h.push_str(&figure(
+        h.push_str(&figure_flow(
             "fig4",
             &charts,
             groups.clamp(2, 3),
             &format!(
-                "<b>Fig. 4 reproduced.</b> Measurements (red, with their 95 % confidence \
+                "<b>Fig. 4 reproduced.</b> Measurements (red, with their {ci} confidence \
                  intervals) against the paper's model with Gray-Hancock's coefficients (black; \
                  {gh3}) and with Lighthill's (blue; {li3}): (a)-({last_u}) dimensionless speed \
                  U/U<sub>wave</sub>, U<sub>wave</sub> = λf; ({first_w})-({last_w}) dimensionless \

@@ -36,7 +36,8 @@ fn from_candidate(c: &Candidate, what: &str) -> Step {
     Step {
         label: format!("+ {}", c.effect),
         what: what.to_string(),
-        fitted: c.params.len(),
+        // every free parameter of the step's model, the start's included
+        fitted: free_params(&c.model),
         mare: c.mare,
         cv_mare: Some(c.cv_mare),
         chi2_reduced: c.chi2_reduced,
@@ -83,8 +84,21 @@ pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
         ));
     }
     if let Some(l) = d.verdict.located.first() {
+        // what the law sits on: the effects beyond the start's (the law last)
+        let beneath: Vec<&str> = l
+            .model
+            .effects
+            .iter()
+            .skip(start.effects.len())
+            .map(|e| e.name())
+            .collect();
+        let under = beneath[..beneath.len().saturating_sub(1)].join(" + ");
         out.push(Step {
-            label: format!("+ {} law", l.place),
+            label: if under.is_empty() {
+                format!("+ {} law", l.place)
+            } else {
+                format!("+ {under} + {} law", l.place)
+            },
             what: format!(
                 "located beyond the catalogue: {} ({})",
                 l.describe(),
@@ -132,7 +146,7 @@ pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> String {
         "<p><code>swimbot diagnose</code> starts from <code>{}</code>, fits every effect of its \
          catalogue in turn (weighted by the CIs, scored by AICc and cross-validated MARE), pairs \
          them when none suffices, then searches beyond the catalogue{}. The noise floor is the \
-         reduced χ² a perfect model stays below (95 %) given only the measurements' scatter: \
+         reduced χ² a perfect model stays below (at diagnose's confidence level) given only the measurements' scatter: \
          {}. Each step is drawn against the one before it: green where it falls, red where it \
          rises, grey where the change is within the noise (MARE {}) or below {:.0} % of the \
          value.</p>",

@@ -5,7 +5,7 @@
 //! quantity and per case, and its markers in the Fig. 4 layout.
 
 use super::figure4::{figure4, Layer, BLACK, GREEN};
-use super::html::{escape, figure, table};
+use super::html::{escape, figure_flow, table};
 use super::paper::{summary_row, table_iii, PaperModels, SUMMARY_HEADER};
 use super::story::ZeroParam;
 use super::wording::{describe, pct, signed_pct, stat};
@@ -115,15 +115,16 @@ pub fn section(
         },
     ];
     let groups = super::figure4::amplitude_groups(data).len();
-    h.push_str(&figure(
+    h.push_str(&figure_flow(
         "fig4-physics",
         &figure4(data, &layers),
         groups.clamp(2, 3),
         &format!(
-            "<b>The zero-parameter model in the layout of Fig. 4.</b> Measurements (red, 95 % \
+            "<b>The zero-parameter model in the layout of Fig. 4.</b> Measurements (red, {} \
              CI), the paper's Gray-Hancock model (black, markers and curve) and <code>{}</code> \
              (green markers at the measured cases; no curve: each point between the cases would \
              need its own solve of the tail in the tube).",
+            super::intro::confidence(data),
             escape(name)
         ),
     ));

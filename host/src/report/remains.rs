@@ -106,7 +106,7 @@ pub fn section(data: &Dataset, d: Option<&Diagnosis>, audit: Option<&Audit>) -> 
                     &[
                         "<correction",
                         "<what it means",
-                        "<fitted (95 % CI)",
+                        "<fitted (95 % CI of the fit)",
                         "MARE",
                         "cross-validated MARE",
                         "reduced χ²",

@@ -111,7 +111,7 @@ mod tests {
         let to = html.find("id=\"remains\"").unwrap();
         let section = &html[from..to];
         assert!(section.contains("cheap zero-parameter model"));
-        let fig = &section[section.find("<figure id=\"fig4-physics\">").unwrap()..];
+        let fig = &section[section.find("<figure id=\"fig4-physics\"").unwrap()..];
         assert_eq!(
             fig[..fig.find("</figure>").unwrap()]
                 .matches("<svg")
