@@ -64,6 +64,8 @@ fn the_default_report_tells_the_story_with_six_fig4_panels_and_the_noise_floor()
     assert!(path.contains("noise floor"), "labelled");
     // no raw reduced chi-square like 8228626.1208 anywhere on the page
     assert!(!page.contains("8228626"), "a chi-square printed unrounded");
+    assert!(!page.contains("chart failed"));
+    assert!(page.contains("Verdict: "), "the verdict is stated");
     // skipped physics is said, not silently missing
     assert!(page.contains("--no-physics"));
 }

@@ -65,6 +65,12 @@ pub fn table_iii(model: &Model) -> String {
         .join(", ")
 }
 
+/// `2, fitted by the paper`: the free parameters `model` carries.
+pub fn fitted_by_paper(model: &Model) -> String {
+    let k: usize = model.effects.iter().map(|e| e.free_indices().len()).sum();
+    format!("{k}, fitted by the paper")
+}
+
 /// One row of the summary tables: model, free parameters, MARE (all, U,
 /// Omega_b), max |error|, reduced chi-square.
 pub fn summary_row(name: &str, fitted: &str, cmp: &Comparison) -> Vec<String> {
@@ -170,7 +176,7 @@ impl PaperModels {
             &[
                 summary_row(
                     &format!("Gray-Hancock, {}", gh3),
-                    "2, fitted by the paper",
+                    &fitted_by_paper(&self.gray_hancock),
                     &self.gh,
                 ),
                 summary_row(

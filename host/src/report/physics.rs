@@ -6,7 +6,7 @@
 
 use super::figure4::{figure4, Layer, BLACK, GREEN};
 use super::html::{escape, figure_flow, table};
-use super::paper::{summary_row, table_iii, PaperModels, SUMMARY_HEADER};
+use super::paper::{fitted_by_paper, summary_row, table_iii, PaperModels, SUMMARY_HEADER};
 use super::story::ZeroParam;
 use super::wording::{describe, pct, signed_pct, stat};
 use crate::data::Dataset;
@@ -33,15 +33,16 @@ pub fn section(
     let fitted: usize = model.effects.iter().map(|e| e.free_indices().len()).sum();
     let noise = super::path::noise_mare(data);
     let mut h = format!(
-        "<p><code>{}</code> = <code>{}</code>: every effect stated as physics and solved for \
-         the real geometry, {} fitted parameter{}. Against the paper's model with its two \
-         fitted factors, MARE {} (the paper's: {}); the reduced χ² {}.</p>",
+        "<p><code>{}</code> = <code>{}</code>, {} fitted parameter{}: each effect is a stated \
+         piece of physics computed for the robot's geometry, nothing is adjusted to the data. \
+         Against the paper's Gray-Hancock model (with the factors the paper fitted: {}), MARE \
+         {}; the reduced χ² {}.</p>",
         escape(name),
         escape(&model.describe()),
         fitted,
         if fitted == 1 { "" } else { "s" },
+        table_iii(&paper.gray_hancock),
         describe(paper.gh.summary.mare, cmp.summary.mare, noise, pct),
-        pct(paper.gh.summary.mare),
         describe(
             paper.gh.summary.chi2_reduced.unwrap_or(f64::NAN),
             cmp.summary.chi2_reduced.unwrap_or(f64::NAN),
@@ -53,12 +54,12 @@ pub fn section(
     let mut rows = vec![
         summary_row(
             &format!("paper, Gray-Hancock, {}", table_iii(&paper.gray_hancock)),
-            "2, fitted by the paper",
+            &fitted_by_paper(&paper.gray_hancock),
             &paper.gh,
         ),
         summary_row(
             &format!("paper, Lighthill, {}", table_iii(&paper.lighthill)),
-            "2, fitted by the paper",
+            &fitted_by_paper(&paper.lighthill),
             &paper.li,
         ),
         summary_row(&escape(name), &fitted.to_string(), &cmp),
