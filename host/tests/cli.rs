@@ -368,18 +368,6 @@ fn synth_rejects_bad_settings() {
     );
     assert!(!out.exists(), "nothing is written on bad input");
 }
-
-#[test]
-fn report_writes_a_page_with_the_diagnosis_and_every_chart() {
-    let dir = tempfile::tempdir().unwrap();
-    let o = swimbot(&["report", "-o", dir.path().to_str().unwrap()]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let page = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
-    assert!(page.contains("Diagnosis") && page.contains("unexplained"));
-    assert!(page.matches("<svg").count() >= 9, "charts missing");
-    assert!(!page.contains("chart failed"));
-}
-
 /// The binary in `dir` as its working directory.
 fn swimbot_in(dir: &std::path::Path, args: &[&str]) -> Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))

@@ -1,31 +1,125 @@
-//! `swimbot report`: the HTML report with the diagnosis and its proposal
-//! in the "error falls" chart.
+//! `swimbot report`: the story page (the paper's model and Fig. 4, where it
+//! fails, the path `diagnose` takes, the best zero-parameter model, what
+//! remains), with progress on the console while it computes.
 
-use super::model_args::{DataArgs, ModelArgs};
+use super::model_args::{in_data, DataArgs, ModelArgs};
 use super::CliError;
+use crate::model::preset;
+use crate::report::{write_story, StoryInput, ZeroParam};
+use crate::workbench::audit::{audit, AuditSettings};
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
 use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
 use std::path::PathBuf;
+use std::time::Duration;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
     #[command(flatten)]
     pub data: DataArgs,
+    /// The model options choose where `diagnose`'s path starts (default: plain RFT); the paper's
+    /// two models and the zero-parameter model are always drawn.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Output directory (index.html is written there).
-    #[arg(short, long, default_value = "report")]
+    /// Output directory; index.html is written there [default: swimbot-out/report].
+    #[arg(short, long, default_value = "swimbot-out/report")]
     pub output: PathBuf,
+    /// Skip section 5, the best model without a fitted parameter (`--preset physics`): its first
+    /// run solves every tail inside the tube (tens of seconds on 2 cores, then cached in
+    /// $SWIMBOT_CACHE_DIR or the temporary directory); skip it for a report in about a second.
+    #[arg(long)]
+    pub no_physics: bool,
+}
+
+/// The spinner the diagnosis reports its stages to (a fn pointer cannot capture it).
+static SPINNER: std::sync::OnceLock<ProgressBar> = std::sync::OnceLock::new();
+
+fn stage(message: &str) {
+    if let Some(s) = SPINNER.get() {
+        s.set_message(message.to_string());
+    }
+}
+
+fn spinner(message: &str) -> ProgressBar {
+    let s = ProgressBar::new_spinner();
+    s.set_message(message.to_string());
+    s.enable_steady_tick(Duration::from_millis(120));
+    s
 }
 
 pub fn run(a: ReportArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
     let model = a.model.model()?;
     super::output::check_output_dir(&a.output)?;
-    let d = diagnose(&model, &data, &DiagnoseSettings::default()).map_err(CliError::input)?;
-    let path = crate::report::write_report(&a.output, &model, &data, Some(&d)).map_err(|e| {
-        CliError::input(format!("writing the report to {}: {e}", a.output.display()))
-    })?;
+    let to_input = in_data(&a.data.data);
+    // Every model on the page must predict every case: a bad case is the
+    // input's fault (exit 2), found before the slow parts.
+    for m in [&model, &preset("paper").expect("preset")] {
+        for c in &data.cases {
+            m.predict(c).map_err(&to_input)?;
+        }
+    }
+    let s = spinner("diagnosing");
+    let _ = SPINNER.set(s.clone());
+    let settings = DiagnoseSettings {
+        progress: Some(stage),
+        ..Default::default()
+    };
+    let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
+    s.set_message("auditing the data");
+    let audited = audit(&model, &data, &AuditSettings::default()).map_err(&to_input)?;
+    s.finish_and_clear();
+    let physics = preset("physics").expect("preset");
+    let zero_param = if a.no_physics {
+        ZeroParam::Skipped(
+            "the best model without a fitted parameter (--no-physics; run without it to add \
+             --preset physics)"
+                .into(),
+        )
+    } else {
+        solve_physics(&physics, &data).map_err(&to_input)?;
+        ZeroParam::Model {
+            name: "--preset physics".into(),
+            model: &physics,
+        }
+    };
+    let path = write_story(
+        &a.output,
+        &StoryInput {
+            data: &data,
+            start: &model,
+            diagnosis: Some(&d),
+            zero_param,
+            audit: Some(&audited),
+        },
+    )
+    .map_err(|e| CliError::input(format!("writing the report to {}: {e}", a.output.display())))?;
     println!("{}", path.display());
     Ok(())
+}
+
+/// Predict every case with the zero-parameter model, in parallel, with a
+/// progress bar: the first run solves each tail in the tube; the results
+/// are cached, so the page's later predictions are immediate.
+fn solve_physics(
+    model: &crate::model::Model,
+    data: &crate::data::Dataset,
+) -> Result<(), crate::model::ModelError> {
+    let bar = ProgressBar::new(data.cases.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} zero-parameter model (tails in the tube; cached after the first run): \
+             {pos}/{len} cases [{elapsed}]",
+        )
+        .expect("a valid template"),
+    );
+    bar.enable_steady_tick(Duration::from_millis(120));
+    let r = data.cases.par_iter().try_for_each(|c| {
+        let p = model.predict(c).map(|_| ());
+        bar.inc(1);
+        p
+    });
+    bar.finish_and_clear();
+    r
 }

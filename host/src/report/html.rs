@@ -1,20 +1,32 @@
-//! The static HTML report: the comparison table and its charts, each an
-//! inline SVG, in one self-contained page.
+//! The page's frame: one self-contained HTML document (inline CSS and SVG,
+//! no external resource), readable on a laptop screen and printable
+//! (figures and tables never split across pages), and the small HTML
+//! helpers the sections share.
 
-use super::figure4::figure4;
-use super::parity::parity;
-use super::path::error_falls;
-use super::residuals::residual_plots;
-use crate::data::Dataset;
-use crate::model::Model;
-use crate::workbench::compare::compare;
-use crate::workbench::diagnose::Diagnosis;
-use crate::workbench::propagate;
-use std::fmt::Write;
-
-fn svg_or_note(r: Result<String, String>) -> String {
-    r.unwrap_or_else(|e| format!("<p class=\"err\">chart failed: {}</p>", escape(&e)))
-}
+/// The stylesheet: screen first, then print.
+const STYLE: &str = "\
+body{font-family:system-ui,-apple-system,'Segoe UI',Roboto,sans-serif;font-size:15px;line-height:1.5;\
+max-width:1240px;margin:1.5em auto;padding:0 1.2em;color:#1d1d1d}\
+h1{font-size:1.7em;margin-bottom:.2em}h2{margin-top:1.8em;border-bottom:2px solid #ddd;padding-bottom:.15em}\
+h3{margin-bottom:.3em}p,li{max-width:62em}\
+table{border-collapse:collapse;margin:.6em 0;font-size:.9em;font-variant-numeric:tabular-nums}\
+td,th{padding:3px 9px;border-bottom:1px solid #ddd;text-align:right;vertical-align:top;white-space:nowrap}\
+td.l,th.l{white-space:normal}\
+th{background:#f3f3f3}td.l,th.l{text-align:left}\
+code{background:#f3f3f3;padding:1px 4px;border-radius:3px;font-size:.92em}\
+figure{margin:1em 0;break-inside:avoid;page-break-inside:avoid}\
+figcaption{font-size:.9em;color:#333;max-width:62em;margin-top:.3em}\
+.grid{display:grid;gap:10px 16px}.g3{grid-template-columns:repeat(3,1fr)}.g2{grid-template-columns:repeat(2,1fr)}\
+.grid svg{width:100%;height:auto;display:block}figure>svg{max-width:100%;height:auto}\
+.rise{color:#b2182b;font-weight:600}.fall{color:#1a7f37;font-weight:600}.flat{color:#666}\
+.note{color:#555;font-size:.9em}.err{color:#b00}.verdict{background:#fff7e6;border-left:4px solid #e6a23c;padding:.5em .9em}\
+.toc{columns:2;font-size:.95em}\
+@media (max-width:900px){.g3{grid-template-columns:repeat(2,1fr)}\
+.flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}}\
+@media print{body{max-width:none;margin:0;padding:0;font-size:10pt}h2{break-after:avoid;page-break-after:avoid}\
+table,figure,.verdict{break-inside:avoid;page-break-inside:avoid}.toc{display:none}\
+.g3{grid-template-columns:repeat(2,1fr)}.flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}\
+@page{size:A4;margin:14mm}}";
 
 pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -22,90 +34,96 @@ pub fn escape(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
-/// The whole page.
-pub fn page(
-    model: &Model,
-    data: &Dataset,
-    diagnosis: Option<&Diagnosis>,
-) -> Result<String, crate::model::ModelError> {
-    let mut cmp = compare(model, data, 0)?;
-    let with_bands = propagate::has_input_uncertainty(data) && propagate::affordable(model);
-    if with_bands {
-        cmp = cmp.with_bands(data, &propagate::bands(model, data)?);
+/// A chart, or a visible note where it failed.
+pub fn svg_or_note(r: &Result<String, String>) -> String {
+    match r {
+        Ok(svg) => svg.clone(),
+        Err(e) => format!("<p class=\"err\">chart failed: {}</p>", escape(e)),
     }
-    let mut h = String::new();
-    let _ = write!(
-        h,
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>swimbot report</title><style>\
-         body{{font-family:sans-serif;max-width:1200px;margin:2em auto;color:#222}} table{{border-collapse:collapse}} \
-         td,th{{padding:3px 8px;border-bottom:1px solid #ddd;text-align:right}} .figs{{display:flex;flex-wrap:wrap;gap:12px}} \
-         .err{{color:#b00}} code{{background:#f4f4f4;padding:1px 4px}}</style></head><body>\
-         <h1>swimbot: model against measurement</h1><p>model: <code>{}</code><br>data: <code>{}</code> ({})</p>",
-        escape(&cmp.model),
-        escape(&data.name),
-        escape(&data.source)
-    );
-    let _ = write!(
-        h,
-        "<p>MARE {:.1} %, max |relative error| {:.1} %, reduced chi-square {}.</p>",
-        100.0 * cmp.summary.mare,
-        100.0 * cmp.summary.max_abs_rel_err,
-        cmp.summary
-            .chi2_reduced
-            .map_or("n/a".into(), |x| format!("{x:.4}"))
-    );
-    h.push_str("<table><tr><th>case</th><th>f (Hz)</th><th>U pred</th><th>U obs ± CI</th><th>U err</th><th>Ω pred</th><th>Ω obs ± CI</th><th>Ω err</th></tr>");
-    for k in &cmp.cases {
-        let obs = |m: Option<f64>, c: Option<f64>| {
-            m.zip(c)
-                .map_or("-".into(), |(m, c)| format!("{m:.4} ± {c:.4}"))
+}
+
+/// A figure of charts in a grid of `columns`, with its caption (HTML).
+pub fn figure(
+    id: &str,
+    charts: &[Result<String, String>],
+    columns: usize,
+    caption: &str,
+) -> String {
+    figure_in(id, "", charts, columns, caption)
+}
+
+/// [`figure`] for panels given row by row that, on paper and on narrow
+/// screens (two columns), are laid out column by column instead, so that
+/// each printed row keeps one column of the wide layout together (Fig. 4:
+/// each group's U beside its Omega_b).
+pub fn figure_flow(
+    id: &str,
+    charts: &[Result<String, String>],
+    columns: usize,
+    caption: &str,
+) -> String {
+    let rows = charts.len().div_ceil(2).max(1);
+    let attrs = if columns == rows {
+        format!(" class=\"flow\" style=\"--rows:{rows}\"")
+    } else {
+        String::new()
+    };
+    figure_in(id, &attrs, charts, columns, caption)
+}
+
+fn figure_in(
+    id: &str,
+    attrs: &str,
+    charts: &[Result<String, String>],
+    columns: usize,
+    caption: &str,
+) -> String {
+    let cls = if columns >= 3 { "g3" } else { "g2" };
+    let mut h = format!("<figure id=\"{id}\"{attrs}><div class=\"grid {cls}\">");
+    for c in charts {
+        h.push_str("<div>");
+        h.push_str(&svg_or_note(c));
+        h.push_str("</div>");
+    }
+    h.push_str(&format!(
+        "</div><figcaption>{caption}</figcaption></figure>"
+    ));
+    h
+}
+
+/// A table: header cells (a leading `<` marks a left-aligned column) and rows.
+pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
+    let left: Vec<bool> = header.iter().map(|h| h.starts_with('<')).collect();
+    let cell = |tag: &str, i: usize, s: &str| {
+        let cls = if left.get(i).copied().unwrap_or(false) {
+            " class=\"l\""
+        } else {
+            ""
         };
-        let pct = |e: Option<f64>| e.map_or("-".into(), |e| format!("{:+.1} %", 100.0 * e));
-        let _ = write!(
-            h,
-            "<tr><td>{}</td><td>{:.3}</td><td>{:.4}</td><td>{}</td><td>{}</td><td>{:.4}</td><td>{}</td><td>{}</td></tr>",
-            escape(&k.id),
-            k.frequency_hz,
-            k.u_pred_mm_s,
-            obs(k.u_obs_mm_s, k.u_ci_mm_s),
-            pct(k.u_rel_err),
-            k.omega_pred_hz,
-            obs(k.omega_obs_hz, k.omega_ci_hz),
-            pct(k.omega_rel_err)
-        );
+        format!("<{tag}{cls}>{s}</{tag}>")
+    };
+    let mut h = String::from("<table><tr>");
+    for (i, t) in header.iter().enumerate() {
+        h.push_str(&cell("th", i, t.trim_start_matches('<')));
     }
-    h.push_str("</table><p>U in mm/s, Ω = body counter-rotation in Hz.</p>");
-    if let Some(d) = diagnosis {
-        let _ = write!(
-            h,
-            "<h2>Diagnosis</h2><p><b>{}</b></p>",
-            escape(&d.verdict.note)
-        );
+    h.push_str("</tr>");
+    for r in rows {
+        h.push_str("<tr>");
+        for (i, s) in r.iter().enumerate() {
+            h.push_str(&cell("td", i, s));
+        }
+        h.push_str("</tr>");
     }
-    h.push_str("<h2>Dimensionless speed and rotation against the number of waves</h2><p>Filled: measured (95 % CI); hollow: the model at the measured cases; lines: the model at each group's mean chord length, varying the wavelength (cases without measurements, so an observed-U back-flow falls back to the predicted U).</p>");
-    if let (true, Some(sc)) = (with_bands, &cmp.summary_combined) {
-        let _ = write!(
-            h,
-            "<p>Bars on the model's points (here and in the parity plots): ± 2 standard uncertainties of the prediction from the dataset's input uncertainties. Against measurement and inputs combined in quadrature the reduced chi-square is {}.</p>",
-            sc.chi2_reduced.map_or("n/a".into(), |x| format!("{x:.4}"))
-        );
-    }
-    h.push_str("<div class=\"figs\">");
-    h.push_str(&svg_or_note(figure4(model, data, &cmp, false)));
-    h.push_str(&svg_or_note(figure4(model, data, &cmp, true)));
-    h.push_str("</div><h2>Parity</h2><div class=\"figs\">");
-    h.push_str(&svg_or_note(parity(&cmp, false)));
-    h.push_str(&svg_or_note(parity(&cmp, true)));
-    h.push_str(
-        "</div><h2>Where the model fails: residuals against case features</h2><div class=\"figs\">",
-    );
-    for r in residual_plots(data, &cmp) {
-        h.push_str(&svg_or_note(r));
-    }
-    h.push_str("</div><h2>Watch the error fall</h2><div class=\"figs\">");
-    for r in error_falls(model, data, diagnosis) {
-        h.push_str(&svg_or_note(r));
-    }
-    h.push_str("</div></body></html>\n");
-    Ok(h)
+    h.push_str("</table>");
+    h
+}
+
+/// The whole document around the sections' HTML.
+pub fn document(title: &str, body: &str) -> String {
+    format!(
+        "<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
+         <title>{}</title><style>{STYLE}</style></head><body>{body}</body></html>\n",
+        escape(title)
+    )
 }

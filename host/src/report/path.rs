@@ -1,55 +1,216 @@
-//! "Watch the error fall": MARE and reduced chi-square along the path from
-//! the model to the models that explain the data.
+//! Section 4: the path `diagnose` takes from the model it starts from,
+//! step by step, each with its MARE and reduced chi-square, each drawn
+//! against the step before it ([`super::path_chart`]), with the noise floor
+//! (the reduced chi-square a perfect model stays below) as a line.
+//!
+//! The steps, in the order `diagnose` works: the start; the catalogue
+//! effect without a fitted parameter that lowers the chi-square most; the
+//! best catalogue effect by AICc; the best pair, when it beats that; the
+//! best located correction of the verdict.
 
-use super::plots::steps;
+use super::html::{escape, table};
+use super::path_chart::{chart, Metric};
+use super::wording::{describe, pct, stat, Change};
 use crate::data::Dataset;
 use crate::model::Model;
-use crate::workbench::compare::compare;
-use crate::workbench::diagnose::Diagnosis;
+use crate::workbench::diagnose::{Candidate, Diagnosis};
 
-/// MARE and reduced chi-square as the model's effects are added one by one
-/// (then `diagnose`'s proposal, when given).
-pub fn error_falls(
-    model: &Model,
-    data: &Dataset,
-    diagnosis: Option<&Diagnosis>,
-) -> Vec<Result<String, String>> {
-    let mut labels = vec![model.coefficients.to_string()];
-    let mut mare = Vec::new();
-    let mut chi2 = Vec::new();
-    let mut m = Model {
-        effects: Vec::new(),
-        ..model.clone()
-    };
-    let push = |m: &Model, mare: &mut Vec<f64>, chi2: &mut Vec<f64>| {
-        let c = compare(m, data, 0).ok();
-        mare.push(c.as_ref().map_or(f64::NAN, |c| 100.0 * c.summary.mare));
-        chi2.push(c.and_then(|c| c.summary.chi2_reduced).unwrap_or(f64::NAN));
-    };
-    push(&m, &mut mare, &mut chi2);
-    for e in &model.effects {
-        m.effects.push(e.clone());
-        labels.push(format!("+{}", e.name()));
-        push(&m, &mut mare, &mut chi2);
+/// One step of the path.
+#[derive(Debug, Clone)]
+pub struct Step {
+    /// Short name (the chart's category label).
+    pub label: String,
+    /// What the step is, in a sentence fragment.
+    pub what: String,
+    pub fitted: usize,
+    pub mare: f64,
+    pub cv_mare: Option<f64>,
+    pub chi2_reduced: Option<f64>,
+}
+
+fn free_params(m: &Model) -> usize {
+    m.effects.iter().map(|e| e.free_indices().len()).sum()
+}
+
+fn from_candidate(c: &Candidate, what: &str) -> Step {
+    Step {
+        label: format!("+ {}", c.effect),
+        what: what.to_string(),
+        // every free parameter of the step's model, the start's included
+        fitted: free_params(&c.model),
+        mare: c.mare,
+        cv_mare: Some(c.cv_mare),
+        chi2_reduced: c.chi2_reduced,
     }
-    if let Some(d) = diagnosis {
-        let proposal = d
-            .pairs
-            .first()
-            .filter(|_| d.ranking.first().is_none_or(|c| !c.at_noise_floor))
-            .or(d.ranking.first());
-        if let Some(c) = proposal {
-            labels.push(format!("+{} (fitted)", c.effect));
-            push(&c.model, &mut mare, &mut chi2);
-        }
+}
+
+/// The steps of `d` (see the module docs).
+pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
+    let mut out = vec![Step {
+        label: "start".into(),
+        what: format!("the model as given: {}", start.describe()),
+        fitted: free_params(start),
+        mare: d.baseline.mare,
+        cv_mare: None,
+        chi2_reduced: d.baseline.chi2_reduced,
+    }];
+    let zero = d
+        .ranking
+        .iter()
+        .filter(|c| c.params.is_empty() && c.chi2 < d.baseline.chi2)
+        .min_by(|a, b| a.chi2.total_cmp(&b.chi2));
+    if let Some(z) = zero {
+        out.push(from_candidate(
+            z,
+            "the catalogue effect without a fitted parameter that lowers χ² most",
+        ));
     }
-    vec![
-        steps("Watch the error fall: MARE", "MARE (%)", &labels, &mare),
-        steps(
-            "... and the reduced chi-square",
-            "chi-square / dof",
-            &labels,
-            &chi2,
-        ),
-    ]
+    let first = d.ranking.first();
+    if let Some(f) = first.filter(|f| zero.is_none_or(|z| z.effect != f.effect)) {
+        out.push(from_candidate(
+            f,
+            "the best catalogue effect by AICc, fitted",
+        ));
+    }
+    let aicc = |c: &Candidate| c.aicc.unwrap_or(f64::INFINITY);
+    if let Some(p) = d
+        .pairs
+        .first()
+        .filter(|p| first.is_none_or(|f| aicc(p) < aicc(f)))
+    {
+        out.push(from_candidate(
+            p,
+            "the best pair of catalogue effects, fitted jointly",
+        ));
+    }
+    if let Some(l) = d.verdict.located.first() {
+        // what the law sits on: the effects beyond the start's (the law last)
+        let beneath: Vec<&str> = l
+            .model
+            .effects
+            .iter()
+            .skip(start.effects.len())
+            .map(|e| e.name())
+            .collect();
+        let under = beneath[..beneath.len().saturating_sub(1)].join(" + ");
+        out.push(Step {
+            label: if under.is_empty() {
+                format!("+ {} law", l.place)
+            } else {
+                format!("+ {under} + {} law", l.place)
+            },
+            what: format!(
+                "located beyond the catalogue: {} ({})",
+                l.describe(),
+                l.interpretation
+            ),
+            fitted: free_params(&l.model),
+            mare: l.mare,
+            cv_mare: Some(l.cv_mare),
+            chi2_reduced: l.chi2_reduced,
+        });
+    }
+    out
+}
+
+/// The MARE a perfect model would show: the mean |relative error| of a
+/// normal variable with the data's median relative standard error,
+/// `sqrt(2/pi)` times it. Changes of MARE below it are noise.
+pub fn noise_mare(data: &Dataset) -> f64 {
+    crate::workbench::design::median_rel_se(data) * (2.0 / std::f64::consts::PI).sqrt()
+}
+
+fn class(c: Change) -> &'static str {
+    match c {
+        Change::Falls => "fall",
+        Change::Rises => "rise",
+        Change::Flat => "flat",
+    }
+}
+
+pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> String {
+    let Some(d) = d else {
+        return "<p>This page was written without a diagnosis (<code>swimbot compare</code>); \
+                <code>swimbot report</code> adds the path <code>diagnose</code> takes.</p>"
+            .into();
+    };
+    let floor = d.baseline.noise_floor_chi2_reduced;
+    let noise = noise_mare(data);
+    let steps = steps(start, d);
+    let searched = d
+        .remainder
+        .as_ref()
+        .map(|r| r.discovery.screened)
+        .or(d.discovery.as_ref().map(|x| x.screened));
+    let mut h = format!(
+        "<p><code>swimbot diagnose</code> starts from <code>{}</code>, fits every effect of its \
+         catalogue in turn (weighted by the CIs, scored by AICc and cross-validated MARE), pairs \
+         them when none suffices, then searches beyond the catalogue{}. The noise floor is the \
+         reduced χ² a perfect model stays below (at diagnose's confidence level) given only the measurements' scatter: \
+         {}. Each step is drawn against the one before it: green where it falls, red where it \
+         rises, grey where the change is within the noise (MARE {}) or below {:.0} % of the \
+         value.</p>",
+        escape(&start.describe()),
+        searched
+            .map(|m| format!(" ({m} laws: place in the model × case feature × form)"))
+            .unwrap_or_default(),
+        stat(floor),
+        pct(noise),
+        100.0 * super::wording::FLAT_SHARE
+    );
+    h.push_str(&super::html::figure(
+        "path-chart",
+        &[
+            chart(&steps, Metric::Chi2, floor),
+            chart(&steps, Metric::Mare, None),
+        ],
+        2,
+        "<b>The path.</b> Left: reduced χ² (log scale) with the noise floor (dashed); right: \
+         MARE. Each arrow goes from the previous step's value to this step's.",
+    ));
+    let mut rows = Vec::new();
+    for (i, s) in steps.iter().enumerate() {
+        let change = |prev: Option<f64>,
+                      cur: Option<f64>,
+                      noise: f64,
+                      show: &dyn Fn(f64) -> String| match (i, prev, cur) {
+            (0, _, _) => "-".to_string(),
+            (_, Some(p), Some(c)) => format!(
+                "<span class=\"{}\">{}</span>",
+                class(Change::of(p, c, noise)),
+                describe(p, c, noise, show)
+            ),
+            _ => "n/a".into(),
+        };
+        let prev = i.checked_sub(1).map(|j| &steps[j]);
+        rows.push(vec![
+            escape(&s.label),
+            escape(&s.what),
+            s.fitted.to_string(),
+            pct(s.mare),
+            s.cv_mare.map_or("-".into(), pct),
+            stat(s.chi2_reduced),
+            change(prev.map(|p| p.mare), Some(s.mare), noise, &|x| pct(x)),
+            change(
+                prev.and_then(|p| p.chi2_reduced),
+                s.chi2_reduced,
+                floor.unwrap_or(0.0),
+                &|x| stat(Some(x)),
+            ),
+        ]);
+    }
+    h.push_str(&table(
+        &[
+            "<step",
+            "<what",
+            "fitted parameters",
+            "MARE",
+            "cross-validated MARE",
+            "reduced χ²",
+            "<MARE against the step before",
+            "<reduced χ² against the step before",
+        ],
+        &rows,
+    ));
+    h
 }

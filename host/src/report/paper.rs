@@ -1,0 +1,200 @@
+//! Section 2: the paper's model (eq. 11 with the back-flow of eqs. 8-9 and
+//! the body corrections of Table III) with both coefficient sets, its
+//! Fig. 4 reproduced, and the summary errors of each set.
+
+use super::figure4::{figure4, Layer, BLACK, BLUE};
+use super::html::{escape, figure_flow, table};
+use super::wording::{pct, stat};
+use crate::data::Dataset;
+use crate::model::{preset, Model, ModelError};
+use crate::workbench::compare::{compare, Comparison};
+use crate::workbench::propagate;
+
+/// The paper's two calibrated models and their comparisons.
+pub struct PaperModels {
+    pub gray_hancock: Model,
+    pub lighthill: Model,
+    /// Gray-Hancock's comparison, with input-uncertainty bands when the
+    /// dataset states input uncertainties.
+    pub gh: Comparison,
+    pub li: Comparison,
+}
+
+/// Mean |relative error| of U and of Omega_b separately.
+pub fn mare_by_quantity(cmp: &Comparison) -> (f64, f64) {
+    let mean = |v: Vec<f64>| {
+        if v.is_empty() {
+            f64::NAN
+        } else {
+            v.iter().sum::<f64>() / v.len() as f64
+        }
+    };
+    (
+        mean(
+            cmp.cases
+                .iter()
+                .filter_map(|k| k.u_rel_err.map(f64::abs))
+                .collect(),
+        ),
+        mean(
+            cmp.cases
+                .iter()
+                .filter_map(|k| k.omega_rel_err.map(f64::abs))
+                .collect(),
+        ),
+    )
+}
+
+/// `Υ_T,x = 16, Υ_R,x = 1.4`: the body-correction factors in `model`.
+pub fn table_iii(model: &Model) -> String {
+    model
+        .effects
+        .iter()
+        .filter(|e| e.name() == "body-correction")
+        .flat_map(|e| {
+            e.effect.params().iter().zip(&e.values).map(|(p, v)| {
+                let sym = match p.name {
+                    "translation" => "Υ<sub>T,x</sub>",
+                    "rotation" => "Υ<sub>R,x</sub>",
+                    other => other,
+                };
+                format!("{sym} = {}", crate::format::fmt_sig(*v, 3))
+            })
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `2, fitted by the paper`: the free parameters `model` carries.
+pub fn fitted_by_paper(model: &Model) -> String {
+    let k: usize = model.effects.iter().map(|e| e.free_indices().len()).sum();
+    format!("{k}, fitted by the paper")
+}
+
+/// One row of the summary tables: model, free parameters, MARE (all, U,
+/// Omega_b), max |error|, reduced chi-square.
+pub fn summary_row(name: &str, fitted: &str, cmp: &Comparison) -> Vec<String> {
+    let (u, w) = mare_by_quantity(cmp);
+    vec![
+        name.to_string(),
+        fitted.to_string(),
+        pct(cmp.summary.mare),
+        pct(u),
+        pct(w),
+        pct(cmp.summary.max_abs_rel_err),
+        stat(cmp.summary.chi2_reduced),
+    ]
+}
+
+pub const SUMMARY_HEADER: [&str; 7] = [
+    "<model",
+    "<fitted parameters",
+    "MARE",
+    "MARE of U",
+    "MARE of Ω<sub>b</sub>",
+    "max |error|",
+    "reduced χ²",
+];
+
+impl PaperModels {
+    pub fn new(data: &Dataset) -> Result<Self, ModelError> {
+        let gray_hancock = preset("paper").expect("a built-in preset");
+        let lighthill = preset("paper-lighthill").expect("a built-in preset");
+        let mut gh = compare(&gray_hancock, data, 0)?;
+        if propagate::has_input_uncertainty(data) && propagate::affordable(&gray_hancock) {
+            gh = gh.with_bands(data, &propagate::bands(&gray_hancock, data)?);
+        }
+        let li = compare(&lighthill, data, 0)?;
+        Ok(PaperModels {
+            gray_hancock,
+            lighthill,
+            gh,
+            li,
+        })
+    }
+
+    pub fn section(&self, data: &Dataset) -> String {
+        let gh3 = table_iii(&self.gray_hancock);
+        let li3 = table_iii(&self.lighthill);
+        let body = data.cases.first().map_or("-".into(), |c| {
+            format!(
+                "{} × {}",
+                crate::format::fmt_sig(c.body_length_mm, 3),
+                crate::format::fmt_sig(c.body_diameter_mm, 3)
+            )
+        });
+        let mut h = format!(
+            "<p>The paper's model balances the forces and torques on body and tail (eq. 11). The \
+             tail's resistance integrates local drag coefficients along the helix (eq. 3), from \
+             Gray and Hancock (eqs. 4-5) or from Lighthill (eqs. 6-7). The closed tube adds the \
+             drag of the displaced oil flowing back past the body (eqs. 8-9, driven by the \
+             <i>observed</i> speed). The body's axial drag and rotational resistance are \
+             multiplied by two factors fitted by the paper (Table III): Gray-Hancock {gh3}; \
+             Lighthill {li3}. Here the body is a {body} mm prolate spheroid in free space (the \
+             paper's body coefficients come from its ref. [28], which is not available), so the \
+             paper's own numbers cannot be matched exactly.</p>"
+        );
+        let groups = super::figure4::amplitude_groups(data).len();
+        let layers = [
+            Layer {
+                label: "Gray-Hancock".into(),
+                model: &self.gray_hancock,
+                color: BLACK,
+                curve: true,
+            },
+            Layer {
+                label: "Lighthill".into(),
+                model: &self.lighthill,
+                color: BLUE,
+                curve: true,
+            },
+        ];
+        let charts = figure4(data, &layers);
+        let ci = super::intro::confidence(data);
+        let last_u = (b'a' + groups as u8 - 1) as char;
+        let first_w = (b'a' + groups as u8) as char;
+        let last_w = (b'a' + 2 * groups as u8 - 1) as char;
+        h.push_str(&figure_flow(
+            "fig4",
+            &charts,
+            groups.clamp(2, 3),
+            &format!(
+                "<b>Fig. 4 reproduced.</b> Measurements (red, with their {ci} confidence \
+                 intervals) against the paper's model with Gray-Hancock's coefficients (black; \
+                 {gh3}) and with Lighthill's (blue; {li3}): (a)-({last_u}) dimensionless speed \
+                 U/U<sub>wave</sub>, U<sub>wave</sub> = λf; ({first_w})-({last_w}) dimensionless \
+                 body rate Ω<sub>b</sub>/ω, against the number of waves N<sub>λ</sub> = \
+                 L<sub>t</sub>/λ, one panel per amplitude group B<sub>o</sub>/R<sub>body</sub>. \
+                 Hollow markers: the model at each measured case. Lines: the same model between \
+                 the cases, its inputs (chord length, tail rate, the observed speed its back-flow \
+                 reads) interpolated linearly in N<sub>λ</sub> between neighbouring cases and held \
+                 beyond them, so each line passes through its markers."
+            ),
+        ));
+        h.push_str(&table(
+            &SUMMARY_HEADER,
+            &[
+                summary_row(
+                    &format!("Gray-Hancock, {}", gh3),
+                    &fitted_by_paper(&self.gray_hancock),
+                    &self.gh,
+                ),
+                summary_row(
+                    &format!("Lighthill, {}", li3),
+                    "2, fitted by the paper",
+                    &self.li,
+                ),
+            ],
+        ));
+        h.push_str(&format!(
+            "<p class=\"note\">MARE: mean absolute relative error over the {} measured \
+             quantities; reduced χ²: the squared errors in standard errors of the measured means, \
+             over the degrees of freedom. Models: <code>--preset paper</code> ({}) and \
+             <code>--preset paper-lighthill</code> ({}).</p>",
+            self.gh.summary.n,
+            escape(&self.gray_hancock.describe()),
+            escape(&self.lighthill.describe())
+        ));
+        h
+    }
+}

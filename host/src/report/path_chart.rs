@@ -1,0 +1,265 @@
+//! The path chart: one column per step of `diagnose`'s path, each step an
+//! arrow from the previous step's value to its own, green and labelled
+//! "falls" where it falls, red and labelled "rises" where it rises, grey
+//! where the change is within the noise; the reduced chi-square on a log
+//! axis (powers of ten) with the noise floor as a dashed line. Written as
+//! SVG directly: the shared chart engine has no arrows per category.
+
+use super::path::Step;
+use super::wording::{pct, stat, Change};
+use std::fmt::Write;
+
+const W: f64 = 600.0;
+const H: f64 = 410.0;
+const LEFT: f64 = 66.0;
+const RIGHT: f64 = 24.0;
+const TOP: f64 = 34.0;
+const BOTTOM: f64 = 100.0;
+const FALL: &str = "#1a7f37";
+const RISE: &str = "#b2182b";
+const FLAT: &str = "#777777";
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Metric {
+    Mare,
+    Chi2,
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// The vertical axis: log10 for chi-square, linear from zero for MARE.
+struct Scale {
+    log: bool,
+    lo: f64,
+    hi: f64,
+}
+
+impl Scale {
+    fn y(&self, v: f64) -> f64 {
+        let (a, b, x) = if self.log {
+            (self.lo.log10(), self.hi.log10(), v.max(self.lo).log10())
+        } else {
+            (self.lo, self.hi, v)
+        };
+        TOP + (H - TOP - BOTTOM) * (1.0 - (x - a) / (b - a))
+    }
+
+    /// `(value, label as SVG text content)`.
+    fn ticks(&self) -> Vec<(f64, String)> {
+        if self.log {
+            let (a, b) = (
+                self.lo.log10().ceil() as i32,
+                self.hi.log10().floor() as i32,
+            );
+            let every = ((b - a) / 6 + 1).max(1);
+            (a..=b)
+                .filter(|k| (k - a) % every == 0)
+                .map(|k| {
+                    let label = match k {
+                        0 => "1".to_string(),
+                        1 => "10".to_string(),
+                        _ => format!("10<tspan dy=\"-6\" font-size=\"9\">{k}</tspan>"),
+                    };
+                    (10f64.powi(k), label)
+                })
+                .collect()
+        } else {
+            let raw = (self.hi - self.lo) / 5.0;
+            let mag = 10f64.powf(raw.log10().floor());
+            let step = [1.0, 2.0, 5.0, 10.0]
+                .iter()
+                .map(|m| m * mag)
+                .find(|s| *s >= raw)
+                .unwrap_or(10.0 * mag);
+            (0..)
+                .map(|i| self.lo + step * i as f64)
+                .take_while(|v| *v <= self.hi + 1e-9)
+                .map(|v| (v, format!("{:.0} %", 100.0 * v)))
+                .collect()
+        }
+    }
+}
+
+fn value(s: &Step, m: Metric) -> Option<f64> {
+    match m {
+        Metric::Mare => Some(s.mare),
+        Metric::Chi2 => s.chi2_reduced,
+    }
+    .filter(|v| v.is_finite() && *v > 0.0)
+}
+
+/// A label broken into lines of about `chars` characters, at spaces.
+fn wrap(label: &str, chars: usize) -> Vec<String> {
+    let mut lines: Vec<String> = vec![String::new()];
+    for word in label.split(' ') {
+        let cur = lines.last_mut().expect("one line");
+        if !cur.is_empty() && cur.len() + 1 + word.len() > chars {
+            lines.push(word.to_string());
+        } else {
+            if !cur.is_empty() {
+                cur.push(' ');
+            }
+            cur.push_str(word);
+        }
+    }
+    lines.truncate(5);
+    lines
+}
+
+/// The chart of `steps` for one metric; `floor` draws the noise floor.
+pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, String> {
+    let vals: Vec<f64> = steps.iter().filter_map(|s| value(s, m)).collect();
+    if vals.is_empty() {
+        return Err("no step has a finite value".into());
+    }
+    let floor = floor.filter(|f| f.is_finite() && *f > 0.0 && m == Metric::Chi2);
+    let all = vals.iter().copied().chain(floor);
+    let (lo, hi) = all.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+    let scale = match m {
+        Metric::Chi2 => Scale {
+            log: true,
+            lo: 10f64.powf(lo.log10().floor()),
+            hi: 10f64.powf((hi * 1.5).log10().ceil()),
+        },
+        Metric::Mare => Scale {
+            log: false,
+            lo: 0.0,
+            hi: hi * 1.15,
+        },
+    };
+    let show = |v: f64| match m {
+        Metric::Mare => pct(v),
+        Metric::Chi2 => stat(Some(v)),
+    };
+    let noise = match m {
+        Metric::Chi2 => floor.unwrap_or(0.0),
+        Metric::Mare => 0.0,
+    };
+    let n = steps.len().max(1) as f64;
+    let slot = (W - LEFT - RIGHT) / n;
+    let cx = |i: usize| LEFT + slot * (i as f64 + 0.5);
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{W}\" height=\"{H}\" viewBox=\"0 0 {W} {H}\" \
+         font-family=\"sans-serif\" font-size=\"11\"><rect width=\"{W}\" height=\"{H}\" fill=\"white\"/>"
+    );
+    let title = match m {
+        Metric::Mare => "MARE along the path",
+        Metric::Chi2 => "Reduced χ² along the path",
+    };
+    let _ = write!(
+        s,
+        "<text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"15\">{title}</text>",
+        W / 2.0
+    );
+    // axes and ticks
+    let (y_top, y_bot) = (TOP, H - BOTTOM);
+    let _ = write!(
+        s,
+        "<path d=\"M{LEFT},{y_top}V{y_bot}H{}\" stroke=\"#333\" fill=\"none\"/>",
+        W - RIGHT
+    );
+    for (v, label) in scale.ticks() {
+        let y = scale.y(v);
+        let _ = write!(
+            s,
+            "<line x1=\"{}\" x2=\"{}\" y1=\"{y:.1}\" y2=\"{y:.1}\" stroke=\"#eee\"/>\
+             <line x1=\"{}\" x2=\"{LEFT}\" y1=\"{y:.1}\" y2=\"{y:.1}\" stroke=\"#333\"/>\
+             <text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\">{label}</text>",
+            LEFT + 1.0,
+            W - RIGHT,
+            LEFT - 4.0,
+            LEFT - 7.0,
+            y + 4.0
+        );
+    }
+    let y_desc = match m {
+        Metric::Mare => "MARE",
+        Metric::Chi2 => "reduced χ²",
+    };
+    let _ = write!(
+        s,
+        "<text transform=\"translate(14,{:.1}) rotate(-90)\" text-anchor=\"middle\" font-size=\"12\">{y_desc}</text>",
+        (y_top + y_bot) / 2.0
+    );
+    if let Some(f) = floor {
+        let y = scale.y(f);
+        let _ = write!(
+            s,
+            "<line class=\"noise-floor\" x1=\"{LEFT}\" x2=\"{}\" y1=\"{y:.1}\" y2=\"{y:.1}\" stroke=\"#444\" \
+             stroke-width=\"1.5\" stroke-dasharray=\"6 4\"/>\
+             <text x=\"{}\" y=\"{:.1}\" text-anchor=\"end\" fill=\"#444\">noise floor {}</text>",
+            W - RIGHT,
+            W - RIGHT - 4.0,
+            y - 5.0,
+            esc(&stat(Some(f)))
+        );
+    }
+    // steps
+    let mut prev: Option<(usize, f64)> = None;
+    for (i, st) in steps.iter().enumerate() {
+        let x = cx(i);
+        for (j, line) in wrap(&st.label, (slot / 6.2) as usize).iter().enumerate() {
+            let _ = write!(
+                s,
+                "<text x=\"{x:.1}\" y=\"{:.1}\" text-anchor=\"middle\" font-size=\"10.5\">{}</text>",
+                y_bot + 16.0 + 13.0 * j as f64,
+                esc(line)
+            );
+        }
+        let Some(v) = value(st, m) else { continue };
+        let y = scale.y(v);
+        let (color, word) = match prev {
+            None => ("#333333", None),
+            Some((_, p)) => match Change::of(p, v, noise) {
+                Change::Falls => (FALL, Some("falls")),
+                Change::Rises => (RISE, Some("rises")),
+                Change::Flat => (FLAT, Some("no real change")),
+            },
+        };
+        if let Some((pi, p)) = prev {
+            let yp = scale.y(p);
+            let _ = write!(
+                s,
+                "<line x1=\"{:.1}\" x2=\"{x:.1}\" y1=\"{yp:.1}\" y2=\"{yp:.1}\" stroke=\"#999\" stroke-dasharray=\"2 3\"/>",
+                cx(pi)
+            );
+            if (y - yp).abs() > 9.0 {
+                let dir = if y > yp { 1.0 } else { -1.0 };
+                let _ = write!(
+                    s,
+                    "<line x1=\"{x:.1}\" x2=\"{x:.1}\" y1=\"{yp:.1}\" y2=\"{:.1}\" stroke=\"{color}\" stroke-width=\"3\"/>\
+                     <path d=\"M{:.1},{:.1}L{:.1},{:.1}L{:.1},{:.1}Z\" fill=\"{color}\"/>",
+                    y - dir * 8.0,
+                    x - 6.0,
+                    y - dir * 10.0,
+                    x + 6.0,
+                    y - dir * 10.0,
+                    x,
+                    y
+                );
+            }
+        }
+        let _ = write!(
+            s,
+            "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"4.5\" fill=\"{color}\"/>"
+        );
+        // value and word beside the point, on the side away from the arrow
+        let above = prev.is_none_or(|(_, p)| v >= p);
+        let ty = if above { y - 10.0 } else { y + 16.0 };
+        let _ = write!(
+            s,
+            "<text x=\"{x:.1}\" y=\"{ty:.1}\" text-anchor=\"middle\" font-weight=\"600\" fill=\"{color}\">{}{}</text>",
+            word.map(|w| format!("{w}: ")).unwrap_or_default(),
+            esc(&show(v))
+        );
+        prev = Some((i, v));
+    }
+    s.push_str("</svg>");
+    Ok(s)
+}
