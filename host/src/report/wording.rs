@@ -1,8 +1,8 @@
 //! Numbers and changes as the page writes them. Numbers: percentages to
 //! one decimal, reduced chi-square to 3 significant figures (`8.23e6`), a
 //! value with its uncertainty as the uncertainty to 2 significant figures
-//! and the value to the same decimal place (the project's number policy;
-//! kept here privately until `crate::format` offers it). Changes: a step
+//! and the value to the same decimal place (the project's number policy,
+//! `crate::format`). Changes: a step
 //! is called a fall or a rise only when it is larger than the noise and
 //! than a few per cent of the value it starts from; a rise is never
 //! worded as progress.
@@ -26,35 +26,16 @@ pub fn signed_pct(fraction: Option<f64>) -> String {
     fraction.map_or("-".into(), |f| format!("{:+.1} %", 100.0 * f))
 }
 
-/// A reduced chi-square (or any statistic) to 3 significant figures, in
-/// scientific notation from 1e5 (`8.23e6`, never `8228626.1208`).
+/// A statistic (MARE, reduced chi-square) to 3 significant figures in the
+/// project's number policy (`8.23e6`), or "n/a".
 pub fn stat(x: Option<f64>) -> String {
-    match x.filter(|v| v.is_finite()) {
-        None => "n/a".into(),
-        Some(v) if v.abs() >= 1e5 => format!("{v:.2e}"),
-        Some(v) => fmt_sig(v, 3),
-    }
+    x.filter(|v| v.is_finite())
+        .map_or_else(|| "n/a".into(), |v| fmt_sig(v, 3))
 }
 
-/// `0.2609 ± 0.0040`: the uncertainty to 2 significant figures, the value
-/// to the same decimal place.
+/// `0.2609 ± 0.0040`, by the project's policy ([`crate::format::fmt_value_unc`]).
 pub fn value_unc(value: f64, unc: f64) -> String {
-    let u = unc.abs();
-    if !(u.is_finite() && u > 0.0 && value.is_finite()) {
-        return format!("{} ± {}", fmt_sig(value, 4), fmt_sig(u, 2));
-    }
-    let place = u.log10().floor() as i32 - 1;
-    if place >= 0 {
-        // uncertainty >= 10: whole numbers
-        let k = 10f64.powi(place);
-        return format!(
-            "{:.0} ± {:.0}",
-            (value / k).round() * k,
-            (u / k).round() * k
-        );
-    }
-    let decimals = (-place) as usize;
-    format!("{value:.decimals$} ± {u:.decimals$}")
+    crate::format::fmt_value_unc(value, unc)
 }
 
 /// Which way a quantity moved from one step to the next.
