@@ -3,7 +3,7 @@
 //! case; a consistent dataset gives no flags; the paper's data give the
 //! documented JSON.
 
-mod common;
+use crate::common;
 use common::swimbot;
 use swimbot::data::{self, to_toml, Dataset};
 use swimbot::effects::parse_effect_list;

@@ -1,7 +1,7 @@
 //! The real `swimbot` binary on temporary directories: outputs, exit codes,
 //! and error messages for bad input.
 
-mod common;
+use crate::common;
 use common::{stderr, stdout, swimbot};
 use std::process::Output;
 

@@ -1,7 +1,7 @@
 //! `swimbot body` as a user runs it: the real binary, JSON output checked
 //! against exact values, bad input exits with 2 and a clear message.
 
-mod common;
+use crate::common;
 use common::swimbot;
 use std::f64::consts::PI;
 use std::process::Output;

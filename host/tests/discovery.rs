@@ -11,7 +11,7 @@
 //! `body_gap_ratio`, `body_over_gap` are exact monotone functions of
 //! `D_b/D_ch` (the body diameter is fixed), so no fit can tell them apart.
 
-mod fixtures;
+use crate::fixtures;
 
 use fixtures::truths;
 use swimbot::data::Dataset;

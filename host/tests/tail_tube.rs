@@ -4,7 +4,7 @@
 //! `helix --channel-diameter-mm` command. Small cases only (coarse walls,
 //! two-turn tails); the converged studies are in `examples/tail_tube.rs`.
 
-mod common;
+use crate::common;
 use common::swimbot;
 use nalgebra::Matrix6;
 use swimbot::data::paper;

@@ -2,7 +2,7 @@
 //! linear propagation against exact scalings and against Monte Carlo, and
 //! the combined uncertainty that `compare --input-uncertainty` judges with.
 
-mod common;
+use crate::common;
 use common::swimbot;
 use swimbot::data::{self, parse_str};
 use swimbot::model::{preset, Model};

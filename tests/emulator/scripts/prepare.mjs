@@ -1,13 +1,21 @@
-// Prepares what the emulator tests run: the firmware ELF images (built into
-// target/emu so the flashed target/thumbv6m-none-eabi/fw/firmware is never
-// overwritten) and the RP2040 B1 bootrom (fetched from PyPI at test time).
-// Writes target/emu/images/manifest.json for the tests.
+// Prepares what the emulator tests run: the firmware ELF images and the
+// RP2040 B1 bootrom (fetched from PyPI at test time). Writes
+// target/emu/images/manifest.json for the tests.
+//
+// The images are built in the workspace's own target directory, so they
+// share every compiled dependency with `cargo fw` (a separate target
+// directory built the whole embedded tree again). The plain image is the
+// flashed one, target/thumbv6m-none-eabi/fw/firmware, copied. A variant with
+// other features (`hang-test`, route b's `emulator`) is built to the same
+// path, so it is moved out of it at once, and `cargo fw` then puts the plain
+// image back (cargo re-links a build that is up to date); its bytes are
+// checked. The flashed path never keeps a test image.
 //
 // Environment:
 //   SWIMBOT_EMU_ROUTE=a (default) | b   a: bootrom + plain images; b: no bootrom, `emulator` feature
 //   SWIMBOT_EMU_NO_BUILD=1             use the images already in target/emu/images
 import { execFileSync } from 'node:child_process';
-import { copyFileSync, existsSync, mkdirSync, writeFileSync } from 'node:fs';
+import { copyFileSync, existsSync, mkdirSync, readFileSync, renameSync, writeFileSync } from 'node:fs';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -24,8 +32,17 @@ const variants = {
   'firmware-hang-test': [...base, 'hang-test'],
 };
 
+const flashed = join(root, 'target/thumbv6m-none-eabi/fw/firmware');
+function cargoFw(features) {
+  const args = ['build', '-p', 'firmware', '--target', 'thumbv6m-none-eabi', '--profile', 'fw'];
+  if (features.length) args.push('--features', features.join(','));
+  console.log(`emulator: cargo ${args.join(' ')}`);
+  execFileSync('cargo', args, { cwd: root, stdio: 'inherit' });
+}
+
 mkdirSync(imagesDir, { recursive: true });
 const images = {};
+let variantBuilt = false;
 for (const [name, features] of Object.entries(variants)) {
   const out = join(imagesDir, `${name}.elf`);
   images[name] = out;
@@ -33,11 +50,20 @@ for (const [name, features] of Object.entries(variants)) {
     if (!existsSync(out)) throw new Error(`${out} missing and SWIMBOT_EMU_NO_BUILD is set`);
     continue;
   }
-  const args = ['build', '-p', 'firmware', '--target', 'thumbv6m-none-eabi', '--profile', 'fw', '--target-dir', emuTarget];
-  if (features.length) args.push('--features', features.join(','));
-  console.log(`emulator: cargo ${args.join(' ')}`);
-  execFileSync('cargo', args, { cwd: root, stdio: 'inherit' });
-  copyFileSync(join(emuTarget, 'thumbv6m-none-eabi/fw/firmware'), out);
+  cargoFw(features);
+  if (features.length) {
+    renameSync(flashed, out);
+    variantBuilt = true;
+  } else {
+    copyFileSync(flashed, out);
+  }
+}
+if (variantBuilt) {
+  cargoFw([]);
+  if (!existsSync(flashed)) throw new Error(`${flashed}: \`cargo fw\` did not put the plain image back`);
+  if (route === 'a' && !readFileSync(flashed).equals(readFileSync(images.firmware))) {
+    throw new Error(`${flashed} differs from the plain image the emulator ran (${images.firmware})`);
+  }
 }
 
 let bootrom = null;

@@ -1,0 +1,54 @@
+//! The one integration-test binary of the `swimbot` crate. Each file below
+//! used to be its own test binary, every one linking the whole crate with
+//! its debug info; as modules of one binary the crate is linked once, which
+//! saves most of the test build's link time. The files stay where they were
+//! (`cargo test -p swimbot --test integration cli::` runs one of them).
+
+mod common;
+mod fixtures;
+
+mod audit;
+mod axisym;
+mod cli;
+mod cli_body;
+mod data;
+mod discovery;
+mod hardening;
+mod hidden_effect;
+mod model;
+mod mutation;
+mod nonlocal;
+mod nonlocal_effects;
+mod physics_tail;
+mod sim;
+mod tail_tube;
+mod uncertainty;
+mod user_effects;
+
+/// A file added to host/tests/ but not declared above would never be
+/// compiled (`autotests = false`), its tests silently lost.
+#[test]
+fn every_test_file_is_a_module_of_this_binary() {
+    let root = include_str!("integration.rs");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(&dir).expect("host/tests is readable") {
+        let path = entry.expect("a directory entry").path();
+        let Some(stem) = path.file_stem().and_then(|s| s.to_str()) else {
+            continue;
+        };
+        let is_rust_file = path.extension().is_some_and(|e| e == "rs");
+        let is_module_dir = path.join("mod.rs").is_file();
+        if (is_rust_file || is_module_dir)
+            && stem != "integration"
+            && !root.contains(&format!("\nmod {stem};"))
+        {
+            missing.push(stem.to_string());
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "host/tests/{{{}}}.rs: add `mod NAME;` to host/tests/integration.rs",
+        missing.join(",")
+    );
+}
