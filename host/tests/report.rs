@@ -3,7 +3,7 @@
 //! the tube; its section is tested in `report::story` with a cheaper
 //! zero-parameter model through the same code path).
 
-mod common;
+use crate::common;
 
 use common::stderr;
 use std::path::Path;
