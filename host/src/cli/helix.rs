@@ -95,11 +95,13 @@ fn tail_choice(a: &HelixArgs, in_channel: bool) -> Result<(TailModelArg, bool), 
         _ => None,
     };
     let tail = match (a.tail_model, from_method) {
-        (Some(t), Some(m)) if t != m => return Err(CliError::input(format!(
+        (Some(t), Some(m)) if t != m => {
+            return Err(CliError::input(format!(
             "--tail-model {} and --method {} disagree: give the tail model once, with --tail-model",
             t.name(),
             m.name()
-        ))),
+        )))
+        }
         (Some(t), _) | (None, Some(t)) => t,
         (None, None) if in_channel => TailModelArg::Stokeslets,
         (None, None) => TailModelArg::Rft,
