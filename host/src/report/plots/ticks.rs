@@ -4,7 +4,7 @@
 //! steps, no "360.0", powers of ten on log axes).
 
 use super::svg_text::power_of_ten;
-use crate::format::fmt_sig;
+use crate::format::fmt_trim;
 
 /// One axis: the shown range of data values and its scale.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -179,7 +179,7 @@ fn linear_label(v: f64, step: f64) -> String {
             format!("{m}×{}", power_of_ten(mag))
         };
     }
-    fmt_sig(v, (mag - step_mag + 1).max(1) as usize)
+    fmt_trim(v, (mag - step_mag + 1).max(1) as usize)
 }
 
 #[cfg(test)]
