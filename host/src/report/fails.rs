@@ -27,9 +27,12 @@ fn sigma(x: Option<f64>) -> String {
     x.map_or("-".into(), |v| fmt_sig(v, 3))
 }
 
-/// The quantity with the largest |relative error|: `(case, "U" or "Ω_b", error, sigma)`.
-fn worst(cases: &[CaseComparison]) -> Option<(String, &'static str, f64, Option<f64>)> {
-    cases
+/// One measured quantity's error: `(case, "U" or "Ω_b", relative error, error in σ)`.
+pub type QuantityError = (String, &'static str, f64, Option<f64>);
+
+/// Every measured quantity's error, U and Ω_b of each case, largest first.
+pub fn quantity_errors(cases: &[CaseComparison]) -> Vec<QuantityError> {
+    let mut errs: Vec<QuantityError> = cases
         .iter()
         .flat_map(|k| {
             [
@@ -39,7 +42,14 @@ fn worst(cases: &[CaseComparison]) -> Option<(String, &'static str, f64, Option<
             ]
         })
         .flatten()
-        .max_by(|a, b| a.2.abs().total_cmp(&b.2.abs()))
+        .collect();
+    errs.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
+    errs
+}
+
+/// The quantity with the largest |relative error|.
+fn worst(cases: &[CaseComparison]) -> Option<QuantityError> {
+    quantity_errors(cases).into_iter().next()
 }
 
 pub fn section(data: &Dataset, paper: &PaperModels) -> Result<String, crate::model::ModelError> {

@@ -35,19 +35,7 @@ fn params(l: &crate::workbench::discovery::Located) -> String {
 fn leftovers(data: &Dataset, d: &Diagnosis) -> Option<String> {
     let l = d.verdict.located.first()?;
     let cmp = compare(&l.model, data, 0).ok()?;
-    let mut errs: Vec<(String, &str, f64, Option<f64>)> = cmp
-        .cases
-        .iter()
-        .flat_map(|k| {
-            [
-                k.u_rel_err.map(|e| (k.id.clone(), "U", e, k.u_err_sigma)),
-                k.omega_rel_err
-                    .map(|e| (k.id.clone(), "Ω<sub>b</sub>", e, k.omega_err_sigma)),
-            ]
-        })
-        .flatten()
-        .collect();
-    errs.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
+    let errs = super::fails::quantity_errors(&cmp.cases);
     let top: Vec<String> = errs
         .iter()
         .take(3)
