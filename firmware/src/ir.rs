@@ -57,6 +57,11 @@ pub fn pop() -> Option<Edge> {
     critical_section::with(|cs| EDGES.borrow_ref_mut(cs).pop_front())
 }
 
+/// Whether an edge is waiting (for the sleep check, inside its critical section).
+pub fn has_edges(cs: critical_section::CriticalSection<'_>) -> bool {
+    !EDGES.borrow_ref(cs).is_empty()
+}
+
 /// Edges lost to a full queue since the last call.
 pub fn take_dropped() -> u32 {
     critical_section::with(|cs| core::mem::take(&mut *DROPPED.borrow_ref_mut(cs)))

@@ -13,6 +13,7 @@ mod board;
 mod ir;
 mod motor;
 mod run;
+mod sleep;
 
 use defmt_rtt as _;
 use panic_probe as _;
@@ -52,7 +53,7 @@ fn main() -> ! {
         defmt::warn!("reset by the watchdog");
     }
 
-    let timer = hal::Timer::new(p.TIMER, &mut p.RESETS, &clocks);
+    let mut timer = hal::Timer::new(p.TIMER, &mut p.RESETS, &clocks);
     let slices = hal::pwm::Slices::new(p.PWM, &mut p.RESETS);
     let motor = motor::Motor::new(slices.pwm0, motor_pin, sys_hz);
     let adc = hal::Adc::new(p.ADC, &mut p.RESETS);
@@ -60,6 +61,7 @@ fn main() -> ! {
     let battery = battery_adc::BatterySense::new(adc, battery_pin);
     let led = pins.gpio25.into_push_pull_output_in_state(PinState::Low);
     ir::start(pins.gpio15.into_pull_up_input(), timer);
+    sleep::start(&mut timer);
 
     watchdog.pause_on_debug(true);
     watchdog.start((board::WATCHDOG_MS * 1_000).micros());

@@ -3,15 +3,16 @@
 //! for every state change (commands, controller events, battery level, LED
 //! mode), so a probe log tells the whole story of a run.
 //!
-//! The loop polls instead of sleeping between interrupts: each pass is a few
-//! microseconds, timing comes from the 1 MHz timer, and an emulator without
-//! a SysTick or alarm model runs it unchanged. The watchdog is fed only
-//! here, after a complete pass, so a stall anywhere stops the feeding.
+//! Between passes the core sleeps until an IR edge or the 1 kHz wake-up
+//! alarm (`sleep`); timing comes from the 1 MHz timer, so a late pass only
+//! delays, never distorts. The watchdog is fed only here, after a complete
+//! pass, so a stall anywhere stops the feeding.
 
 use crate::battery_adc::{BatterySense, SAMPLE_PERIOD_US};
 use crate::board;
 use crate::ir;
 use crate::motor::Motor;
+use crate::sleep;
 use embedded_hal::digital::OutputPin;
 use rp2040_hal::gpio::{bank0::Gpio25, FunctionSioOutput, Pin, PullDown};
 use rp2040_hal::{Timer, Watchdog};
@@ -118,6 +119,7 @@ impl Robot {
                 loop {}
             }
             watchdog.feed();
+            sleep::until_next_event();
         }
     }
 }

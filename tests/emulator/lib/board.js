@@ -63,6 +63,7 @@ export class Board {
     this.resets = []; // { t, reason }
     this.irqEntries = []; // { t, cycles } one per IO_IRQ_BANK0 handler run
     this.irEdgeTimes = [];
+    this.asleep = []; // { from, to } absolute ns, one per stretch the core spent in WFI/WFE
     this.irLevel = true; // TSOP output idles high
     this.batteryV = 4.0;
     this.watchdogFired = false;
@@ -197,7 +198,11 @@ export class Board {
         // Sleeping (WFI/WFE): jump to the next peripheral alarm, or to the end.
         const left = end - clock.nanos;
         const toAlarm = clock.nextAlarm ? clock.nanosToNextAlarm : Infinity;
+        const from = this.nowNs;
         clock.tick(Math.max(0, Math.min(toAlarm, left)));
+        const last = this.asleep[this.asleep.length - 1];
+        if (last && last.to === from) last.to = this.nowNs;
+        else this.asleep.push({ from, to: this.nowNs });
         continue;
       }
       const before = core.IPSR;
@@ -223,6 +228,13 @@ export class Board {
   }
 
   // ---- observation ---------------------------------------------------------
+
+  /** Fraction of [t0, t1] the core spent asleep (WFI/WFE). */
+  asleepIn(t0, t1) {
+    let ns = 0;
+    for (const { from, to } of this.asleep) ns += Math.max(0, Math.min(to, t1) - Math.max(from, t0));
+    return ns / (t1 - t0);
+  }
 
   /** Index of the first recorded motor edge later than t (binary search). */
   edgeIndexAfter(t) {

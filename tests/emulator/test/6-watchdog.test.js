@@ -17,6 +17,12 @@ test('normal image: watchdog enabled, fed, never trips (2 s with the motor on)',
   b.runUntil(2000 * MS);
   assert.ok(b.dutyIn(on.end + 300 * MS, 2000 * MS) > 0.5, 'motor not running');
   assert.deepEqual(b.resets.map((r) => r.reason), ['power-on'], 'the normal image was reset');
+  // Between passes the core sleeps (WFI) until an IR edge or the 1 kHz
+  // wake-up alarm: a pass is a few microseconds, so it is asleep almost
+  // always, and the watchdog above was still fed by every pass.
+  const asleep = b.asleepIn(on.end + 300 * MS, 2000 * MS);
+  perf('core asleep between passes, motor running', pct(asleep), '');
+  assert.ok(asleep > 0.9, `core asleep only ${pct(asleep)} of the time: the main loop is not sleeping between passes`);
 });
 
 test('hang-test image: watchdog resets the chip, motor pin low after the reset', () => {
