@@ -473,3 +473,36 @@ fn commands_without_rows_refuse_csv_at_parse_time() {
         );
     }
 }
+
+/// `swimbot sweep | head` (and any other command whose reader stops early)
+/// ends quietly by SIGPIPE, as `cat` does: no panic, no error message.
+/// 10^5 rows are far more than a pipe buffer holds, so the reader closes
+/// the pipe while the sweep is still writing.
+#[cfg(unix)]
+#[test]
+fn a_reader_that_stops_early_ends_the_process_quietly() {
+    use std::io::Read;
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args([
+            "sweep",
+            "--wavelength-mm",
+            "5:30:100",
+            "--amplitude-mm",
+            "1:8:100",
+            "--tail-length-mm",
+            "20:150:10",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut head = [0u8; 100];
+    child.stdout.take().unwrap().read_exact(&mut head).unwrap();
+    // The read end is dropped here, as `head` closes it.
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.is_empty(), "stderr: {err}");
+    assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{:?}", out.status);
+}
