@@ -3,7 +3,7 @@
 //! its minutes went (the README's test-time figure is read off that table).
 //! On Linux it also prints the CPU time the hypervisor gave to other guests
 //! meanwhile ("steal", `/proc/stat`): on a shared 2-core machine that alone
-//! has stretched the same build from 2:09 to 3:21.
+//! has stretched the same rebuild of the workspace crates from 2:09 to 3:21.
 
 use std::time::{Duration, Instant};
 
