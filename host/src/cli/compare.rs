@@ -4,7 +4,8 @@ use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, Format};
 use super::CliError;
 use crate::format::{fmt_sig, fmt_value_unc};
-use crate::workbench::compare::{compare, Comparison};
+use crate::workbench::compare::Comparison;
+use crate::workbench::path::{user_path, Path};
 use crate::workbench::propagate::{
     affordable, bands, has_input_uncertainty, monte_carlo, MonteCarloCheck,
 };
@@ -20,8 +21,9 @@ pub struct CompareArgs {
     #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
     pub format: Format,
     // `--report`: its old name, hidden, for old scripts.
-    /// Directory for the HTML report (index.html).
-    #[arg(short, long, alias = "report", value_name = "DIR", default_value = super::output::DEFAULT_REPORT_DIR)]
+    /// Directory for the HTML page (index.html, figures as SVG, tables as CSV and JSON,
+    /// manifest.json); a directory another command wrote is refused.
+    #[arg(short, long, alias = "report", value_name = "DIR", default_value = DEFAULT_COMPARE_DIR)]
     pub output: PathBuf,
     /// Do not write the HTML report.
     #[arg(long, conflicts_with = "output")]
@@ -35,6 +37,16 @@ pub struct CompareArgs {
     /// skipped for costly models: non-local tail or wall-resolved effects).
     #[arg(long, default_value_t = 300)]
     pub mc_draws: usize,
+}
+
+/// `compare`'s own folder: `report`'s page in `swimbot-out/report` is
+/// never overwritten by a `compare` with default options.
+pub const DEFAULT_COMPARE_DIR: &str = "swimbot-out/compare";
+
+/// How many effects of the model come with its preset (the start of the
+/// user's path); the effects after them are the user's steps.
+pub fn preset_effects(m: &ModelArgs) -> usize {
+    crate::model::preset(m.preset.as_deref().unwrap_or("base")).map_or(0, |p| p.effects.len())
 }
 
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
@@ -61,8 +73,11 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     }
     if !args.no_report {
         super::output::check_output_dir(&args.output)?;
+        crate::report::check_bundle_dir(&args.output, "compare").map_err(CliError::input)?;
     }
-    let mut cmp = compare(&model, &data, 0).map_err(super::model_args::in_data(&args.data.data))?;
+    let to_input = super::model_args::in_data(&args.data.data);
+    // The path is computed once; the table, the JSON and the page print it.
+    let mut path = user_path(&model, preset_effects(&args.model), &data).map_err(&to_input)?;
     let mut checks = Vec::new();
     if has_inputs {
         let bands = bands(&model, &data)?;
@@ -73,8 +88,12 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
                 }
             }
         }
-        cmp = cmp.with_bands(&data, &bands);
+        let last = path.steps.last_mut().expect("a path has its start");
+        if last.comparison.summary_combined.is_none() {
+            last.comparison = last.comparison.clone().with_bands(&data, &bands);
+        }
     }
+    let cmp = path.last().comparison.clone();
     super::output::check_finite("comparison", &cmp)?;
     // The report is written before anything is printed, so that a failure
     // does not follow a complete-looking table.
@@ -82,7 +101,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         None
     } else {
         Some(
-            crate::report::write_report(&args.output, &model, &data, None).map_err(|e| {
+            crate::report::write_report(&args.output, &path, &data, None).map_err(|e| {
                 CliError::input(format!(
                     "writing the report to {}: {e}",
                     args.output.display()
@@ -91,15 +110,18 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         )
     };
     match args.format {
-        Format::Table => print_table(&cmp, args.input_uncertainty, &checks),
+        Format::Table => {
+            print_table(&cmp, args.input_uncertainty, &checks);
+            print_steps(&path);
+        }
         Format::Json => print_json(&cmp),
         Format::Csv => print_csv(&cmp)?,
     }
     if let Some(path) = report {
         if args.format == Format::Table {
-            println!("\nreport: {}", path.display());
+            println!("\npage: {}", path.display());
         } else {
-            eprintln!("report: {}", path.display());
+            eprintln!("page: {}", path.display());
         }
     }
     Ok(())
@@ -202,6 +224,26 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
                 fmt_sig(m.omega_sd_ratio, 3)
             );
         }
+    }
+}
+
+/// The user's steps, each against the one before (nothing when the model
+/// has no added effect): the same numbers the page's step table shows.
+fn print_steps(path: &Path) {
+    if path.steps.len() < 2 {
+        return;
+    }
+    println!("\nthe model step by step (\"+ X\": X added on top of the step before):");
+    for s in &path.steps {
+        let m = s.summary();
+        println!(
+            "  {:<28} MARE {:>7}   reduced chi-square {:>8} ({} quantities - {} free parameters)",
+            s.label,
+            format!("{:.1} %", 100.0 * m.mare),
+            opt(m.chi2_reduced, 4),
+            m.n,
+            m.free_params
+        );
     }
 }
 

@@ -8,6 +8,7 @@ use crate::model::preset;
 use crate::report::{write_story, StoryInput, ZeroParam};
 use crate::workbench::audit::{audit, AuditSettings};
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
+use crate::workbench::path::user_path;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -22,8 +23,9 @@ pub struct ReportArgs {
     /// two models and the zero-parameter model are always drawn.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Output directory; index.html is written there [default: swimbot-out/report].
-    #[arg(short, long, default_value = "swimbot-out/report")]
+    /// Output directory: index.html, every figure as SVG, every table as CSV and JSON, and
+    /// manifest.json; a directory another command wrote is refused.
+    #[arg(short, long, default_value = super::output::DEFAULT_REPORT_DIR)]
     pub output: PathBuf,
     /// Skip section 5, the best model without a fitted parameter (`--preset physics`): its first
     /// run solves every tail inside the tube (tens of seconds on 2 cores, then cached in
@@ -52,6 +54,7 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
     let model = a.model.model()?;
     super::output::check_output_dir(&a.output)?;
+    crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
     let to_input = in_data(&a.data.data);
     // Every model on the page must predict every case: a bad case is the
     // input's fault (exit 2), found before the slow parts.
@@ -70,6 +73,8 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
     s.set_message("auditing the data");
     let audited = audit(&model, &data, &AuditSettings::default()).map_err(&to_input)?;
     s.finish_and_clear();
+    let steps =
+        user_path(&model, super::compare::preset_effects(&a.model), &data).map_err(&to_input)?;
     let physics = preset("physics").expect("preset");
     let zero_param = if a.no_physics {
         ZeroParam::Skipped(
@@ -80,7 +85,7 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
     } else {
         solve_physics(&physics, &data).map_err(&to_input)?;
         ZeroParam::Model {
-            name: "--preset physics".into(),
+            name: "zero-parameter model (physics preset)".into(),
             model: &physics,
         }
     };
@@ -89,6 +94,8 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
         &StoryInput {
             data: &data,
             start: &model,
+            path: &steps,
+            command: "report",
             diagnosis: Some(&d),
             zero_param,
             audit: Some(&audited),
@@ -96,6 +103,10 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
     )
     .map_err(|e| CliError::input(format!("writing the report to {}: {e}", a.output.display())))?;
     println!("{}", path.display());
+    eprintln!(
+        "report: wrote {} (with every figure as SVG, every table as CSV and JSON, manifest.json)",
+        path.display()
+    );
     Ok(())
 }
 

@@ -1,13 +1,15 @@
 //! The paper's Fig. 4: `U/U_wave` (panels a-c) and `Omega_b/omega`
 //! (panels d-f) against the number of waves `N_lambda`, one panel per
 //! amplitude group `B_o/R_body`: the measurements with their CIs and,
-//! for each model drawn, its markers at the measured cases and its curve
-//! through them ([`super::curve`]).
+//! for each model drawn, its markers at the measured cases (± 2u where the
+//! comparison carries input bands) and its curve through them
+//! ([`super::curve`]). One legend, on panel (a).
 
 use super::curve::model_curve;
-use super::plots::{chart, Series};
+use super::plots::{Chart, Series};
 use crate::data::{Case, Dataset};
 use crate::model::{Model, Prediction};
+use crate::workbench::compare::Comparison;
 use plotters::style::RGBColor;
 
 /// The paper's colours: observations red, Gray-Hancock black, Lighthill blue.
@@ -16,10 +18,13 @@ pub const BLACK: RGBColor = RGBColor(0, 0, 0);
 pub const BLUE: RGBColor = RGBColor(31, 119, 180);
 pub const GREEN: RGBColor = RGBColor(44, 160, 44);
 
-/// One model drawn in the figure.
+/// One model drawn in the figure: its markers come from its comparison
+/// (the workbench's numbers, with their input bands), its curve from the
+/// model between the cases.
 pub struct Layer<'a> {
     pub label: String,
     pub model: &'a Model,
+    pub comparison: &'a Comparison,
     pub color: RGBColor,
     /// Draw its curve too (each curve point is a prediction: affordable for
     /// the local RFT models, not for a tube solve per point).
@@ -41,13 +46,25 @@ pub fn amplitude_groups(data: &Dataset) -> Vec<(f64, Vec<&Case>)> {
     groups
 }
 
-/// One panel: `omega` selects `Omega_b/omega`, else `U/U_wave`.
+/// The x range of a panel: the cases' `N_lambda` with a margin of a tenth
+/// of their span (at least 1 % of the value), never the chart engine's
+/// minimum span for flat data, which padded 3.73-3.82 out to 3.55-3.98.
+fn x_range(cases: &[&Case]) -> (f64, f64) {
+    let lo = cases.iter().map(|c| c.n_waves()).fold(f64::MAX, f64::min);
+    let hi = cases.iter().map(|c| c.n_waves()).fold(f64::MIN, f64::max);
+    let pad = (0.1 * (hi - lo)).max(0.01 * hi);
+    (lo - pad, hi + pad)
+}
+
+/// One panel: `omega` selects `Omega_b/omega`, else `U/U_wave`; `legend`
+/// for the one panel that carries the figure's legend.
 fn panel(
     title: &str,
     cases: &[&Case],
     layers: &[Layer],
     omega: bool,
     ci: &str,
+    legend: bool,
 ) -> Result<String, String> {
     let ratio: fn(&Prediction) -> f64 = if omega {
         |p| p.omega_ratio
@@ -74,7 +91,22 @@ fn panel(
     for l in layers {
         let markers: Vec<(f64, f64, f64)> = cases
             .iter()
-            .filter_map(|c| Some((c.n_waves(), ratio(&l.model.predict(c).ok()?), 0.0)))
+            .filter_map(|c| {
+                let k = l.comparison.cases.iter().find(|k| k.id == c.id)?;
+                Some(if omega {
+                    (
+                        k.n_waves,
+                        k.omega_ratio_pred,
+                        2.0 * k.omega_ratio_input_sd.unwrap_or(0.0),
+                    )
+                } else {
+                    (
+                        k.n_waves,
+                        k.u_over_u_wave_pred,
+                        2.0 * k.u_over_u_wave_input_sd.unwrap_or(0.0),
+                    )
+                })
+            })
             .collect();
         if l.curve {
             series.push(Series::curve(
@@ -90,11 +122,21 @@ fn panel(
     } else {
         "U / U_wave"
     };
-    chart(title, "N_lambda", y, &series, false)
+    let (lo, hi) = x_range(cases);
+    let chart = Chart::new(title, "N_lambda", y)
+        .size(400, 330)
+        .x_range(lo, hi);
+    if legend {
+        chart
+    } else {
+        chart.without_legend()
+    }
+    .render(&series)
 }
 
 /// The panels in the paper's order, each with its caption-letter title:
-/// first `U/U_wave` per group, then `Omega_b/omega` per group.
+/// first `U/U_wave` per group, then `Omega_b/omega` per group; the first
+/// panel carries the one legend.
 pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> {
     let groups = amplitude_groups(data);
     let ci = super::intro::confidence(data);
@@ -108,7 +150,7 @@ pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> 
                 letter as char,
                 crate::format::fmt_sig(ratio, 2)
             );
-            out.push(panel(&title, cases, layers, omega, &ci));
+            out.push(panel(&title, cases, layers, omega, &ci, out.is_empty()));
             letter = letter.wrapping_add(1);
         }
     }

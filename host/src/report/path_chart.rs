@@ -146,7 +146,7 @@ pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, St
     let _ = write!(
         s,
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{W}\" height=\"{H}\" viewBox=\"0 0 {W} {H}\" \
-         font-family=\"sans-serif\" font-size=\"11\"><rect width=\"{W}\" height=\"{H}\" fill=\"white\"/>"
+         font-family=\"'DejaVu Sans', 'Liberation Sans', Helvetica, Arial, sans-serif\" font-size=\"11\"><rect width=\"{W}\" height=\"{H}\" fill=\"white\"/>"
     );
     let title = match m {
         Metric::Mare => "MARE along the path",

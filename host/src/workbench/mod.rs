@@ -10,6 +10,7 @@ pub mod discovery;
 pub mod features;
 pub mod fit;
 pub mod noise;
+pub mod path;
 pub mod propagate;
 pub mod synth;
 pub mod verdict;

@@ -37,6 +37,9 @@ pub struct Chart {
     pub(super) notes: Vec<String>,
     pub(super) references: Vec<Reference>,
     pub(super) entries: Vec<Entry>,
+    /// Draw the legend and the hidden-error-bar note (false: a panel of a
+    /// figure whose legend and notes another panel or the caption carries).
+    pub(super) legend: bool,
 }
 
 impl Chart {
@@ -55,7 +58,15 @@ impl Chart {
             notes: Vec::new(),
             references: Vec::new(),
             entries: Vec::new(),
+            legend: true,
         }
+    }
+
+    /// No legend and no hidden-error-bar note: one panel of a figure that
+    /// carries them once.
+    pub fn without_legend(mut self) -> Self {
+        self.legend = false;
+        self
     }
 
     /// Size of the panel before any outside legend or notes are added.

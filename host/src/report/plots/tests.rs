@@ -284,8 +284,13 @@ fn stacked_panels_share_the_left_edge() {
 fn every_figure_of_the_report_page_is_clear_and_readable() {
     let dir = tempfile::tempdir().unwrap();
     let data = crate::data::paper();
-    let path =
-        crate::report::write_report(dir.path(), &crate::model::Model::base(), &data, None).unwrap();
+    let path = crate::report::write_report(
+        dir.path(),
+        &crate::workbench::path::user_path(&crate::model::Model::base(), 0, &data).unwrap(),
+        &data,
+        None,
+    )
+    .unwrap();
     let page = std::fs::read_to_string(path).unwrap();
     let svgs: Vec<&str> = page
         .split("<svg ")
