@@ -19,6 +19,7 @@ mod model;
 mod mutation;
 mod nonlocal;
 mod nonlocal_effects;
+mod page;
 mod physics_tail;
 mod report;
 mod sim;

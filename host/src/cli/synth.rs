@@ -31,6 +31,11 @@ pub struct SynthArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub effect_files: super::model_args::EffectFiles,
+    /// Run the truth on the recorded inputs exactly. By default, when the design declares input
+    /// uncertainties, each case's true inputs are drawn from them (seeded; shared tube, oil and
+    /// body once for all cases) and the file records the nominal ones, as a lab's would.
+    #[arg(long)]
+    pub nominal_inputs: bool,
 }
 
 /// Parse "PRESET|COEFFICIENTS + EFFECT + EFFECT...".
@@ -89,6 +94,7 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
         noise_rel: a.noise,
         trials: a.trials,
         seed: a.seed,
+        draw_inputs: !a.nominal_inputs,
         ..Default::default()
     };
     let data = generate(&truth, &design, settings)?;
@@ -103,11 +109,17 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
         })?;
     }
     super::output::write_atomically(&a.output, crate::data::to_toml(&data).as_bytes())?;
+    let drawn = settings.draw_inputs && design.cases.iter().any(|c| !c.inputs.is_empty());
     eprintln!(
-        "wrote {} cases from truth `{}` to {}",
+        "wrote {} cases from truth `{}` to {}{}",
         data.cases.len(),
         truth.describe(),
-        a.output.display()
+        a.output.display(),
+        if drawn {
+            " (true inputs drawn from the declared input uncertainties, nominal ones recorded;              --nominal-inputs runs the truth on the recorded inputs)"
+        } else {
+            ""
+        }
     );
     Ok(())
 }

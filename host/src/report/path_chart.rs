@@ -110,8 +110,15 @@ fn wrap(label: &str, chars: usize) -> Vec<String> {
     lines
 }
 
-/// The chart of `steps` for one metric; `floor` draws the noise floor.
-pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, String> {
+/// The chart of `steps` for one metric; `floor` draws the noise floor (and
+/// is the chi-square's noise); `mare_noise` is the MARE's, the same the
+/// tables judge a change by, so chart and table never disagree.
+pub fn chart(
+    steps: &[Step],
+    m: Metric,
+    floor: Option<f64>,
+    mare_noise: f64,
+) -> Result<String, String> {
     let vals: Vec<f64> = steps.iter().filter_map(|s| value(s, m)).collect();
     if vals.is_empty() {
         return Err("no step has a finite value".into());
@@ -137,7 +144,7 @@ pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, St
     };
     let noise = match m {
         Metric::Chi2 => floor.unwrap_or(0.0),
-        Metric::Mare => 0.0,
+        Metric::Mare => mare_noise,
     };
     let n = steps.len().max(1) as f64;
     let slot = (W - LEFT - RIGHT) / n;

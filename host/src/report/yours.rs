@@ -248,8 +248,8 @@ pub fn section(data: &Dataset, path: &Path) -> String {
         h.push_str(&figure(
             "yours-path",
             &[
-                chart(&steps, Metric::Mare, None),
-                chart(&steps, Metric::Chi2, None),
+                chart(&steps, Metric::Mare, None, noise),
+                chart(&steps, Metric::Chi2, None, noise),
             ],
             2,
             "<b>The steps.</b> MARE and reduced χ² (log scale) of each step, each arrow from \
