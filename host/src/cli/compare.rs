@@ -131,21 +131,25 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
     println!("model: {}\ndata:  {}\n", c.model, c.dataset);
     let bands = c.summary_combined.is_some();
     let sigma = |m: Option<f64>, comb: Option<f64>| opt(if combined { comb } else { m }, 3);
-    let band = |v: Option<f64>| match v {
-        Some(x) if bands => format!("±{}", fmt_sig(x, 2)),
-        _ => "-".into(),
+    // the prediction to its band's two significant figures (the number
+    // policy of `swimbot::format`), or to 4 figures without a band
+    let pred = |v: f64, sd: Option<f64>| match sd {
+        Some(u) if bands && u > 0.0 => fmt_value_unc(v, u),
+        _ => fmt_sig(v, 4),
     };
     println!(
-        "{:<10} {:>6} {:>9} {:>9} {:>17} {:>9} {:>7} {:>9} {:>9} {:>17} {:>9} {:>7}",
+        "{:<10} {:>6} {:>19} {:>17} {:>9} {:>7} {:>19} {:>17} {:>9} {:>7}",
         "case",
         "f Hz",
-        "U pred",
-        "± inputs",
+        if bands { "U pred ± inputs" } else { "U pred" },
         "U obs ± CI",
         "U err",
         "U σ",
-        "Ω pred",
-        "± inputs",
+        if bands {
+            "Ω pred ± inputs"
+        } else {
+            "Ω pred"
+        },
         "Ω obs ± CI",
         "Ω err",
         "Ω σ"
@@ -156,16 +160,14 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
             _ => "-".into(),
         };
         println!(
-            "{:<10} {:>6} {:>9} {:>9} {:>17} {:>9} {:>7} {:>9} {:>9} {:>17} {:>9} {:>7}",
+            "{:<10} {:>6} {:>19} {:>17} {:>9} {:>7} {:>19} {:>17} {:>9} {:>7}",
             k.id,
             fmt_sig(k.frequency_hz, 3),
-            fmt_sig(k.u_pred_mm_s, 4),
-            band(k.u_input_sd_mm_s),
+            pred(k.u_pred_mm_s, k.u_input_sd_mm_s),
             obs(k.u_obs_mm_s, k.u_ci_mm_s),
             pct(k.u_rel_err),
             sigma(k.u_err_sigma, k.u_err_sigma_combined),
-            fmt_sig(k.omega_pred_hz, 4),
-            band(k.omega_input_sd_hz),
+            pred(k.omega_pred_hz, k.omega_input_sd_hz),
             obs(k.omega_obs_hz, k.omega_ci_hz),
             pct(k.omega_rel_err),
             sigma(k.omega_err_sigma, k.omega_err_sigma_combined),
@@ -247,6 +249,44 @@ fn print_steps(path: &Path) {
     }
 }
 
+/// The CSV: one row per case, the body rate's columns named
+/// `omega_body_counter_*` as the README and the data format call Ω_b
+/// (the JSON keeps the field names of the library's types).
 fn print_csv(c: &Comparison) -> Result<(), CliError> {
-    super::output::write_csv_rows(&c.cases, std::io::stdout().lock())
+    let mut bytes = Vec::new();
+    super::output::write_csv_rows(&c.cases, &mut bytes)?;
+    let text = String::from_utf8(bytes).expect("the CSV writer writes UTF-8");
+    let (header, rows) = text.split_once('\n').unwrap_or((&text, ""));
+    let header: Vec<String> = header.split(',').map(csv_column).collect();
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{}", header.join(","))
+        .and_then(|()| out.write_all(rows.as_bytes()))
+        .map_err(|e| CliError::failure(format!("writing the CSV: {e}")))
+}
+
+/// `omega_pred_hz` -> `omega_body_counter_pred_hz`, and so on.
+fn csv_column(name: &str) -> String {
+    match name.strip_prefix("omega_") {
+        Some(rest) if rest.ends_with("_hz") => format!("omega_body_counter_{rest}"),
+        _ => name.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::csv_column;
+
+    #[test]
+    fn the_csv_names_the_body_rate_as_the_readme_does() {
+        assert_eq!(csv_column("omega_pred_hz"), "omega_body_counter_pred_hz");
+        assert_eq!(csv_column("omega_ci_hz"), "omega_body_counter_ci_hz");
+        assert_eq!(
+            csv_column("omega_input_sd_hz"),
+            "omega_body_counter_input_sd_hz"
+        );
+        // not a rate in Hz: kept
+        assert_eq!(csv_column("omega_rel_err"), "omega_rel_err");
+        assert_eq!(csv_column("u_pred_mm_s"), "u_pred_mm_s");
+    }
 }

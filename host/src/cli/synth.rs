@@ -116,7 +116,7 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
         truth.describe(),
         a.output.display(),
         if drawn {
-            " (true inputs drawn from the declared input uncertainties, nominal ones recorded;              --nominal-inputs runs the truth on the recorded inputs)"
+            " (true inputs drawn from the declared input uncertainties, nominal ones recorded; --nominal-inputs runs the truth on the recorded inputs)"
         } else {
             ""
         }

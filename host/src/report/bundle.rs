@@ -145,10 +145,7 @@ pub fn files(page: &str) -> (Vec<(String, Vec<u8>)>, Vec<Entry>) {
             } else {
                 format!("figures/{id}-{}.svg", i + 1)
             };
-            let title = elements(svg, "text")
-                .first()
-                .map(|t| text_of(t))
-                .unwrap_or_default();
+            let title = svg_title(svg);
             entries.push(Entry {
                 file: file.clone(),
                 kind: "figure".into(),
@@ -200,6 +197,21 @@ pub fn files(page: &str) -> (Vec<(String, Vec<u8>)>, Vec<Entry>) {
         }
     }
     (files, entries)
+}
+
+/// A panel's title: its text in the largest font (the first of those).
+fn svg_title(svg: &str) -> String {
+    let size = |t: &str| {
+        attr(t, "font-size")
+            .and_then(|s| s.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    let texts = elements(svg, "text");
+    let best = texts.iter().fold(None::<&&str>, |b, t| match b {
+        Some(b) if size(b) >= size(t) => Some(b),
+        _ => Some(t),
+    });
+    best.map(|t| text_of(t)).unwrap_or_default()
 }
 
 /// Rows as a JSON array of objects keyed by the header's texts.
@@ -267,7 +279,7 @@ mod tests {
 
     const PAGE: &str = "<h2 id=\"a\">1. One</h2><table><tr><th>x, y</th><th>U (mm/s)</th></tr>\
         <tr><td>tail-1</td><td>0.2609 &plusmn; 1 <span class=\"fall\">falls</span></td></tr></table>\
-        <figure id=\"f\"><div><svg><text>(a) first</text></svg></div><div><svg><text>(b)</text></svg>\
+        <figure id=\"f\"><div><svg><text font-size=\"11\">8.4</text><text font-size=\"14\">(a) first</text></svg></div><div><svg><text>(b)</text></svg>\
         </div><figcaption><b>Fig.</b> Two &amp; panels.</figcaption></figure>";
 
     #[test]

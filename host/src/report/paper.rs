@@ -253,9 +253,10 @@ impl PaperModels {
         h.push_str(&format!(
             "<p class=\"note\">MARE: mean absolute relative error over the {} measured \
              quantities; reduced χ²: the squared errors in standard errors of the measured means, \
-             over the degrees of freedom. Models: <code>--preset paper</code> ({}) and \
+             over n − k = {} degrees of freedom (k = 2: the factors the paper fitted). Models: <code>--preset paper</code> ({}) and \
              <code>--preset paper-lighthill</code> ({}).</p>",
             self.gh.summary.n,
+            super::yours::dof_note(&self.gh.summary),
             escape(&self.gray_hancock.describe()),
             escape(&self.lighthill.describe())
         ));

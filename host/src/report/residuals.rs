@@ -2,26 +2,27 @@
 //! case features it correlates with most (ranked by
 //! [`crate::workbench::features::trends`]): where the model fails.
 
-use super::figure4::GREEN;
 use super::plots::{unit, Chart, Series, PALETTE};
 use super::yours::BEFORE;
 use crate::data::Dataset;
 use crate::workbench::compare::{Comparison, Quantity};
 use crate::workbench::features::{trends, FEATURES};
+use plotters::style::RGBColor;
 
 /// Plots per quantity.
 const PER_QUANTITY: usize = 2;
 
 pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<Result<String, String>> {
-    residual_plots_of(data, cmp, None)
+    residual_plots_of(data, cmp, None, PALETTE[1])
 }
 
-/// The residual plots of `cmp`, with `before`'s residuals beside them
-/// (grey, hollow) on the same features.
+/// The residual plots of `cmp` in `color`, with `before`'s residuals
+/// beside them (grey, hollow) on the same features.
 pub fn residual_plots_of(
     data: &Dataset,
     cmp: &Comparison,
     before: Option<&Comparison>,
+    color: RGBColor,
 ) -> Vec<Result<String, String>> {
     let all = trends(data, cmp);
     [Quantity::U, Quantity::Omega]
@@ -61,7 +62,6 @@ pub fn residual_plots_of(
                 let (pts, _) = points(b);
                 series.push(Series::model("before the step", BEFORE, pts));
             }
-            let color = if before.is_some() { GREEN } else { PALETTE[1] };
             series.push(
                 Series::measured(format!("cases (r = {:+.2})", t.r), color, pts).labels(labels),
             );

@@ -56,7 +56,7 @@ pub fn title(data: &Dataset) -> String {
         "swimbot: the paper's model against its measurements, and what is missing".into()
     } else {
         format!(
-            "swimbot: {}: the paper's model and the model asked for against these measurements",
+            "swimbot: models against the measurements of “{}”",
             data.name
         )
     }

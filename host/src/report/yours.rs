@@ -165,16 +165,24 @@ fn cell_obs(m: Option<f64>, ci: Option<f64>) -> String {
 
 /// Per case: measured, the step before and the last step, with errors.
 fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> String {
+    let band = |s: &Step| {
+        if s.comparison.summary_combined.is_some() {
+            " ± 2u"
+        } else {
+            ""
+        }
+    };
+    let (b, l) = (before.map_or("", band), band(last));
     let mut header = vec![format!("<tail"), format!("U measured ± {ci} CI")];
     if before.is_some() {
-        header.push("U before the step (error)".into());
+        header.push(format!("U before the step{b} (error)"));
     }
-    header.push("U predicted (error)".into());
+    header.push(format!("U predicted{l} (error)"));
     header.push(format!("Ω<sub>b</sub> measured ± {ci} CI"));
     if before.is_some() {
-        header.push("Ω<sub>b</sub> before the step (error)".into());
+        header.push(format!("Ω<sub>b</sub> before the step{b} (error)"));
     }
-    header.push("Ω<sub>b</sub> predicted (error)".into());
+    header.push(format!("Ω<sub>b</sub> predicted{l} (error)"));
     let rows: Vec<Vec<String>> = last
         .comparison
         .cases
@@ -265,6 +273,21 @@ pub fn section(data: &Dataset, path: &Path) -> String {
         ],
         None => vec![("the model", GREEN, &last.comparison)],
     };
+    let (parity_caption, residual_caption) = if before.is_some() {
+        (
+            "<b>Parity.</b> Predicted against measured U and Ω<sub>b</sub> before the last \
+             step (grey) and after it (green); on the diagonal the model would be exact.",
+            "<b>Residuals.</b> The relative error against the case features the last step's \
+             error correlates with most, after the step (green) and before it (grey).",
+        )
+    } else {
+        (
+            "<b>Parity.</b> Predicted against measured U and Ω<sub>b</sub>; on the diagonal \
+             the model would be exact.",
+            "<b>Residuals.</b> The relative error against the case features it correlates with \
+             most.",
+        )
+    };
     h.push_str(&figure(
         "yours-parity",
         &[
@@ -272,19 +295,16 @@ pub fn section(data: &Dataset, path: &Path) -> String {
             super::parity::parity_of(&shown, true),
         ],
         2,
-        "<b>Parity.</b> Predicted against measured U and Ω<sub>b</sub> before the last step \
-         (grey) and after it (green); on the diagonal the model would be exact.",
+        parity_caption,
     ));
-    let residuals =
-        super::residuals::residual_plots_of(data, &last.comparison, before.map(|b| &b.comparison));
+    let residuals = super::residuals::residual_plots_of(
+        data,
+        &last.comparison,
+        before.map(|b| &b.comparison),
+        GREEN,
+    );
     if !residuals.is_empty() {
-        h.push_str(&figure(
-            "yours-residuals",
-            &residuals,
-            2,
-            "<b>Residuals.</b> The relative error against the case features the last step's \
-             error correlates with most, after the step (green) and before it (grey).",
-        ));
+        h.push_str(&figure("yours-residuals", &residuals, 2, residual_caption));
     }
     h
 }
