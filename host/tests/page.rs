@@ -53,35 +53,24 @@ fn pct(x: f64) -> String {
 fn diagnose_then_the_written_effect_reaches_every_figure_and_table_of_the_page() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    // a lab's data with a hidden body drag the catalogue does not have
+    // a lab's data with a hidden wall effect on the tail the catalogue lacks
     std::fs::write(
         d.join("hidden.toml"),
-        "[[effect]]\nname = \"hidden-drag\"\nplace = \"body.D_x\"\n\
-         formula = \"1 + 3 * (body_diameter_mm / channel_diameter_mm)^4\"\n\
-         statement = \"a body drag that grows with confinement\"\n",
-    )
-    .unwrap();
-    let design = d.join("design.toml");
-    std::fs::write(
-        &design,
-        swimbot::data::to_toml(&swimbot::workbench::synth::varied_design(
-            &swimbot::data::paper(),
-        )),
+        "[[effect]]\nname = \"hidden-wall\"\nstatement = \"tail drag grows near the wall\"\n\
+         reference = \"a test's hidden truth\"\n[effect.places]\n\
+         \"tail.c_n\" = \"1 + 5 * tail_gap_ratio^1.3\"\n",
     )
     .unwrap();
     ok(&run_in(
         d,
         &[
             "synth",
-            "--data",
-            "design.toml",
             "--effect-file",
             "hidden.toml",
             "--truth",
-            "base + hidden-drag",
+            "base + hidden-wall",
             "--seed",
             "11",
-            "--nominal-inputs",
             "-o",
             "lab.toml",
         ],

@@ -85,3 +85,70 @@ pub fn compare_with_bands(model: &Model, data: &Dataset) -> Result<Comparison, M
         Ok(cmp)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::effects::parse_effect_spec;
+
+    fn model(specs: &[&str]) -> Model {
+        let mut m = Model::base();
+        for s in specs {
+            m.effects.push(parse_effect_spec(s).unwrap());
+        }
+        m
+    }
+
+    #[test]
+    fn each_step_is_the_step_before_plus_one_effect() {
+        let data = crate::data::paper();
+        let m = model(&[
+            "backflow-observed",
+            "body-correction:translation=16,rotation=1.4",
+            "body-confinement",
+        ]);
+        let p = user_path(&m, 1, &data).unwrap();
+        let labels: Vec<&str> = p.steps.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(labels, ["start", "+ body-correction", "+ body-confinement"]);
+        for w in p.steps.windows(2) {
+            let (a, b) = (&w[0].model, &w[1].model);
+            assert_eq!(b.effects.len(), a.effects.len() + 1);
+            assert!(a
+                .effects
+                .iter()
+                .zip(&b.effects)
+                .all(|(x, y)| x.spec() == y.spec()));
+        }
+        assert_eq!(p.last().spec, m.describe());
+        assert_eq!(p.before_last().unwrap().label, "+ body-correction");
+    }
+
+    #[test]
+    fn a_step_reads_what_compare_reads_for_its_model() {
+        let data = crate::data::paper();
+        let m = model(&[
+            "backflow-observed",
+            "body-correction:translation=16,rotation=1.4",
+        ]);
+        let p = user_path(&m, 0, &data).unwrap();
+        for s in &p.steps {
+            let direct = compare(&s.model, &data, 0).unwrap().summary;
+            assert_eq!(s.summary().mare, direct.mare);
+            assert_eq!(s.summary().chi2_reduced, direct.chi2_reduced);
+            // the fitted factors count, whoever fitted them
+            assert_eq!(s.summary().free_params, carried_free_params(&s.model));
+        }
+        assert_eq!(p.last().summary().free_params, 2);
+        assert_eq!(p.last().summary().dof(), Some(10));
+    }
+
+    #[test]
+    fn a_model_with_nothing_added_is_one_step() {
+        let data = crate::data::paper();
+        let m = crate::model::preset("paper").unwrap();
+        let p = user_path(&m, m.effects.len(), &data).unwrap();
+        assert_eq!(p.steps.len(), 1);
+        assert!(p.before_last().is_none());
+        assert_eq!(p.last().label, "start");
+    }
+}
