@@ -62,6 +62,7 @@ pub fn check_dir(dir: &Path, command: &str) -> Result<(), String> {
 pub fn text_of(html: &str) -> String {
     let mut out = String::with_capacity(html.len());
     let mut in_tag = false;
+    let html = html.replace("<br>", " ");
     for ch in html.chars() {
         match ch {
             '<' => in_tag = true,
@@ -278,7 +279,7 @@ mod tests {
     use super::*;
 
     const PAGE: &str = "<h2 id=\"a\">1. One</h2><table><tr><th>x, y</th><th>U (mm/s)</th></tr>\
-        <tr><td>tail-1</td><td>0.2609 &plusmn; 1 <span class=\"fall\">falls</span></td></tr></table>\
+        <tr><td>tail-1</td><td>0.2609 &plusmn; 1<br><span class=\"fall\">falls</span></td></tr></table>\
         <figure id=\"f\"><div><svg><text font-size=\"11\">8.4</text><text font-size=\"14\">(a) first</text></svg></div><div><svg><text>(b)</text></svg>\
         </div><figcaption><b>Fig.</b> Two &amp; panels.</figcaption></figure>";
 

@@ -3,7 +3,8 @@
 //! amplitude group `B_o/R_body`: the measurements with their CIs and,
 //! for each model drawn, its markers at the measured cases (± 2u where the
 //! comparison carries input bands) and its curve through them
-//! ([`super::curve`]). One legend, on panel (a).
+//! ([`super::curve`]). One legend, on panel (a); the captions say that
+//! error bars smaller than a marker are hidden by it.
 
 use super::curve::model_curve;
 use super::plots::{Chart, Series};
@@ -56,6 +57,19 @@ fn x_range(cases: &[&Case]) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// The page's content width (px) a row of Fig. 4 panels must fit in, and
+/// the grid's gap between them.
+const ROW_PX: u32 = 1204;
+const GAP_PX: u32 = 16;
+
+/// A panel's width for `groups` panels in a row: shown at its own size
+/// (ticks read at the size they are drawn) up to 390 px, narrower for four
+/// or more groups, never below 240 px.
+pub fn panel_width(groups: usize) -> u32 {
+    let g = groups.max(1) as u32;
+    ((ROW_PX - GAP_PX * (g - 1)) / g).clamp(240, 390)
+}
+
 /// One panel: `omega` selects `Omega_b/omega`, else `U/U_wave`; `legend`
 /// for the one panel that carries the figure's legend.
 fn panel(
@@ -65,6 +79,7 @@ fn panel(
     omega: bool,
     ci: &str,
     legend: bool,
+    groups: usize,
 ) -> Result<String, String> {
     let ratio: fn(&Prediction) -> f64 = if omega {
         |p| p.omega_ratio
@@ -124,8 +139,9 @@ fn panel(
     };
     let (lo, hi) = x_range(cases);
     let chart = Chart::new(title, "N_lambda", y)
-        .size(400, 330)
-        .x_range(lo, hi);
+        .size(panel_width(groups), 330)
+        .x_range(lo, hi)
+        .without_hidden_note();
     if legend {
         chart
     } else {
@@ -150,7 +166,16 @@ pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> 
                 letter as char,
                 crate::format::fmt_sig(ratio, 2)
             );
-            out.push(panel(&title, cases, layers, omega, &ci, out.is_empty()));
+            let first = out.is_empty();
+            out.push(panel(
+                &title,
+                cases,
+                layers,
+                omega,
+                &ci,
+                first,
+                groups.len(),
+            ));
             letter = letter.wrapping_add(1);
         }
     }

@@ -230,7 +230,8 @@ impl PaperModels {
                  input uncertainties). Lines: the same model between the cases of a group, its \
                  inputs (chord length, tail rate, the observed speed its back-flow reads) \
                  interpolated linearly in N<sub>λ</sub> between neighbouring cases, so each line \
-                 passes through its markers; a group of one case has markers only."
+                 passes through its markers; a group of one case has markers only. An error bar \
+                 smaller than its marker is hidden by it."
             ),
         ));
         h.push_str(&gap_sentence("Gray-Hancock", &self.gh));

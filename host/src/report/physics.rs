@@ -127,7 +127,7 @@ pub fn section(
              CI), the paper's Gray-Hancock model (black, markers and curve) and <code>{}</code> \
              (green markers at the measured cases, ± 2u where its input bands were computed; no \
              curve: each point between the cases would need its own solve of the tail in the \
-             tube).",
+             tube). An error bar smaller than its marker is hidden by it.",
             super::intro::confidence(data),
             escape(name)
         ),

@@ -156,7 +156,8 @@ fn cell_pred(k: &CaseComparison, omega: bool) -> String {
         Some(s) if s > 0.0 => value_unc(v, 2.0 * s),
         _ => fmt_sig(v, 4),
     };
-    format!("{v} ({})", signed_pct(e))
+    // two lines, so the table stays within the page's width
+    format!("{v}<br>({})", signed_pct(e))
 }
 
 fn cell_obs(m: Option<f64>, ci: Option<f64>) -> String {
@@ -345,7 +346,8 @@ fn fig4(data: &Dataset, path: &Path) -> String {
              step: {}. Upper row U/U<sub>wave</sub>, lower row Ω<sub>b</sub>/ω, against \
              N<sub>λ</sub>, one panel per amplitude group; hollow markers: the step's model at \
              each case (with ± 2u bars where the dataset states input uncertainties); lines: the \
-             same model between the cases.",
+             same model between the cases of a group (none for a group of one case); an error \
+             bar smaller than its marker is hidden by it.",
             super::intro::confidence(data),
             path.steps
                 .iter()

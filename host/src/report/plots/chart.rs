@@ -40,6 +40,9 @@ pub struct Chart {
     /// Draw the legend and the hidden-error-bar note (false: a panel of a
     /// figure whose legend and notes another panel or the caption carries).
     pub(super) legend: bool,
+    /// The note naming error bars hidden by their markers (false: the
+    /// figure's caption says it once for every panel).
+    pub(super) hidden_note: bool,
 }
 
 impl Chart {
@@ -59,11 +62,17 @@ impl Chart {
             references: Vec::new(),
             entries: Vec::new(),
             legend: true,
+            hidden_note: true,
         }
     }
 
-    /// No legend and no hidden-error-bar note: one panel of a figure that
-    /// carries them once.
+    /// No note on error bars hidden by their markers (the caption says it).
+    pub fn without_hidden_note(mut self) -> Self {
+        self.hidden_note = false;
+        self
+    }
+
+    /// No legend: one panel of a figure that carries it once.
     pub fn without_legend(mut self) -> Self {
         self.legend = false;
         self

@@ -252,7 +252,7 @@ pub fn draw_panel(
     let panel_w = legend_at.map_or(w, |r| w.max(r.x1 + 8.0 - origin.0));
 
     let mut notes = c.notes.clone();
-    if !hidden.is_empty() && c.legend {
+    if !hidden.is_empty() && c.hidden_note {
         notes.push(format!(
             "Smaller than the marker (drawn, hidden by it): {}.",
             hidden.join("; ")
