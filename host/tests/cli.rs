@@ -395,7 +395,7 @@ fn default_outputs_go_under_swimbot_out_only() {
     let help = stdout(&swimbot(&["sim", "--help"]));
     assert!(help.contains("[default: swimbot-out/sim]"), "{help}");
     let help = stdout(&swimbot(&["compare", "--help"]));
-    assert!(help.contains("[default: swimbot-out/report]"), "{help}");
+    assert!(help.contains("[default: swimbot-out/compare]"), "{help}");
 }
 
 #[test]

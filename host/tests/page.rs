@@ -178,6 +178,7 @@ fn a_second_and_third_effect_show_the_whole_cumulative_sequence() {
     let page = std::fs::read_to_string(dir.path().join("swimbot-out/compare/index.html"))
         .expect("compare's own folder");
     let yours = section(&page, "yours");
+    let steps = &yours[yours.find("<table>").expect("the steps' table")..];
     let at: Vec<usize> = [
         ">start<",
         ">+ backflow-observed<",
@@ -185,7 +186,7 @@ fn a_second_and_third_effect_show_the_whole_cumulative_sequence() {
         ">+ body-confinement<",
     ]
     .iter()
-    .map(|s| yours.find(s).unwrap_or_else(|| panic!("{s}")))
+    .map(|s| steps.find(s).unwrap_or_else(|| panic!("{s}")))
     .collect();
     assert!(at.windows(2).all(|w| w[0] < w[1]), "in order: {at:?}");
     assert!(yours.contains("on top of the step before"));

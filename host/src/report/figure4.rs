@@ -181,3 +181,67 @@ pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> 
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::workbench::compare::compare;
+
+    /// The paper's data with tail-5 at its own amplitude: four groups, two
+    /// of them a single case.
+    fn four_groups() -> Dataset {
+        let mut data = crate::data::paper();
+        data.cases[4].amplitude_mm = 6.0;
+        data
+    }
+
+    #[test]
+    fn the_layout_follows_the_data_u_row_then_omega_row() {
+        let data = four_groups();
+        assert_eq!(amplitude_groups(&data).len(), 4);
+        let model = crate::model::preset("paper").unwrap();
+        let cmp = compare(&model, &data, 0).unwrap();
+        let layers = [Layer {
+            label: "paper".into(),
+            model: &model,
+            comparison: &cmp,
+            color: BLACK,
+            curve: true,
+        }];
+        let panels: Vec<String> = figure4(&data, &layers)
+            .into_iter()
+            .map(Result::unwrap)
+            .collect();
+        assert_eq!(panels.len(), 8);
+        for (i, p) in panels.iter().enumerate() {
+            let letter = (b'a' + i as u8) as char;
+            assert!(p.contains(&format!("({letter})")), "panel {letter}");
+            // the first row U/U_wave, the second Omega_b/omega
+            assert_eq!(p.contains("Ω"), i >= 4, "panel {letter} in the wrong row");
+            // one legend, on (a)
+            assert_eq!(p.contains("class=\"legend\""), i == 0, "panel {letter}");
+        }
+        // tail-5 (6.0 mm) and tail-6 (7.5 mm) stand alone: markers, no curve
+        for i in [2, 3, 6, 7] {
+            assert!(!panels[i].contains("<polyline"), "panel {i} draws a curve");
+        }
+        assert!(
+            panels[0].contains("<polyline"),
+            "a group of two has its curve"
+        );
+        // four panels in a row fit the page at their own size
+        assert!(4 * panel_width(4) + 3 * GAP_PX <= ROW_PX);
+        assert_eq!(panel_width(3), 390);
+    }
+
+    #[test]
+    fn the_x_axis_spans_the_cases_not_a_padded_minimum() {
+        let data = crate::data::paper();
+        let groups = amplitude_groups(&data);
+        let (_, cases) = &groups[2]; // 3.73 and 3.82 waves
+        let (lo, hi) = x_range(cases);
+        let span = 3.818 - 3.733;
+        assert!(lo > 3.70 && hi < 3.86, "{lo}-{hi}");
+        assert!(hi - lo < 2.0 * span);
+    }
+}

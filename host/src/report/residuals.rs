@@ -13,15 +13,15 @@ use plotters::style::RGBColor;
 const PER_QUANTITY: usize = 2;
 
 pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<Result<String, String>> {
-    residual_plots_of(data, cmp, None, PALETTE[1])
+    residual_plots_of(data, ("cases", cmp), None, PALETTE[1])
 }
 
-/// The residual plots of `cmp` in `color`, with `before`'s residuals
-/// beside them (grey, hollow) on the same features.
+/// The residual plots of `(label, cmp)` in `color`, with `before`'s
+/// residuals beside them (grey, hollow) on the same features.
 pub fn residual_plots_of(
     data: &Dataset,
-    cmp: &Comparison,
-    before: Option<&Comparison>,
+    (label, cmp): (&str, &Comparison),
+    before: Option<(&str, &Comparison)>,
     color: RGBColor,
 ) -> Vec<Result<String, String>> {
     let all = trends(data, cmp);
@@ -58,12 +58,12 @@ pub fn residual_plots_of(
             };
             let q = t.quantity.label();
             let mut series = Vec::new();
-            if let Some(b) = before {
+            if let Some((before_label, b)) = before {
                 let (pts, _) = points(b);
-                series.push(Series::model("before the step", BEFORE, pts));
+                series.push(Series::model(before_label, BEFORE, pts));
             }
             series.push(
-                Series::measured(format!("cases (r = {:+.2})", t.r), color, pts).labels(labels),
+                Series::measured(format!("{label} (r = {:+.2})", t.r), color, pts).labels(labels),
             );
             Chart::new(
                 &format!("{q} error against {symbol}"),

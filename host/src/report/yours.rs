@@ -300,8 +300,8 @@ pub fn section(data: &Dataset, path: &Path) -> String {
     ));
     let residuals = super::residuals::residual_plots_of(
         data,
-        &last.comparison,
-        before.map(|b| &b.comparison),
+        (last.label.as_str(), &last.comparison),
+        before.map(|b| (b.label.as_str(), &b.comparison)),
         GREEN,
     );
     if !residuals.is_empty() {

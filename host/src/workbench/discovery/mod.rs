@@ -116,10 +116,10 @@ pub fn aicc(chi2: f64, n: usize, k: usize) -> Option<f64> {
     (denom > 0).then(|| chi2 + 2.0 * k as f64 + 2.0 * (k * (k + 1)) as f64 / denom as f64)
 }
 
-/// Fraction of `reference`'s excess over the floor that `chi2` removes.
+/// Fraction of `reference`'s excess over the floor that `chi2` removes:
+/// the one definition, [`crate::stats::excess_removed`].
 pub fn explained_fraction(reference: f64, chi2: f64, floor0: Option<f64>) -> Option<f64> {
-    let excess = reference - floor0?;
-    (excess > 0.0).then(|| ((reference - chi2) / excess).min(1.0))
+    crate::stats::excess_removed(reference, chi2, floor0)
 }
 
 /// Search for the correction `model` misses on `data`.
