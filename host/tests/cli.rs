@@ -253,6 +253,8 @@ fn synth_then_diagnose_finds_the_hidden_effect_through_the_binary() {
         "5",
         "--seed",
         "7",
+        // the truth on the recorded inputs: this test is about the effect
+        "--nominal-inputs",
         "-o",
         out.to_str().unwrap(),
     ]);
