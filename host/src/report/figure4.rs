@@ -48,12 +48,12 @@ pub fn amplitude_groups(data: &Dataset) -> Vec<(f64, Vec<&Case>)> {
 }
 
 /// The x range of a panel: the cases' `N_lambda` with a margin of a tenth
-/// of their span (at least 1 % of the value), never the chart engine's
+/// of their span (at least 0.3 % of the value), never the chart engine's
 /// minimum span for flat data, which padded 3.73-3.82 out to 3.55-3.98.
 fn x_range(cases: &[&Case]) -> (f64, f64) {
     let lo = cases.iter().map(|c| c.n_waves()).fold(f64::MAX, f64::min);
     let hi = cases.iter().map(|c| c.n_waves()).fold(f64::MIN, f64::max);
-    let pad = (0.1 * (hi - lo)).max(0.01 * hi);
+    let pad = (0.1 * (hi - lo)).max(0.003 * hi);
     (lo - pad, hi + pad)
 }
 
@@ -123,12 +123,13 @@ fn panel(
                 })
             })
             .collect();
-        if l.curve {
-            series.push(Series::curve(
-                String::new(),
-                l.color,
-                model_curve(l.model, cases, ratio),
-            ));
+        let curve = if l.curve {
+            model_curve(l.model, cases, ratio)
+        } else {
+            Vec::new()
+        };
+        if !curve.is_empty() {
+            series.push(Series::curve(String::new(), l.color, curve));
         }
         series.push(Series::model(l.label.clone(), l.color, markers));
     }
