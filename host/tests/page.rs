@@ -337,3 +337,53 @@ fn the_bundle_holds_every_figure_and_table_named_in_the_manifest() {
         }
     }
 }
+
+#[test]
+fn a_lab_s_four_groups_and_second_tube_shape_the_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = swimbot::data::PAPER_TOML
+        .replacen(
+            "id = \"tail-5\"\nwavelength_mm = 15.0\namplitude_mm = 7.5",
+            "id = \"tail-5\"\nwavelength_mm = 15.0\namplitude_mm = 6.0",
+            1,
+        )
+        .replacen(
+            "id = \"tail-6\"\nwavelength_mm = 11.0\namplitude_mm = 7.5",
+            "id = \"tail-6\"\nwavelength_mm = 11.0\namplitude_mm = 7.5\nchannel_diameter_mm = 28.0",
+            1,
+        );
+    assert_ne!(text, swimbot::data::PAPER_TOML, "the fixture changed");
+    std::fs::write(
+        d.join("lab.toml"),
+        text.replacen("name = ", "name = \"my-lab\"\n# ", 1),
+    )
+    .unwrap();
+    ok(&run_in(
+        d,
+        &[
+            "compare",
+            "--data",
+            "lab.toml",
+            "--effect",
+            "body-confinement",
+            "-o",
+            "c",
+        ],
+    ));
+    let page = std::fs::read_to_string(d.join("c/index.html")).unwrap();
+    // one row of U panels and one of Omega_b panels, four columns each
+    for fig in ["fig4", "fig4-yours"] {
+        let f = figure(&page, fig);
+        assert!(f.contains("--cols:4"), "{fig}: four columns");
+        assert_eq!(f.matches("<svg").count(), 8, "{fig}");
+    }
+    // the lab's title and each case's tube
+    assert!(page.contains("<h1>swimbot: models against the measurements of “my-lab”</h1>"));
+    let question = section(&page, "question");
+    assert!(question.contains("28.0-35.0 mm across"), "the tubes' range");
+    assert!(
+        question.contains("D<sub>ch</sub> (mm)"),
+        "a per-case tube column"
+    );
+}

@@ -185,16 +185,17 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
         println!(" σ = error in standard errors of the measured mean)");
     }
     println!(
-        "MARE {:.1} %   max |rel err| {:.1} %   reduced chi-square {}   ({} quantities)",
+        "MARE {:.1} %   max |rel err| {:.1} %   reduced chi-square {}   ({} quantities - {} free parameters)",
         100.0 * s.mare,
         100.0 * s.max_abs_rel_err,
-        opt(s.chi2_reduced, 4),
-        s.n
+        opt(s.chi2_reduced, 3),
+        s.n,
+        s.free_params
     );
     if let (false, Some(sc)) = (combined, &c.summary_combined) {
         println!(
             "against the combined uncertainty (measurement + inputs): reduced chi-square {} (--input-uncertainty judges with it)",
-            opt(sc.chi2_reduced, 4)
+            opt(sc.chi2_reduced, 3)
         );
     }
     if bands {
@@ -242,7 +243,7 @@ fn print_steps(path: &Path) {
             "  {:<28} MARE {:>7}   reduced chi-square {:>8} ({} quantities - {} free parameters)",
             s.label,
             format!("{:.1} %", 100.0 * m.mare),
-            opt(m.chi2_reduced, 4),
+            opt(m.chi2_reduced, 3),
             m.n,
             m.free_params
         );

@@ -12,7 +12,7 @@ h3{margin-bottom:.3em}p,li{max-width:62em}\
 table{border-collapse:collapse;margin:.6em 0;font-size:.9em;font-variant-numeric:tabular-nums}\
 td,th{padding:3px 9px;border-bottom:1px solid #ddd;text-align:right;vertical-align:top;white-space:nowrap}\
 td.l,th.l{white-space:normal}\
-th{background:#f3f3f3}td.l,th.l{text-align:left}\
+th{background:#f3f3f3;white-space:normal}td.l:first-child{white-space:nowrap}td.l,th.l{text-align:left}\
 code{background:#f3f3f3;padding:1px 4px;border-radius:3px;font-size:.92em}\
 figure{margin:1em 0;break-inside:avoid;page-break-inside:avoid}\
 figcaption{font-size:.9em;color:#333;max-width:62em;margin-top:.3em}\

@@ -340,7 +340,7 @@ fn fig4(data: &Dataset, path: &Path) -> String {
     figure_flow(
         "fig4-yours",
         &charts,
-        groups.clamp(1, 3),
+        groups.max(1),
         &format!(
             "<b>Fig. 4 with the model asked for.</b> Measurements (red, {} CIs) against each \
              step: {}. Upper row U/U<sub>wave</sub>, lower row Ω<sub>b</sub>/ω, against \
