@@ -129,7 +129,8 @@ pub fn chart(
     let scale = match m {
         Metric::Chi2 => Scale {
             log: true,
-            lo: 10f64.powf(lo.log10().floor()),
+            // room below the lowest point for its label
+            lo: 10f64.powf((lo / 3.0).log10().floor()),
             hi: 10f64.powf((hi * 1.5).log10().ceil()),
         },
         Metric::Mare => Scale {
@@ -258,10 +259,18 @@ pub fn chart(
         );
         // value and word beside the point, on the side away from the arrow
         let above = prev.is_none_or(|(_, p)| v >= p);
-        let ty = if above { y - 10.0 } else { y + 16.0 };
+        // below the point unless that reaches the axis: then left of it
+        // (the dotted line from the step before runs at that step's level)
+        let (tx, ty, anchor) = if above {
+            (x, y - 10.0, "middle")
+        } else if y + 16.0 > y_bot - 2.0 {
+            (x - 9.0, y + 4.0, "end")
+        } else {
+            (x, y + 16.0, "middle")
+        };
         let _ = write!(
             s,
-            "<text x=\"{x:.1}\" y=\"{ty:.1}\" text-anchor=\"middle\" font-weight=\"600\" fill=\"{color}\">{}{}</text>",
+            "<text x=\"{tx:.1}\" y=\"{ty:.1}\" text-anchor=\"{anchor}\" font-weight=\"600\" fill=\"{color}\">{}{}</text>",
             word.map(|w| format!("{w}: ")).unwrap_or_default(),
             esc(&show(v))
         );
@@ -269,4 +278,40 @@ pub fn chart(
     }
     s.push_str("</svg>");
     Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(label: &str, mare: f64, chi2: f64) -> Step {
+        Step {
+            label: label.into(),
+            what: String::new(),
+            fitted: 0,
+            mare,
+            cv_mare: None,
+            chi2_reduced: Some(chi2),
+        }
+    }
+
+    /// The y of the text that starts with `word`.
+    fn text_y(svg: &str, word: &str) -> f64 {
+        let at = svg.find(&format!(">{word}")).expect("the label");
+        let head = &svg[svg[..at].rfind("<text").unwrap()..at];
+        let y = &head[head.find(" y=\"").unwrap() + 4..];
+        y[..y.find('"').unwrap()].parse().unwrap()
+    }
+
+    #[test]
+    fn a_value_at_the_bottom_keeps_its_label_above_the_category_names() {
+        let steps = [step("start", 2.9, 8.2e6), step("+ a", 0.44, 1.02e5)];
+        for (m, word) in [
+            (Metric::Chi2, "falls: 1.02e5"),
+            (Metric::Mare, "falls: 44.0 %"),
+        ] {
+            let svg = chart(&steps, m, None, 0.0).unwrap();
+            assert!(text_y(&svg, word) < H - BOTTOM, "{m:?}: {word} on the axis");
+        }
+    }
 }
