@@ -9,7 +9,8 @@ use super::path::Step;
 use super::wording::{pct, stat, Change};
 use std::fmt::Write;
 
-const W: f64 = 600.0;
+// two side by side fit the page's 1204 px at their own size
+const W: f64 = 590.0;
 const H: f64 = 410.0;
 const LEFT: f64 = 66.0;
 const RIGHT: f64 = 24.0;
