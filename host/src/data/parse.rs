@@ -1,6 +1,8 @@
 //! TOML -> [`Dataset`]: serde reads the raw tables (rejecting unknown keys),
 //! then every case is merged with `[setup]` and validated field by field so
-//! that an error names the file, the case and the field.
+//! that an error names the file, the case and the field. A `.csv` file is
+//! first turned into the same raw tables by [`super::csv_read`], so both
+//! formats share every check.
 
 use super::uncertainty::{merge_tables, AmplitudeConvention, CaseInputs};
 use super::{Case, DataError, Dataset, Measured, Orientation};
@@ -58,26 +60,65 @@ struct RawCase {
     amplitude_convention: Option<AmplitudeConvention>,
 }
 
-/// Read and validate a dataset file.
+/// Read and validate a dataset file: CSV (`.csv`, docs/data-format.md)
+/// or TOML (any other name). The file's path and SHA-256 are recorded as
+/// an input of this run ([`crate::provenance`]).
 pub fn load_file(path: &Path) -> Result<Dataset, DataError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| DataError {
-        file: file.clone(),
-        case: None,
-        field: None,
-        message: format!("cannot read the file: {e}"),
-    })?;
-    parse_str(&text, &file)
+    let bytes = std::fs::read(path)
+        .map_err(|e| err(&file, None, None, format!("cannot read the file: {e}")))?;
+    crate::provenance::record_input(path, &bytes);
+    let text = String::from_utf8(bytes)
+        .map_err(|e| err(&file, None, None, format!("not UTF-8 text: {e}")))?;
+    if is_csv(path) {
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let (table, rows) = super::csv_read::read(&text, &file, dir)?;
+        parse_table(table, &file, &|i| rows.describe(i))
+    } else {
+        parse_str(&text, &file)
+    }
+}
+
+/// A `.csv` name (any case) is a CSV dataset; anything else is TOML.
+pub fn is_csv(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
 }
 
 /// Parse and validate dataset text; `file` names it in error messages.
 pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
-    let raw: RawDataset = toml::from_str(text).map_err(|e| DataError {
-        file: file.to_string(),
-        case: None,
-        field: None,
-        message: format!("not a valid dataset: {}", e.to_string().trim_end()),
-    })?;
+    // Straight from the text, so that an unknown key's error keeps its line.
+    let raw: RawDataset = toml::from_str(text).map_err(|e| not_a_dataset(file, &e))?;
+    validate(raw, file, &|_| file.to_string())
+}
+
+fn not_a_dataset(file: &str, e: &toml::de::Error) -> DataError {
+    err(
+        file,
+        None,
+        None,
+        format!("not a valid dataset: {}", e.to_string().trim_end()),
+    )
+}
+
+/// Validate the raw tables of a dataset. `locate(i)` names where case `i`
+/// is written (the file, or the file and its rows for a CSV).
+pub(super) fn parse_table(
+    table: toml::Table,
+    file: &str,
+    locate: &dyn Fn(usize) -> String,
+) -> Result<Dataset, DataError> {
+    let raw: RawDataset = toml::Value::Table(table)
+        .try_into()
+        .map_err(|e| not_a_dataset(file, &e))?;
+    validate(raw, file, locate)
+}
+
+fn validate(
+    raw: RawDataset,
+    file: &str,
+    locate: &dyn Fn(usize) -> String,
+) -> Result<Dataset, DataError> {
     if raw.cases.is_empty() {
         return Err(err(file, None, None, "the dataset has no [[case]] tables"));
     }
@@ -91,10 +132,11 @@ pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
     }
     let mut cases = Vec::with_capacity(raw.cases.len());
     for (i, rc) in raw.cases.iter().enumerate() {
-        let case = resolve(file, i, &raw.setup, rc)?;
-        super::limits::check_case(&case).map_err(|(f, m)| err(file, Some(&case.id), Some(f), m))?;
+        let at = locate(i);
+        let case = resolve(&at, i, &raw.setup, rc)?;
+        super::limits::check_case(&case).map_err(|(f, m)| err(&at, Some(&case.id), Some(f), m))?;
         if cases.iter().any(|c: &Case| c.id == case.id) {
-            return Err(err(file, Some(&case.id), Some("id"), "duplicate case id"));
+            return Err(err(&at, Some(&case.id), Some("id"), "duplicate case id"));
         }
         cases.push(case);
     }
