@@ -1,21 +1,21 @@
-//! Progress of long work, on stderr, wherever stderr goes.
+//! Progress of long work on stderr, wherever stderr goes.
 //!
-//! Work that lasts longer than a grace period (2 s) shows progress: in a
-//! terminal an `indicatif` bar or spinner; anywhere else (a file, a pipe, a
-//! notebook cell's `!swimbot ...`) a plain line every 5 s, without escape
-//! codes, and a last line with the total time. `--quiet` silences both
-//! ([`set_quiet`]). `SWIMBOT_PROGRESS_MS=N` sets the grace period and the
-//! interval of the plain lines to N milliseconds (tests, or a slower log).
+//! The commands draw `indicatif` spinners and bars made here. In a
+//! terminal they are drawn as usual once the work has lasted 2 s
+//! ([`Delayed`]: a quick run does not flash a bar). Anywhere else (a file, a pipe, a
+//! notebook cell's `!swimbot ...`), where indicatif would draw nothing,
+//! [`PlainLines`] turns its redraws into a plain line every 5 s, without
+//! escape codes, once the work has lasted 2 s. `--quiet` silences both
+//! ([`set_quiet`]). `SWIMBOT_PROGRESS_MS=N` sets both the 2 s and the 5 s
+//! to N milliseconds (tests; a sparser log).
 //!
-//! A command starts one [`Progress`] and ends it ([`Progress::finish`], or
-//! by dropping it) before it prints its result, so that a bar is never
-//! drawn over the result in a terminal.
+//! A command ends its spinner (`finish_and_clear`) before it prints its
+//! result, so that a bar is never drawn over the result in a terminal.
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle, TermLike};
 use std::io::{IsTerminal, Write};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Condvar, Mutex};
-use std::thread::JoinHandle;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 static QUIET: AtomicBool = AtomicBool::new(false);
@@ -25,11 +25,11 @@ pub fn set_quiet(quiet: bool) {
     QUIET.store(quiet, Ordering::Relaxed);
 }
 
-/// Default grace period before anything is shown.
+/// Default wait before the first plain line.
 const GRACE: Duration = Duration::from_secs(2);
 /// Default interval between plain lines.
 const INTERVAL: Duration = Duration::from_secs(5);
-/// Redraw period of the terminal bar.
+/// Redraw period of a spinner in a terminal.
 const REDRAW: Duration = Duration::from_millis(100);
 
 /// `(grace, interval)`, from `SWIMBOT_PROGRESS_MS` when set.
@@ -41,76 +41,175 @@ fn timing() -> (Duration, Duration) {
         .unwrap_or((GRACE, INTERVAL))
 }
 
-struct Shared {
-    label: Mutex<String>,
-    done: AtomicU64,
-    /// Total units of work and their name, when counted.
-    total: Option<(u64, &'static str)>,
-    stop: Mutex<bool>,
-    wake: Condvar,
-    started: Instant,
+enum Mode {
+    Quiet,
+    Terminal,
+    Plain,
 }
 
-/// Progress of one piece of work; see the module docs.
-pub struct Progress {
-    shared: Arc<Shared>,
-    ticker: Option<JoinHandle<()>>,
+fn mode() -> Mode {
+    if QUIET.load(Ordering::Relaxed) {
+        Mode::Quiet
+    } else if std::io::stderr().is_terminal() {
+        Mode::Terminal
+    } else {
+        Mode::Plain
+    }
 }
 
-impl Progress {
-    /// Work of unknown size: a spinner, or lines with the elapsed time.
-    pub fn start(label: &str) -> Progress {
-        Progress::new(label, None)
-    }
-
-    /// `total` units (`unit`: "cases", "geometries") counted by [`Progress::inc`].
-    pub fn counted(label: &str, total: u64, unit: &'static str) -> Progress {
-        Progress::new(label, Some((total, unit)))
-    }
-
-    fn new(label: &str, total: Option<(u64, &'static str)>) -> Progress {
-        let shared = Arc::new(Shared {
-            label: Mutex::new(label.to_string()),
-            done: AtomicU64::new(0),
-            total,
-            stop: Mutex::new(false),
-            wake: Condvar::new(),
-            started: Instant::now(),
-        });
-        let ticker = if QUIET.load(Ordering::Relaxed) {
-            None
-        } else {
-            let s = Arc::clone(&shared);
-            let terminal = std::io::stderr().is_terminal();
-            std::thread::Builder::new()
-                .name("progress".into())
-                .spawn(move || tick(&s, terminal))
-                .ok()
-        };
-        Progress { shared, ticker }
-    }
-
-    /// `n` more units done.
-    pub fn inc(&self, n: u64) {
-        self.shared.done.fetch_add(n, Ordering::Relaxed);
-    }
-
-    /// What is being done now (shown in place of the starting label).
-    pub fn stage(&self, label: &str) {
-        *lock(&self.shared.label) = label.to_string();
-    }
-
-    /// Ends the display (also done on drop).
-    pub fn finish(self) {}
+/// A spinner for work of unknown length: `message` and the elapsed time.
+pub fn spinner(message: &str) -> ProgressBar {
+    make(None, message, "")
 }
 
-impl Drop for Progress {
-    fn drop(&mut self) {
-        *lock(&self.shared.stop) = true;
-        self.shared.wake.notify_all();
-        if let Some(t) = self.ticker.take() {
-            let _ = t.join();
+/// A bar for `total` units (`unit`: "cases", "geometries") advanced by
+/// `inc`: count, share and elapsed time, and in a terminal the time left.
+pub fn bar(total: u64, unit: &str, message: &str) -> ProgressBar {
+    make(Some(total), message, unit)
+}
+
+fn make(total: Option<u64>, message: &str, unit: &str) -> ProgressBar {
+    let (target, template, tick) = match mode() {
+        Mode::Quiet => return ProgressBar::hidden(),
+        Mode::Terminal => {
+            let t = match total {
+                Some(_) => format!("{{spinner}} {{msg}} {{bar:30}} {{pos}}/{{len}} {unit} ({{elapsed}}, {{eta}} left)"),
+                None => "{spinner} {msg} ({elapsed})".to_string(),
+            };
+            let term = Delayed {
+                term: console::Term::stderr(),
+                from: Instant::now() + timing().0,
+            };
+            (ProgressDrawTarget::term_like(Box::new(term)), t, REDRAW)
         }
+        Mode::Plain => {
+            let (grace, interval) = timing();
+            let t = match total {
+                Some(_) => format!("{{msg}}: {{pos}}/{{len}} {unit} ({{percent}} %), {{elapsed}}"),
+                None => "{msg}: {elapsed}".to_string(),
+            };
+            let lines = PlainLines::new(grace, interval);
+            (
+                ProgressDrawTarget::term_like(Box::new(lines)),
+                t,
+                interval.min(REDRAW),
+            )
+        }
+    };
+    let bar = ProgressBar::with_draw_target(total, target);
+    if let Ok(style) = ProgressStyle::with_template(&template) {
+        bar.set_style(style);
+    }
+    bar.set_message(message.to_string());
+    bar.enable_steady_tick(tick);
+    bar
+}
+
+/// The terminal, drawn on only from a given time: before it, indicatif's
+/// draws go nowhere (its one-line clear-and-redraw then starts cleanly on
+/// the cursor's line).
+#[derive(Debug)]
+pub struct Delayed {
+    term: console::Term,
+    from: Instant,
+}
+
+impl Delayed {
+    fn on(&self) -> bool {
+        Instant::now() >= self.from
+    }
+}
+
+impl TermLike for Delayed {
+    fn width(&self) -> u16 {
+        self.term.size().1
+    }
+    fn height(&self) -> u16 {
+        self.term.size().0
+    }
+    fn move_cursor_up(&self, n: usize) -> std::io::Result<()> {
+        if self.on() {
+            self.term.move_cursor_up(n)?;
+        }
+        Ok(())
+    }
+    fn move_cursor_down(&self, n: usize) -> std::io::Result<()> {
+        if self.on() {
+            self.term.move_cursor_down(n)?;
+        }
+        Ok(())
+    }
+    fn move_cursor_right(&self, n: usize) -> std::io::Result<()> {
+        if self.on() {
+            self.term.move_cursor_right(n)?;
+        }
+        Ok(())
+    }
+    fn move_cursor_left(&self, n: usize) -> std::io::Result<()> {
+        if self.on() {
+            self.term.move_cursor_left(n)?;
+        }
+        Ok(())
+    }
+    fn write_line(&self, s: &str) -> std::io::Result<()> {
+        if self.on() {
+            self.term.write_line(s)?;
+        }
+        Ok(())
+    }
+    fn write_str(&self, s: &str) -> std::io::Result<()> {
+        if self.on() {
+            self.term.write_str(s)?;
+        }
+        Ok(())
+    }
+    fn clear_line(&self) -> std::io::Result<()> {
+        if self.on() {
+            self.term.clear_line()?;
+        }
+        Ok(())
+    }
+    fn flush(&self) -> std::io::Result<()> {
+        self.term.flush()
+    }
+}
+
+/// A stand-in terminal for indicatif that prints what it would draw as a
+/// plain line, at most once per interval and not before the grace period.
+/// Cursor moves and clears are dropped: each line is a new line.
+#[derive(Debug)]
+pub struct PlainLines {
+    started: Instant,
+    grace: Duration,
+    interval: Duration,
+    last: Mutex<Option<Instant>>,
+    pending: Mutex<String>,
+}
+
+impl PlainLines {
+    pub fn new(grace: Duration, interval: Duration) -> PlainLines {
+        PlainLines {
+            started: Instant::now(),
+            grace,
+            interval,
+            last: Mutex::new(None),
+            pending: Mutex::new(String::new()),
+        }
+    }
+
+    /// The line to print now, if one is due.
+    fn due(&self, text: &str) -> Option<String> {
+        let text = text.trim();
+        let now = Instant::now();
+        if text.is_empty() || now.duration_since(self.started) < self.grace {
+            return None;
+        }
+        let mut last = lock(&self.last);
+        if last.is_some_and(|t| now.duration_since(t) < self.interval) {
+            return None;
+        }
+        *last = Some(now);
+        Some(format!("swimbot: {text}"))
     }
 }
 
@@ -118,82 +217,41 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// Waits `d` or until stopped; true when stopped.
-fn wait(s: &Shared, d: Duration) -> bool {
-    let stopped = lock(&s.stop);
-    let (stopped, _) = s
-        .wake
-        .wait_timeout_while(stopped, d, |stop| !*stop)
-        .unwrap_or_else(|e| e.into_inner());
-    *stopped
-}
-
-fn tick(s: &Shared, terminal: bool) {
-    let (grace, interval) = timing();
-    if wait(s, grace) {
-        return;
+impl TermLike for PlainLines {
+    fn width(&self) -> u16 {
+        // Wide enough that indicatif never wraps or truncates a line.
+        400
     }
-    if terminal {
-        bar(s)
-    } else {
-        lines(s, interval)
+    fn move_cursor_up(&self, _: usize) -> std::io::Result<()> {
+        Ok(())
     }
-}
-
-/// Plain lines: now, every `interval`, and the total time at the end.
-fn lines(s: &Shared, interval: Duration) {
-    loop {
-        let stopped = wait(s, Duration::ZERO) || {
-            line(s, false);
-            wait(s, interval)
-        };
-        if stopped {
-            line(s, true);
-            return;
-        }
+    fn move_cursor_down(&self, _: usize) -> std::io::Result<()> {
+        Ok(())
     }
-}
-
-fn line(s: &Shared, last: bool) {
-    let secs = s.started.elapsed().as_secs_f64();
-    let label = lock(&s.label).clone();
-    let count = match s.total {
-        Some((total, unit)) if !last => {
-            let done = s.done.load(Ordering::Relaxed).min(total);
-            let pct = 100.0 * done as f64 / total.max(1) as f64;
-            format!("{done}/{total} {unit} ({pct:.0} %), ")
-        }
-        _ => String::new(),
-    };
-    let status = if last { "done in " } else { "" };
-    let mut err = std::io::stderr().lock();
-    let _ = writeln!(err, "swimbot: {label}: {count}{status}{secs:.1} s");
-}
-
-/// The terminal bar, redrawn until stopped, then cleared.
-fn bar(s: &Shared) {
-    let (bar, template) = match s.total {
-        Some((total, unit)) => (
-            ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr()),
-            format!(
-                "{{spinner}} {{msg}} {{bar:30}} {{pos}}/{{len}} {unit} ({{elapsed}}, {{eta}} left)"
-            ),
-        ),
-        None => (
-            ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr()),
-            "{spinner} {msg} ({elapsed})".to_string(),
-        ),
-    };
-    if let Ok(style) = ProgressStyle::with_template(&template) {
-        bar.set_style(style);
+    fn move_cursor_right(&self, _: usize) -> std::io::Result<()> {
+        Ok(())
     }
-    loop {
-        bar.set_message(lock(&s.label).clone());
-        bar.set_position(s.done.load(Ordering::Relaxed));
-        bar.tick();
-        if wait(s, REDRAW) {
-            bar.finish_and_clear();
-            return;
+    fn move_cursor_left(&self, _: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn write_line(&self, s: &str) -> std::io::Result<()> {
+        let mut p = lock(&self.pending);
+        p.push_str(s);
+        p.push(' ');
+        Ok(())
+    }
+    fn write_str(&self, s: &str) -> std::io::Result<()> {
+        lock(&self.pending).push_str(&s.replace('\r', ""));
+        Ok(())
+    }
+    fn clear_line(&self) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn flush(&self) -> std::io::Result<()> {
+        let text = std::mem::take(&mut *lock(&self.pending));
+        match self.due(&text) {
+            Some(line) => writeln!(std::io::stderr().lock(), "{line}"),
+            None => Ok(()),
         }
     }
 }
@@ -203,16 +261,15 @@ mod tests {
     use super::*;
 
     #[test]
-    fn counts_and_stages_are_kept_and_dropping_stops_the_ticker() {
-        let p = Progress::counted("test", 10, "items");
-        p.inc(3);
-        p.inc(4);
-        p.stage("second stage");
-        assert_eq!(p.shared.done.load(Ordering::Relaxed), 7);
-        assert_eq!(*lock(&p.shared.label), "second stage");
-        let started = Instant::now();
-        p.finish();
-        // The ticker wakes at once, not after its grace period.
-        assert!(started.elapsed() < Duration::from_secs(1));
+    fn plain_lines_wait_for_the_grace_period_then_print_once_per_interval() {
+        let p = PlainLines::new(Duration::from_millis(30), Duration::from_secs(3600));
+        assert_eq!(p.due("early"), None, "inside the grace period");
+        std::thread::sleep(Duration::from_millis(40));
+        assert_eq!(p.due("   "), None, "a cleared line prints nothing");
+        assert_eq!(
+            p.due("  compare: 3s \u{20}\u{20}").as_deref(),
+            Some("swimbot: compare: 3s")
+        );
+        assert_eq!(p.due("compare: 4s"), None, "within the interval");
     }
 }

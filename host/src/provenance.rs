@@ -118,6 +118,44 @@ impl Provenance {
     }
 }
 
+impl Provenance {
+    /// The lines as an HTML section (the report page's last).
+    pub fn html_section(&self) -> String {
+        format!(
+            "<section class=\"provenance\"><h2>Provenance</h2><pre>{}</pre></section>\n",
+            escape_xml(&self.lines().join("\n"))
+        )
+    }
+
+    /// `page` with [`Provenance::html_section`] before `</body>` (or at the end).
+    pub fn into_html(&self, page: &str) -> String {
+        let at = page.rfind("</body>").unwrap_or(page.len());
+        format!("{}{}{}", &page[..at], self.html_section(), &page[at..])
+    }
+
+    /// `svg` with the lines in a `<metadata>` element right after the
+    /// opening `<svg ...>` tag (an XML comment could not hold the `--` of
+    /// a command line).
+    pub fn into_svg(&self, svg: &str) -> String {
+        let at = svg
+            .find("<svg")
+            .and_then(|s| svg[s..].find('>').map(|e| s + e + 1))
+            .unwrap_or(0);
+        format!(
+            "{}\n<metadata>{}</metadata>{}",
+            &svg[..at],
+            escape_xml(&self.lines().join("\n")),
+            &svg[at..]
+        )
+    }
+}
+
+fn escape_xml(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
 /// Single quotes around an argument a shell would split or expand.
 fn shell_quoted(a: &str) -> String {
     let plain = !a.is_empty()
@@ -182,5 +220,25 @@ mod tests {
         assert_eq!(mine[0].sha256, sha256_hex(b"two"));
         let date = Provenance::capture().date_utc;
         assert!(date.ends_with('Z') && date.len() == 20, "{date}");
+    }
+
+    #[test]
+    fn html_and_svg_carry_the_lines_escaped_in_place() {
+        let p = Provenance {
+            version: "1.2.3".into(),
+            commit: "abc".into(),
+            command: vec!["swimbot".into(), "--data".into(), "<a&b>.csv".into()],
+            inputs: vec![],
+            date_utc: "2026-01-01T00:00:00Z".into(),
+        };
+        let page = p.into_html("<html><body><p>x</p></body></html>");
+        assert!(page.ends_with("</pre></section>\n</body></html>"), "{page}");
+        assert!(page.contains("&lt;a&amp;b&gt;.csv"), "{page}");
+        let svg = p.into_svg("<?xml version=\"1.0\"?>\n<svg width=\"1\"><g/></svg>");
+        assert!(
+            svg.contains("<svg width=\"1\">\n<metadata>swimbot 1.2.3 (commit abc)"),
+            "{svg}"
+        );
+        assert!(svg.ends_with("</metadata><g/></svg>"), "{svg}");
     }
 }

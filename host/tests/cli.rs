@@ -162,7 +162,8 @@ fn sweep_writes_one_row_per_grid_point() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
-    let lines: Vec<&str> = text.lines().collect();
+    // Below the provenance comments (`# swimbot ...`).
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(lines.len(), 1 + 5 * 3 * 2);
     assert!(lines[0].starts_with("wavelength_mm,amplitude_mm"));
     assert!(lines[1..]

@@ -62,6 +62,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     if !args.no_report {
         super::output::check_output_dir(&args.output)?;
     }
+    let spinner = crate::progress::spinner(&format!("compare: {}", model.describe()));
     let mut cmp = compare(&model, &data, 0).map_err(super::model_args::in_data(&args.data.data))?;
     let mut checks = Vec::new();
     if has_inputs {
@@ -75,6 +76,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         }
         cmp = cmp.with_bands(&data, &bands);
     }
+    spinner.set_message("compare: writing the report");
     super::output::check_finite("comparison", &cmp)?;
     // The report is written before anything is printed, so that a failure
     // does not follow a complete-looking table.
@@ -90,6 +92,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
             })?,
         )
     };
+    spinner.finish_and_clear();
     match args.format {
         Format::Table => print_table(&cmp, args.input_uncertainty, &checks),
         Format::Json => print_json(&cmp),

@@ -18,6 +18,7 @@ mod output;
 mod report;
 mod sim;
 mod sweep;
+mod sweep_setup;
 mod synth;
 
 pub use error::CliError;

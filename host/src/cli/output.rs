@@ -38,18 +38,27 @@ pub const DEFAULT_REPORT_DIR: &str = "swimbot-out/report";
 /// `sim`'s CSV and SVG.
 pub const DEFAULT_SIM_DIR: &str = "swimbot-out/sim";
 
-/// Print JSON to stdout (serialisation of our own types cannot fail).
+/// Print JSON to stdout (serialisation of our own types cannot fail). An
+/// object gains the run's provenance as its first key, `swimbot`
+/// ([`crate::provenance`]); a list (`effects`) is printed as it is.
 pub fn print_json<T: serde::Serialize>(value: &T) {
+    let v = serde_json::to_value(value).expect("serialisable");
+    let v = if v.is_object() {
+        crate::provenance::with_provenance(&v)
+    } else {
+        v
+    };
     println!(
         "{}",
-        serde_json::to_string_pretty(value).expect("serialisable")
+        serde_json::to_string_pretty(&v).expect("serialisable")
     );
 }
 
 /// Rows of flat structs as CSV with every number in the one CSV style
 /// ([`crate::format::csv_f64`]): the csv crate's own float writer switches
 /// to `1e-7` notation for small and large values. Columns in the struct's
-/// declared order; `None` is an empty cell.
+/// declared order; `None` is an empty cell. The provenance comes first, as
+/// `#` comment lines (pandas: `read_csv(..., comment="#")`).
 pub fn write_csv_rows<T: serde::Serialize>(
     rows: &[T],
     out: impl std::io::Write,
@@ -68,6 +77,13 @@ pub fn write_csv_rows<T: serde::Serialize>(
         .iter()
         .map(str::to_string)
         .collect();
+    let mut out = out;
+    out.write_all(
+        crate::provenance::Provenance::capture()
+            .comment_block()
+            .as_bytes(),
+    )
+    .map_err(|e| fail(&e))?;
     let mut w = csv::Writer::from_writer(out);
     w.write_record(&header).map_err(|e| fail(&e))?;
     for row in rows {
@@ -283,8 +299,15 @@ mod tests {
         }];
         let mut out = Vec::new();
         write_csv_rows(&rows, &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.starts_with("# swimbot "), "{text}");
+        let rows: String = text
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| format!("{l}\n"))
+            .collect();
         assert_eq!(
-            String::from_utf8(out).unwrap(),
+            rows,
             "id,tiny,big,n,none\n1e3,0.00000012,300000000000000000,4,\n"
         );
     }

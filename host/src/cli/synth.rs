@@ -102,7 +102,9 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
             ))
         })?;
     }
-    super::output::write_atomically(&a.output, crate::data::to_toml(&data).as_bytes())?;
+    let text =
+        crate::provenance::Provenance::capture().comment_block() + &crate::data::to_toml(&data);
+    super::output::write_atomically(&a.output, text.as_bytes())?;
     eprintln!(
         "wrote {} cases from truth `{}` to {}",
         data.cases.len(),

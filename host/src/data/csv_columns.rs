@@ -79,9 +79,12 @@ pub fn kind_of(name: &str) -> Option<Kind> {
     COLUMNS.iter().find(|(n, _)| *n == name).map(|(_, k)| *k)
 }
 
-/// Where a column goes in the writer's order (uncertainties last, in the
-/// order of the dataset's fields).
+/// Where a column (or a TOML key) goes in the writer's order: raw trials
+/// where their means go, uncertainties last, in the order of the fields.
 pub fn order_of(name: &str) -> usize {
+    if let Some((mean, _)) = TRIAL_COLUMNS.iter().find(|(_, raw)| *raw == name) {
+        return order_of(mean);
+    }
     match name.strip_prefix(UNCERTAINTY_PREFIX) {
         Some(k) => {
             COLUMNS.len()

@@ -37,11 +37,16 @@ impl Rows {
     }
 }
 
-fn fail(at: impl Into<String>, field: Option<&str>, message: impl Into<String>) -> DataError {
+/// An error at `at` (file and row), in a column if given.
+fn fail(at: impl Into<String>, column: Option<&str>, message: impl Into<String>) -> DataError {
+    let at = at.into();
     DataError {
-        file: at.into(),
+        file: match column {
+            Some(c) => format!("{at}: column `{c}`"),
+            None => at,
+        },
         case: None,
-        field: field.map(str::to_string),
+        field: None,
         message: message.into(),
     }
 }
@@ -50,22 +55,25 @@ fn fail(at: impl Into<String>, field: Option<&str>, message: impl Into<String>) 
 /// is where a `setup_file` named in the header is looked for.
 pub fn read(text: &str, file: &str, dir: &Path) -> Result<(toml::Table, Rows), DataError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut top = header(text, file, dir)?;
+    let (mut top, skipped) = header(text, file, dir)?;
+    // The rows start below the header block. No comment character is set
+    // for them: an id may start with `#` (`#3`, the parser's name for an
+    // unnamed case), and a spreadsheet does not quote it.
+    let body: String = text.split_inclusive('\n').skip(skipped).collect();
     let mut reader = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
         .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
+        .from_reader(body.as_bytes());
     let names: Vec<String> = reader
         .headers()
-        .map_err(|e| csv_error(file, &e))?
+        .map_err(|e| csv_error(file, skipped, &e))?
         .iter()
         .map(str::to_string)
         .collect();
     let kinds = column_kinds(file, &names)?;
     let mut groups: Vec<Group> = Vec::new();
     for record in reader.records() {
-        let record = record.map_err(|e| csv_error(file, &e))?;
-        let line = record.position().map_or(0, |p| p.line());
+        let record = record.map_err(|e| csv_error(file, skipped, &e))?;
+        let line = record.position().map_or(0, |p| p.line()) + skipped as u64;
         let at = format!("{file}: row {line}");
         let mut row = toml::Table::new();
         for ((cell, name), kind) in record.iter().zip(&names).zip(&kinds) {
@@ -220,8 +228,8 @@ fn first_difference(a: &toml::Table, b: &toml::Table) -> Option<String> {
         })
 }
 
-fn csv_error(file: &str, e: &csv::Error) -> DataError {
-    let line = e.position().map(|p| p.line());
+fn csv_error(file: &str, skipped: usize, e: &csv::Error) -> DataError {
+    let line = e.position().map(|p| p.line() + skipped as u64);
     let at = line.map_or(file.to_string(), |l| format!("{file}: row {l}"));
     let message = match e.kind() {
         csv::ErrorKind::UnequalLengths {
@@ -233,14 +241,16 @@ fn csv_error(file: &str, e: &csv::Error) -> DataError {
 }
 
 /// The `# key = value` block above the header row, line numbers kept, as
-/// the dataset's top-level table with its `setup`.
-fn header(text: &str, file: &str, dir: &Path) -> Result<toml::Table, DataError> {
+/// the dataset's top-level table with its `setup`, and its number of lines.
+fn header(text: &str, file: &str, dir: &Path) -> Result<(toml::Table, usize), DataError> {
     let mut block = String::new();
+    let mut lines = 0;
     for line in text.lines() {
         let trimmed = line.trim();
         if !(trimmed.is_empty() || trimmed.starts_with('#')) {
             break;
         }
+        lines += 1;
         let body = trimmed.trim_start_matches('#').trim();
         // Other `#` lines (notes, the provenance of a written file) are comments.
         if is_key_value(body) {
@@ -268,12 +278,16 @@ fn header(text: &str, file: &str, dir: &Path) -> Result<toml::Table, DataError> 
     }
     if let Some(side) = setup.remove("setup_file") {
         let Some(name) = side.as_str() else {
-            return Err(fail(file, Some("setup_file"), "must be a quoted file name"));
+            return Err(fail(
+                file,
+                None,
+                "header: `setup_file` must be a quoted file name",
+            ));
         };
         top = side_file(&dir.join(name), top, &mut setup)?;
     }
     top.insert("setup".into(), toml::Value::Table(setup));
-    Ok(top)
+    Ok((top, lines))
 }
 
 /// A header line that sets a key: `key = ...`, `uncertainty.key = ...`.
@@ -316,8 +330,8 @@ fn side_file(
     if let Some(key) = side.keys().next() {
         return Err(fail(
             &shown,
-            Some(key),
-            "a setup file takes only name, source and a [setup] table (the cases are the CSV's rows)",
+            None,
+            format!("`{key}`: a setup file takes only name, source and a [setup] table (the cases are the CSV's rows)"),
         ));
     }
     Ok(top)

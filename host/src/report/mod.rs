@@ -27,6 +27,7 @@ fn write_page(dir: &std::path::Path, page: &str) -> Result<std::path::PathBuf, S
     std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
     let path = dir.join("index.html");
     let tmp = dir.join(format!(".index.html.tmp-{}", std::process::id()));
+    let page = crate::provenance::Provenance::capture().into_html(page);
     std::fs::write(&tmp, page)
         .and_then(|()| std::fs::rename(&tmp, &path))
         .map_err(|e| {
