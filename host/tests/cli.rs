@@ -504,6 +504,10 @@ fn a_reader_that_stops_early_ends_the_process_quietly() {
     // The read end is dropped here, as `head` closes it.
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.is_empty(), "stderr: {err}");
+    // Nothing but progress lines (a sweep past 2 s on a busy machine).
+    assert!(
+        err.lines().all(|l| l.starts_with("swimbot: sweep: ")),
+        "stderr: {err}"
+    );
     assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{:?}", out.status);
 }

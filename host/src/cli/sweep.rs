@@ -39,7 +39,7 @@ pub struct SweepArgs {
     /// channel (diameter, length, ends, orientation) [default: the paper's first case].
     #[arg(long, value_name = "FILE")]
     pub data: Option<PathBuf>,
-    /// With --data: the case whose setup is used, when the dataset's cases differ in it.
+    /// With --data: the case whose setup is used [default: the first, if every case has the same setup].
     #[arg(long, value_name = "ID", requires = "data")]
     pub case: Option<String>,
     #[command(flatten)]
