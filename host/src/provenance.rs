@@ -122,7 +122,7 @@ impl Provenance {
     /// The lines as an HTML section (the report page's last).
     pub fn html_section(&self) -> String {
         format!(
-            "<section class=\"provenance\"><h2>Provenance</h2><pre>{}</pre></section>\n",
+            "<section class=\"provenance\"><h2 id=\"provenance\">Provenance</h2><pre>{}</pre></section>\n",
             escape_xml(&self.lines().join("\n"))
         )
     }
@@ -168,21 +168,22 @@ fn shell_quoted(a: &str) -> String {
     }
 }
 
-/// A JSON output with the provenance first, as the `swimbot` key, and the
-/// value's own keys after it (an object; anything else under `result`).
-pub fn with_provenance<T: Serialize>(value: &T) -> serde_json::Value {
-    let mut out = serde_json::Map::new();
-    out.insert(
-        "swimbot".into(),
-        serde_json::to_value(Provenance::capture()).expect("serialisable"),
-    );
-    match serde_json::to_value(value).expect("serialisable") {
-        serde_json::Value::Object(m) => out.extend(m),
-        other => {
-            out.insert("result".into(), other);
-        }
+/// A JSON object output with the provenance first, as the `swimbot` key,
+/// and the value's own keys after it, in their order.
+#[derive(Serialize)]
+pub struct WithProvenance<'a, T: Serialize> {
+    pub swimbot: Provenance,
+    #[serde(flatten)]
+    pub value: &'a T,
+}
+
+/// `value` with this run's provenance (see [`WithProvenance`]); `value`
+/// must serialise as a JSON object (a struct or a map).
+pub fn with_provenance<T: Serialize>(value: &T) -> WithProvenance<'_, T> {
+    WithProvenance {
+        swimbot: Provenance::capture(),
+        value,
     }
-    serde_json::Value::Object(out)
 }
 
 #[cfg(test)]

@@ -40,6 +40,15 @@ fn a_csv_dataset_and_its_toml_give_the_same_compare_json() {
     let (from_toml, _) = compare_json(&toml);
     let (from_csv, provenance) = compare_json(&example("paper.csv"));
     assert_eq!(from_csv, from_toml);
+    // The block comes first; the comparison's keys keep their order after it.
+    let o = swimbot(&["compare", "--no-report", "--format", "json"]);
+    let text = stdout(&o);
+    assert!(text.starts_with("{\n  \"swimbot\": {"), "{text}");
+    let (model, cases) = (
+        text.find("\"model\"").unwrap(),
+        text.find("\"cases\"").unwrap(),
+    );
+    assert!(model < cases, "declared order: model, dataset, cases, ...");
     assert_eq!(from_csv["cases"].as_array().unwrap().len(), 6);
     // The block names the CSV and its hash.
     let csv_bytes = std::fs::read(example("paper.csv")).unwrap();

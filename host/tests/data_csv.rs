@@ -122,6 +122,10 @@ fn bad_csv_cases(paper: &str) -> Vec<(String, Vec<String>)> {
             vec!["bad.csv", row3, "cells where the header row has"],
         ),
         (
+            paper.replacen("# viscosity_pa_s = 3.5\n", "", 1),
+            vec!["bad.csv", "tail-1", "viscosity_pa_s", "give it a column"],
+        ),
+        (
             paper.replacen("# viscosity_pa_s = 3.5", "# viscosity_pa_s = ", 1),
             vec!["bad.csv", "line", "header line"],
         ),

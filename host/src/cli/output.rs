@@ -42,16 +42,15 @@ pub const DEFAULT_SIM_DIR: &str = "swimbot-out/sim";
 /// object gains the run's provenance as its first key, `swimbot`
 /// ([`crate::provenance`]); a list (`effects`) is printed as it is.
 pub fn print_json<T: serde::Serialize>(value: &T) {
-    let v = serde_json::to_value(value).expect("serialisable");
-    let v = if v.is_object() {
-        crate::provenance::with_provenance(&v)
+    // Keys stay in their declared order: the value is not rebuilt as a
+    // (sorted) `serde_json::Value`, only checked for being an object.
+    let is_object = serde_json::to_value(value).is_ok_and(|v| v.is_object());
+    let text = if is_object {
+        serde_json::to_string_pretty(&crate::provenance::with_provenance(value))
     } else {
-        v
+        serde_json::to_string_pretty(value)
     };
-    println!(
-        "{}",
-        serde_json::to_string_pretty(&v).expect("serialisable")
-    );
+    println!("{}", text.expect("serialisable"));
 }
 
 /// Rows of flat structs as CSV with every number in the one CSV style

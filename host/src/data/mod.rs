@@ -7,13 +7,15 @@ pub mod csv_columns;
 mod csv_read;
 mod csv_write;
 pub mod limits;
+mod load;
 mod parse;
 mod profile;
 pub mod quantities;
 pub mod uncertainty;
 mod write;
 
-pub use parse::{is_csv, load_file, parse_str};
+pub use load::{convert_file, is_csv, load_file, FileFormat};
+pub use parse::parse_str;
 pub use profile::PROFILE_TOLERANCE;
 pub use write::to_toml;
 
@@ -159,59 +161,6 @@ impl Case {
     /// The paper's grouping variable `B_o / R_body`.
     pub fn amplitude_ratio(&self) -> f64 {
         self.amplitude_mm / (0.5 * self.body_diameter_mm)
-    }
-}
-
-/// The two file formats of a dataset.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FileFormat {
-    Toml,
-    Csv,
-}
-
-impl FileFormat {
-    /// By the file's extension: `.csv` (any case) is CSV, the rest TOML.
-    pub fn of(path: &std::path::Path) -> FileFormat {
-        if is_csv(path) {
-            FileFormat::Csv
-        } else {
-            FileFormat::Toml
-        }
-    }
-}
-
-/// A dataset file, validated, rewritten in `to`: the raw tables (setup
-/// block, raw trials, uncertainties as written) carried over unchanged,
-/// so that reading the result gives the same [`Dataset`].
-pub fn convert_file(path: &std::path::Path, to: FileFormat) -> Result<String, DataError> {
-    load_file(path)?;
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| DataError {
-        file: file.clone(),
-        case: None,
-        field: None,
-        message: format!("cannot read the file: {e}"),
-    })?;
-    let raw = match FileFormat::of(path) {
-        FileFormat::Csv => {
-            let dir = path.parent().unwrap_or(std::path::Path::new("."));
-            csv_read::read(&text, &file, dir)?.0
-        }
-        FileFormat::Toml => toml::from_str(&text).map_err(|e| DataError {
-            file: file.clone(),
-            case: None,
-            field: None,
-            message: format!("not a valid dataset: {e}"),
-        })?,
-    };
-    match to {
-        FileFormat::Toml => Ok(csv_write::to_toml(&raw)),
-        FileFormat::Csv => csv_write::to_csv(&raw).map_err(|message| DataError {
-            file,
-            case: None,
-            field: None,
-            message,
-        }),
     }
 }
 

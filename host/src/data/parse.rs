@@ -8,7 +8,6 @@ use super::uncertainty::{merge_tables, AmplitudeConvention, CaseInputs};
 use super::{Case, DataError, Dataset, Measured, Orientation};
 use crate::physics::geometry::Handedness;
 use serde::Deserialize;
-use std::path::Path;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -58,31 +57,6 @@ struct RawCase {
     chord_length_mm: Option<f64>,
     chord_fixed: Option<bool>,
     amplitude_convention: Option<AmplitudeConvention>,
-}
-
-/// Read and validate a dataset file: CSV (`.csv`, docs/data-format.md)
-/// or TOML (any other name). The file's path and SHA-256 are recorded as
-/// an input of this run ([`crate::provenance`]).
-pub fn load_file(path: &Path) -> Result<Dataset, DataError> {
-    let file = path.display().to_string();
-    let bytes = std::fs::read(path)
-        .map_err(|e| err(&file, None, None, format!("cannot read the file: {e}")))?;
-    crate::provenance::record_input(path, &bytes);
-    let text = String::from_utf8(bytes)
-        .map_err(|e| err(&file, None, None, format!("not UTF-8 text: {e}")))?;
-    if is_csv(path) {
-        let dir = path.parent().unwrap_or(Path::new("."));
-        let (table, rows) = super::csv_read::read(&text, &file, dir)?;
-        parse_table(table, &file, &|i| rows.describe(i))
-    } else {
-        parse_str(&text, &file)
-    }
-}
-
-/// A `.csv` name (any case) is a CSV dataset; anything else is TOML.
-pub fn is_csv(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
 }
 
 /// Parse and validate dataset text; `file` names it in error messages.
@@ -147,7 +121,7 @@ fn validate(
     })
 }
 
-fn err(
+pub(super) fn err(
     file: &str,
     case: Option<&str>,
     field: Option<&str>,
@@ -445,4 +419,33 @@ fn check_geometry(r: &Resolver<'_>, c: &Case) -> Result<(), DataError> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_case_key_has_a_csv_column_but_the_raw_trials_and_the_uncertainty_table() {
+        // serde lists the keys a case takes: "unknown field `x`, expected
+        // one of `id`, `wavelength_mm`, ...".
+        let e = toml::from_str::<RawCase>("not_a_key = 1")
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        let keys: Vec<&str> = e.split('`').skip(3).step_by(2).collect();
+        assert!(keys.len() > 20, "{e}");
+        let without_column = ["u_trials_mm_s", "omega_body_trials_hz", "uncertainty"];
+        let mut want: Vec<&str> = keys
+            .into_iter()
+            .filter(|k| !without_column.contains(k))
+            .collect();
+        let mut columns: Vec<&str> = super::super::csv_columns::COLUMNS
+            .iter()
+            .map(|(name, _)| *name)
+            .collect();
+        want.sort_unstable();
+        columns.sort_unstable();
+        assert_eq!(columns, want);
+    }
 }
