@@ -49,8 +49,8 @@ pub struct SimArgs {
     /// Fit one motor to the observed tail rates of all cases instead of simulating.
     #[arg(long)]
     pub fit_motor: bool,
-    /// Dataset for --fit-motor [default: the paper's built-in data].
-    #[arg(long, value_name = "FILE.toml", requires = "fit_motor")]
+    /// Dataset (TOML or CSV) for --fit-motor [default: the paper's built-in data].
+    #[arg(long, value_name = "FILE", requires = "fit_motor")]
     pub data: Option<PathBuf>,
 }
 

@@ -10,8 +10,8 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct SynthArgs {
-    /// Case design (TOML; measurements in it are replaced) [default: the paper's cases].
-    #[arg(long, value_name = "FILE.toml")]
+    /// Case design (TOML or CSV; measurements in it are replaced) [default: the paper's cases].
+    #[arg(long, value_name = "FILE")]
     pub data: Option<PathBuf>,
     /// The truth: a preset or coefficient set, then effects, joined by `+`,
     /// e.g. "base + backflow + buoyancy:net_force_mn=0.2".
