@@ -85,8 +85,11 @@ fn make(total: Option<u64>, message: &str, unit: &str) -> ProgressBar {
         Mode::Plain => {
             let (grace, interval) = timing();
             let t = match total {
-                Some(_) => format!("{{msg}}: {{pos}}/{{len}} {unit} ({{percent}} %), {{elapsed}}"),
-                None => "{msg}: {elapsed}".to_string(),
+                // Hours:minutes:seconds: `{elapsed}` rounds to whole minutes past 60 s.
+                Some(_) => {
+                    format!("{{msg}}: {{pos}}/{{len}} {unit} ({{percent}} %), {{elapsed_precise}}")
+                }
+                None => "{msg}: {elapsed_precise}".to_string(),
             };
             let lines = PlainLines::new(grace, interval);
             (

@@ -147,7 +147,10 @@ fn csv_and_written_files_open_with_the_provenance() {
     let o = swimbot(&["compare", "-o", report.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let page = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert!(page.contains("<h2>Provenance</h2>"));
+    assert!(
+        page.contains("<h2 id=\"provenance\">Provenance</h2>"),
+        "{page}"
+    );
 }
 
 /// Runs the binary with stderr redirected to a file, as a notebook or a
