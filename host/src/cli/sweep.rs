@@ -201,8 +201,12 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
             predict_row(&model, &case)
         })
         .collect();
+    // Writing millions of rows takes longer than computing them.
+    bar.set_message("sweep: writing");
+    bar.set_position(0);
+    let written = write_csv(&grid, &template, &rows?, a.output.as_ref(), &bar);
     bar.finish_and_clear();
-    write_csv(&grid, &template, &rows?, a.output.as_ref())
+    written
 }
 
 fn predict_row(model: &Model, case: &Case) -> Result<Row, CliError> {
@@ -262,7 +266,13 @@ fn check_grid(g: &Grid, t: &Case) -> Result<(), CliError> {
     Ok(())
 }
 
-fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<(), CliError> {
+fn write_csv(
+    g: &Grid,
+    t: &Case,
+    rows: &[Row],
+    out: Option<&PathBuf>,
+    bar: &indicatif::ProgressBar,
+) -> Result<(), CliError> {
     // A file is written to a temporary sibling and renamed at the end, so
     // a failure never leaves half a CSV under the requested name.
     let mut pending = match out {
@@ -283,6 +293,9 @@ fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<
     )
     .map_err(fail)?;
     for (i, r) in rows.iter().enumerate() {
+        if i % 4096 == 0 {
+            bar.inc(4096.min(rows.len() - i) as u64);
+        }
         let c = g.case(t, i);
         writeln!(
             w,
