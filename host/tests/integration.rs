@@ -12,6 +12,8 @@ mod axisym;
 mod cli;
 mod cli_body;
 mod data;
+mod data_cli;
+mod data_csv;
 mod discovery;
 mod hardening;
 mod hidden_effect;

@@ -300,7 +300,14 @@ fn the_binary_writes_csv_and_svg() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let csv = std::fs::read_to_string(dir.path().join("sim.csv")).unwrap();
+    let file = std::fs::read_to_string(dir.path().join("sim.csv")).unwrap();
+    // The provenance comes first, as `#` lines.
+    assert!(file.starts_with("# swimbot "), "{file}");
+    let csv: String = file
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
     assert!(csv.starts_with("time_s,duty,battery_v") && csv.lines().count() > 50);
     // Omega_b is the counter-rotation, positive while the motor runs (as
     // in the summary and the paper's Table IV); numbers in plain decimals.

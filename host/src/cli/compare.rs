@@ -75,6 +75,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         super::output::check_output_dir(&args.output)?;
         crate::report::check_bundle_dir(&args.output, "compare").map_err(CliError::input)?;
     }
+    let spinner = crate::progress::spinner(&format!("compare: {}", model.describe()));
     let to_input = super::model_args::in_data(&args.data.data);
     // The path is computed once; the table, the JSON and the page print it.
     let mut path = user_path(&model, preset_effects(&args.model), &data).map_err(&to_input)?;
@@ -94,6 +95,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         }
     }
     let cmp = path.last().comparison.clone();
+    spinner.set_message("compare: writing the report");
     super::output::check_finite("comparison", &cmp)?;
     // The report is written before anything is printed, so that a failure
     // does not follow a complete-looking table.
@@ -109,6 +111,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
             })?,
         )
     };
+    spinner.finish_and_clear();
     match args.format {
         Format::Table => {
             print_table(&cmp, args.input_uncertainty, &checks);

@@ -84,15 +84,8 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
         progress: Some(stage),
         ..Default::default()
     };
-    // Paper-sized data takes well under a second; a spinner from 20 cases.
-    let spinner = if data.cases.len() >= 20 || a.nonlocal {
-        let s = ProgressBar::new_spinner();
-        s.set_message(format!("diagnosing {} cases", data.cases.len()));
-        s.enable_steady_tick(std::time::Duration::from_millis(120));
-        s
-    } else {
-        ProgressBar::hidden()
-    };
+    // Shown once the work has lasted 2 s (paper-sized data takes less).
+    let spinner = crate::progress::spinner(&format!("diagnosing {} cases", data.cases.len()));
     let _ = SPINNER.set(spinner.clone());
     let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
     super::output::check_finite("diagnosis", &d)?;
@@ -127,7 +120,8 @@ fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<
             d.verdict.note
         )));
     };
-    let text = crate::workbench::discovery::write::to_toml(l, dataset);
+    let text = crate::provenance::Provenance::capture().comment_block()
+        + &crate::workbench::discovery::write::to_toml(l, dataset);
     super::output::write_atomically(path, text.as_bytes())?;
     eprintln!("wrote {} ({})", path.display(), l.describe());
     Ok(())

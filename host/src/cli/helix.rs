@@ -199,7 +199,11 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
                 tail_model.name()
             )));
         }
+        let spinner = crate::progress::spinner(
+            "helix: the tail in the tube (regularized Stokeslets, MFS wall)",
+        );
         let (m, tube) = tube_matrix(&a, &h, mu, d_mm)?;
+        spinner.finish_and_clear();
         let method = "regularized Stokeslets in the tube (MFS wall)";
         return print(&a, &h, drag, set, m, method, Some(tube));
     }

@@ -172,8 +172,8 @@ impl ModelArgs {
 /// `--data F`, shared by the subcommands that read measurements.
 #[derive(Args, Debug, Clone)]
 pub struct DataArgs {
-    /// Dataset (TOML, docs/data-format.md) [default: the paper's built-in data].
-    #[arg(long, value_name = "FILE.toml")]
+    /// Dataset, TOML or CSV (docs/data-format.md) [default: the paper's built-in data].
+    #[arg(long, value_name = "FILE")]
     pub data: Option<PathBuf>,
 }
 
@@ -201,6 +201,9 @@ pub fn in_data(path: &Option<PathBuf>) -> impl Fn(crate::model::ModelError) -> C
 pub fn load_data(path: &Option<PathBuf>) -> Result<Dataset, CliError> {
     match path {
         Some(p) => Ok(data::load_file(p)?),
-        None => Ok(data::paper()),
+        None => {
+            crate::provenance::record_named("<built-in paper data>", data::PAPER_TOML.as_bytes());
+            Ok(data::paper())
+        }
     }
 }

@@ -10,10 +10,9 @@ use crate::workbench::audit::{audit, AuditSettings};
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
 use crate::workbench::path::user_path;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use rayon::prelude::*;
 use std::path::PathBuf;
-use std::time::Duration;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
@@ -44,10 +43,7 @@ fn stage(message: &str) {
 }
 
 fn spinner(message: &str) -> ProgressBar {
-    let s = ProgressBar::new_spinner();
-    s.set_message(message.to_string());
-    s.enable_steady_tick(Duration::from_millis(120));
-    s
+    crate::progress::spinner(message)
 }
 
 pub fn run(a: ReportArgs) -> Result<(), CliError> {
@@ -117,15 +113,11 @@ fn solve_physics(
     model: &crate::model::Model,
     data: &crate::data::Dataset,
 ) -> Result<(), crate::model::ModelError> {
-    let bar = ProgressBar::new(data.cases.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} zero-parameter model (tails in the tube; cached after the first run): \
-             {pos}/{len} cases [{elapsed}]",
-        )
-        .expect("a valid template"),
+    let bar = crate::progress::bar(
+        data.cases.len() as u64,
+        "cases",
+        "zero-parameter model (tails in the tube; cached after the first run)",
     );
-    bar.enable_steady_tick(Duration::from_millis(120));
     let r = data.cases.par_iter().try_for_each(|c| {
         let p = model.predict(c).map(|_| ());
         bar.inc(1);

@@ -49,8 +49,8 @@ pub struct SimArgs {
     /// Fit one motor to the observed tail rates of all cases instead of simulating.
     #[arg(long)]
     pub fit_motor: bool,
-    /// Dataset for --fit-motor [default: the paper's built-in data].
-    #[arg(long, value_name = "FILE.toml", requires = "fit_motor")]
+    /// Dataset (TOML or CSV) for --fit-motor [default: the paper's built-in data].
+    #[arg(long, value_name = "FILE", requires = "fit_motor")]
     pub data: Option<PathBuf>,
 }
 
@@ -182,6 +182,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
             let text = std::fs::read_to_string(p).map_err(|e| {
                 CliError::input(format!("{}: cannot read the script: {e}", p.display()))
             })?;
+            crate::provenance::record_input(p, text.as_bytes());
             Script::parse(&text).map_err(|e| CliError::input(format!("{}: {e}", p.display())))?
         }
         (None, None) => Script::on_at_zero(),
@@ -205,12 +206,16 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
     // together, so a failure leaves neither.
     let svg = output::figure(&robot, &outcome)
         .map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
+    let provenance = crate::provenance::Provenance::capture();
     super::output::write_all_atomically(&[
         (
             args.output.join("sim.csv"),
-            output::csv(&outcome.samples).into_bytes(),
+            (provenance.comment_block() + &output::csv(&outcome.samples)).into_bytes(),
         ),
-        (args.output.join("sim.svg"), svg.into_bytes()),
+        (
+            args.output.join("sim.svg"),
+            provenance.into_svg(&svg).into_bytes(),
+        ),
     ])?;
     print!("{}", output::summary(&robot, &outcome));
     println!(

@@ -10,8 +10,8 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct SynthArgs {
-    /// Case design (TOML; measurements in it are replaced) [default: the paper's cases].
-    #[arg(long, value_name = "FILE.toml")]
+    /// Case design (TOML or CSV; measurements in it are replaced) [default: the paper's cases].
+    #[arg(long, value_name = "FILE")]
     pub data: Option<PathBuf>,
     /// The truth: a preset or coefficient set, then effects, joined by `+`,
     /// e.g. "base + backflow + buoyancy:net_force_mn=0.2".
@@ -108,7 +108,9 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
             ))
         })?;
     }
-    super::output::write_atomically(&a.output, crate::data::to_toml(&data).as_bytes())?;
+    let text =
+        crate::provenance::Provenance::capture().comment_block() + &crate::data::to_toml(&data);
+    super::output::write_atomically(&a.output, text.as_bytes())?;
     let drawn = settings.draw_inputs && design.cases.iter().any(|c| !c.inputs.is_empty());
     eprintln!(
         "wrote {} cases from truth `{}` to {}{}",

@@ -343,6 +343,7 @@ pub fn load_file(path: &std::path::Path) -> Result<Vec<FormulaEffect>, UserEffec
         column: 0,
         message: format!("cannot read: {e}"),
     })?;
+    crate::provenance::record_input(path, text.as_bytes());
     let specs = parse(&text, &file)?;
     specs
         .into_iter()

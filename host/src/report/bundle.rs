@@ -236,17 +236,32 @@ fn table_json(rows: &[Vec<String>]) -> String {
 /// file and a rename); returns the page's path.
 pub fn write(dir: &Path, command: &str, page: &str) -> Result<PathBuf, String> {
     check_dir(dir, command)?;
-    let (mut files, entries) = files(page);
+    let provenance = crate::provenance::Provenance::capture();
+    let page = provenance.into_html(page);
+    let (mut files, entries) = files(&page);
+    // every file of the bundle can be traced back on its own
+    for (rel, bytes) in &mut files {
+        if rel.ends_with(".svg") {
+            *bytes = provenance
+                .into_svg(&String::from_utf8_lossy(bytes))
+                .into_bytes();
+        } else if rel.ends_with(".csv") {
+            let mut with = provenance.comment_block().into_bytes();
+            with.append(bytes);
+            *bytes = with;
+        }
+    }
     let manifest = Manifest {
         command,
         swimbot_version: env!("CARGO_PKG_VERSION"),
         files: &entries,
     };
+    let manifest = crate::provenance::with_provenance(&manifest);
     files.push((
         "manifest.json".into(),
         (serde_json::to_string_pretty(&manifest).expect("serialisable") + "\n").into_bytes(),
     ));
-    files.push(("index.html".into(), page.as_bytes().to_vec()));
+    files.push(("index.html".into(), page.into_bytes()));
     // a page rewritten with fewer figures leaves no stale ones behind
     for sub in ["figures", "tables"] {
         let _ = std::fs::remove_dir_all(dir.join(sub));
