@@ -85,9 +85,8 @@ fn main() -> ! {
     ir::start(pins.gpio15.into_pull_up_input(), timer);
     sleep::start(&mut timer);
 
-    // Not paused for a debugger (`safety`'s docs): `start` clears the
-    // PAUSE_* bits, and a halted core must not leave the motor running.
     watchdog.start((board::WATCHDOG_MS * 1_000).micros());
+    safety::watchdog_runs_under_debugger();
     defmt::info!(
         "swimbot up: sys {} Hz, watchdog {} ms",
         sys_hz,

@@ -3,13 +3,14 @@
 //! watchdog. Nothing here trusts the state of the code that failed: no
 //! HAL objects, no locks, only register writes that are valid in any state.
 //!
-//! Debug behaviour (decided): the watchdog does not pause for a debugger.
-//! `Watchdog::start` writes CTRL whole, clearing the reset-time PAUSE_DBG0/
-//! PAUSE_DBG1/PAUSE_JTAG bits, and nothing sets them again, so a core
-//! halted at a breakpoint is reset after `WATCHDOG_MS` like a hung one:
-//! a halted core can never leave the motor running. Stepping through code
-//! on the bench therefore needs the watchdog disabled in that build, by
-//! hand, with the motor disconnected.
+//! Debug behaviour (decided): the watchdog does not pause for a debugger,
+//! so a core halted at a breakpoint is reset after `WATCHDOG_MS` like a
+//! hung one: a halted core can never leave the motor running. (The PAUSE_*
+//! bits are set at reset; rp2040-hal's `Watchdog::start` writes CTRL from
+//! that reset value, which kept them set and made its `pause_on_debug`
+//! setting void; `watchdog_runs_under_debugger` clears them after `start`.)
+//! Stepping through code on the bench therefore needs the watchdog
+//! disabled in that build, by hand, with the motor disconnected.
 //!
 //! With the `probe` feature, panic-probe reports the panic over RTT
 //! instead (then ends in `udf`, which faults into `HardFault` below, which
@@ -17,6 +18,18 @@
 
 use crate::board;
 use rp2040_hal::pac;
+
+/// Clear the watchdog's PAUSE_DBG0/DBG1/JTAG bits (see the module docs).
+pub fn watchdog_runs_under_debugger() {
+    // SAFETY: a read-modify-write of CTRL's pause bits only; the HAL's
+    // `Watchdog` writes CTRL only in `start`/`disable`, both before this.
+    let watchdog = unsafe { &*pac::WATCHDOG::ptr() };
+    watchdog.ctrl().modify(|_, w| {
+        w.pause_dbg0().clear_bit();
+        w.pause_dbg1().clear_bit();
+        w.pause_jtag().clear_bit()
+    });
+}
 
 /// Force GPIO16 low and reset. Callable from any context, any state.
 pub fn stop_and_reset() -> ! {

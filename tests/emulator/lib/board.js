@@ -1,21 +1,17 @@
 // The swimbot board around an emulated RP2040 (rp2040js): loads the firmware
 // ELF into flash, boots it (through the real B1 bootrom and boot2 by default),
-// drives the IR receiver pin and the battery ADC input, records the motor pin
-// with simulation timestamps, models the watchdog reset, and counts the CPU
+// drives the IR receiver pin, feeds the battery ADC input from a cell model
+// loaded by the motor pin the firmware drives, records the motor pin with
+// simulation timestamps, models the watchdog reset, and counts the CPU
 // cycles spent in the GPIO (IO_IRQ_BANK0) interrupt.
 //
-// Board facts mirror firmware/src/board.rs; change them together.
+// Board facts (pins, divider, reference, timings) come from the image
+// itself (lib/facts.js: the firmware's SWIMBOT_BOARD, from shared/src/board.rs).
 import { readFileSync } from 'node:fs';
 import { BasePeripheral, GPIOPinState, RP2040 } from 'rp2040js';
-import { loadFlash, readElf, symbolize } from './elf.js';
-
-export const MOTOR_GPIO = 16;
-export const IR_GPIO = 15;
-export const BATTERY_ADC_CHANNEL = 0;
-export const PWM_FREQ_HZ = 25_000;
-export const WATCHDOG_MS = 500;
-export const DIVIDER_RATIO = 82 / (100 + 82); // V_pin / V_bat
-export const ADC_REF_V = 3.3;
+import { Cell } from './cell.js';
+import { loadFlash, objectBytes, readElf, symbolize } from './elf.js';
+import { boardFacts } from './facts.js';
 
 const IO_IRQ_BANK0 = 13;
 const EXC_IO_IRQ_BANK0 = 16 + IO_IRQ_BANK0;
@@ -26,9 +22,10 @@ const VREG_AND_CHIP_RESET_BASE = 0x40064000;
 export const MS = 1e6; // nanoseconds
 export const US = 1e3;
 
-/** ADC code (12 bit, 3.3 V reference) for a battery voltage through the 100k/82k divider. */
-export function adcCodeForBattery(volts) {
-  return Math.max(0, Math.min(4095, Math.round(((volts * DIVIDER_RATIO) / ADC_REF_V) * 4096)));
+/** ADC code (12 bit) for a battery voltage through the board's divider and reference. */
+export function adcCodeForBattery(facts, volts) {
+  const ratio = facts.dividerBottomOhm / (facts.dividerTopOhm + facts.dividerBottomOhm);
+  return Math.max(0, Math.min(4095, Math.round(((volts * ratio * 1000) / facts.adcRefMv) * 4096)));
 }
 
 class QuietLogger {
@@ -56,6 +53,7 @@ export class Board {
    */
   constructor({ elfPath, bootromPath }) {
     this.elf = readElf(elfPath);
+    this.facts = boardFacts(this.elf);
     this.bootrom = bootromPath ? bootromWords(bootromPath) : null;
     this.timeOffsetNs = 0; // simulated time before the current chip instance (resets)
     this.events = []; // external stimuli: { t, fn }, sorted by t
@@ -64,8 +62,9 @@ export class Board {
     this.irqEntries = []; // { t, cycles } one per IO_IRQ_BANK0 handler run
     this.irEdgeTimes = [];
     this.asleep = []; // { from, to } absolute ns, one per stretch the core spent in WFI/WFE
+    this.adcReads = []; // { t, pin, phase, v } one per battery conversion
     this.irLevel = true; // TSOP output idles high
-    this.batteryV = 4.0;
+    this.cell = new Cell(4.0);
     this.watchdogFired = false;
     this.logger = new QuietLogger();
     this.powerOn('power-on');
@@ -75,7 +74,7 @@ export class Board {
     return this.timeOffsetNs + this.clock.nanos;
   }
 
-  /** A fresh chip: power-on or watchdog reset (state is lost, as on the real chip: the board has no battery-backed state). */
+  /** A fresh chip: power-on, or a watchdog reset (timeout or forced), which keeps the watchdog's reason and scratch registers as the real chip does. */
   powerOn(reason) {
     const previous = this.mcu;
     if (previous) this.timeOffsetNs += this.clock.nanos;
@@ -120,11 +119,27 @@ export class Board {
     };
     this.mcu = mcu;
     this.resets.push({ t: this.nowNs, reason });
+    const f = this.facts;
     // Motor pin: gate pulled down by 100 kohm, so an undriven pin reads low.
-    this.recordMotor(mcu.gpio[MOTOR_GPIO].value);
-    mcu.gpio[MOTOR_GPIO].addListener((state) => this.recordMotor(state));
-    mcu.gpio[IR_GPIO].setInputValue(this.irLevel);
-    mcu.adc.channelValues[BATTERY_ADC_CHANNEL] = adcCodeForBattery(this.batteryV);
+    this.recordMotor(mcu.gpio[f.motorGpio].value);
+    mcu.gpio[f.motorGpio].addListener((state) => this.recordMotor(state));
+    mcu.gpio[f.irGpio].setInputValue(this.irLevel);
+    // Sample-and-hold at the start of each conversion: the cell's terminal
+    // voltage at that instant, from the motor pin's present level.
+    mcu.adc.onADCRead = (channel) => {
+      mcu.adc.currentChannel = channel;
+      if (channel === f.batteryAdcChannel) {
+        const t = this.nowNs;
+        const last = this.motorEdges[this.motorEdges.length - 1];
+        const pin = last ? last.v : 0;
+        const rise = pin ? t - this.lastMotorRise : null;
+        const v = this.cell.terminalV(rise);
+        const slice = this.pwmSlice0;
+        this.adcReads.push({ t, pin, phase: slice.timer.counter / (slice.top + 1), v });
+        mcu.adc.channelValues[channel] = adcCodeForBattery(f, v);
+      }
+      mcu.adc.sampleAlarm.schedule(mcu.adc.sampleTime * 1000);
+    };
     this.inIrq = false;
     this.irqCycles = 0;
   }
@@ -134,6 +149,7 @@ export class Board {
     const last = this.motorEdges[this.motorEdges.length - 1];
     if (last && last.v === v) return;
     this.motorEdges.push({ t: this.nowNs, v });
+    if (v) this.lastMotorRise = this.nowNs;
   }
 
   // ---- stimuli -------------------------------------------------------------
@@ -149,7 +165,7 @@ export class Board {
     if (level === this.irLevel) return;
     this.irLevel = level;
     this.irEdgeTimes.push(this.nowNs);
-    this.mcu.gpio[IR_GPIO].setInputValue(level);
+    this.mcu.gpio[this.facts.irGpio].setInputValue(level);
   }
 
   /** Schedules a waveform: [[durationNs, level], ...] starting at absolute time t; returns its end time. */
@@ -162,9 +178,15 @@ export class Board {
     return t;
   }
 
+  /** The cell's open-circuit voltage (the ADC sees it at rest, sagging during on-pulses). */
   setBattery(volts) {
-    this.batteryV = volts;
-    this.mcu.adc.channelValues[BATTERY_ADC_CHANNEL] = adcCodeForBattery(volts);
+    this.cell.ocvV = volts;
+  }
+
+  /** Write a 32-bit word of the running firmware's data object `name` (test images' switches). */
+  poke(name, value) {
+    const { addr } = objectBytes(this.elf, name);
+    this.mcu.writeUint32(addr, value);
   }
 
   // ---- running -------------------------------------------------------------
@@ -308,8 +330,12 @@ export class Board {
     return this.mcu.pwm.channels[0];
   }
 
+  get watchdog() {
+    return this.mcu.findPeripheral(WATCHDOG_BASE);
+  }
+
   get watchdogEnabled() {
-    return this.mcu.findPeripheral(WATCHDOG_BASE).enable;
+    return this.watchdog.enable;
   }
 
   /** The handler installed for IO_IRQ_BANK0, read from the vector table the firmware runs with. */

@@ -5,7 +5,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS } from '../lib/board.js';
-import { NEC_ADDRESS, NEC_CMD_OFF, NEC_CMD_ON } from '../lib/contract.js';
 import { boardWith } from '../lib/images.js';
 import { necFrame, necRepeat, noise } from '../lib/nec.js';
 import { dutyBins, ms, pct, sendFrame, sendOff, sendOn } from '../lib/steps.js';
@@ -13,7 +12,8 @@ import { dutyBins, ms, pct, sendFrame, sendOff, sendOn } from '../lib/steps.js';
 const GAP = 30 * MS;
 
 /** The frames to ignore, for command `cmd`. */
-function junk(cmd) {
+function junk(b, cmd) {
+  const NEC_ADDRESS = b.facts.necAddress;
   const good = necFrame(NEC_ADDRESS, cmd);
   return [
     ['wrong address 0x01', necFrame(0x01, cmd)],
@@ -44,7 +44,7 @@ test('ignored frames while the motor is off: it stays off', () => {
   b.setBattery(3.9);
   b.runUntil(20 * MS);
   const t0 = b.nowNs;
-  const played = playAll(b, junk(NEC_CMD_ON));
+  const played = playAll(b, junk(b, b.facts.necCmdOn));
   b.runUntil(b.nowNs + 300 * MS);
   for (const p of played) {
     const rises = b.motorEdgesIn(p.start, p.end + GAP).filter((e) => e.v === 1);
@@ -67,7 +67,7 @@ test('ignored frames while the motor runs: duty unchanged', () => {
   const held = b.dutyIn(on.end + 300 * MS, on.end + 400 * MS);
   assert.ok(held > 0.5, `motor not running (duty ${pct(held)})`);
   const t0 = b.nowNs;
-  const played = playAll(b, junk(NEC_CMD_OFF));
+  const played = playAll(b, junk(b, b.facts.necCmdOff));
   for (const bin of dutyBins(b, t0, b.nowNs, 2 * MS)) {
     const p = played.find((x) => bin.t >= x.start && bin.t < x.end + GAP);
     assert.ok(Math.abs(bin.duty - held) <= 0.03, `duty ${pct(bin.duty)} (held ${pct(held)}) at ${ms(bin.t - t0)}${p ? ` during/after "${p.name}"` : ''}`);
