@@ -13,6 +13,7 @@ mod battery_adc;
 mod board;
 mod ir;
 mod motor;
+mod power;
 mod run;
 mod safety;
 mod sleep;
@@ -22,9 +23,10 @@ use defmt_rtt as _;
 use panic_probe as _;
 use rp2040_hal as hal;
 
-use fugit::ExtU32;
+use fugit::{ExtU32, RateExtU32};
 use hal::gpio::PinState;
 use hal::pac;
+use hal::pll::common_configs::{PLL_SYS_125MHZ, PLL_USB_48MHZ};
 
 #[link_section = ".boot2"]
 #[used]
@@ -49,6 +51,7 @@ defmt::timestamp!("{=u64:us}", {
 fn main() -> ! {
     // `take` cannot fail this early: nothing else has taken them.
     let mut p = pac::Peripherals::take().unwrap();
+    let mut cortex = pac::CorePeripherals::take().unwrap();
     let sio = hal::Sio::new(p.SIO);
     let pins = hal::gpio::Pins::new(p.IO_BANK0, p.PADS_BANK0, sio.gpio_bank0, &mut p.RESETS);
     let motor_pin = pins.gpio16.into_push_pull_output_in_state(PinState::Low);
@@ -56,17 +59,35 @@ fn main() -> ! {
     let reason = p.WATCHDOG.reason().read();
     let (watchdog_reset, forced_reset) = (reason.timer().bit_is_set(), reason.force().bit_is_set());
     let mut watchdog = hal::Watchdog::new(p.WATCHDOG);
-    let clocks = hal::clocks::init_clocks_and_plls(
-        board::XOSC_HZ,
-        p.XOSC,
-        p.CLOCKS,
+    // rp2040-hal's `init_clocks_and_plls`, with the crystal and the PLLs
+    // kept (DORMANT takes them down and puts them back: `power`).
+    let xosc = hal::xosc::setup_xosc_blocking(p.XOSC, board::XOSC_HZ.Hz())
+        .ok()
+        .unwrap();
+    watchdog.enable_tick_generation((board::XOSC_HZ / 1_000_000) as u8);
+    let mut clocks = hal::clocks::ClocksManager::new(p.CLOCKS);
+    let pll_sys = hal::pll::setup_pll_blocking(
         p.PLL_SYS,
-        p.PLL_USB,
+        xosc.operating_frequency(),
+        PLL_SYS_125MHZ,
+        &mut clocks,
         &mut p.RESETS,
-        &mut watchdog,
     )
     .ok()
     .unwrap();
+    let pll_usb = hal::pll::setup_pll_blocking(
+        p.PLL_USB,
+        xosc.operating_frequency(),
+        PLL_USB_48MHZ,
+        &mut clocks,
+        &mut p.RESETS,
+    )
+    .ok()
+    .unwrap();
+    clocks.init_default(&xosc, &pll_sys, &pll_usb).ok().unwrap();
+    // Between passes the core sleeps with SLEEPDEEP: the clock gates apply.
+    clocks.configure_sleep_enable(power::sleep_clock_gates());
+    cortex.SCB.set_sleepdeep();
     let sys_hz = hal::Clock::freq(&clocks.system_clock).to_Hz();
     if watchdog_reset {
         defmt::warn!("reset by the watchdog");
@@ -97,6 +118,13 @@ fn main() -> ! {
         battery,
         led,
         timer,
+        power: power::Power {
+            clocks,
+            xosc: Some(xosc),
+            pll_sys: Some(pll_sys),
+            pll_usb: Some(pll_usb),
+            resets: p.RESETS,
+        },
     };
     robot.run(&mut watchdog)
 }

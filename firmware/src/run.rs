@@ -15,6 +15,7 @@ use crate::battery_adc::BatterySense;
 use crate::board;
 use crate::ir;
 use crate::motor::Motor;
+use crate::power::Power;
 use crate::sleep;
 use embedded_hal::digital::OutputPin;
 use rp2040_hal::gpio::{bank0::Gpio25, FunctionSioOutput, Pin, PullDown};
@@ -49,6 +50,7 @@ pub struct Robot {
     pub battery: BatterySense,
     pub led: LedPin,
     pub timer: Timer,
+    pub power: Power,
 }
 
 impl Robot {
@@ -73,6 +75,15 @@ impl Robot {
             #[cfg(feature = "fault-test")]
             fault_test::act();
             watchdog.feed();
+            if out.may_go_dormant {
+                // Motor off (the condition), LED dark, until an IR edge.
+                let _ = self.led.set_low();
+                defmt::info!("dormant until the next IR edge");
+                self.power.dormant_until_ir();
+                defmt::info!("awake");
+                watchdog.feed();
+                continue;
+            }
             sleep::until_next_event();
         }
     }

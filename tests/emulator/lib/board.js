@@ -16,6 +16,14 @@ import { boardFacts } from './facts.js';
 const IO_IRQ_BANK0 = 13;
 const EXC_IO_IRQ_BANK0 = 16 + IO_IRQ_BANK0;
 const WATCHDOG_BASE = 0x40058000;
+const CLOCKS_BASE = 0x40008000;
+const IO_BANK0_BASE = 0x40014000;
+const XOSC_BASE = 0x40024000;
+const SLEEP_EN0 = 0xa8; // CLOCKS
+const SLEEP_EN1 = 0xac;
+const DORMANT_WAKE_INTE0 = 0x160; // IO_BANK0, four registers
+const SCR = 0xd10; // PPB: SLEEPDEEP is bit 2
+const DORMANT_MAGIC = 0x636f6d61; // XOSC DORMANT: 'coma'
 const FLASH_BASE = 0x10000000;
 const VREG_AND_CHIP_RESET_BASE = 0x40064000;
 
@@ -62,6 +70,7 @@ export class Board {
     this.irqEntries = []; // { t, cycles } one per IO_IRQ_BANK0 handler run
     this.irEdgeTimes = [];
     this.asleep = []; // { from, to } absolute ns, one per stretch the core spent in WFI/WFE
+    this.dormantStretches = []; // { from, to } absolute ns: crystal stopped, every clock frozen
     this.adcReads = []; // { t, pin, phase, v } one per battery conversion
     this.irLevel = true; // TSOP output idles high
     this.cell = new Cell(4.0);
@@ -118,6 +127,7 @@ export class Board {
       this.watchdogFired = true;
     };
     this.mcu = mcu;
+    this.modelPowerRegisters(mcu);
     this.resets.push({ t: this.nowNs, reason });
     const f = this.facts;
     // Motor pin: gate pulled down by 100 kohm, so an undriven pin reads low.
@@ -144,6 +154,80 @@ export class Board {
     this.irqCycles = 0;
   }
 
+  /**
+   * rp2040js ignores the sleep clock gates (CLOCKS SLEEP_EN0/1), SCR.SLEEPDEEP
+   * and the GPIO dormant-wake enables, and runs on through an XOSC DORMANT
+   * write. The board keeps those registers, and models DORMANT: from the
+   * write on the chip is frozen (no clock, no timer, no watchdog) until a
+   * falling edge on a pin whose dormant wake is enabled; then the crystal is
+   * stable again at once (its ~1 ms start-up is not modelled).
+   */
+  modelPowerRegisters(mcu) {
+    this.dormant = false;
+    this.sleepEn = [0xffffffff, 0x7fff]; // reset values: everything runs in sleep
+    this.scr = 0;
+    this.dormantWake = [0, 0, 0, 0];
+    const wrap = (peripheral, read, write) => {
+      const r = peripheral.readUint32.bind(peripheral);
+      const w = peripheral.writeUint32.bind(peripheral);
+      peripheral.readUint32 = (offset) => read(offset) ?? r(offset);
+      peripheral.writeUint32 = (offset, value) => {
+        if (!write(offset, value >>> 0)) w(offset, value);
+      };
+    };
+    wrap(
+      mcu.findPeripheral(CLOCKS_BASE),
+      (o) => (o === SLEEP_EN0 ? this.sleepEn[0] : o === SLEEP_EN1 ? this.sleepEn[1] : undefined),
+      (o, v) => {
+        if (o !== SLEEP_EN0 && o !== SLEEP_EN1) return false;
+        this.sleepEn[(o - SLEEP_EN0) >> 2] = v;
+        return true;
+      },
+    );
+    const wakeIndex = (o) => (o >= DORMANT_WAKE_INTE0 && o < DORMANT_WAKE_INTE0 + 16 ? (o - DORMANT_WAKE_INTE0) >> 2 : -1);
+    wrap(
+      mcu.findPeripheral(IO_BANK0_BASE),
+      (o) => (wakeIndex(o) >= 0 ? this.dormantWake[wakeIndex(o)] : undefined),
+      (o, v) => {
+        if (wakeIndex(o) < 0) return false;
+        this.dormantWake[wakeIndex(o)] = v;
+        return true;
+      },
+    );
+    wrap(
+      mcu.ppb,
+      (o) => (o === SCR ? this.scr : undefined),
+      (o, v) => {
+        if (o !== SCR) return false;
+        this.scr = v;
+        return true;
+      },
+    );
+    wrap(
+      mcu.findPeripheral(XOSC_BASE),
+      () => undefined,
+      (o, v) => {
+        if (o === 0x08 && v === DORMANT_MAGIC) {
+          this.dormant = true;
+          this.dormantStretches.push({ from: this.nowNs, to: this.nowNs });
+        }
+        return false;
+      },
+    );
+  }
+
+  /** Is a falling edge on `gpio` enabled as a dormant wake-up? */
+  dormantWakeOnFall(gpio) {
+    return !!(this.dormantWake[gpio >> 3] & (1 << ((gpio & 7) * 4 + 2)));
+  }
+
+  wakeFromDormant() {
+    this.dormant = false;
+    const xosc = this.mcu.findPeripheral(XOSC_BASE);
+    xosc.isDormant = false;
+    xosc.stable = true;
+  }
+
   recordMotor(state) {
     const v = state === GPIOPinState.High || state === GPIOPinState.InputPullUp ? 1 : 0;
     const last = this.motorEdges[this.motorEdges.length - 1];
@@ -165,6 +249,7 @@ export class Board {
     if (level === this.irLevel) return;
     this.irLevel = level;
     this.irEdgeTimes.push(this.nowNs);
+    if (this.dormant && !level && this.dormantWakeOnFall(this.facts.irGpio)) this.wakeFromDormant();
     this.mcu.gpio[this.facts.irGpio].setInputValue(level);
   }
 
@@ -211,6 +296,12 @@ export class Board {
     const core = mcu.core;
     const end = tAbs - this.timeOffsetNs;
     while (clock.nanos < end) {
+      if (this.dormant) {
+        // Frozen until an event (the runUntil loop applies it) wakes it.
+        this.timeOffsetNs += end - clock.nanos;
+        this.dormantStretches[this.dormantStretches.length - 1].to = this.nowNs;
+        return;
+      }
       if (this.watchdogFired) {
         this.watchdogFired = false;
         this.powerOn('watchdog');
@@ -250,6 +341,13 @@ export class Board {
   }
 
   // ---- observation ---------------------------------------------------------
+
+  /** Fraction of [t0, t1] the chip spent DORMANT. */
+  dormantIn(t0, t1) {
+    let ns = 0;
+    for (const { from, to } of this.dormantStretches) ns += Math.max(0, Math.min(to, t1) - Math.max(from, t0));
+    return ns / (t1 - t0);
+  }
 
   /** Fraction of [t0, t1] the core spent asleep (WFI/WFE). */
   asleepIn(t0, t1) {
