@@ -25,6 +25,11 @@ test('reset: motor pin low within the first ms, no PWM', () => {
   assert.equal(b.motorAt(1 * MS), 0, 'motor pin not low at 1 ms');
   assert.ok(pin.outputEnable, 'GPIO16 is not driven by 1 ms (left floating on the 100k pull-down)');
   assert.equal(pin.outputValue, false, 'GPIO16 drives high at 1 ms');
+  // The gate pad: 12 mA drive (PADS DRIVE = 3) and fast slew, not the
+  // reset's 4 mA / slow, which stretch the MOSFET's switching edges.
+  const pad = pin.padValue;
+  assert.equal((pad >> 4) & 3, 3, `GPIO16 pad drive ${[2, 4, 8, 12][(pad >> 4) & 3]} mA, want 12 mA`);
+  assert.equal(pad & 1, 1, 'GPIO16 pad slew slow, want fast');
 
   b.runUntil(300 * MS);
   const rises = b.motorEdgesIn(0, 300 * MS).filter((e) => e.v === 1);

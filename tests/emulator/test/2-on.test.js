@@ -98,6 +98,22 @@ test('On frame: 25 kHz PWM, soft-start to 3.0 V / V_bat, hold, voltage compensat
     }
   });
 
+  await t.test('battery conversions land mid on-pulse (the cell ripples with the PWM)', () => {
+    // lib/cell.js sags the cell by ~0.3 V during each on-pulse: a
+    // conversion at a random phase would read either level.
+    const reads = b.adcReads.filter((r) => r.t >= holdFrom && r.t < holdTo);
+    assert.ok(reads.length >= 8, `${reads.length} conversions in 200 ms`);
+    const phases = reads.map((r) => r.phase);
+    perf('battery conversion phase, motor running (fraction of the PWM period)', `${Math.min(...phases).toFixed(3)}-${Math.max(...phases).toFixed(3)}, on-pulse 0-${held.toFixed(3)}`, '');
+    for (const r of reads) {
+      assert.equal(r.pin, 1, `conversion at ${ms(r.t - t0)} after the frame during the off-time (phase ${r.phase.toFixed(3)})`);
+      assert.ok(Math.abs(r.phase - held / 2) < 0.08, `conversion at phase ${r.phase.toFixed(3)}, want mid on-pulse ${(held / 2).toFixed(3)}`);
+    }
+    const v = reads.map((x) => x.v);
+    perf('battery reading, motor running (cell 4.0 V open circuit)', `${Math.min(...v).toFixed(3)}-${Math.max(...v).toFixed(3)}`, 'V');
+    assert.ok(Math.max(...v) - Math.min(...v) < 0.01, 'the readings spread: not at one phase');
+  });
+
   await t.test('duty follows the battery voltage (4.0 V -> 3.6 V -> 4.2 V)', () => {
     const tA = b.nowNs;
     b.setBattery(3.6);
