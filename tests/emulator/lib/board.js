@@ -22,6 +22,8 @@ const XOSC_BASE = 0x40024000;
 const SLEEP_EN0 = 0xa8; // CLOCKS
 const SLEEP_EN1 = 0xac;
 const DORMANT_WAKE_INTE0 = 0x160; // IO_BANK0, four registers
+const INTR0 = 0xf0; // IO_BANK0 raw interrupts, four registers
+const PROC0_INTS0 = 0x120;
 const SCR = 0xd10; // PPB: SLEEPDEEP is bit 2
 const DORMANT_MAGIC = 0x636f6d61; // XOSC DORMANT: 'coma'
 const FLASH_BASE = 0x10000000;
@@ -167,6 +169,8 @@ export class Board {
     this.sleepEn = [0xffffffff, 0x7fff]; // reset values: everything runs in sleep
     this.scr = 0;
     this.dormantWake = [0, 0, 0, 0];
+    this.irEdgesSeen = 0;
+    this.irEdgesLost = 0;
     const wrap = (peripheral, read, write) => {
       const r = peripheral.readUint32.bind(peripheral);
       const w = peripheral.writeUint32.bind(peripheral);
@@ -185,10 +189,32 @@ export class Board {
       },
     );
     const wakeIndex = (o) => (o >= DORMANT_WAKE_INTE0 && o < DORMANT_WAKE_INTE0 + 16 ? (o - DORMANT_WAKE_INTE0) >> 2 : -1);
+    // IR edge latches: an edge the firmware clears (INTR is write-1-to-clear)
+    // without any read of INTR or INTS having shown it to the firmware is lost.
+    const io = mcu.findPeripheral(IO_BANK0_BASE);
+    const irReg = this.facts.irGpio >> 3;
+    const irEdges = 0xc << ((this.facts.irGpio & 7) * 4);
+    const intrOffset = INTR0 + 4 * irReg;
+    const intsOffset = PROC0_INTS0 + 4 * irReg;
+    const ioRead = io.readUint32.bind(io);
     wrap(
-      mcu.findPeripheral(IO_BANK0_BASE),
-      (o) => (wakeIndex(o) >= 0 ? this.dormantWake[wakeIndex(o)] : undefined),
+      io,
+      (o) => {
+        if (wakeIndex(o) >= 0) return this.dormantWake[wakeIndex(o)];
+        if (o === intrOffset || o === intsOffset) {
+          const v = ioRead(o);
+          this.irEdgesSeen |= v & irEdges;
+          return v;
+        }
+        return undefined;
+      },
       (o, v) => {
+        if (o === intrOffset) {
+          const cleared = io.rawWriteValue & irEdges & ioRead(intrOffset);
+          for (let m = cleared & ~this.irEdgesSeen; m; m &= m - 1) this.irEdgesLost++;
+          this.irEdgesSeen &= ~cleared;
+          return false;
+        }
         if (wakeIndex(o) < 0) return false;
         this.dormantWake[wakeIndex(o)] = v;
         return true;

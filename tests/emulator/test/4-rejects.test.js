@@ -5,6 +5,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS } from '../lib/board.js';
+import { perf } from '../lib/contract.js';
 import { boardWith } from '../lib/images.js';
 import { necFrame, necRepeat, noise } from '../lib/nec.js';
 import { dutyBins, ms, pct, sendFrame, sendOff, sendOn } from '../lib/steps.js';
@@ -78,4 +79,24 @@ test('ignored frames while the motor runs: duty unchanged', () => {
   b.runUntil(off.end + 20 * MS);
   assert.equal(b.motorEdgesIn(off.end + 1 * MS, b.nowNs).length, 0, 'a good Off frame after the junk did not stop the motor');
   assert.equal(b.motorAt(b.nowNs), 0);
+});
+
+test('IR edges closer than the interrupt: none lost between reading and clearing the latches', () => {
+  // Short glitches (a low pulse of 0.2-1.4 us, swept in 4 ns steps) put the
+  // second edge at every point of the interrupt handler that serves the
+  // first, including between its read of the edge latches and its clear.
+  // The board counts an edge lost when the firmware clears a latch that no
+  // read had shown it.
+  const b = boardWith('firmware');
+  b.setBattery(3.9);
+  b.runUntil(20 * MS);
+  let t = b.nowNs;
+  for (let i = 0; i < 300; i++) {
+    t += 1 * MS;
+    b.playIr(t, [[200 + 4 * i, false]]);
+  }
+  b.runUntil(t + 20 * MS);
+  perf('IR glitch edges lost between latch read and clear (300 pulses, 0.2-1.4 us)', b.irEdgesLost, '');
+  assert.equal(b.irEdgesLost, 0, `${b.irEdgesLost} IR edges cleared unseen`);
+  assert.equal(b.motorEdgesIn(0, b.nowNs).filter((e) => e.v === 1).length, 0, 'glitches moved the motor');
 });
