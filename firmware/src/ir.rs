@@ -3,9 +3,9 @@
 //! the queue into the shared NEC decoder.
 //!
 //! Decoding stays out of the interrupt so that the interrupt stays short
-//! (measured in the rp2040js emulator: about 180 cycles per edge, under
-//! 1.5 us at 125 MHz, against NEC's 562 us time unit; the current figure is
-//! printed by the emulator run) and all protocol logic runs in
+//! (measured in the rp2040js emulator: 165 cycles per edge, 1.3 us at
+//! 125 MHz, against NEC's 562 us time unit; the emulator run prints the
+//! current figure) and all protocol logic runs in
 //! the (watchdog-guarded) main loop; the timestamp is what must be taken
 //! promptly, and the interrupt does.
 

@@ -10,10 +10,10 @@
 //! duty applied since the previous pass is non-zero: that is what loaded
 //! the cell during the reading.
 
-use crate::battery::{BatteryMonitor, BatteryStatus};
+use crate::battery::{BatteryConfig, BatteryMonitor, BatteryStatus};
 use crate::board;
-use crate::command::{Command, Remote};
-use crate::controller::{Controller, Duty, Event, MotorState};
+use crate::command::{Command, KeyMap, Remote};
+use crate::controller::{Controller, ControllerConfig, Duty, Event, MotorState};
 use crate::led::{self, LedMode};
 use crate::nec::Level;
 
@@ -34,14 +34,44 @@ pub struct PassOutput {
     /// The cut-off latch changed in this pass: store the new value where
     /// it survives a reset (`reset_memory`).
     pub latch_changed: Option<bool>,
-    /// Motor off and nothing received for `board::DORMANT_AFTER_IDLE_US`:
+    /// Motor off and no IR edge for `dormant_after_us`:
     /// the chip may stop its clocks until the next IR edge.
     pub may_go_dormant: bool,
+}
+
+/// What a main loop is built from. `BOARD` is the robot's board
+/// (`board.rs`); a simulation of another robot changes fields of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MainLoopConfig {
+    pub keys: KeyMap,
+    pub battery: BatteryConfig,
+    pub controller: ControllerConfig,
+    /// Battery readings at most this often.
+    pub sample_period_us: u64,
+    /// Motor off and no IR edge this long: the chip may go dormant.
+    pub dormant_after_us: u64,
+}
+
+impl MainLoopConfig {
+    pub const BOARD: Self = Self {
+        keys: board::KEYS,
+        battery: board::BATTERY,
+        controller: board::CONTROLLER,
+        sample_period_us: board::BATTERY_SAMPLE_PERIOD_US,
+        dormant_after_us: board::DORMANT_AFTER_IDLE_US,
+    };
+}
+
+impl Default for MainLoopConfig {
+    fn default() -> Self {
+        Self::BOARD
+    }
 }
 
 /// The main loop's state between passes.
 #[derive(Clone, Debug)]
 pub struct MainLoop {
+    cfg: MainLoopConfig,
     remote: Remote,
     monitor: BatteryMonitor,
     controller: Controller,
@@ -55,14 +85,19 @@ impl MainLoop {
     /// The board's main loop, with a cut-off latch remembered from before a
     /// reset (`false` after power-on).
     pub fn new(cutoff_latched: bool) -> Self {
-        let mut monitor = BatteryMonitor::new(board::BATTERY);
+        Self::with_config(MainLoopConfig::BOARD, cutoff_latched)
+    }
+
+    pub fn with_config(cfg: MainLoopConfig, cutoff_latched: bool) -> Self {
+        let mut monitor = BatteryMonitor::new(cfg.battery);
         if cutoff_latched {
             monitor.restore_cutoff_latch();
         }
         Self {
-            remote: Remote::new(board::KEYS),
+            cfg,
+            remote: Remote::new(cfg.keys),
             monitor,
-            controller: Controller::new(board::CONTROLLER),
+            controller: Controller::new(cfg.controller),
             next_sample_us: None,
             duty: Duty::ZERO,
             latched: cutoff_latched,
@@ -85,7 +120,7 @@ impl MainLoop {
 
     /// One pass at `now_us`: feed `edges` (receiver level and the timer's
     /// low 32 bits, oldest first), call `read_adc` if a battery reading is
-    /// due (at most every `board::BATTERY_SAMPLE_PERIOD_US`; the first pass
+    /// due (at most every `sample_period_us`; the first pass
     /// always reads), and decide the outputs.
     pub fn pass(
         &mut self,
@@ -103,7 +138,7 @@ impl MainLoop {
         let mut sample = None;
         if self.next_sample_us.is_none_or(|due| now_us >= due) {
             // Catch up without bursts if a pass was ever late.
-            self.next_sample_us = Some(now_us.saturating_add(board::BATTERY_SAMPLE_PERIOD_US));
+            self.next_sample_us = Some(now_us.saturating_add(self.cfg.sample_period_us));
             let counts = read_adc();
             self.monitor.sample(counts, now_us, self.motor_on());
             sample = Some(counts);
@@ -129,7 +164,7 @@ impl MainLoop {
             led_lit: led::is_lit(led, now_us),
             latch_changed,
             may_go_dormant: out.state == MotorState::Off
-                && now_us.saturating_sub(self.last_activity_us) >= board::DORMANT_AFTER_IDLE_US,
+                && now_us.saturating_sub(self.last_activity_us) >= self.cfg.dormant_after_us,
         }
     }
 }
@@ -181,6 +216,18 @@ mod tests {
         let o = idle(&mut m, 400_000, 800_000, 3_900);
         assert_eq!(o.state, MotorState::Running);
         assert!(m.motor_on());
+    }
+
+    #[test]
+    fn another_robot_samples_on_its_own_period() {
+        let cfg = MainLoopConfig {
+            sample_period_us: 5_000,
+            ..MainLoopConfig::BOARD
+        };
+        let mut m = MainLoop::with_config(cfg, false);
+        assert!(m.pass(0, [], || counts(3_900)).sample.is_some());
+        assert!(m.pass(4_999, [], || counts(3_900)).sample.is_none());
+        assert!(m.pass(5_000, [], || counts(3_900)).sample.is_some());
     }
 
     #[test]
