@@ -170,6 +170,18 @@ impl BatteryMonitor {
     /// cell was under load (the latch only releases at rest).
     pub fn sample(&mut self, counts: u16, now_us: u64, motor_on: bool) -> BatteryStatus {
         let mv = u16::try_from(self.cfg.counts_to_mv(counts)).unwrap_or(u16::MAX);
+        if mv < self.cfg.plausible_min_mv || mv > self.cfg.plausible_max_mv {
+            // A broken reading is a fault now, and stays out of the average:
+            // mixed with others (0 V and full scale from a loose divider) it
+            // could average into a plausible voltage, even a recharged one,
+            // and release a cut-off latch (found by the safety properties,
+            // tests/tests/firmware_safety.rs, property 4).
+            self.status = BatteryStatus {
+                mv,
+                level: BatteryLevel::Fault,
+            };
+            return self.status;
+        }
         if let Some(slot) = self.window.get_mut(self.next) {
             *slot = mv;
         }
@@ -305,6 +317,23 @@ mod tests {
         let t = hold(&mut m, 4_000, t, 1_000_000, true);
         assert_eq!(m.status().level, BatteryLevel::Cutoff);
         hold(&mut m, 4_100, t, 1_000_000, false);
+        assert_eq!(m.status().level, BatteryLevel::Ok);
+    }
+
+    #[test]
+    fn broken_readings_never_average_into_a_release() {
+        let mut m = BatteryMonitor::new(CFG);
+        m.restore_cutoff_latch();
+        // A loose divider: 0 V and full scale alternately (average 3.7 V,
+        // or 4.6 V+ with more full-scale readings).
+        for i in 0..40u64 {
+            let counts = if i % 3 == 0 { 0 } else { 4_095 };
+            m.sample(counts, i * 20_000, false);
+            assert_eq!(m.status().level, BatteryLevel::Fault);
+        }
+        let t = hold(&mut m, 3_600, 800_000, 400_000, false);
+        assert_eq!(m.status().level, BatteryLevel::Cutoff);
+        hold(&mut m, 4_000, t, 400_000, false);
         assert_eq!(m.status().level, BatteryLevel::Ok);
     }
 

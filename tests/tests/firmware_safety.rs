@@ -10,7 +10,10 @@
 //!    voltage below the cut-off,
 //!    the motor is off within the cut-off's debounce time and stays off
 //!    while the readings stay low, even if On frames keep arriving;
-//! 3. the duty is zero whenever the monitor's status forbids running.
+//! 3. the duty is zero whenever the monitor's status forbids running;
+//! 4. after a reset that remembered a cut-off (watchdog scratch), On frames
+//!    never start the motor until a reading of a recharged cell (the
+//!    monitor's `recharged_mv`, at rest) has come in.
 
 use proptest::prelude::*;
 use swimbot_shared::battery::AVERAGE_SAMPLES;
@@ -104,10 +107,14 @@ struct Step {
 
 impl Firmware {
     fn new(adc: u16) -> Self {
+        Self::after_reset(adc, false)
+    }
+
+    fn after_reset(adc: u16, cutoff_remembered: bool) -> Self {
         Firmware {
             t_us: 0,
             next_sample_us: 0,
-            main_loop: MainLoop::new(false),
+            main_loop: MainLoop::new(cutoff_remembered),
             adc,
             readings: Vec::new(),
         }
@@ -188,7 +195,10 @@ impl Firmware {
 }
 
 fn run(start_adc: u16, inputs: &[Input]) -> (Firmware, Vec<Step>) {
-    let mut fw = Firmware::new(start_adc);
+    run_from(Firmware::new(start_adc), inputs)
+}
+
+fn run_from(mut fw: Firmware, inputs: &[Input]) -> (Firmware, Vec<Step>) {
     let mut out = Vec::new();
     for i in inputs {
         fw.apply(i, &mut out);
@@ -262,6 +272,44 @@ proptest! {
             }
         }
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    /// Property 4: a remembered cut-off holds through any inputs, On frames
+    /// included, until a reading at or above the recharged level.
+    #[test]
+    fn a_remembered_cutoff_holds_until_recharged(
+        start in adc(),
+        inputs in prop::collection::vec(input(true), 0..160),
+    ) {
+        let (fw, steps) = run_from(Firmware::after_reset(start, true), &inputs);
+        let recharged = u32::from(BATTERY.recharged_mv);
+        let first_recharged = fw
+            .readings
+            .iter()
+            .find(|r| r.1 >= recharged && r.1 <= u32::from(BATTERY.plausible_max_mv))
+            .map_or(u64::MAX, |r| r.0);
+        for s in steps.iter().filter(|s| s.t_us < first_recharged) {
+            prop_assert_eq!(s.state, MotorState::Off, "running at {} us on a remembered cut-off", s.t_us);
+        }
+    }
+}
+
+#[test]
+fn a_remembered_cutoff_is_released_by_a_recharged_cell() {
+    let inputs = [Input::Wait(300_000), Input::On, Input::Wait(100_000)];
+    let (_, steps) = run_from(
+        Firmware::after_reset(BATTERY.mv_to_counts(4_100), true),
+        &inputs,
+    );
+    assert!(steps.iter().any(|s| s.state != MotorState::Off));
+    let (_, steps) = run_from(
+        Firmware::after_reset(BATTERY.mv_to_counts(3_600), true),
+        &inputs,
+    );
+    assert!(steps.iter().all(|s| s.state == MotorState::Off));
 }
 
 /// The property test can fail: a healthy cell with an On frame runs.
