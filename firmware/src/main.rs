@@ -23,10 +23,9 @@ use defmt_rtt as _;
 use panic_probe as _;
 use rp2040_hal as hal;
 
-use fugit::{ExtU32, RateExtU32};
+use fugit::ExtU32;
 use hal::gpio::PinState;
 use hal::pac;
-use hal::pll::common_configs::{PLL_SYS_125MHZ, PLL_USB_48MHZ};
 
 #[link_section = ".boot2"]
 #[used]
@@ -59,35 +58,13 @@ fn main() -> ! {
     let reason = p.WATCHDOG.reason().read();
     let (watchdog_reset, forced_reset) = (reason.timer().bit_is_set(), reason.force().bit_is_set());
     let mut watchdog = hal::Watchdog::new(p.WATCHDOG);
-    // rp2040-hal's `init_clocks_and_plls`, with the crystal and the PLLs
-    // kept (DORMANT takes them down and puts them back: `power`).
-    let xosc = hal::xosc::setup_xosc_blocking(p.XOSC, board::XOSC_HZ.Hz())
-        .ok()
-        .unwrap();
-    watchdog.enable_tick_generation((board::XOSC_HZ / 1_000_000) as u8);
-    let mut clocks = hal::clocks::ClocksManager::new(p.CLOCKS);
-    let pll_sys = hal::pll::setup_pll_blocking(
-        p.PLL_SYS,
-        xosc.operating_frequency(),
-        PLL_SYS_125MHZ,
-        &mut clocks,
+    let mut power = power::Power::start(
+        (p.XOSC, p.CLOCKS, p.PLL_SYS, p.PLL_USB),
         &mut p.RESETS,
-    )
-    .ok()
-    .unwrap();
-    let pll_usb = hal::pll::setup_pll_blocking(
-        p.PLL_USB,
-        xosc.operating_frequency(),
-        PLL_USB_48MHZ,
-        &mut clocks,
-        &mut p.RESETS,
-    )
-    .ok()
-    .unwrap();
-    clocks.init_default(&xosc, &pll_sys, &pll_usb).ok().unwrap();
-    // Between passes the core sleeps with SLEEPDEEP: the clock gates apply.
-    clocks.configure_sleep_enable(power::sleep_clock_gates());
-    cortex.SCB.set_sleepdeep();
+        &mut watchdog,
+        &mut cortex.SCB,
+    );
+    let clocks = &power.clocks;
     let sys_hz = hal::Clock::freq(&clocks.system_clock).to_Hz();
     if watchdog_reset {
         defmt::warn!("reset by the watchdog");
@@ -96,7 +73,7 @@ fn main() -> ! {
         defmt::warn!("reset after a panic or fault (motor was forced off)");
     }
 
-    let mut timer = hal::Timer::new(p.TIMER, &mut p.RESETS, &clocks);
+    let mut timer = hal::Timer::new(p.TIMER, &mut p.RESETS, clocks);
     let slices = hal::pwm::Slices::new(p.PWM, &mut p.RESETS);
     let motor = motor::Motor::new(slices.pwm0, motor_pin, sys_hz);
     let adc = hal::Adc::new(p.ADC, &mut p.RESETS);
@@ -106,6 +83,7 @@ fn main() -> ! {
     ir::start(pins.gpio15.into_pull_up_input(), timer);
     sleep::start(&mut timer);
 
+    power.keep_resets(p.RESETS);
     watchdog.start((board::WATCHDOG_MS * 1_000).micros());
     safety::watchdog_runs_under_debugger();
     defmt::info!(
@@ -118,13 +96,7 @@ fn main() -> ! {
         battery,
         led,
         timer,
-        power: power::Power {
-            clocks,
-            xosc: Some(xosc),
-            pll_sys: Some(pll_sys),
-            pll_usb: Some(pll_usb),
-            resets: p.RESETS,
-        },
+        power,
     };
     robot.run(&mut watchdog)
 }

@@ -35,10 +35,13 @@
 //! about 45 h idle between passes and about 75 h dormant.
 
 use crate::board;
+use fugit::RateExtU32;
 use rp2040_hal::clocks::{Clock, ClockGate, ClocksManager, StoppableClock};
-use rp2040_hal::pac::{self, PLL_SYS, PLL_USB, RESETS};
-use rp2040_hal::pll::{start_pll_blocking, Disabled, Locked, PhaseLockedLoop};
-use rp2040_hal::xosc::{CrystalOscillator, Stable};
+use rp2040_hal::pac::{self, CLOCKS, PLL_SYS, PLL_USB, RESETS, XOSC};
+use rp2040_hal::pll::common_configs::{PLL_SYS_125MHZ, PLL_USB_48MHZ};
+use rp2040_hal::pll::{setup_pll_blocking, start_pll_blocking, Disabled, Locked, PhaseLockedLoop};
+use rp2040_hal::xosc::{setup_xosc_blocking, CrystalOscillator, Stable};
+use rp2040_hal::Watchdog;
 
 /// The clocks that keep running while the core sleeps between passes.
 pub fn sleep_clock_gates() -> ClockGate {
@@ -75,16 +78,57 @@ const IR_WAKE_EDGE_LOW: u32 = 1 << ((board::IR_GPIO as u32 % 8) * 4 + 2);
 /// it down and put it back.
 pub struct Power {
     pub clocks: ClocksManager,
-    pub xosc: Option<CrystalOscillator<Stable>>,
-    pub pll_sys: Option<PhaseLockedLoop<Locked, PLL_SYS>>,
-    pub pll_usb: Option<PhaseLockedLoop<Locked, PLL_USB>>,
-    pub resets: RESETS,
+    xosc: Option<CrystalOscillator<Stable>>,
+    pll_sys: Option<PhaseLockedLoop<Locked, PLL_SYS>>,
+    pll_usb: Option<PhaseLockedLoop<Locked, PLL_USB>>,
+    /// Handed over once every peripheral is out of reset (`keep_resets`).
+    resets: Option<RESETS>,
 }
 
 impl Power {
+    /// rp2040-hal's `init_clocks_and_plls` (125 MHz system, 48 MHz USB and
+    /// ADC), keeping the crystal and the PLLs for DORMANT; then the sleep
+    /// clock gates, applied by SLEEPDEEP. A clock that does not start is a
+    /// panic: the fail-safe handler keeps the motor off and resets.
+    pub fn start(
+        (xosc, clocks, pll_sys, pll_usb): (XOSC, CLOCKS, PLL_SYS, PLL_USB),
+        resets: &mut RESETS,
+        watchdog: &mut Watchdog,
+        scb: &mut pac::SCB,
+    ) -> Self {
+        let xosc = setup_xosc_blocking(xosc, board::XOSC_HZ.Hz()).ok().unwrap();
+        watchdog.enable_tick_generation((board::XOSC_HZ / 1_000_000) as u8);
+        let mut clocks = ClocksManager::new(clocks);
+        let f = xosc.operating_frequency();
+        let pll_sys = setup_pll_blocking(pll_sys, f, PLL_SYS_125MHZ, &mut clocks, resets)
+            .ok()
+            .unwrap();
+        let pll_usb = setup_pll_blocking(pll_usb, f, PLL_USB_48MHZ, &mut clocks, resets)
+            .ok()
+            .unwrap();
+        clocks.init_default(&xosc, &pll_sys, &pll_usb).ok().unwrap();
+        clocks.configure_sleep_enable(sleep_clock_gates());
+        scb.set_sleepdeep();
+        Self {
+            clocks,
+            xosc: Some(xosc),
+            pll_sys: Some(pll_sys),
+            pll_usb: Some(pll_usb),
+            resets: None,
+        }
+    }
+
+    /// The reset controller, needed to restart the PLLs after DORMANT.
+    pub fn keep_resets(&mut self, resets: RESETS) {
+        self.resets = Some(resets);
+    }
+
     /// Go DORMANT until the IR pin falls; return with the boot's clock tree
     /// running again. `false` (nothing done) if the tree is not complete.
     pub fn dormant_until_ir(&mut self) -> bool {
+        if self.resets.is_none() {
+            return false;
+        }
         let (Some(xosc), Some(pll_sys), Some(pll_usb)) =
             (self.xosc.take(), self.pll_sys.take(), self.pll_usb.take())
         else {
@@ -123,9 +167,12 @@ impl Power {
     ) -> bool {
         // A PLL that does not relock leaves the chip on the crystal, motor
         // off: a panic here resets it through `safety`, the safe outcome.
+        let Some(resets) = self.resets.as_mut() else {
+            panic!("DORMANT without the reset controller");
+        };
         let (Ok(pll_sys), Ok(pll_usb)) = (
-            start_pll_blocking(pll_sys, &mut self.resets),
-            start_pll_blocking(pll_usb, &mut self.resets),
+            start_pll_blocking(pll_sys, resets),
+            start_pll_blocking(pll_usb, resets),
         ) else {
             panic!("a PLL did not relock after DORMANT");
         };
