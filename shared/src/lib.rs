@@ -14,6 +14,7 @@ pub mod controller;
 pub mod led;
 pub mod nec;
 pub mod pwm;
+pub mod rate;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
 pub use command::{Command, KeyMap, Remote};
