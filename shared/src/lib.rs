@@ -18,6 +18,7 @@ pub mod led;
 pub mod main_loop;
 pub mod nec;
 pub mod pwm;
+pub mod rate;
 pub mod reset_memory;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
