@@ -1,7 +1,9 @@
 //! One pass of the robot's main loop: receiver edges -> command (Off wins
-//! within a pass), a battery reading when one is due -> battery status,
-//! the controller -> PWM duty, the LED pattern, and whether the chip may
-//! go dormant. The RP2040 firmware (`firmware/src/run.rs`), the host
+//! within a pass), Hall edges -> the tail's rate (`rate::hall`), a battery
+//! reading when one is due -> battery status, the rate controller (its
+//! on/off state machine and soft start are `controller::Controller`'s) ->
+//! PWM duty, the LED pattern, whether the Hall latches are powered, and
+//! whether the chip may go dormant. The RP2040 firmware (`firmware/src/run.rs`), the host
 //! simulation (`tests/src/lib.rs`) and the safety property tests
 //! (`tests/tests/firmware_safety.rs`) all run this same pass; only the
 //! hardware around it differs.
@@ -13,9 +15,19 @@
 use crate::battery::{BatteryConfig, BatteryMonitor, BatteryStatus};
 use crate::board;
 use crate::command::{Command, KeyMap, Remote};
-use crate::controller::{Controller, ControllerConfig, Duty, Event, MotorState};
+use crate::controller::{Duty, Event, MotorState};
 use crate::led::{self, LedMode};
 use crate::nec::Level;
+use crate::rate::{HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault};
+
+/// One Hall edge as the interrupt queued it: the timer's low 32 bits and
+/// both latches' levels read together.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HallEdge {
+    pub t_us: u32,
+    pub a: bool,
+    pub b: bool,
+}
 
 /// What one pass decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,6 +36,16 @@ pub struct PassOutput {
     pub duty: Duty,
     pub state: MotorState,
     pub event: Option<Event>,
+    /// A sensor fault stopped the motor in this pass (log it).
+    pub fault: Option<SensorFault>,
+    /// An On arrived with no set-point: nothing started (log it).
+    pub refused_no_set_point: bool,
+    /// Drive the Hall latches' power pin: on whenever the motor may run.
+    pub hall_power: bool,
+    /// The turn-averaged rate while running (mHz), and what it is driven
+    /// towards (the soft-started, slewed set-point).
+    pub rate_mhz: Option<u32>,
+    pub reference_mhz: u32,
     /// The command decoded in this pass (merged: Off wins).
     pub command: Option<Command>,
     /// The battery reading taken in this pass (ADC counts), if one was due.
@@ -45,7 +67,11 @@ pub struct PassOutput {
 pub struct MainLoopConfig {
     pub keys: KeyMap,
     pub battery: BatteryConfig,
-    pub controller: ControllerConfig,
+    pub rate: RateConfig,
+    pub hall: HallConfig,
+    /// The set-point after power-up (mHz); `None`: On starts nothing until
+    /// a key selects one.
+    pub set_point_mhz: Option<u32>,
     /// Battery readings at most this often.
     pub sample_period_us: u64,
     /// Motor off and no IR edge this long: the chip may go dormant.
@@ -56,7 +82,9 @@ impl MainLoopConfig {
     pub const BOARD: Self = Self {
         keys: board::KEYS,
         battery: board::BATTERY,
-        controller: board::CONTROLLER,
+        rate: board::RATE,
+        hall: board::HALL,
+        set_point_mhz: Some(board::DEFAULT_RATE_MHZ),
         sample_period_us: board::BATTERY_SAMPLE_PERIOD_US,
         dormant_after_us: board::DORMANT_AFTER_IDLE_US,
     };
@@ -74,9 +102,11 @@ pub struct MainLoop {
     cfg: MainLoopConfig,
     remote: Remote,
     monitor: BatteryMonitor,
-    controller: Controller,
+    controller: RateController,
+    estimator: RateEstimator,
     next_sample_us: Option<u64>,
     duty: Duty,
+    state: MotorState,
     latched: bool,
     last_activity_us: u64,
 }
@@ -93,13 +123,17 @@ impl MainLoop {
         if cutoff_latched {
             monitor.restore_cutoff_latch();
         }
+        let mut controller = RateController::new(cfg.rate);
+        controller.set_rate_mhz(cfg.set_point_mhz);
         Self {
             cfg,
             remote: Remote::new(cfg.keys),
             monitor,
-            controller: Controller::new(cfg.controller),
+            controller,
+            estimator: RateEstimator::new(cfg.hall),
             next_sample_us: None,
             duty: Duty::ZERO,
+            state: MotorState::Off,
             latched: cutoff_latched,
             last_activity_us: 0,
         }
@@ -110,8 +144,17 @@ impl MainLoop {
         self.duty != Duty::ZERO
     }
 
-    pub fn controller(&self) -> &Controller {
+    /// The motor's state after the last pass.
+    pub fn state(&self) -> MotorState {
+        self.state
+    }
+
+    pub fn controller(&self) -> &RateController {
         &self.controller
+    }
+
+    pub fn estimator(&self) -> &RateEstimator {
+        &self.estimator
     }
 
     pub fn monitor(&self) -> &BatteryMonitor {
@@ -119,13 +162,15 @@ impl MainLoop {
     }
 
     /// One pass at `now_us`: feed `edges` (receiver level and the timer's
-    /// low 32 bits, oldest first), call `read_adc` if a battery reading is
-    /// due (at most every `sample_period_us`; the first pass
-    /// always reads), and decide the outputs.
+    /// low 32 bits, oldest first) and `hall` (oldest first), call
+    /// `read_adc` if a battery reading is due (at most every
+    /// `sample_period_us`; the first pass always reads), and decide the
+    /// outputs.
     pub fn pass(
         &mut self,
         now_us: u64,
         edges: impl IntoIterator<Item = (Level, u32)>,
+        hall: impl IntoIterator<Item = HallEdge>,
         read_adc: impl FnOnce() -> u16,
     ) -> PassOutput {
         let mut command = None;
@@ -134,6 +179,9 @@ impl MainLoop {
             if let Some(c) = self.remote.edge(level, t_us) {
                 command = Some(Command::merge(command, c));
             }
+        }
+        for e in hall {
+            self.estimator.edge(e.t_us, e.a, e.b);
         }
         let mut sample = None;
         if self.next_sample_us.is_none_or(|due| now_us >= due) {
@@ -144,19 +192,35 @@ impl MainLoop {
             sample = Some(counts);
         }
         let battery = self.monitor.status();
-        let out = self.controller.step(now_us, command, battery);
+        let out = self
+            .controller
+            .step(now_us, command, battery, &mut self.estimator);
         self.duty = out.duty;
-        if out.state != MotorState::Off {
+        self.state = out.state;
+        let (event, fault) = match out.event {
+            Some(RateEvent::Motor(e)) => (Some(e), None),
+            Some(RateEvent::Fault(f)) => (None, Some(f)),
+            Some(RateEvent::NoSetPoint) | None => (None, None),
+        };
+        let running = out.state != MotorState::Off;
+        if running {
             self.last_activity_us = now_us;
         }
         let latched = self.monitor.cutoff_latched();
         let latch_changed = (latched != self.latched).then_some(latched);
         self.latched = latched;
-        let led = LedMode::of(out.state, battery);
+        let led = LedMode::of(out.state, battery, self.controller.fault().is_some());
         PassOutput {
             duty: out.duty,
             state: out.state,
-            event: out.event,
+            event,
+            fault,
+            refused_no_set_point: out.event == Some(RateEvent::NoSetPoint),
+            hall_power: running,
+            rate_mhz: running
+                .then(|| self.estimator.estimate().map(|r| r.rate_mhz))
+                .flatten(),
+            reference_mhz: out.reference_mhz,
             command,
             sample,
             battery,
@@ -174,6 +238,7 @@ mod tests {
     use super::*;
     use crate::battery::BatteryLevel;
     use crate::nec::{for_each_edge, frame_pulses_us};
+    use crate::rate::SensorFault;
 
     fn counts(mv: u32) -> u16 {
         board::BATTERY.mv_to_counts(mv)
@@ -181,11 +246,11 @@ mod tests {
 
     /// Passes every millisecond up to `until_us`, at `mv`, no edges.
     fn idle(m: &mut MainLoop, from_us: u64, until_us: u64, mv: u32) -> PassOutput {
-        let mut last = m.pass(from_us, [], || counts(mv));
+        let mut last = m.pass(from_us, [], [], || counts(mv));
         let mut t = from_us;
         while t < until_us {
             t += 1_000;
-            last = m.pass(t, [], || counts(mv));
+            last = m.pass(t, [], [], || counts(mv));
         }
         last
     }
@@ -205,12 +270,12 @@ mod tests {
     #[test]
     fn samples_on_schedule_and_starts_on_a_frame() {
         let mut m = MainLoop::new(false);
-        let o = m.pass(0, [], || counts(3_900));
+        let o = m.pass(0, [], [], || counts(3_900));
         assert_eq!(o.sample, Some(counts(3_900)));
-        assert_eq!(m.pass(19_999, [], || unreachable!()).sample, None);
-        assert!(m.pass(20_000, [], || counts(3_900)).sample.is_some());
+        assert_eq!(m.pass(19_999, [], [], || unreachable!()).sample, None);
+        assert!(m.pass(20_000, [], [], || counts(3_900)).sample.is_some());
         idle(&mut m, 20_000, 290_000, 3_900);
-        let o = m.pass(400_000, on_frame(), || counts(3_900));
+        let o = m.pass(400_000, on_frame(), [], || counts(3_900));
         assert_eq!(o.command, Some(Command::On));
         assert_eq!(o.event, Some(Event::Started));
         let o = idle(&mut m, 400_000, 800_000, 3_900);
@@ -225,16 +290,16 @@ mod tests {
             ..MainLoopConfig::BOARD
         };
         let mut m = MainLoop::with_config(cfg, false);
-        assert!(m.pass(0, [], || counts(3_900)).sample.is_some());
-        assert!(m.pass(4_999, [], || counts(3_900)).sample.is_none());
-        assert!(m.pass(5_000, [], || counts(3_900)).sample.is_some());
+        assert!(m.pass(0, [], [], || counts(3_900)).sample.is_some());
+        assert!(m.pass(4_999, [], [], || counts(3_900)).sample.is_none());
+        assert!(m.pass(5_000, [], [], || counts(3_900)).sample.is_some());
     }
 
     #[test]
     fn a_remembered_cutoff_refuses_on_and_reports_its_release() {
         let mut m = MainLoop::new(true);
         idle(&mut m, 0, 300_000, 3_600);
-        let o = m.pass(400_000, on_frame(), || counts(3_600));
+        let o = m.pass(400_000, on_frame(), [], || counts(3_600));
         assert_eq!(o.battery.level, BatteryLevel::Cutoff);
         assert_eq!(o.duty, Duty::ZERO);
         let o = idle(&mut m, 400_000, 420_000, 4_100);
@@ -243,7 +308,7 @@ mod tests {
         let mut t = 420_000;
         while released.is_none() && t < 1_000_000 {
             t += 1_000;
-            released = m.pass(t, [], || counts(4_100)).latch_changed;
+            released = m.pass(t, [], [], || counts(4_100)).latch_changed;
         }
         assert_eq!(released, Some(false));
     }
@@ -255,7 +320,56 @@ mod tests {
         assert!(!idle(&mut m, 0, quiet - 1_000, 3_900).may_go_dormant);
         assert!(idle(&mut m, quiet - 1_000, quiet, 3_900).may_go_dormant);
         // An edge (even noise) restarts the count.
-        let o = m.pass(quiet + 1_000, [(Level::Low, 5)], || counts(3_900));
+        let o = m.pass(quiet + 1_000, [(Level::Low, 5)], [], || counts(3_900));
         assert!(!o.may_go_dormant);
+    }
+
+    #[test]
+    fn a_stalled_motor_is_stopped_shown_and_needs_a_new_on() {
+        let mut m = MainLoop::new(false);
+        idle(&mut m, 0, 290_000, 3_900);
+        let o = m.pass(400_000, on_frame(), [], || counts(3_900));
+        assert_eq!(o.event, Some(Event::Started));
+        assert!(o.hall_power, "the latches are powered with the start");
+        // No Hall edge: driven past the soft start for the stall time.
+        let stall_us = u64::from(board::RATE.stall_us);
+        let ramp_us = u64::from(board::RATE.motor.ramp_us);
+        let before = idle(&mut m, 400_000, 400_000 + ramp_us + stall_us, 3_900);
+        assert!(before.duty > Duty::ZERO && before.fault.is_none());
+        let o = m.pass(400_000 + ramp_us + stall_us + 1_000, [], [], || {
+            counts(3_900)
+        });
+        assert_eq!(o.fault, Some(SensorFault::Stalled));
+        assert_eq!(
+            (o.duty, o.state, o.hall_power),
+            (Duty::ZERO, MotorState::Off, false)
+        );
+        assert_eq!(o.led, LedMode::Fault);
+        let later = idle(&mut m, 6_000_000, 8_000_000, 3_900);
+        assert_eq!((later.duty, later.led), (Duty::ZERO, LedMode::Fault));
+    }
+
+    #[test]
+    fn quadrature_edges_become_the_rate() {
+        let mut m = MainLoop::new(false);
+        idle(&mut m, 0, 290_000, 3_900);
+        m.pass(400_000, on_frame(), [], || counts(3_900));
+        // 0.5 Hz: 16 edges a turn, one every 125 ms, Gray order A leads B.
+        let gray = [(false, false), (false, true), (true, true), (true, false)];
+        let mut out = None;
+        for k in 0..40u32 {
+            let t = 500_000 + u64::from(k) * 125_000;
+            let (a, b) = gray[k as usize % 4];
+            let e = HallEdge {
+                t_us: t as u32,
+                a,
+                b,
+            };
+            out = Some(m.pass(t, [], [e], || counts(3_900)));
+        }
+        let o = out.unwrap_or_else(|| unreachable!());
+        assert_eq!(o.rate_mhz, Some(500));
+        assert_eq!(o.fault, None);
+        assert!(o.reference_mhz > 0 && o.reference_mhz <= board::DEFAULT_RATE_MHZ);
     }
 }
