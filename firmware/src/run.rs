@@ -70,6 +70,7 @@ impl Robot {
         let mut level = BatteryLevel::Fault;
         let mut led_mode = LedMode::Off;
         let mut next_rate_log_us = 0;
+        let mut foreign = 0;
         loop {
             let now_us = self.timer.get_counter().ticks();
             let (motor, battery) = (&self.motor, &mut self.battery);
@@ -82,6 +83,10 @@ impl Robot {
                 remember_cutoff(watchdog, latched);
             }
             log(&out, &mut level, &mut led_mode);
+            if out.foreign_frames != foreign {
+                foreign = out.foreign_frames;
+                defmt::warn!("ir: another remote's frame ignored ({} so far)", foreign);
+            }
             if out.hall_power && now_us >= next_rate_log_us {
                 next_rate_log_us = now_us + 1_000_000;
                 defmt::info!(
@@ -120,6 +125,9 @@ fn log(out: &swimbot_shared::PassOutput, level: &mut BatteryLevel, led_mode: &mu
     let hall_dropped = ir::take_hall_dropped();
     if hall_dropped > 0 {
         defmt::warn!("hall: queue full, {} edges dropped", hall_dropped);
+    }
+    if let Some(mhz) = out.set_point_changed {
+        defmt::info!("set-point: {} mHz", mhz);
     }
     if let Some(fault) = out.fault {
         defmt::error!("rate sensor: {}, motor stopped (a new On retries)", fault);

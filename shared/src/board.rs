@@ -10,6 +10,7 @@ use crate::command::KeyMap;
 use crate::controller::ControllerConfig;
 use crate::pwm;
 use crate::rate::{HallConfig, RateConfig};
+use crate::set_point::SetPointKeys;
 
 /// Crystal on the board (Raspberry Pi Pico compatible).
 pub const XOSC_HZ: u32 = 12_000_000;
@@ -71,6 +72,8 @@ pub const KEYS: KeyMap = KeyMap {
     on: NEC_CMD_ON,
     off: NEC_CMD_OFF,
 };
+/// Keys 1-5 select 0.5-1.5 Hz, VOL+/VOL- step by 0.05 Hz (`set_point`).
+pub const SET_POINT_KEYS: SetPointKeys = SetPointKeys::CAR_MP3;
 pub const BATTERY: BatteryConfig =
     BatteryConfig::new(DIVIDER_TOP_OHM, DIVIDER_BOTTOM_OHM, ADC_REF_MEASURED_MV);
 pub const CONTROLLER: ControllerConfig = ControllerConfig::DEFAULT;
@@ -145,6 +148,10 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
         (tag(b"STAL"), RATE.stall_us / 1_000),
         (tag(b"LNV0"), RATE.line.intercept_mv as u32),
         (tag(b"LNSL"), RATE.line.slope_mv_per_hz as u32),
+        (tag(b"KP1 "), SET_POINT_KEYS.presets[0].0 as u32),
+        (tag(b"KP5 "), SET_POINT_KEYS.presets[4].0 as u32),
+        (tag(b"KUP "), SET_POINT_KEYS.faster as u32),
+        (tag(b"KDN "), SET_POINT_KEYS.slower as u32),
     ];
     let mut out = [0u32; 2 + 2 * EXPORT_PAIRS];
     out[0] = tag(b"SWBD");
@@ -157,7 +164,7 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
     }
     out
 };
-pub const EXPORT_PAIRS: usize = 28;
+pub const EXPORT_PAIRS: usize = 32;
 
 #[cfg(test)]
 mod tests {

@@ -20,6 +20,7 @@ pub mod nec;
 pub mod pwm;
 pub mod rate;
 pub mod reset_memory;
+pub mod set_point;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
 pub use command::{Command, KeyMap, Remote};
@@ -28,3 +29,4 @@ pub use led::LedMode;
 pub use main_loop::{HallEdge, MainLoop, MainLoopConfig, PassOutput};
 pub use nec::{AddressFilter, Level, NecDecoder, NecEvent};
 pub use pwm::PwmTiming;
+pub use set_point::{SetPointKey, SetPointKeys};

@@ -19,6 +19,7 @@ use crate::controller::{Duty, Event, MotorState};
 use crate::led::{self, LedMode};
 use crate::nec::Level;
 use crate::rate::{HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault};
+use crate::set_point::SetPointKeys;
 
 /// One Hall edge as the interrupt queued it: the timer's low 32 bits and
 /// both latches' levels read together.
@@ -48,6 +49,10 @@ pub struct PassOutput {
     pub reference_mhz: u32,
     /// The command decoded in this pass (merged: Off wins).
     pub command: Option<Command>,
+    /// A set-point key changed the set-point in this pass: the new one.
+    pub set_point_changed: Option<u32>,
+    /// Complete frames from other remotes since power-up (ignored).
+    pub foreign_frames: u32,
     /// The battery reading taken in this pass (ADC counts), if one was due.
     pub sample: Option<u16>,
     pub battery: BatteryStatus,
@@ -66,6 +71,7 @@ pub struct PassOutput {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MainLoopConfig {
     pub keys: KeyMap,
+    pub set_point_keys: SetPointKeys,
     pub battery: BatteryConfig,
     pub rate: RateConfig,
     pub hall: HallConfig,
@@ -81,6 +87,7 @@ pub struct MainLoopConfig {
 impl MainLoopConfig {
     pub const BOARD: Self = Self {
         keys: board::KEYS,
+        set_point_keys: board::SET_POINT_KEYS,
         battery: board::BATTERY,
         rate: board::RATE,
         hall: board::HALL,
@@ -139,6 +146,17 @@ impl MainLoop {
         }
     }
 
+    /// Apply a set-point key: only the set-point changes, never the state.
+    fn set_key(&mut self, key: crate::set_point::SetPointKey) -> Option<u32> {
+        let (lo, hi) = (self.cfg.rate.min_rate_mhz, self.cfg.rate.max_rate_mhz);
+        let current = self.controller.set_rate();
+        let next = self.cfg.set_point_keys.apply(key, current, lo, hi);
+        if next.is_some() && next != current {
+            self.controller.set_rate_mhz(next);
+        }
+        next.filter(|n| Some(*n) != current)
+    }
+
     /// The duty applied since the last pass is non-zero.
     pub fn motor_on(&self) -> bool {
         self.duty != Duty::ZERO
@@ -174,10 +192,16 @@ impl MainLoop {
         read_adc: impl FnOnce() -> u16,
     ) -> PassOutput {
         let mut command = None;
+        let mut set_point_changed = None;
         for (level, t_us) in edges {
             self.last_activity_us = now_us;
-            if let Some(c) = self.remote.edge(level, t_us) {
+            let Some(code) = self.remote.edge_code(level, t_us) else {
+                continue;
+            };
+            if let Some(c) = self.cfg.keys.lookup(self.cfg.keys.address, code) {
                 command = Some(Command::merge(command, c));
+            } else if let Some(key) = self.cfg.set_point_keys.lookup(code) {
+                set_point_changed = self.set_key(key);
             }
         }
         for e in hall {
@@ -222,6 +246,8 @@ impl MainLoop {
                 .flatten(),
             reference_mhz: out.reference_mhz,
             command,
+            set_point_changed,
+            foreign_frames: self.remote.foreign_frames(),
             sample,
             battery,
             led,
@@ -371,5 +397,61 @@ mod tests {
         assert_eq!(o.rate_mhz, Some(500));
         assert_eq!(o.fault, None);
         assert!(o.reference_mhz > 0 && o.reference_mhz <= board::DEFAULT_RATE_MHZ);
+    }
+
+    fn frame(address: u8, command: u8, at_us: u32) -> heapless::Vec<(Level, u32), 80> {
+        let mut v = heapless::Vec::new();
+        for_each_edge(at_us, &frame_pulses_us(address, command), |l, t| {
+            let _ = v.push((l, t));
+        });
+        v
+    }
+
+    #[test]
+    fn rate_keys_change_only_the_set_point_and_other_remotes_are_counted() {
+        use crate::nec::REPEAT_PULSES_US;
+        let keys = board::SET_POINT_KEYS;
+        let mut m = MainLoop::new(false);
+        idle(&mut m, 0, 290_000, 3_900);
+        let o = m.pass(
+            400_000,
+            frame(board::NEC_ADDRESS, keys.presets[0].0, 300_000),
+            [],
+            || counts(3_900),
+        );
+        assert_eq!(o.set_point_changed, Some(keys.presets[0].1));
+        assert_eq!(
+            (o.state, o.duty),
+            (MotorState::Off, Duty::ZERO),
+            "a key never starts"
+        );
+        let o = m.pass(
+            500_000,
+            frame(board::NEC_ADDRESS, keys.faster, 400_000),
+            [],
+            || counts(3_900),
+        );
+        assert_eq!(o.set_point_changed, Some(keys.presets[0].1 + keys.step_mhz));
+        // A held key's repeat frames step nothing.
+        let mut rep = heapless::Vec::<(Level, u32), 8>::new();
+        for_each_edge(520_000, &REPEAT_PULSES_US, |l, t| {
+            let _ = rep.push((l, t));
+        });
+        assert_eq!(
+            m.pass(600_000, rep, [], || counts(3_900)).set_point_changed,
+            None
+        );
+        assert_eq!(
+            m.controller().set_rate(),
+            Some(keys.presets[0].1 + keys.step_mhz)
+        );
+        // Another remote's On: ignored, counted.
+        let o = m.pass(800_000, frame(0x5a, board::NEC_CMD_ON, 700_000), [], || {
+            counts(3_900)
+        });
+        assert_eq!(
+            (o.command, o.state, o.foreign_frames),
+            (None, MotorState::Off, 1)
+        );
     }
 }
