@@ -109,7 +109,7 @@ impl Robot {
                 watchdog.feed();
                 continue;
             }
-            sleep::until_next_event();
+            sleep::until_next_event(out.next_pass_in_us.unwrap_or(board::WAKE_PERIOD_US));
         }
     }
 }

@@ -61,6 +61,12 @@ pub struct PassOutput {
     /// The cut-off latch changed in this pass: store the new value where
     /// it survives a reset (`reset_memory`).
     pub latch_changed: Option<bool>,
+    /// Run the next pass this soon (us) rather than after the usual wake
+    /// period: set on the pass that starts the motor, when the soft start's
+    /// reference (and with it the duty) first becomes non-zero after
+    /// `ramp_us / set-point`, so the first PWM edge does not wait a whole
+    /// wake period (the On -> PWM latency, issue 26.3).
+    pub next_pass_in_us: Option<u32>,
     /// Motor off and no IR edge for `dormant_after_us`:
     /// the chip may stop its clocks until the next IR edge.
     pub may_go_dormant: bool,
@@ -248,6 +254,10 @@ impl MainLoop {
             command,
             set_point_changed,
             foreign_frames: self.remote.foreign_frames(),
+            next_pass_in_us: (event == Some(Event::Started))
+                .then(|| self.controller.set_rate())
+                .flatten()
+                .map(|set| self.cfg.rate.motor.ramp_us.div_ceil(set.max(1))),
             sample,
             battery,
             led,
@@ -357,6 +367,13 @@ mod tests {
         let o = m.pass(400_000, on_frame(), [], || counts(3_900));
         assert_eq!(o.event, Some(Event::Started));
         assert!(o.hall_power, "the latches are powered with the start");
+        // The duty is zero on the starting pass; the next pass comes when
+        // the ramp's reference first is non-zero, and its duty is.
+        assert_eq!(o.duty, Duty::ZERO);
+        let soon = o.next_pass_in_us.expect("an early pass after the start");
+        assert!(soon < board::WAKE_PERIOD_US);
+        let o = m.pass(400_000 + u64::from(soon), [], [], || counts(3_900));
+        assert!(o.duty > Duty::ZERO && o.next_pass_in_us.is_none());
         // No Hall edge: driven past the soft start for the stall time.
         let stall_us = u64::from(board::RATE.stall_us);
         let ramp_us = u64::from(board::RATE.motor.ramp_us);

@@ -23,6 +23,8 @@ export const RUNNING_DUTY = 0.1;
 export const SOFT_START_NS = 250 * MS;
 export const SOFT_START_TOL = 0.1; // +-10 %
 
+export const ON_LATENCY_NS = 1 * MS; // issue 26.3: end of the On frame to the first PWM edge
+export const ASLEEP_RUNNING_MIN = 0.95; // issue 26.3: the core >= 95 % asleep with the motor running
 export const OFF_DEADLINE_NS = 1 * MS; // duty 0 within 1 ms of the end of the Off frame
 
 export const CUTOFF_V = 3.3; // low-battery cut-off, under load
