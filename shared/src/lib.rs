@@ -1,5 +1,6 @@
 //! The robot's decision logic, free of hardware: the IR remote protocol, the
-//! command set, the motor controller state machine, the battery monitor, the
+//! command set and the rate keys, the motor controller state machine, the
+//! tail-rate sensing and control, the battery monitor, the
 //! status LED patterns, the PWM carrier arithmetic, the board's constants,
 //! the one main-loop pass that the chip, the host simulation and the
 //! property tests all run, and what survives a reset.
