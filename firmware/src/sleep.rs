@@ -22,14 +22,10 @@ use rp2040_hal::Timer;
 
 use crate::{board, ir};
 
-/// Longest sleep: the main loop runs at least this often (1 kHz), fine
-/// enough for the soft-start ramp, the LED patterns and the battery samples.
-pub const WAKE_PERIOD_US: u32 = 1_000;
-
-const _: () = assert!(
-    WAKE_PERIOD_US * 10 < board::WATCHDOG_MS * 1_000,
-    "the watchdog is fed every pass: a pass must come well within its period"
-);
+/// Longest sleep (`board::WAKE_PERIOD_US`): the main loop runs at least
+/// this often (1 kHz), fine enough for the soft-start ramp, the LED
+/// patterns and the battery samples.
+use board::WAKE_PERIOD_US;
 
 static ALARM: Mutex<RefCell<Option<Alarm0>>> = Mutex::new(RefCell::new(None));
 
@@ -44,13 +40,13 @@ pub fn start(timer: &mut Timer) {
     unsafe { pac::NVIC::unmask(pac::Interrupt::TIMER_IRQ_0) };
 }
 
-/// Sleep until the next IR edge or for at most `WAKE_PERIOD_US`; return at
-/// once if an edge is already queued.
-pub fn until_next_event() {
+/// Sleep until the next IR edge or for at most `wake_us` (capped at
+/// `WAKE_PERIOD_US`); return at once if an edge is already queued.
+pub fn until_next_event(wake_us: u32) {
     critical_section::with(|cs| {
         if let Some(alarm) = ALARM.borrow_ref_mut(cs).as_mut() {
-            // A 1 ms countdown is far below the 2^32 us limit: cannot fail.
-            let _ = alarm.schedule(WAKE_PERIOD_US.micros());
+            // At most 1 ms, far below the 2^32 us limit: cannot fail.
+            let _ = alarm.schedule(wake_us.clamp(1, WAKE_PERIOD_US).micros());
         }
         if !ir::has_edges(cs) {
             cortex_m::asm::wfi();

@@ -23,6 +23,7 @@ mod nonlocal;
 mod nonlocal_effects;
 mod page;
 mod physics_tail;
+mod rate_control;
 mod report;
 mod sim;
 mod tail_tube;

@@ -1,7 +1,8 @@
-//! Safety properties of the firmware's decision code (shared crate: NEC
-//! decoder, key map, battery monitor, controller), driven as the firmware's
-//! main loop (`firmware/src/run.rs`) drives it, by arbitrary sequences of
-//! ADC readings (including 0, 4095 and sudden jumps) and IR edges:
+//! Safety properties of the firmware's main-loop pass
+//! (`swimbot_shared::MainLoop`, the very code `firmware/src/run.rs` calls),
+//! driven by arbitrary sequences of ADC readings (including 0, 4095 and
+//! sudden jumps), IR edges and Hall edges (any levels, any gaps: a turning,
+//! stalled, reversed, bouncing or half-wired sensor):
 //!
 //! 1. without a valid On frame, the motor never starts (duty stays 0),
 //!    whatever noise, foreign frames, corrupted On frames or repeat codes
@@ -10,25 +11,19 @@
 //!    voltage below the cut-off,
 //!    the motor is off within the cut-off's debounce time and stays off
 //!    while the readings stay low, even if On frames keep arriving;
-//! 3. the duty is zero whenever the monitor's status forbids running.
+//! 3. the duty is zero whenever the monitor's status forbids running;
+//! 4. after a reset that remembered a cut-off (watchdog scratch), On frames
+//!    never start the motor until a reading of a recharged cell (the
+//!    monitor's `recharged_mv`, at rest) has come in;
+//! 5. the duty never exceeds full scale, is never non-zero with the Hall
+//!    latches unpowered, and after a rate-sensor fault stays zero until
+//!    the next decoded On (no Hall edge restarts the motor).
 
 use proptest::prelude::*;
 use swimbot_shared::battery::AVERAGE_SAMPLES;
+use swimbot_shared::board::{BATTERY, BATTERY_SAMPLE_PERIOD_US as SAMPLE_PERIOD_US, KEYS};
 use swimbot_shared::nec::{for_each_edge, frame_pulses_us, raw_frame_pulses_us, REPEAT_PULSES_US};
-use swimbot_shared::{
-    BatteryConfig, BatteryMonitor, Command, Controller, ControllerConfig, KeyMap, Level,
-    MotorState, Remote,
-};
-
-const KEYS: KeyMap = KeyMap {
-    address: 0x00,
-    on: 0x45,
-    off: 0x47,
-};
-/// The board's divider and reference (firmware/src/board.rs).
-const BATTERY: BatteryConfig = BatteryConfig::new(100_000, 82_000, 3_300);
-/// The firmware samples the cell every 20 ms.
-const SAMPLE_PERIOD_US: u64 = 20_000;
+use swimbot_shared::{Command, Duty, HallEdge, Level, MainLoop, MotorState};
 
 /// What happens next to the firmware.
 #[derive(Debug, Clone)]
@@ -37,6 +32,8 @@ enum Input {
     Adc(u16),
     /// A raw receiver edge after `gap_us`.
     Edge(bool, u32),
+    /// A Hall edge (levels of A and B) after `gap_us`.
+    Hall(bool, bool, u32),
     /// A whole NEC frame that is not our On: another key, another address,
     /// a corrupted checksum, or a repeat code.
     NotOn(NotOn),
@@ -83,6 +80,7 @@ fn input(with_on: bool) -> BoxedStrategy<Input> {
     let base = prop_oneof![
         4 => adc().prop_map(Input::Adc),
         4 => (any::<bool>(), 0u32..20_000).prop_map(|(l, g)| Input::Edge(l, g)),
+        4 => (any::<bool>(), any::<bool>(), 0u32..300_000).prop_map(|(a, b, g)| Input::Hall(a, b, g)),
         2 => not_on().prop_map(Input::NotOn),
         1 => (0u32..3_000_000).prop_map(Input::Wait),
     ];
@@ -93,14 +91,14 @@ fn input(with_on: bool) -> BoxedStrategy<Input> {
     }
 }
 
-/// The firmware's loop, with simulated time.
+/// The firmware's main loop, with simulated time: passes at every edge and
+/// at every battery reading (the passes in between change nothing here).
 struct Firmware {
     t_us: u64,
+    /// When the main loop will next read the ADC (from its `sample` output).
     next_sample_us: u64,
-    remote: Remote,
-    monitor: BatteryMonitor,
-    controller: Controller,
-    /// Latest ADC code; sampled every period like the real board.
+    main_loop: MainLoop,
+    /// Latest ADC code; read whenever the pass asks.
     adc: u16,
     /// Cell mV of every sample taken, with its time.
     readings: Vec<(u64, u32)>,
@@ -112,38 +110,48 @@ struct Step {
     duty: u32,
     allows_motor: bool,
     command: Option<Command>,
+    faulted: bool,
+    hall_power: bool,
 }
 
 impl Firmware {
     fn new(adc: u16) -> Self {
+        Self::after_reset(adc, false)
+    }
+
+    fn after_reset(adc: u16, cutoff_remembered: bool) -> Self {
         Firmware {
             t_us: 0,
             next_sample_us: 0,
-            remote: Remote::new(KEYS),
-            monitor: BatteryMonitor::new(BATTERY),
-            controller: Controller::new(ControllerConfig::DEFAULT),
+            main_loop: MainLoop::new(cutoff_remembered),
             adc,
             readings: Vec::new(),
         }
     }
 
-    /// One main-loop pass at `t_us` with the decoded command, if any.
-    fn pass(&mut self, command: Option<Command>, out: &mut Vec<Step>) {
-        if self.t_us >= self.next_sample_us {
+    /// One main-loop pass at `t_us` with the receiver edges since the last.
+    fn pass(&mut self, edges: &[(Level, u32)], out: &mut Vec<Step>) {
+        self.pass_with(edges, None, out);
+    }
+
+    fn pass_with(&mut self, edges: &[(Level, u32)], hall: Option<HallEdge>, out: &mut Vec<Step>) {
+        let adc = self.adc;
+        let o = self
+            .main_loop
+            .pass(self.t_us, edges.iter().copied(), hall, || adc);
+        if let Some(counts) = o.sample {
             self.next_sample_us = self.t_us + SAMPLE_PERIOD_US;
-            let on = self.controller.state() != MotorState::Off;
-            self.monitor.sample(self.adc, self.t_us, on);
             self.readings
-                .push((self.t_us, BATTERY.counts_to_mv(self.adc)));
+                .push((self.t_us, BATTERY.counts_to_mv(counts)));
         }
-        let battery = self.monitor.status();
-        let o = self.controller.step(self.t_us, command, battery);
         out.push(Step {
             t_us: self.t_us,
             state: o.state,
             duty: o.duty.raw(),
-            allows_motor: battery.allows_motor(),
-            command,
+            allows_motor: o.battery.allows_motor(),
+            command: o.command,
+            faulted: o.fault.is_some(),
+            hall_power: o.hall_power,
         });
     }
 
@@ -151,7 +159,7 @@ impl Firmware {
     fn idle_until(&mut self, until_us: u64, out: &mut Vec<Step>) {
         while self.next_sample_us <= until_us {
             self.t_us = self.t_us.max(self.next_sample_us);
-            self.pass(None, out);
+            self.pass(&[], out);
         }
         self.t_us = self.t_us.max(until_us);
     }
@@ -167,8 +175,7 @@ impl Firmware {
 
     fn edge(&mut self, level: Level, at_us: u64, out: &mut Vec<Step>) {
         self.idle_until(at_us, out);
-        let c = self.remote.edge(level, at_us as u32);
-        self.pass(c, out);
+        self.pass(&[(level, at_us as u32)], out);
     }
 
     fn apply(&mut self, i: &Input, out: &mut Vec<Step>) {
@@ -182,6 +189,12 @@ impl Firmware {
                 let level = if high { Level::High } else { Level::Low };
                 let at = self.t_us + u64::from(gap);
                 self.edge(level, at, out);
+            }
+            Input::Hall(a, b, gap) => {
+                let at = self.t_us + u64::from(gap);
+                self.idle_until(at, out);
+                let t_us = at as u32;
+                self.pass_with(&[], Some(HallEdge { t_us, a, b }), out);
             }
             Input::On => self.edges(&frame_pulses_us(KEYS.address, KEYS.on), out),
             Input::NotOn(ref n) => match *n {
@@ -203,7 +216,10 @@ impl Firmware {
 }
 
 fn run(start_adc: u16, inputs: &[Input]) -> (Firmware, Vec<Step>) {
-    let mut fw = Firmware::new(start_adc);
+    run_from(Firmware::new(start_adc), inputs)
+}
+
+fn run_from(mut fw: Firmware, inputs: &[Input]) -> (Firmware, Vec<Step>) {
     let mut out = Vec::new();
     for i in inputs {
         fw.apply(i, &mut out);
@@ -279,6 +295,68 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    /// Property 5: the duty's range, the latches' power, and a sensor
+    /// fault holding the motor off until a new On.
+    #[test]
+    fn a_sensor_fault_holds_until_a_new_on(
+        inputs in prop::collection::vec(input(true), 0..200),
+    ) {
+        let healthy = BATTERY.mv_to_counts(3_900);
+        let (_, steps) = run(healthy, &inputs);
+        let mut held = false;
+        for s in &steps {
+            prop_assert!(s.duty <= Duty::FULL.raw());
+            if s.duty > 0 {
+                prop_assert!(s.hall_power, "driven with the latches off at {} us", s.t_us);
+            }
+            if s.command == Some(Command::On) {
+                held = false;
+            }
+            held |= s.faulted;
+            if held {
+                prop_assert_eq!(s.duty, 0, "driven after a sensor fault at {} us", s.t_us);
+            }
+        }
+    }
+
+    /// Property 4: a remembered cut-off holds through any inputs, On frames
+    /// included, until a reading at or above the recharged level.
+    #[test]
+    fn a_remembered_cutoff_holds_until_recharged(
+        start in adc(),
+        inputs in prop::collection::vec(input(true), 0..160),
+    ) {
+        let (fw, steps) = run_from(Firmware::after_reset(start, true), &inputs);
+        let recharged = u32::from(BATTERY.recharged_mv);
+        let first_recharged = fw
+            .readings
+            .iter()
+            .find(|r| r.1 >= recharged && r.1 <= u32::from(BATTERY.plausible_max_mv))
+            .map_or(u64::MAX, |r| r.0);
+        for s in steps.iter().filter(|s| s.t_us < first_recharged) {
+            prop_assert_eq!(s.state, MotorState::Off, "running at {} us on a remembered cut-off", s.t_us);
+        }
+    }
+}
+
+#[test]
+fn a_remembered_cutoff_is_released_by_a_recharged_cell() {
+    let inputs = [Input::Wait(300_000), Input::On, Input::Wait(100_000)];
+    let (_, steps) = run_from(
+        Firmware::after_reset(BATTERY.mv_to_counts(4_100), true),
+        &inputs,
+    );
+    assert!(steps.iter().any(|s| s.state != MotorState::Off));
+    let (_, steps) = run_from(
+        Firmware::after_reset(BATTERY.mv_to_counts(3_600), true),
+        &inputs,
+    );
+    assert!(steps.iter().all(|s| s.state == MotorState::Off));
+}
+
 /// The property test can fail: a healthy cell with an On frame runs.
 #[test]
 fn a_valid_on_frame_on_a_healthy_cell_does_start() {
@@ -288,4 +366,24 @@ fn a_valid_on_frame_on_a_healthy_cell_does_start() {
     assert!(steps
         .iter()
         .any(|s| s.state != MotorState::Off && s.duty > 0));
+}
+
+/// Property 5 can fail: a quarter turn backwards while driven is a fault,
+/// and the motor is off from that pass on.
+#[test]
+fn a_reversed_sensor_stops_the_motor() {
+    let healthy = BATTERY.mv_to_counts(3_900);
+    let mut inputs = vec![Input::Wait(300_000), Input::On, Input::Wait(300_000)];
+    let backwards = [(false, false), (true, false), (true, true), (false, true)];
+    for k in 0..6 {
+        let (a, b) = backwards[k % 4];
+        inputs.push(Input::Hall(a, b, 50_000));
+    }
+    let (_, steps) = run(healthy, &inputs);
+    let fault = steps
+        .iter()
+        .position(|s| s.faulted)
+        .expect("a reversal fault");
+    assert!(steps[..fault].iter().any(|s| s.duty > 0));
+    assert!(steps[fault..].iter().all(|s| s.duty == 0 && !s.hall_power));
 }
