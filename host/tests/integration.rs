@@ -20,6 +20,7 @@ mod mutation;
 mod nonlocal;
 mod nonlocal_effects;
 mod physics_tail;
+mod rate_control;
 mod report;
 mod sim;
 mod tail_tube;

@@ -6,6 +6,7 @@
 //! one integrator (see `tests/tests/controller_motor.rs`).
 
 pub mod battery;
+pub mod hall;
 pub mod motor;
 pub mod pwm;
 

@@ -21,12 +21,16 @@
 
 use super::drive::period_losses;
 use super::hydro::Hydro;
+use super::rate::{Driver, RatePoint, RateRun};
 use super::robot::Robot;
 use super::script::Script;
 use super::SimError;
 use crate::robot::motor::FRICTION_SMOOTHING_RAD_S;
 use crate::robot::MotorState;
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
 use std::f64::consts::TAU;
+use swimbot_shared::rate::{RateEvent, SensorFault};
 use swimbot_shared::{
     BatteryMonitor, Command, Controller, Duty, Event, MotorState as State, Remote, StopReason,
 };
@@ -111,6 +115,8 @@ pub enum End {
     TopReached,
     /// The controller stopped the motor and it came to rest.
     Stopped(StopReason),
+    /// The rate sensor showed a fault and the controller stopped the motor.
+    SensorFault(SensorFault),
     /// The script ran out and the robot is at rest (never started, or
     /// started and stopped by a command).
     Idle,
@@ -138,9 +144,28 @@ pub struct Outcome {
     pub mean_omega_b_hz: f64,
     pub energy: Energy,
     pub ticks: u64,
+    /// Rate control only: the trace every [`RATE_TRACE_EVERY_US`], and the
+    /// sensor faults and refused starts with their times.
+    pub rate_trace: Vec<RatePoint>,
+    pub rate_faults: Vec<(f64, RateEvent)>,
 }
 
+/// Spacing of the rate trace: fine enough for settling times, a tenth of
+/// the memory of every tick.
+pub const RATE_TRACE_EVERY_US: u64 = 10_000;
+
+/// The robot in voltage mode (the firmware today).
 pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcome, SimError> {
+    simulate_with(robot, script, opts, None)
+}
+
+/// The robot, rate-controlled when `rate` is given.
+pub fn simulate_with(
+    robot: &Robot,
+    script: &Script,
+    opts: &Options,
+    rate: Option<&RateRun>,
+) -> Result<Outcome, SimError> {
     let tail = robot.tails.get(opts.tail).ok_or_else(|| {
         SimError::Input(format!(
             "tail index {} out of range (the robot has {})",
@@ -157,7 +182,14 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
     let (tick_us, dt) = (robot.tick_us, robot.tick_us as f64 * 1e-6);
     let mut remote = Remote::new(robot.keys);
     let mut monitor = BatteryMonitor::new(robot.battery);
-    let mut controller = Controller::new(robot.controller);
+    let mut driver = Driver::new(Controller::new(robot.controller), rate);
+    // ADC noise only where asked for (rate runs): voltage-mode runs stay
+    // exactly what they were.
+    let adc_sd = rate.map_or(0.0, |r| r.noise.adc_noise_lsb.abs());
+    let adc_noise = Normal::new(0.0, adc_sd).ok().filter(|_| adc_sd > 0.0);
+    let mut rng = rand::rngs::StdRng::seed_from_u64(rate.map_or(0, |r| r.noise.seed ^ 0xadc));
+    let mut rate_trace = Vec::new();
+    let mut next_trace_us = 0u64;
     let edges = script.edges(&robot.keys);
     let mut next_edge = 0;
     let script_end_us = edges.last().map_or(0, |e| e.1);
@@ -178,6 +210,7 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
     let (mut running_s, mut sum_u, mut sum_f, mut sum_om) = (0.0, 0.0, 0.0, 0.0);
     let mut top_reached_s = None;
     let mut last_stop = None;
+    let mut last_stop_s = f64::NEG_INFINITY;
     let mut ticks = 0u64;
     let sample_now =
         |t_us: u64, duty: f64, v: f64, i_s: f64, s: &MotorState, h: f64, q: f64, state: State| {
@@ -217,15 +250,20 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
         if t_us >= next_adc_us {
             next_adc_us = t_us + robot.adc_period_us;
             let v = ocv - cell.internal_resistance_ohm * supply_a;
-            let counts = robot
+            let mut counts = robot
                 .battery
                 .mv_to_counts((v * 1e3).round().max(0.0) as u32);
+            if let Some(n) = adc_noise {
+                let noisy = f64::from(counts) + n.sample(&mut rng).round();
+                counts = noisy.clamp(0.0, 4095.0) as u16;
+            }
             monitor.sample(counts, t_us, duty != Duty::ZERO);
         }
-        let out = controller.step(t_us, command, monitor.status());
+        let out = driver.step(t_us, command, monitor.status());
         if let Some(e) = out.event {
             if let Event::Stopped(r) = e {
                 last_stop = Some(r);
+                last_stop_s = t_us as f64 * 1e-6;
             }
             events.push((t_us as f64 * 1e-6, e));
         }
@@ -255,6 +293,7 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
             dt,
         );
         let w = s.speed_rad_s;
+        driver.turned(0.5 * (w_old + w) * dt, t_us, dt);
         charge_c = (charge_c - supply_a * dt).clamp(0.0, capacity_c);
         let vel = hydro.velocity(w);
         height_mm += vel[0] * 1e3 * dt;
@@ -277,6 +316,19 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
             sum_om += -vel[3] / TAU * dt;
         }
         last = sample_now(t_us, d, v, supply_a, &s, height_mm, charge_c, out.state);
+        if let (Some(run), true) = (rate, t_us >= next_trace_us) {
+            next_trace_us += RATE_TRACE_EVERY_US;
+            rate_trace.push(RatePoint {
+                t_s: last.t_s,
+                set_hz: run.set_hz_at(t_us).unwrap_or(0.0),
+                reference_hz: driver.reference_hz(),
+                measured_hz: driver.measured_hz().unwrap_or(f64::NAN),
+                motor_rate_hz: last.motor_rate_hz,
+                duty: d,
+                battery_v: v,
+                running: out.state == State::Running,
+            });
+        }
         if t_us >= next_sample_us {
             next_sample_us += sample_every_us;
             samples.push(last);
@@ -292,6 +344,9 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
             && next_edge == edges.len()
             && t_us > script_end_us + 2_000_000;
         if at_rest {
+            if let Some(f) = driver.last_fault_after(last_stop_s) {
+                break End::SensorFault(f);
+            }
             break last_stop
                 .filter(|r| *r != StopReason::Command)
                 .map_or(End::Idle, End::Stopped);
@@ -323,5 +378,7 @@ pub fn simulate(robot: &Robot, script: &Script, opts: &Options) -> Result<Outcom
         mean_omega_b_hz: mean(sum_om),
         energy,
         ticks,
+        rate_faults: driver.faults(),
+        rate_trace,
     })
 }

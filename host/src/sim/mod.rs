@@ -12,12 +12,15 @@ pub mod dynamics;
 pub mod figure;
 pub mod hydro;
 pub mod output;
+pub mod rate;
 mod raw;
 pub mod robot;
 mod robot_limits;
 pub mod script;
+pub mod step_response;
 
-pub use dynamics::{simulate, End, Energy, Options, Outcome, Sample};
+pub use dynamics::{simulate, simulate_with, End, Energy, Options, Outcome, Sample};
+pub use rate::{RatePoint, RateRun};
 pub use robot::{default_robot, Robot, RobotError};
 pub use script::Script;
 

@@ -76,6 +76,7 @@ pub fn summary(robot: &Robot, o: &Outcome) -> String {
     let end = match o.end {
         End::TopReached => "the nose reached the channel's top".to_string(),
         End::Stopped(r) => format!("the controller stopped the motor ({r:?})"),
+        End::SensorFault(f) => format!("the rate sensor showed a fault ({f:?}): motor stopped"),
         End::Idle => "script done, robot at rest".to_string(),
         End::TimeLimit => "time limit".to_string(),
     };

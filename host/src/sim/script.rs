@@ -131,7 +131,7 @@ fn parse_byte(s: &str) -> Option<u8> {
     }
 }
 
-fn parse_time_us(s: &str) -> Option<u64> {
+pub(super) fn parse_time_us(s: &str) -> Option<u64> {
     let (num, scale) = if let Some(n) = s.strip_suffix("ms") {
         (n, 1e3)
     } else if let Some(n) = s.strip_suffix("min") {

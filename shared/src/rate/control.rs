@@ -4,27 +4,35 @@
 //! voltage.
 //!
 //! Feed-forward from the motor line. Near stall (the back-EMF at 1 Hz is
-//! 5 mV) the loaded motor's steady rate is linear in its mean voltage,
-//! `V = V_0 + s g f`: `V_0 = R tau_c / k` is the motor's own friction, a
-//! motor constant; the slope `s` is `2 pi R c / k` for a tail of viscous
-//! load `c`, and the tail is what the firmware cannot know. So the
-//! controller keeps the configured line (`line`, the lightest load of the
-//! design range, so that a first start approaches from below) times a
-//! learned factor `g`, the integrator state, and divides the voltage by
-//! the measured cell voltage for the duty (the cell sags 4.2 -> 3.3 V).
+//! 5 mV) the loaded motor's steady rate is linear in its mean PWM voltage,
+//! `V = V_0 + s f`: `V_0` is the motor's friction `R tau_c / k` plus the
+//! freewheel diode's share of each period (`V_d t_d / T`), both constants
+//! of the board; the slope `s = 2 pi (R c / k + k)` grows with the tail's
+//! viscous load `c`, and the tail is what the firmware cannot know. So the
+//! controller keeps the configured line (`line`: the lightest load of the
+//! design range, so that a start approaches from below) times a learned
+//! factor `g`, and divides the voltage by the measured cell voltage for the
+//! duty, so the cell's sag 4.2 -> 3.3 V does not reach the rate.
 //!
-//! PI on the relative rate error `e = (f_ref - f) / f_ref`, both terms
-//! scaled to the line so the loop is the same for every tail and rate:
+//! `g` is identified, then trimmed. The plant is static on the sensor's
+//! time scale (the loaded mechanical time constant is ~0.2 ms, a turn
+//! ~1 s), so a window of edges at a constant voltage measures the slope:
+//! `g <- g f_ref / f`. After every change of the reference this is done on
+//! the first clean quarter turn (fast, a few per cent of pole-pattern
+//! error) and again on the first clean whole turn (pattern-free). Then PI
+//! on the relative error `e = (f_ref - f) / f_ref` of whole-turn rates
+//! holds the rate against slow drifts (the cell, the oil's temperature):
 //! `V = V_0 + s g f_ref (1 + k_p e)`, and on each forward edge
 //! `g <- g (1 + k_i e / E)` (`E` edges a turn: `k_i` is the integral gain
-//! per turn). With the one-turn average of the sensor the loop's lag is
-//! half a turn, so the design rule is `k_p < 1` (the proportional loop is
-//! a contraction whatever the lag) and `k_i <= 1` per turn (a phase
-//! margin of at least 60 degrees at crossover). The PI acts only on windows that lie
-//! wholly after the reference last changed, so the soft start and a
-//! set-point step are never integrated as error. Anti-windup: no
-//! integration towards a duty limit that is already reached, and `g`
-//! clamped to `gain_min..=gain_max`.
+//! per turn). The one-turn average lags half a turn; with `k_p = 0.5` and
+//! `k_i = 1` per turn the loop's phase margin is 87 degrees and its gain
+//! margin 16 (continuous approximation with the one-turn moving average;
+//! `k_p < 1` keeps the proportional loop a contraction whatever the lag).
+//! Clean means the window lies wholly after the last change of the
+//! reference or of `g`'s identification, so the soft start and a
+//! set-point step are never taken as error. Anti-windup: no integration
+//! upwards while the duty is at its clamp, and `g` bounded to
+//! `gain_min..=gain_max`.
 //!
 //! The soft start ramps the reference from 0 to the set-point over the
 //! inner controller's ramp; set-point changes slew at `slew_mhz_per_s`.
@@ -72,29 +80,30 @@ pub struct RateConfig {
 }
 
 impl RateConfig {
-    /// The board's motor (7 ohm, 0.8 mN m/A, 12 uN m friction: V_0 =
-    /// 105 mV) and the lightest tail of the paper's six (tail-2, 1.5 Hz at
-    /// 3 V: about 1.9 V/Hz); `g` may reach 4x that (tails 5 and 6 need
-    /// about 2.8x). Set-points 0.2-2 Hz. A stall is declared after 2 s
-    /// without an edge: at the lowest set-point a turn of 16 edges takes
-    /// 5 s, an edge 0.31 s.
+    /// The board's motor (7 ohm, 0.8 mN m/A, 12 uN m friction: 105 mV)
+    /// and drive (0.3 V Schottky conducting ~9 us of the 40 us period at
+    /// 0.4-0.6 A: 70 mV), so `V_0` = 175 mV; the slope of the lightest
+    /// load in the design range, 0.7 V/Hz (tails 1 and 2 in the model;
+    /// the paper's observed rates give 1.9-5.1 V/Hz), with `g` up to 8x.
+    /// Set-points 0.2-2 Hz. A stall is declared after 5 s without an edge:
+    /// at the lowest set-point, started 8x below it, an edge takes 2.5 s.
     pub const DEFAULT: Self = Self {
         motor: ControllerConfig {
             max_duty: Duty::FULL,
             ..ControllerConfig::DEFAULT
         },
         line: MotorLine {
-            intercept_mv: 105,
-            slope_mv_per_hz: 1_900,
+            intercept_mv: 175,
+            slope_mv_per_hz: 700,
         },
         kp_q16: 1 << 15,
         ki_per_turn_q16: 1 << 16,
         gain_min_q16: 1 << 14,
-        gain_max_q16: 4 << 16,
+        gain_max_q16: 8 << 16,
         min_rate_mhz: 200,
         max_rate_mhz: 2_000,
         slew_mhz_per_s: 1_000,
-        stall_us: 2_000_000,
+        stall_us: 5_000_000,
     };
 }
 
@@ -139,6 +148,8 @@ pub struct RateController {
     started_us: u64,
     last_us: u64,
     edges_seen: u32,
+    /// Identification stages done since the reference last changed (0-2).
+    identified: u8,
     rel_err_q16: i64,
     saturated_high: bool,
     fault: Option<SensorFault>,
@@ -156,6 +167,7 @@ impl RateController {
             started_us: 0,
             last_us: 0,
             edges_seen: 0,
+            identified: 0,
             rel_err_q16: 0,
             saturated_high: false,
             fault: None,
@@ -230,7 +242,7 @@ impl RateController {
             }
             (state, Some(set)) => {
                 self.follow(now_us, state, set);
-                self.update(rate);
+                self.update(now_us, rate);
                 self.duty(battery)
             }
         };
@@ -288,20 +300,46 @@ impl RateController {
         };
         if self.ref_mhz != before || state == MotorState::Ramping {
             self.ref_changed_us = now_us as u32;
+            self.identified = 0;
         }
     }
 
-    /// PI on every new whole-turn rate that lies after the last reference change.
-    fn update(&mut self, rate: &RateEstimator) {
+    /// Line identification, then PI, on every new rate whose window lies
+    /// wholly after the last change of the reference or of the line.
+    fn update(&mut self, now_us: u64, rate: &RateEstimator) {
         let seen = rate.forward_edges();
         let new_edges = seen.wrapping_sub(self.edges_seen);
         self.edges_seen = seen;
         let Some(r) = rate.estimate() else { return };
-        let clean = r.whole_turn && (r.since_us.wrapping_sub(self.ref_changed_us) as i32) >= 0;
-        if new_edges == 0 || !clean || self.ref_mhz == 0 {
-            if !clean {
-                self.rel_err_q16 = 0;
-            }
+        let clean = (r.since_us.wrapping_sub(self.ref_changed_us) as i32) >= 0;
+        if !clean {
+            self.rel_err_q16 = 0;
+        }
+        if new_edges == 0 || !clean || self.ref_mhz == 0 || r.rate_mhz == 0 {
+            return;
+        }
+        let edges = rate.config().edges_per_turn();
+        let due = match self.identified {
+            0 => usize::from(r.intervals) * 4 >= edges,
+            1 => r.whole_turn,
+            _ => false,
+        };
+        let g = i64::from(self.gain_q16);
+        let (lo, hi) = (
+            i64::from(self.cfg.gain_min_q16),
+            i64::from(self.cfg.gain_max_q16.max(self.cfg.gain_min_q16)),
+        );
+        if due {
+            // The plant is static: one clean window at a constant voltage
+            // gives the line's slope, s_true / s_nom = g f_ref / f.
+            let g_new = g * i64::from(self.ref_mhz) / i64::from(r.rate_mhz);
+            self.gain_q16 = u32::try_from(g_new.clamp(lo, hi)).unwrap_or(self.cfg.gain_max_q16);
+            self.identified += 1;
+            self.ref_changed_us = now_us as u32;
+            self.rel_err_q16 = 0;
+            return;
+        }
+        if self.identified < 2 || !r.whole_turn {
             return;
         }
         let reference = i64::from(self.ref_mhz);
@@ -311,15 +349,9 @@ impl RateController {
         if e > 0 && self.saturated_high {
             return;
         }
-        let edges = rate.config().edges_per_turn() as i64;
         let steps = i64::from(new_edges.min(32));
-        let g = i64::from(self.gain_q16);
-        let dg = g * i64::from(self.cfg.ki_per_turn_q16) / ONE * e / ONE * steps / edges;
-        let (lo, hi) = (
-            self.cfg.gain_min_q16,
-            self.cfg.gain_max_q16.max(self.cfg.gain_min_q16),
-        );
-        self.gain_q16 = u32::try_from((g + dg).clamp(i64::from(lo), i64::from(hi))).unwrap_or(hi);
+        let dg = g * i64::from(self.cfg.ki_per_turn_q16) / ONE * e / ONE * steps / edges as i64;
+        self.gain_q16 = u32::try_from((g + dg).clamp(lo, hi)).unwrap_or(self.cfg.gain_max_q16);
     }
 
     /// Motor voltage from the line, the learned factor and the P term, as a

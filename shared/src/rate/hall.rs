@@ -89,6 +89,8 @@ pub struct RateEstimate {
     /// Timestamp of the window's oldest edge: the rate describes the time
     /// since then.
     pub since_us: u32,
+    /// Edge intervals in the window (1..=edges_per_turn).
+    pub intervals: u16,
 }
 
 #[derive(Clone, Debug)]
@@ -215,6 +217,7 @@ impl RateEstimator {
             rate_mhz: u32::try_from(rate).unwrap_or(u32::MAX),
             whole_turn: self.len == cap,
             since_us: oldest,
+            intervals: u16::try_from(intervals).unwrap_or(u16::MAX),
         })
     }
 

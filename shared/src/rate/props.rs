@@ -192,8 +192,8 @@ fn set_point_gates_the_start_and_the_ramp_shapes_it() {
     ctl.step(10, Some(Command::On), OK, &mut est);
     let half = ctl.step(10 + u64::from(cfg.motor.ramp_us) / 2, None, OK, &mut est);
     assert_eq!(half.reference_mhz, 400);
-    // 105 mV + 1.9 V/Hz x 0.4 Hz = 865 mV of 3.9 V.
-    assert_eq!(half.duty, Duty::from_ratio(865, 3_900));
+    // 175 mV + 0.7 V/Hz x 0.4 Hz = 455 mV of 3.9 V.
+    assert_eq!(half.duty, Duty::from_ratio(455, 3_900));
     ctl.set_rate_mhz(None);
     let o = ctl.step(200_000, None, OK, &mut est);
     assert_eq!((o.duty, o.state), (Duty::ZERO, MotorState::Off));

@@ -1,0 +1,254 @@
+//! Rate control in `swimbot sim` (issue 26): the shared crate's
+//! [`RateController`] and [`RateEstimator`] in place of the voltage-mode
+//! controller, fed by the simulated Hall ring on the motor's shaft
+//! ([`crate::robot::hall`]) and a schedule of set-points.
+//!
+//! The set-point is the motor's rate (tail relative to body): that is what
+//! a sensor in the body sees on the coupler. The lab-frame tail rate the
+//! paper counts on video is that minus the body's counter-rotation, a
+//! fixed fraction per tail in the model (printed by `sim`).
+
+use super::script::parse_time_us;
+use crate::robot::hall::{HallRing, SensorNoise};
+use swimbot_shared::rate::{
+    HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault,
+};
+use swimbot_shared::{BatteryStatus, Command, Controller, Duty, Event, MotorState};
+
+/// A rate-controlled run: when each set-point (Hz) applies, the
+/// controller's configuration, the sensor and its imperfections.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RateRun {
+    /// `(from_us, set_hz)`, sorted; before the first, no set-point.
+    pub set_points: Vec<(u64, f64)>,
+    pub config: RateConfig,
+    pub hall: HallConfig,
+    pub noise: SensorNoise,
+}
+
+impl RateRun {
+    /// The board's controller and sensor with typical noise.
+    pub fn new(set_points: Vec<(u64, f64)>) -> Self {
+        RateRun {
+            set_points,
+            config: RateConfig::DEFAULT,
+            hall: HallConfig::RING_8_POLE,
+            noise: SensorNoise::TYPICAL,
+        }
+    }
+
+    /// `0.8` (from the start) or `0.6@0s,0.9@20s,...` (times as in scripts).
+    pub fn parse_schedule(text: &str) -> Result<Vec<(u64, f64)>, String> {
+        let mut out = Vec::new();
+        for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            let (hz, at) = item.split_once('@').unwrap_or((item, "0"));
+            let at_us = parse_time_us(at.trim()).ok_or_else(|| {
+                format!("rate set-point `{item}`: the time must be a non-negative number with ms, s or min")
+            })?;
+            let hz: f64 = hz.trim().parse().map_err(|_| {
+                format!("rate set-point `{item}`: expected a rate in Hz, e.g. 0.8 or 0.8@10s")
+            })?;
+            if !(hz.is_finite() && hz > 0.0) {
+                return Err(format!(
+                    "rate set-point `{item}`: the rate must be a positive number of Hz"
+                ));
+            }
+            out.push((at_us, hz));
+        }
+        if out.is_empty() {
+            return Err("--rate-hz is empty: give a rate, e.g. 0.8".into());
+        }
+        out.sort_by_key(|p| p.0);
+        Ok(out)
+    }
+
+    /// The set-point in force at `t_us` (Hz).
+    pub fn set_hz_at(&self, t_us: u64) -> Option<f64> {
+        self.set_points
+            .iter()
+            .take_while(|p| p.0 <= t_us)
+            .last()
+            .map(|p| p.1)
+    }
+
+    /// Set-points the controller cannot take (outside its allowed range).
+    pub fn check(&self) -> Result<(), String> {
+        let (lo, hi) = (self.config.min_rate_mhz, self.config.max_rate_mhz);
+        match self
+            .set_points
+            .iter()
+            .find(|p| !(f64::from(lo)..=f64::from(hi)).contains(&(p.1 * 1e3)))
+        {
+            Some(p) => Err(format!(
+                "rate set-point {} Hz is outside the controller's range {}..={} Hz",
+                p.1,
+                f64::from(lo) / 1e3,
+                f64::from(hi) / 1e3
+            )),
+            None => Ok(()),
+        }
+    }
+}
+
+/// One point of a rate-controlled run's trace.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RatePoint {
+    pub t_s: f64,
+    /// The set-point in force (0 before the first).
+    pub set_hz: f64,
+    /// The controller's ramped reference.
+    pub reference_hz: f64,
+    /// The sensor's turn-averaged rate (NaN before the first).
+    pub measured_hz: f64,
+    /// The true motor rate.
+    pub motor_rate_hz: f64,
+    pub duty: f64,
+    pub battery_v: f64,
+    pub running: bool,
+}
+
+/// What drives the motor: the firmware's voltage mode, or rate control.
+#[derive(Debug, Clone)]
+pub(super) enum Driver {
+    Voltage(Controller),
+    Rate(Box<RateDriver>),
+}
+
+#[derive(Debug, Clone)]
+pub(super) struct RateDriver {
+    run: RateRun,
+    ctl: RateController,
+    est: RateEstimator,
+    ring: HallRing,
+    theta_rad: f64,
+    pub(super) reference_hz: f64,
+    pub(super) faults: Vec<(f64, RateEvent)>,
+}
+
+/// The driver's decision for one tick.
+pub(super) struct DriveOut {
+    pub duty: Duty,
+    pub state: MotorState,
+    pub event: Option<Event>,
+}
+
+impl Driver {
+    pub(super) fn new(voltage: Controller, rate: Option<&RateRun>) -> Driver {
+        match rate {
+            None => Driver::Voltage(voltage),
+            Some(run) => Driver::Rate(Box::new(RateDriver {
+                ctl: RateController::new(run.config),
+                est: RateEstimator::new(run.hall),
+                ring: HallRing::new(run.hall.edges_per_turn(), &run.noise),
+                run: run.clone(),
+                theta_rad: 0.0,
+                reference_hz: 0.0,
+                faults: Vec::new(),
+            })),
+        }
+    }
+
+    pub(super) fn step(
+        &mut self,
+        t_us: u64,
+        command: Option<Command>,
+        battery: BatteryStatus,
+    ) -> DriveOut {
+        let d = match self {
+            Driver::Voltage(c) => {
+                let o = c.step(t_us, command, battery);
+                return DriveOut {
+                    duty: o.duty,
+                    state: o.state,
+                    event: o.event,
+                };
+            }
+            Driver::Rate(d) => d,
+        };
+        let set = d.run.set_hz_at(t_us).map(|f| (f * 1e3).round() as u32);
+        d.ctl.set_rate_mhz(set);
+        let o = d.ctl.step(t_us, command, battery, &mut d.est);
+        d.reference_hz = f64::from(o.reference_mhz) / 1e3;
+        let event = match o.event {
+            Some(RateEvent::Motor(e)) => Some(e),
+            Some(other) => {
+                d.faults.push((t_us as f64 * 1e-6, other));
+                None
+            }
+            None => None,
+        };
+        DriveOut {
+            duty: o.duty,
+            state: o.state,
+            event,
+        }
+    }
+
+    /// The rotor turned by `dtheta_rad` over the tick ending at `t_us`: queue
+    /// the sensor's edges for the next pass.
+    pub(super) fn turned(&mut self, dtheta_rad: f64, t_us: u64, dt_s: f64) {
+        if let Driver::Rate(d) = self {
+            let (t1, th0) = (t_us as f64 * 1e-6, d.theta_rad);
+            d.theta_rad += dtheta_rad;
+            for e in d.ring.advance(th0, d.theta_rad, t1 - dt_s, t1) {
+                d.est.edge(e.t_us, e.a, e.b);
+            }
+        }
+    }
+
+    /// The controller's current reference (Hz; 0 in voltage mode).
+    pub(super) fn reference_hz(&self) -> f64 {
+        match self {
+            Driver::Rate(d) => d.reference_hz,
+            Driver::Voltage(_) => 0.0,
+        }
+    }
+
+    /// The last sensor fault, if it came after `after_s`.
+    pub(super) fn last_fault_after(&self, after_s: f64) -> Option<SensorFault> {
+        let Driver::Rate(d) = self else { return None };
+        d.faults.iter().rev().find_map(|&(t, e)| match e {
+            RateEvent::Fault(f) if t >= after_s => Some(f),
+            _ => None,
+        })
+    }
+
+    /// Sensor faults and refused starts, with their times.
+    pub(super) fn faults(&self) -> Vec<(f64, RateEvent)> {
+        match self {
+            Driver::Rate(d) => d.faults.clone(),
+            Driver::Voltage(_) => Vec::new(),
+        }
+    }
+
+    /// The sensor's reading (Hz), if rate-controlled and available.
+    pub(super) fn measured_hz(&self) -> Option<f64> {
+        match self {
+            Driver::Rate(d) => d.est.estimate().map(|r| f64::from(r.rate_mhz) / 1e3),
+            Driver::Voltage(_) => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn schedules_parse_and_bad_ones_say_why() {
+        assert_eq!(RateRun::parse_schedule("0.8"), Ok(vec![(0, 0.8)]));
+        assert_eq!(
+            RateRun::parse_schedule("0.9@20s, 0.6@0s"),
+            Ok(vec![(0, 0.6), (20_000_000, 0.9)])
+        );
+        for bad in ["", "fast", "-1", "0.8@later", "NaN"] {
+            let e = RateRun::parse_schedule(bad).unwrap_err();
+            assert!(e.contains("rate") || e.contains("--rate-hz"), "{bad}: {e}");
+        }
+        let run = RateRun::new(vec![(0, 0.6), (5_000_000, 0.9)]);
+        assert_eq!(run.set_hz_at(4_999_999), Some(0.6));
+        assert_eq!(run.set_hz_at(5_000_000), Some(0.9));
+        assert!(run.check().is_ok());
+        assert!(RateRun::new(vec![(0, 5.0)]).check().is_err());
+    }
+}
