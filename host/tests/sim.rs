@@ -327,3 +327,61 @@ fn the_binary_writes_csv_and_svg() {
     swimbot::report::plots::legend_clear(&svg).unwrap();
     assert!(String::from_utf8_lossy(&out.stdout).contains("battery left"));
 }
+
+#[test]
+fn rate_set_points_write_the_step_responses_and_bad_ones_are_input_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().to_str().unwrap();
+    let out = run_bin(&[
+        "sim",
+        "--tail",
+        "tail-3",
+        "--script",
+        "on@0s,off@10s",
+        "--rate-hz",
+        "0.7@0s,1.0@5s",
+        "-o",
+        out_dir,
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        stdout.matches("settled within 2 % in").count(),
+        2,
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(dir.path().join("rate.csv")).unwrap();
+    assert!(csv.starts_with(swimbot::sim::rate_figure::RATE_CSV_HEADER));
+    assert!(csv.lines().count() > 900, "every 10 ms over 10 s");
+    let svg = std::fs::read_to_string(dir.path().join("rate.svg")).unwrap();
+    swimbot::report::plots::legend_clear(&svg).unwrap();
+    assert!(svg.contains("set-point +-2 %") && svg.contains("sensor, one-turn mean"));
+
+    // Without --rate-hz the run is the voltage-mode one: no rate files.
+    let plain = tempfile::tempdir().unwrap();
+    let out = run_bin(&[
+        "sim",
+        "--script",
+        "on@0s,off@1s",
+        "-o",
+        plain.path().to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    assert!(!plain.path().join("rate.svg").exists());
+
+    for (bad, says) in [
+        ("3", "outside the controller's range 0.2..=2 Hz"),
+        ("0.8@soon", "the time must be"),
+        ("fast", "expected a rate in Hz"),
+        ("", "--rate-hz is empty"),
+    ] {
+        let out = run_bin(&["sim", "--rate-hz", bad, "-o", out_dir]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad}: {err}");
+        assert!(err.contains(says), "{bad}: {err}");
+    }
+}

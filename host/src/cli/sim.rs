@@ -6,7 +6,7 @@
 use super::model_args::{load_data, ModelArgs};
 use super::CliError;
 use crate::physics::solve::Dofs;
-use crate::sim::{self, calibrate, output, Options, Robot, Script, SimError};
+use crate::sim::{self, calibrate, output, rate_figure, Options, RateRun, Robot, Script, SimError};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -43,6 +43,9 @@ pub struct SimArgs {
     /// CSV sampling interval in s.
     #[arg(long, alias = "sample-every", default_value_t = 0.1)]
     pub sample_every_s: f64,
+    /// Hold the motor's rate (tail relative to body, Hz) at set-points: 0.8, or 0.6@0s,0.9@20s; also writes rate.csv and rate.svg (the step responses) [default: none, the fixed motor voltage of the robot file].
+    #[arg(long, value_name = "HZ[@TIME],...")]
+    pub rate_hz: Option<String>,
     /// Keep going past the channel's top (the height then exceeds the channel).
     #[arg(long)]
     pub no_stop_at_top: bool,
@@ -199,24 +202,47 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         sample_every_s: args.sample_every_s,
         stop_at_top: !args.no_stop_at_top,
     };
-    let outcome = sim::simulate(&robot, &script, &opts)?;
+    let rate = rate_run(&args)?;
+    let outcome = sim::simulate_with(&robot, &script, &opts, rate.as_ref())?;
     check_finite(&outcome)?;
-    // Both files are produced in memory first and renamed into place
-    // together, so a failure leaves neither.
+    // Every file is produced in memory first and renamed into place
+    // together, so a failure leaves none.
     let svg = output::figure(&robot, &outcome)
         .map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
-    super::output::write_all_atomically(&[
+    let mut files = vec![
         (
             args.output.join("sim.csv"),
             output::csv(&outcome.samples).into_bytes(),
         ),
         (args.output.join("sim.svg"), svg.into_bytes()),
-    ])?;
+    ];
+    if rate.is_some() {
+        let rate_svg = rate_figure::rate_svg(&outcome)
+            .map_err(|e| CliError::failure(format!("drawing the rate plot: {e}")))?;
+        files.push((
+            args.output.join("rate.csv"),
+            rate_figure::rate_csv(&outcome.rate_trace).into_bytes(),
+        ));
+        files.push((args.output.join("rate.svg"), rate_svg.into_bytes()));
+    }
+    super::output::write_all_atomically(&files)?;
     print!("{}", output::summary(&robot, &outcome));
-    println!(
-        "wrote {} and {}",
-        args.output.join("sim.csv").display(),
-        args.output.join("sim.svg").display()
-    );
+    if rate.is_some() {
+        print!("{}", output::rate_summary(&outcome));
+    }
+    let names: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
+    println!("wrote {}", names.join(", "));
     Ok(())
+}
+
+/// The `--rate-hz` schedule with the board's controller and sensor.
+fn rate_run(args: &SimArgs) -> Result<Option<RateRun>, CliError> {
+    let Some(text) = &args.rate_hz else {
+        return Ok(None);
+    };
+    let points = RateRun::parse_schedule(text).map_err(CliError::input)?;
+    let run = RateRun::new(points);
+    run.check()
+        .map_err(|e| CliError::input(format!("--rate-hz: {e}")))?;
+    Ok(Some(run))
 }

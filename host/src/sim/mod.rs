@@ -13,6 +13,7 @@ pub mod figure;
 pub mod hydro;
 pub mod output;
 pub mod rate;
+pub mod rate_figure;
 mod raw;
 pub mod robot;
 mod robot_limits;

@@ -161,3 +161,42 @@ pub fn summary(robot: &Robot, o: &Outcome) -> String {
     );
     s
 }
+
+/// The step responses of a rate-controlled run, one line each, and the
+/// lab-frame rate the set-point means for this tail (the sensor sees the
+/// motor's rate, tail relative to body; a camera sees the tail's).
+pub fn rate_summary(o: &Outcome) -> String {
+    use super::step_response::{step_metrics, SETTLE_BAND};
+    let mut s = String::new();
+    let lab_per_motor = 1.0 + o.hydro.dv[3];
+    let _ = writeln!(
+        s,
+        "rate control: set-points are the motor's rate; the tail turns {} times that in the lab",
+        fmt_sig(lab_per_motor, 3)
+    );
+    for m in step_metrics(&o.rate_trace) {
+        let settle = m.settle_s.map_or_else(
+            || format!("not within {} %", 100.0 * SETTLE_BAND),
+            |t| {
+                format!(
+                    "settled within {} % in {} s",
+                    100.0 * SETTLE_BAND,
+                    fmt_sig(t, 3)
+                )
+            },
+        );
+        let _ = writeln!(
+            s,
+            "  step {} -> {} Hz at {} s: {settle}, overshoot {} % of the step, steady error {} %",
+            fmt_sig(m.from_hz, 3),
+            fmt_sig(m.to_hz, 3),
+            fmt_sig(m.at_s, 4),
+            fmt_sig(100.0 * m.overshoot, 2),
+            fmt_sig(100.0 * m.steady_error, 2),
+        );
+    }
+    for (t, e) in &o.rate_faults {
+        let _ = writeln!(s, "  at {} s: {e:?}", fmt_sig(*t, 4));
+    }
+    s
+}
