@@ -40,14 +40,14 @@ fn run(robot: &Robot, tail: usize, rate: &RateRun, max_time_s: f64) -> swimbot::
 
 fn check(label: &str, m: &StepMetrics) {
     eprintln!(
-        "{label}: {:.2} -> {:.2} Hz at {:.0} s: settled in {:?} s, overshoot {:.1} %, steady error {:+.2} %, max error after settling {:.2} %",
+        "{label}: {:.2} -> {:.2} Hz at {:.0} s: settled in {:?} s, overshoot {:.1} %, steady error {:+.2} % (largest {:.2} %)",
         m.from_hz,
         m.to_hz,
         m.at_s,
         m.settle_s.map(|s| (s * 100.0).round() / 100.0),
         100.0 * m.overshoot,
         100.0 * m.steady_error,
-        100.0 * m.max_error_after_settle
+        100.0 * m.steady_max_error
     );
     let settle = m.settle_s.unwrap_or(f64::INFINITY);
     assert!(
@@ -108,11 +108,48 @@ fn the_rate_holds_while_the_cell_sags_to_the_cut_off() {
         let m = step_metrics(&o.rate_trace);
         assert_eq!(m.len(), 1);
         check(&robot.tails[tail].id, &m[0]);
+        // Settled means never again outside the band: while the cell sags
+        // for 1.5-3.5 minutes the rate stays within 2 % from 10 s on.
         assert!(
-            m[0].max_error_after_settle <= SETTLE_BAND,
-            "left the band: {m:?}"
+            m[0].settle_s.is_some_and(|s| s <= 10.0),
+            "left the band during the sag: {m:?}"
         );
     }
+}
+
+/// Off and On again with the same tail: the second start begins on the
+/// learned line instead of the lightest load's, so it settles at once.
+#[test]
+fn a_second_start_uses_the_learned_line() {
+    let robot = default_robot();
+    let tail = 5;
+    let set = hz(0.5 * rate_at_3v_hz(&robot, tail));
+    let opts = Options {
+        tail,
+        max_time_s: 40.0,
+        stop_at_top: false,
+        ..Options::default()
+    };
+    let script = Script::parse("on@0s,off@20s,on@22s").unwrap();
+    let o = simulate_with(&robot, &script, &opts, Some(&RateRun::new(vec![(0, set)]))).unwrap();
+    let settle_after = |on_s: f64, until_s: f64| {
+        let w: Vec<_> = o
+            .rate_trace
+            .iter()
+            .filter(|p| p.t_s >= on_s && p.t_s < until_s)
+            .collect();
+        let last_out = w
+            .iter()
+            .rposition(|p| ((p.motor_rate_hz - set) / set).abs() > SETTLE_BAND)
+            .expect("starts from rest");
+        w[last_out + 1].t_s - on_s
+    };
+    let (first, second) = (settle_after(0.0, 20.0), settle_after(22.0, 40.0));
+    eprintln!(
+        "tail-6 at {set} Hz: first start settles in {first:.2} s, the second in {second:.2} s"
+    );
+    assert!(first > 3.0, "the first start has to learn: {first}");
+    assert!(second < 1.0, "the second start should not: {second}");
 }
 
 /// Tails outside the paper's six (shorter, wider, finer pitch), another

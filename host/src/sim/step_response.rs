@@ -30,8 +30,8 @@ pub struct StepMetrics {
     pub overshoot: f64,
     /// Mean of `(rate - to) / to` over the steady window.
     pub steady_error: f64,
-    /// Largest `|rate - to| / to` after settling (0 if never settled).
-    pub max_error_after_settle: f64,
+    /// Largest `|rate - to| / to` over the steady window (the ripple).
+    pub steady_max_error: f64,
     /// The window's length (s).
     pub window_s: f64,
 }
@@ -91,9 +91,7 @@ fn metrics(at_s: f64, from: f64, to: f64, w: &[&RatePoint]) -> Option<StepMetric
         .map(|p| err(p))
         .collect();
     let steady_error = steady.iter().sum::<f64>() / steady.len().max(1) as f64;
-    let max_error_after_settle = settled_from.map_or(0.0, |k| {
-        w[k..].iter().map(|p| err(p).abs()).fold(0.0, f64::max)
-    });
+    let steady_max_error = steady.iter().map(|e| e.abs()).fold(0.0, f64::max);
     Some(StepMetrics {
         at_s,
         from_hz: from,
@@ -101,7 +99,7 @@ fn metrics(at_s: f64, from: f64, to: f64, w: &[&RatePoint]) -> Option<StepMetric
         settle_s,
         overshoot,
         steady_error,
-        max_error_after_settle,
+        steady_max_error,
         window_s,
     })
 }
