@@ -7,10 +7,11 @@
 //! the cell sagging 4.2 -> 3.3 V, and on tails and seeds nobody tuned to.
 
 use std::f64::consts::TAU;
-use swimbot::robot::hall::SensorNoise;
+use swimbot::robot::hall::{Failure, SensorNoise};
 use swimbot::sim::hydro::Hydro;
 use swimbot::sim::step_response::{step_metrics, StepMetrics, SETTLE_BAND};
 use swimbot::sim::{default_robot, simulate_with, End, Options, RateRun, Robot, Script};
+use swimbot_shared::rate::{RateEvent, SensorFault};
 
 /// The tail's motor rate at a 3 V mean motor voltage in the model: what
 /// the paper's voltage-mode robot would turn (Hz), capped at 2 Hz (the
@@ -182,5 +183,43 @@ fn fresh_tails_and_seeds_meet_the_same_requirement() {
         for m in step_metrics(&o.rate_trace) {
             check(&robot.tails[tail].id, &m);
         }
+    }
+}
+
+/// A sensor that fails mid-run stops the motor: B's wire broken
+/// (disconnected), A and B swapped (reversed), no edges at all (stalled,
+/// after the 5 s stall time), each within the time its detection needs.
+#[test]
+fn a_failing_sensor_stops_the_motor() {
+    let robot = default_robot();
+    for (failure, fault, within_s) in [
+        (Failure::ChannelStuck, SensorFault::Disconnected, 1.0),
+        (Failure::Swapped, SensorFault::Reversed, 0.5),
+        (Failure::Silent, SensorFault::Stalled, 5.1),
+    ] {
+        let mut rate = RateRun::new(vec![(0, 1.0)]);
+        rate.failure = Some((8.0, failure));
+        let o = run(&robot, 2, &rate, 30.0);
+        assert_eq!(
+            o.end,
+            End::SensorFault(fault),
+            "{failure:?}: {:?}",
+            o.rate_faults
+        );
+        let &(t, e) = o.rate_faults.first().expect("a fault");
+        assert_eq!(e, RateEvent::Fault(fault));
+        eprintln!("{failure:?}: {fault:?} after {:.2} s", t - 8.0);
+        assert!(t > 8.0 && t - 8.0 <= within_s, "{failure:?} at {t}");
+        // The run ends once the rotor is at rest: off from the fault on.
+        assert!(o
+            .rate_trace
+            .iter()
+            .filter(|p| p.t_s > t)
+            .all(|p| p.duty == 0.0));
+        assert_eq!(
+            (o.last.duty, o.last.state),
+            (0.0, swimbot_shared::MotorState::Off)
+        );
+        assert!(o.last.t_s - t < 0.1, "at rest soon after: {}", o.last.t_s);
     }
 }

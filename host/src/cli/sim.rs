@@ -43,7 +43,7 @@ pub struct SimArgs {
     /// CSV sampling interval in s.
     #[arg(long, alias = "sample-every", default_value_t = 0.1)]
     pub sample_every_s: f64,
-    /// Hold the motor's rate (tail relative to body, Hz) at set-points instead of the fixed voltage: 0.8, or 0.6@0s,0.9@20s; also writes rate.csv and rate.svg (the step responses).
+    /// Hold the motor's rate (tail relative to body, Hz) at set-points: 0.8, or 0.6@0s,0.9@20s; also writes rate.csv and rate.svg (the step responses) [default: none, the fixed motor voltage of the robot file].
     #[arg(long, value_name = "HZ[@TIME],...")]
     pub rate_hz: Option<String>,
     /// Keep going past the channel's top (the height then exceeds the channel).

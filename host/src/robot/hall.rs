@@ -50,6 +50,18 @@ impl SensorNoise {
     };
 }
 
+/// A sensor failure, from a time on, for the fault scenarios.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Failure {
+    /// Channel B stops switching (a broken wire): only A's edges arrive.
+    ChannelStuck,
+    /// No edge at all (both wires off, or the rotor jammed in its bearing
+    /// while the model's rotor turns on).
+    Silent,
+    /// A and B wired the other way round: the sequence runs backwards.
+    Swapped,
+}
+
 /// One queued edge: timer low word and both channels' levels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct HallEdge {
@@ -67,6 +79,9 @@ pub struct HallRing {
     /// Edges passed, signed: the sensor state is `levels(index)`.
     index: i64,
     rng: StdRng,
+    failure: Option<(f64, Failure)>,
+    /// B's level when it got stuck.
+    stuck_b: Option<bool>,
 }
 
 /// Channel levels after `index` forward steps (Gray sequence 00 01 11 10).
@@ -91,7 +106,15 @@ impl HallRing {
             latency_max_us: noise.latency_max_us.max(0.0),
             index: 0,
             rng,
+            failure: None,
+            stuck_b: None,
         }
+    }
+
+    /// The sensor fails at `at_s` (robot time).
+    pub fn with_failure(mut self, at_s: f64, failure: Failure) -> Self {
+        self.failure = Some((at_s, failure));
+        self
     }
 
     /// Angle of edge `n` (rad), pattern included.
@@ -114,17 +137,38 @@ impl HallRing {
         while theta1 >= self.edge_angle(self.index + 1) {
             self.index += 1;
             let t = at(self.edge_angle(self.index));
-            out.push(self.stamp(t));
+            out.extend(self.stamp(t, self.index - 1));
         }
         while theta1 < self.edge_angle(self.index) {
             let t = at(self.edge_angle(self.index));
             self.index -= 1;
-            out.push(self.stamp(t));
+            out.extend(self.stamp(t, self.index + 1));
         }
         out
     }
 
-    fn stamp(&mut self, t_s: f64) -> HallEdge {
+    /// The edge from state `before` to the current one, as the interrupt
+    /// would queue it (none if the failed sensor gives none).
+    fn stamp(&mut self, t_s: f64, before: i64) -> Option<HallEdge> {
+        let edge = self.ideal(t_s);
+        let failure = self.failure.filter(|f| t_s >= f.0).map(|f| f.1);
+        match failure {
+            None => Some(edge),
+            Some(Failure::Silent) => None,
+            Some(Failure::Swapped) => Some(HallEdge {
+                a: edge.b,
+                b: edge.a,
+                ..edge
+            }),
+            Some(Failure::ChannelStuck) => {
+                let stuck = *self.stuck_b.get_or_insert(levels(before).1);
+                // B's own edges raise no interrupt any more.
+                (levels(before).0 != edge.a).then_some(HallEdge { b: stuck, ..edge })
+            }
+        }
+    }
+
+    fn ideal(&mut self, t_s: f64) -> HallEdge {
         let latency = if self.latency_max_us > 0.0 {
             self.rng.gen_range(0.0..=self.latency_max_us)
         } else {
@@ -156,6 +200,24 @@ mod tests {
         // 0.5 rad back crosses two edges (22.5 degrees = 0.39 rad apart).
         assert_eq!(back.len(), 2);
         assert_eq!((back[0].a, back[0].b), levels(15));
+    }
+
+    #[test]
+    fn failures_change_what_the_interrupt_sees() {
+        let turn = |f: Failure| {
+            let mut ring = HallRing::new(16, &SensorNoise::NONE).with_failure(0.0, f);
+            ring.advance(0.0, TAU + 1e-9, 0.0, 1.0)
+        };
+        assert!(turn(Failure::Silent).is_empty());
+        let stuck = turn(Failure::ChannelStuck);
+        assert_eq!(stuck.len(), 8, "A's edges only");
+        assert!(stuck.iter().all(|e| !e.b));
+        let swapped = turn(Failure::Swapped);
+        assert_eq!(
+            (swapped[0].a, swapped[0].b),
+            (true, false),
+            "00 -> 10: backwards"
+        );
     }
 
     #[test]

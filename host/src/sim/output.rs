@@ -185,12 +185,19 @@ pub fn rate_summary(o: &Outcome) -> String {
                 )
             },
         );
+        let step = if m.from_hz == 0.0 {
+            format!("start to {} Hz", fmt_sig(m.to_hz, 3))
+        } else {
+            format!(
+                "step {} -> {} Hz at {} s",
+                fmt_sig(m.from_hz, 3),
+                fmt_sig(m.to_hz, 3),
+                fmt_sig(m.at_s, 4)
+            )
+        };
         let _ = writeln!(
             s,
-            "  step {} -> {} Hz at {} s: {settle}, overshoot {} % of the step, steady error {} %",
-            fmt_sig(m.from_hz, 3),
-            fmt_sig(m.to_hz, 3),
-            fmt_sig(m.at_s, 4),
+            "  {step}: {settle}, overshoot {} % of the step, steady error {} %",
             fmt_sig(100.0 * m.overshoot, 2),
             fmt_sig(100.0 * m.steady_error, 2),
         );

@@ -9,7 +9,7 @@
 //! fixed fraction per tail in the model (printed by `sim`).
 
 use super::script::parse_time_us;
-use crate::robot::hall::{HallRing, SensorNoise};
+use crate::robot::hall::{Failure, HallRing, SensorNoise};
 use swimbot_shared::rate::{
     HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault,
 };
@@ -24,6 +24,8 @@ pub struct RateRun {
     pub config: RateConfig,
     pub hall: HallConfig,
     pub noise: SensorNoise,
+    /// A sensor failure from a time on (s), for the fault scenarios.
+    pub failure: Option<(f64, Failure)>,
 }
 
 impl RateRun {
@@ -34,6 +36,7 @@ impl RateRun {
             config: RateConfig::DEFAULT,
             hall: HallConfig::RING_8_POLE,
             noise: SensorNoise::TYPICAL,
+            failure: None,
         }
     }
 
@@ -139,7 +142,12 @@ impl Driver {
             Some(run) => Driver::Rate(Box::new(RateDriver {
                 ctl: RateController::new(run.config),
                 est: RateEstimator::new(run.hall),
-                ring: HallRing::new(run.hall.edges_per_turn(), &run.noise),
+                ring: match run.failure {
+                    Some((at_s, f)) => {
+                        HallRing::new(run.hall.edges_per_turn(), &run.noise).with_failure(at_s, f)
+                    }
+                    None => HallRing::new(run.hall.edges_per_turn(), &run.noise),
+                },
                 run: run.clone(),
                 theta_rad: 0.0,
                 reference_hz: 0.0,

@@ -148,6 +148,8 @@ pub struct RateController {
     started_us: u64,
     last_us: u64,
     edges_seen: u32,
+    /// The soft start's ramp is in progress (or ended at the last step).
+    ramping: bool,
     /// Identification stages done since the reference last changed (0-2).
     identified: u8,
     rel_err_q16: i64,
@@ -167,6 +169,7 @@ impl RateController {
             started_us: 0,
             last_us: 0,
             edges_seen: 0,
+            ramping: false,
             identified: 0,
             rel_err_q16: 0,
             saturated_high: false,
@@ -234,7 +237,6 @@ impl RateController {
         if out.event == Some(Event::Started) {
             self.start(now_us, rate);
         }
-        self.last_us = now_us;
         let duty = match (out.state, self.set_mhz) {
             (MotorState::Off, _) | (_, None) => {
                 self.ref_mhz = 0;
@@ -246,6 +248,8 @@ impl RateController {
                 self.duty(battery)
             }
         };
+        // After `follow`, which slews by the time since the last step.
+        self.last_us = now_us;
         RateOutput {
             duty,
             state: out.state,
@@ -260,6 +264,7 @@ impl RateController {
         self.fault = None;
         self.started_us = now_us;
         self.ref_mhz = 0;
+        self.ramping = true;
         self.ref_changed_us = now_us as u32;
         self.edges_seen = rate.forward_edges();
         self.rel_err_q16 = 0;
@@ -273,7 +278,10 @@ impl RateController {
             return None;
         }
         // Silence counts from the later of the last edge and the ramp's end.
-        let since_ramp = now_us.saturating_sub(self.started_us + u64::from(self.cfg.motor.ramp_us));
+        let ramp_end = self
+            .started_us
+            .saturating_add(u64::from(self.cfg.motor.ramp_us));
+        let since_ramp = now_us.saturating_sub(ramp_end);
         let since_edge = rate
             .last_edge_us()
             .map_or(u64::MAX, |t| u64::from((now_us as u32).wrapping_sub(t)));
@@ -284,7 +292,10 @@ impl RateController {
     /// The soft start and the slew towards the set-point.
     fn follow(&mut self, now_us: u64, state: MotorState, set: u32) {
         let before = self.ref_mhz;
-        self.ref_mhz = if state == MotorState::Ramping {
+        // The step that ends the ramp still takes its end value, the set-point.
+        let ramping = self.ramping;
+        self.ramping = state == MotorState::Ramping;
+        self.ref_mhz = if ramping || self.ramping {
             let ramp = u64::from(self.cfg.motor.ramp_us).max(1);
             let t = now_us.saturating_sub(self.started_us).min(ramp);
             u32::try_from(u64::from(set) * t / ramp).unwrap_or(set)

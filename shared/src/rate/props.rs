@@ -77,7 +77,7 @@ proptest! {
     ) {
         let mut ctl = RateController::new(cfg);
         let mut est = RateEstimator::new(HallConfig { pole_pairs, ..HallConfig::RING_8_POLE });
-        let (mut now, mut edge_t) = (t0 / 2, t0 as u32);
+        let (mut now, mut edge_t) = (t0, t0 as u32);
         let mut battery = OK;
         let mut started = false;
         for input in inputs {
@@ -194,7 +194,22 @@ fn set_point_gates_the_start_and_the_ramp_shapes_it() {
     assert_eq!(half.reference_mhz, 400);
     // 175 mV + 0.7 V/Hz x 0.4 Hz = 455 mV of 3.9 V.
     assert_eq!(half.duty, Duty::from_ratio(455, 3_900));
+    // Once running, a set-point change slews at 1 Hz/s whatever the pass
+    // rate: 100 ms after a 10 ms pass, 100 mHz further.
+    let run_from = 10 + u64::from(cfg.motor.ramp_us);
+    assert_eq!(ctl.step(run_from, None, OK, &mut est).reference_mhz, 800);
+    ctl.set_rate_mhz(Some(1_500));
+    assert_eq!(
+        ctl.step(run_from + 10_000, None, OK, &mut est)
+            .reference_mhz,
+        810
+    );
+    assert_eq!(
+        ctl.step(run_from + 110_000, None, OK, &mut est)
+            .reference_mhz,
+        910
+    );
     ctl.set_rate_mhz(None);
-    let o = ctl.step(200_000, None, OK, &mut est);
+    let o = ctl.step(run_from + 200_000, None, OK, &mut est);
     assert_eq!((o.duty, o.state), (Duty::ZERO, MotorState::Off));
 }
