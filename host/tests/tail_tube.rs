@@ -286,3 +286,40 @@ fn cli_rejects_bad_tubes_with_exit_2() {
         assert!(err.contains(msg), "{extra:?}: {err}");
     }
 }
+
+/// The ring solver is an exact rearrangement of the dense solve: the same
+/// forces to round-off, for both cap layouts, open and closed tubes.
+#[test]
+fn ring_solver_equals_the_dense_solve() {
+    use swimbot::nonlocal::tube::{CapLayout, WallSolver};
+    let h = two_turn_tail6();
+    for (caps, closed_tube) in [
+        (CapLayout::Rings, true),
+        (CapLayout::Graded, true),
+        (CapLayout::Rings, false),
+    ] {
+        let mut ch = closed(35e-3);
+        ch.closed = closed_tube;
+        let s = TubeSettings {
+            wall_spacing_m: 6e-3,
+            caps,
+            ..TubeSettings::default()
+        };
+        let dense = tail_resistance_in_tube(
+            &h,
+            &ch,
+            MU,
+            &TubeSettings {
+                solver: WallSolver::Dense,
+                ..s
+            },
+        )
+        .unwrap();
+        let ring = tail_resistance_in_tube(&h, &ch, MU, &s).unwrap();
+        let diff = (dense.matrix - ring.matrix).abs().max() / dense.matrix.abs().max();
+        println!("{caps:?} closed {closed_tube}: {diff:e}");
+        assert!(diff < 1e-9, "{caps:?} {closed_tube}: {diff}");
+        let (qd, qr) = (dense.diagnostics.max_flux(), ring.diagnostics.max_flux());
+        assert!((qd - qr).abs() < 1e-9 + 1e-6 * qd.abs(), "{qd} {qr}");
+    }
+}

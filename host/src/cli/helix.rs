@@ -268,15 +268,14 @@ fn tube_matrix(
         closed: !a.open,
         vertical: true,
     };
-    // Memory estimated before anything dense is built.
-    let points = crate::nonlocal::tube::tail_in_tube_points(h, &channel, &settings)
+    // Memory estimated from the counts, before anything is built.
+    let budget = crate::nonlocal::tube::tail_in_tube_budget(h, &channel, &settings)
         .map_err(CliError::input)?;
-    let need = crate::nonlocal::tube::mfs::peak_bytes(points);
-    if need > settings.max_peak_bytes {
+    if budget.peak_bytes > settings.max_peak_bytes {
         return Err(CliError::input(format!(
             "the tube solve has {} unknowns and needs {:.2} GB, above --max-memory-gb {max_gb}: raise --wall-spacing-mm or lower --segments-per-turn",
-            3 * points,
-            need as f64 / 1e9
+            budget.n_points().saturating_mul(3),
+            budget.peak_bytes as f64 / 1e9
         )));
     }
     let r = tail_resistance_in_tube(h, &channel, mu, &settings).map_err(CliError::input)?;

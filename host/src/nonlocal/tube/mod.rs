@@ -35,8 +35,11 @@
 //! Young et al., J. Comput. Phys. 211 (2006) 1; Haberman & Sayre, David
 //! Taylor Model Basin Report 1143 (1958); Liron & Shahar, J. Fluid Mech. 86
 //! (1978) 727.
+pub mod budget;
 pub mod diagnostics;
 pub mod mfs;
+pub mod rings;
+pub mod wall;
 
 use super::confined::RobotResistance;
 use super::curve::{Centreline, Segments};
@@ -45,8 +48,9 @@ use super::robot::{Object, Surface};
 use super::{surface, validate_helix, NonlocalError, NonlocalSettings, TailMethod};
 use crate::physics::geometry::{Body, Channel, Helix};
 pub use diagnostics::Diagnostics;
-use mfs::Wall;
 use nalgebra::Matrix6;
+pub use wall::CapLayout;
+use wall::Wall;
 
 /// Which wall.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -58,9 +62,18 @@ pub enum WallModel {
     Leaky,
 }
 
-/// Default peak memory of one dense solve: 4 GB (matrix and LU copy),
-/// `3N` up to about 16 000 unknowns. The machine has 24 GB shared by
-/// several processes; a larger solve would also take minutes.
+/// Which linear solver.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WallSolver {
+    /// Split the wall into Fourier modes by its rotational symmetry
+    /// ([`rings`]); the default.
+    Rings,
+    /// One dense LU of everything ([`mfs::solve_dense`]): the reference.
+    Dense,
+}
+
+/// Default peak memory of one solve: 4 GB. The machine has 24 GB shared
+/// by several processes; a larger solve would also take minutes.
 pub const DEFAULT_MAX_PEAK_BYTES: usize = 4_000_000_000;
 
 /// Resolution of the tube solve.
@@ -69,13 +82,16 @@ pub struct TubeSettings {
     /// Tail and body discretisation (the `wall_*` fields are not read).
     pub tail: NonlocalSettings,
     pub wall: WallModel,
+    pub solver: WallSolver,
+    /// How the closed tube's end caps are covered.
+    pub caps: CapLayout,
     /// Distance between wall collocation points (m).
     pub wall_spacing_m: f64,
     /// MFS source distance outside the wall over the wall spacing.
     pub source_offset_over_spacing: f64,
     /// Caps (closed) or open ends this many tube radii beyond the object.
     pub cap_margin_over_radius: f64,
-    /// Refuse a dense solve whose peak memory exceeds this (bytes).
+    /// Refuse a solve whose estimated peak memory exceeds this (bytes).
     pub max_peak_bytes: usize,
 }
 
@@ -90,6 +106,8 @@ impl Default for TubeSettings {
         TubeSettings {
             tail: NonlocalSettings::default(),
             wall: WallModel::Mfs,
+            solver: WallSolver::Rings,
+            caps: CapLayout::Rings,
             wall_spacing_m: 3.0e-3,
             source_offset_over_spacing: 1.5,
             cap_margin_over_radius: 1.5,
@@ -141,16 +159,17 @@ fn check_mu(mu: f64) -> Result<(), NonlocalError> {
     }
 }
 
-/// The wall around objects spanning `[x_min, x_max]` and reaching
-/// `radial_m` from the axis. Caps `margin` beyond the objects, nearer if
-/// the channel is shorter (the objects then sit in its middle).
-fn wall_for(
+/// Radius and axial extent `(R, x0, x1)` of the wall around objects
+/// spanning `[x_min, x_max]` and reaching `radial_m` from the axis. Caps
+/// `margin` beyond the objects, nearer if the channel is shorter (the
+/// objects then sit in its middle).
+fn wall_extent(
     channel: &Channel,
     x_min: f64,
     x_max: f64,
     radial_m: f64,
     s: &TubeSettings,
-) -> Result<Wall, NonlocalError> {
+) -> Result<(f64, f64, f64), NonlocalError> {
     let r = channel.radius_m();
     if !(r.is_finite() && r > 0.0) {
         return Err(NonlocalError::Geometry(format!(
@@ -193,25 +212,47 @@ fn wall_for(
             channel.length_m
         )));
     }
-    let (x0, x1) = (x_min - margin, x_max + margin);
+    Ok((r, x_min - margin, x_max + margin))
+}
+
+/// The wall of [`wall_extent`].
+fn wall_for(
+    channel: &Channel,
+    x_min: f64,
+    x_max: f64,
+    radial_m: f64,
+    s: &TubeSettings,
+) -> Result<Wall, NonlocalError> {
+    let (r, x0, x1) = wall_extent(channel, x_min, x_max, radial_m, s)?;
     Ok(match s.wall {
         WallModel::Mfs => Wall::mfs(
             r,
-            x0,
-            x1,
+            (x0, x1),
             s.wall_spacing_m,
             s.source_offset_over_spacing,
-            channel.closed,
+            channel.closed.then_some(s.caps),
         ),
         WallModel::Leaky => Wall::leaky(
             r,
-            x0,
-            x1,
+            (x0, x1),
             s.wall_spacing_m,
             s.tail.surface_blob_over_spacing,
             channel.closed,
         ),
     })
+}
+
+/// Solve with the chosen solver.
+fn solve<'a>(
+    moving: &'a [Object],
+    wall: &'a Wall,
+    viscosity_pa_s: f64,
+    s: &TubeSettings,
+) -> Result<mfs::Solution<'a>, NonlocalError> {
+    match s.solver {
+        WallSolver::Rings => rings::solve(moving, wall, viscosity_pa_s, s.max_peak_bytes),
+        WallSolver::Dense => mfs::solve_dense(moving, wall, viscosity_pa_s, s.max_peak_bytes),
+    }
 }
 
 fn tail_object(helix: &Helix, s: &NonlocalSettings) -> Object {
@@ -251,19 +292,29 @@ fn add_spin(b: &mut Matrix6<f64>, helix: &Helix, mu: f64, s: &NonlocalSettings) 
     }
 }
 
-/// Number of points (3 unknowns each) of the tail-in-tube solve, without
-/// building anything heavy: for memory estimates before the solve.
-pub fn tail_in_tube_points(
+/// Counts and peak memory of the tail-in-tube solve, from the geometry
+/// alone: nothing proportional to the wall is built, so absurd tubes are
+/// refused before they cost anything.
+pub fn tail_in_tube_budget(
     helix: &Helix,
     channel: &Channel,
     settings: &TubeSettings,
-) -> Result<usize, NonlocalError> {
+) -> Result<budget::Budget, NonlocalError> {
     validate_helix(helix)?;
     settings.validate()?;
     let (x0, x1) = helix_x_range(helix);
-    let wall = wall_for(channel, x0, x1, helix.envelope_radius_m(), settings)?;
-    let tail = tail_object(helix, &settings.tail);
-    Ok(tail.len() + wall.len())
+    let (r, x0, x1) = wall_extent(channel, x0, x1, helix.envelope_radius_m(), settings)?;
+    let n_tail = settings.tail.tail_segments(helix);
+    let n_tail = if n_tail < budget::MAX_COUNTED {
+        tail_object(helix, &settings.tail).len()
+    } else {
+        n_tail
+    };
+    Ok(budget::Budget::new(
+        n_tail,
+        &budget::WallCounts::of(r, (x0, x1), channel.closed, settings),
+        settings.solver,
+    ))
 }
 
 /// The rigid tail alone, coaxial in the tube: its 6x6 resistance and the
@@ -280,7 +331,7 @@ pub fn tail_resistance_in_tube(
     let (x0, x1) = helix_x_range(helix);
     let wall = wall_for(channel, x0, x1, helix.envelope_radius_m(), settings)?;
     let moving = [tail_object(helix, &settings.tail)];
-    let sol = mfs::solve(&moving, &wall, viscosity_pa_s, settings.max_peak_bytes)?;
+    let sol = solve(&moving, &wall, viscosity_pa_s, settings)?;
     let mut matrix = sol.block(0, 0);
     add_spin(&mut matrix, helix, viscosity_pa_s, &settings.tail);
     let diagnostics =
@@ -311,7 +362,7 @@ pub fn sphere_resistance_in_tube(
     let wall = wall_for(channel, -radius_m, radius_m, radius_m, settings)?;
     let pts = surface::spheroid(0.0, radius_m, radius_m, spacing_m);
     let moving = [surface_object(pts, &settings.tail)];
-    let sol = mfs::solve(&moving, &wall, viscosity_pa_s, settings.max_peak_bytes)?;
+    let sol = solve(&moving, &wall, viscosity_pa_s, settings)?;
     let diagnostics =
         diagnostics::diagnose(&sol, 0, &sections(&wall, -radius_m, radius_m), radius_m);
     Ok(TubeResistance {
@@ -360,7 +411,7 @@ pub fn robot_resistance_in_tube(
         surface_object(pts, &settings.tail),
         tail_object(helix, &settings.tail),
     ];
-    let sol = mfs::solve(&moving, &wall, viscosity_pa_s, settings.max_peak_bytes)?;
+    let sol = solve(&moving, &wall, viscosity_pa_s, settings)?;
     let mut tail_tail = sol.block(1, 1);
     add_spin(&mut tail_tail, helix, viscosity_pa_s, &settings.tail);
     let r = RobotResistance {
