@@ -64,7 +64,8 @@ pub struct HelixArgs {
     /// Tube wall collocation spacing in mm.
     #[arg(long, default_value_t = 3.0, requires = "channel_diameter_mm")]
     pub wall_spacing_mm: f64,
-    /// Refuse a dense tube solve needing more memory than this, in GB.
+    /// Refuse a tube solve whose memory, estimated before it starts, exceeds
+    /// this, in GB (at most the machine's memory).
     #[arg(long, default_value_t = 4.0)]
     pub max_memory_gb: f64,
     #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
@@ -235,6 +236,17 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
     print(&a, &h, drag, set, m, method, None)
 }
 
+/// A tube solve estimated to take longer than this is announced first (s).
+const LONG_SOLVE_S: f64 = 5.0;
+
+/// Physical memory of the machine (`MemTotal` of `/proc/meminfo`), bytes.
+fn machine_memory_bytes() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
 fn tube_matrix(
     a: &HelixArgs,
     h: &Helix,
@@ -243,11 +255,21 @@ fn tube_matrix(
 ) -> Result<(nalgebra::Matrix6<f64>, TubeOut), CliError> {
     use crate::nonlocal::tube::{tail_resistance_in_tube, TubeSettings};
     let d_mm = positive("channel-diameter-mm", d_mm)?;
+    crate::data::limits::check_value("channel_diameter_mm", d_mm)
+        .map_err(|e| CliError::input(format!("--channel-diameter-mm: {e}")))?;
     let length_mm = match a.channel_length_mm {
         Some(l) => Some(positive("channel-length-mm", l)?),
         None => None,
     };
     let max_gb = positive("max-memory-gb", a.max_memory_gb)?;
+    if let Some(total) = machine_memory_bytes() {
+        if max_gb * 1e9 > total as f64 {
+            return Err(CliError::input(format!(
+                "--max-memory-gb {max_gb} is more than this machine has ({:.1} GB)",
+                total as f64 / 1e9
+            )));
+        }
+    }
     let settings = TubeSettings {
         tail: crate::nonlocal::NonlocalSettings::default()
             .with_segments_per_turn(a.segments_per_turn),
@@ -277,6 +299,14 @@ fn tube_matrix(
             budget.n_points().saturating_mul(3),
             budget.peak_bytes as f64 / 1e9
         )));
+    }
+    if budget.seconds > LONG_SOLVE_S {
+        eprintln!(
+            "note: the tube solve has {} unknowns; estimated {:.0} s and {:.2} GB before it starts",
+            budget.n_points().saturating_mul(3),
+            budget.seconds,
+            budget.peak_bytes as f64 / 1e9
+        );
     }
     let r = tail_resistance_in_tube(h, &channel, mu, &settings).map_err(CliError::input)?;
     Ok((

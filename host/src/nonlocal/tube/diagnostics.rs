@@ -46,6 +46,9 @@ pub struct Diagnostics {
     pub n_wall_points: usize,
     /// Peak memory of the solve, estimated before it (bytes).
     pub peak_bytes: usize,
+    /// Wall-clock time of the solve and of these diagnostics (s).
+    pub solve_seconds: f64,
+    pub diagnostics_seconds: f64,
 }
 
 impl Diagnostics {
@@ -127,6 +130,7 @@ pub fn diagnose(
     sections_x_m: &[f64],
     rotation_ref_radius_m: f64,
 ) -> Diagnostics {
+    let t0 = std::time::Instant::now();
     let wall = sol.system.wall;
     let (ct, cr) = (6 * q, 6 * q + 3);
     let piston = PI * wall.radius_m * wall.radius_m;
@@ -160,5 +164,7 @@ pub fn diagnose(
         n_points,
         n_wall_points: wall.len(),
         peak_bytes: sol.peak_bytes,
+        solve_seconds: sol.seconds,
+        diagnostics_seconds: t0.elapsed().as_secs_f64(),
     }
 }

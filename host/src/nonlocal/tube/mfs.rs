@@ -48,9 +48,10 @@ fn object_block(obj: &Object, target: &Vector3<f64>, k: usize, mu: f64) -> Matri
 }
 
 /// Bytes the dense solve of `n_points` source points needs at its peak:
-/// the assembled matrix and faer's LU copy of it.
+/// the assembled matrix and faer's LU copy of it, with the allocator's
+/// slack of `super::rings::with_slack`.
 pub fn dense_peak_bytes(n_points: usize) -> usize {
-    2 * linalg::dense_bytes(n_points)
+    super::rings::with_slack(linalg::dense_bytes(n_points).saturating_mul(2))
 }
 
 /// The collocation system: every point's target, and its 3x3 blocks.
@@ -160,6 +161,8 @@ pub struct Solution<'a> {
     pub forces: DMatrix<f64>,
     /// Peak memory of the solve as estimated before it (bytes).
     pub peak_bytes: usize,
+    /// Wall-clock time of assembly and solve (s).
+    pub seconds: f64,
 }
 
 pub(super) fn refuse_above(
@@ -187,6 +190,7 @@ pub fn solve_dense<'a>(
     viscosity_pa_s: f64,
     max_bytes: usize,
 ) -> Result<Solution<'a>, NonlocalError> {
+    let t0 = std::time::Instant::now();
     let system = System::new(moving, wall, viscosity_pa_s);
     let n = system.len();
     let need = dense_peak_bytes(n);
@@ -198,6 +202,7 @@ pub fn solve_dense<'a>(
         system,
         forces,
         peak_bytes: need,
+        seconds: t0.elapsed().as_secs_f64(),
     })
 }
 
@@ -237,14 +242,34 @@ impl Solution<'_> {
                     .collect()
             })
             .collect();
+        let n_mov = self.system.n_moving();
+        let wall = self.system.wall;
+        let c = 1.0 / (8.0 * PI * self.system.viscosity_pa_s);
         points
             .par_iter()
             .map(|x| {
                 let mut u = vec![Vector3::zeros(); cols.len()];
-                for (j, fj) in f.iter().enumerate() {
+                for (j, fj) in f.iter().enumerate().take(n_mov) {
                     let b = self.system.kernel(x, j);
                     for (uk, fk) in u.iter_mut().zip(fj) {
                         *uk += b * fk;
+                    }
+                }
+                // The singular Stokeslet applied directly, without its 3x3
+                // matrix: most of the diagnostics' time is spent here.
+                for (jw, fj) in f[n_mov..].iter().enumerate() {
+                    if wall.kernel != WallKernel::Singular {
+                        let b = wall.block(x, jw, c);
+                        for (uk, fk) in u.iter_mut().zip(fj) {
+                            *uk += b * fk;
+                        }
+                        continue;
+                    }
+                    let d = x - wall.sources_m[jw];
+                    let r2 = d.norm_squared();
+                    let inv_r = c / r2.sqrt();
+                    for (uk, fk) in u.iter_mut().zip(fj) {
+                        *uk += (fk + d * (d.dot(fk) / r2)) * inv_r;
                     }
                 }
                 u

@@ -10,7 +10,7 @@
 //! piston flux for the paper's tails (MFS: below 1 %) where it must vanish
 //! (`docs/notes/tail-tube.md`).
 //!
-//! # Method: the method of fundamental solutions (MFS), [`mfs`]
+//! # Method: the method of fundamental solutions (MFS), [`wall`], [`mfs`]
 //! Singular Stokeslets outside the fluid, one per wall collocation point,
 //! pushed out along the normal by `source_offset_over_spacing` times the
 //! wall spacing; zero velocity collocated on the cylinder and on flat end
@@ -19,9 +19,19 @@
 //! of `super::mrs_line` (validated in free space), the sphere and body the
 //! surfaces of `super::surface`. Chosen over the Liron & Shahar (1978) pipe
 //! Green's function because it treats the closed ends, the open tube and
-//! several bodies alike and reuses the dense LU of `super::linalg`; chosen
-//! over a boundary-element wall because the tube is smooth and far (several
-//! wire spacings) from the tail, where MFS converges exponentially.
+//! several bodies alike; chosen over a boundary-element wall because the
+//! tube is smooth and far (several wire spacings) from the tail, where MFS
+//! converges exponentially.
+//!
+//! # Solver: the wall's rotational symmetry, [`rings`]
+//! Every ring of wall points has the same number of equal stations, so in
+//! each point's cylindrical frame the wall-wall matrix is block-circulant:
+//! a discrete Fourier transform in the station index splits it into
+//! independent small systems, one per azimuthal mode, and the moving
+//! objects are coupled through a dense Schur complement. The forces equal
+//! the dense LU's ([`mfs::solve_dense`], kept as the reference) to
+//! round-off; memory and time are known from the counts before anything
+//! is built ([`budget`]).
 //!
 //! # Diagnostics, [`diagnostics`]
 //! Net flux through cross-sections and the wall velocity between
