@@ -141,6 +141,9 @@ struct TubeOut {
     length_mm: Option<f64>,
     closed: bool,
     wall_spacing_mm: f64,
+    /// The time estimated before the solve (s), to set against the
+    /// diagnostics' measured `solve_seconds + diagnostics_seconds`.
+    estimated_seconds: f64,
     diagnostics: crate::nonlocal::tube::Diagnostics,
 }
 
@@ -316,6 +319,7 @@ fn tube_matrix(
             length_mm,
             closed: channel.closed,
             wall_spacing_mm: a.wall_spacing_mm,
+            estimated_seconds: budget.seconds,
             diagnostics: r.diagnostics,
         },
     ))

@@ -352,6 +352,27 @@ pub fn tail_resistance_in_tube(
     })
 }
 
+/// The rigid tail's 6x6 in the tube without the leak diagnostics, which
+/// cost as much as the solve: for models that re-solve many perturbed
+/// geometries (uncertainty bands) once [`tail_resistance_in_tube`] has
+/// shown the wall tight at the same settings.
+pub fn tail_matrix_in_tube(
+    helix: &Helix,
+    channel: &Channel,
+    viscosity_pa_s: f64,
+    settings: &TubeSettings,
+) -> Result<Matrix6<f64>, NonlocalError> {
+    validate_helix(helix)?;
+    settings.validate()?;
+    check_mu(viscosity_pa_s)?;
+    let (x0, x1) = helix_x_range(helix);
+    let wall = wall_for(channel, x0, x1, helix.envelope_radius_m(), settings)?;
+    let moving = [tail_object(helix, &settings.tail)];
+    let mut matrix = solve(&moving, &wall, viscosity_pa_s, settings)?.block(0, 0);
+    add_spin(&mut matrix, helix, viscosity_pa_s, &settings.tail);
+    Ok(matrix)
+}
+
 /// A sphere of radius `radius_m` (regularized Stokeslets `spacing_m`
 /// apart) centred on the tube axis at the origin: the Haberman & Sayre
 /// check of the wall.
