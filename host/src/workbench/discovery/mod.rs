@@ -87,6 +87,11 @@ pub struct Located {
     pub explained_fraction: Option<f64>,
     pub interpretation: String,
     pub non_identifiable: Vec<String>,
+    /// The effects beneath it (`NAME:k=v,...` at full precision): the
+    /// model it was fitted on top of, machine-readable.
+    pub on_top_of: Vec<String>,
+    /// Its Student-t deviance ([`crate::workbench::robust`]).
+    pub t_deviance: f64,
     #[serde(skip)]
     pub model: Model,
     #[serde(skip)]
@@ -248,6 +253,8 @@ fn refit(
         explained_fraction: explained_fraction(reference.chi2, full.chi2, floor0),
         interpretation: interpret::interpret(c.place, c.feature, rising, mean_value),
         non_identifiable: full.non_identifiable.clone(),
+        on_top_of: model.effects.iter().map(write::exact_spec).collect(),
+        t_deviance: crate::workbench::robust::t_deviance_of(&full.model, data)?,
         model: full.model,
         correction: c,
     })
