@@ -17,7 +17,9 @@
 //!    of one case over another against the range the model family produces.
 //! 3. **Influence and outliers** ([`super::audit_influence`]): which single
 //!    case drives the best-supported effect or its fitted value; which case
-//!    no candidate fitted on the others can predict.
+//!    no candidate fitted on the others can predict; and a case that stands
+//!    alone under the model ([`super::robust`]: the others at the noise
+//!    floor without it, its residual beyond the Student-t threshold).
 //!
 //! Checks 2 and 3 use the measurements with the input uncertainty combined
 //! ([`super::propagate::with_input_uncertainty`]), so that a residual the
@@ -101,6 +103,21 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
     flags.extend(ratio_flags);
     let (influence, influence_flags) = super::audit_influence::influence(model, &combined);
     flags.extend(influence_flags);
+    // One case alone above the noise floor ([`super::robust`]), unless the
+    // influence check already named it.
+    if let Some(l) = super::robust::lone_case(model, &combined, 0.95)? {
+        if !flags
+            .iter()
+            .any(|f| f.kind == "outlier" && f.case == l.case)
+        {
+            flags.push(Flag {
+                case: l.case.clone(),
+                kind: "outlier".into(),
+                detail: format!("{}: {}", l.case, l.sentence()),
+                severity: Severity::Error,
+            });
+        }
+    }
     Ok(Audit {
         dataset: data.name.clone(),
         model: model.describe(),

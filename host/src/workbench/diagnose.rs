@@ -136,11 +136,12 @@ pub fn diagnose(
                     &ranking,
                     &pairs,
                     discovery.as_ref(),
+                    remainder.as_ref(),
                     &v,
                     &floor,
                     s,
                 )?;
-                super::stagewise::conclude(path, &mut v, &baseline);
+                super::stagewise_verdict::conclude(path, &mut v, &baseline);
             }
             super::verdict::dedup_located(&mut v.located);
             v

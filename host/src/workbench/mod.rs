@@ -15,6 +15,7 @@ pub mod noise;
 pub mod propagate;
 pub mod robust;
 pub mod stagewise;
+pub mod stagewise_verdict;
 pub mod synth;
 pub mod verdict;
 pub mod verdict_text;

@@ -25,7 +25,9 @@
 //! K. P. Burnham & D. R. Anderson (2002), ch. 2 (AICc).
 
 use super::candidate::{candidates, evaluate};
-use super::diagnosis::{Baseline, Candidate, DiagnoseSettings, Step, Verdict, VerdictKind};
+use super::diagnosis::{
+    Baseline, Candidate, DiagnoseSettings, Remainder, Step, Verdict, VerdictKind,
+};
 use super::discovery::write::exact_spec;
 use super::discovery::{aicc, discover, explained_fraction, Discovery, Located, Reference};
 use super::fit::FitError;
@@ -173,6 +175,7 @@ fn proposals(
     path: &[(Step, Level, Option<Located>)],
     floor: Floor,
     s: &DiagnoseSettings,
+    done: Option<&Discovery>,
 ) -> Result<Vec<Proposal>, FitError> {
     let reference = Reference {
         chi2: prev.chi2,
@@ -183,7 +186,14 @@ fn proposals(
         top: s.discovery.top.min(5),
         ..s.discovery.clone()
     };
-    let d = discover(&prev.model, data, &reference, &settings)?;
+    let fresh;
+    let d = match done {
+        Some(d) => d,
+        None => {
+            fresh = discover(&prev.model, data, &reference, &settings)?;
+            &fresh
+        }
+    };
     let charge = 2.0 * (d.screened.max(1) as f64).ln();
     let mut out: Vec<Proposal> = d
         .located
@@ -293,11 +303,11 @@ pub fn stagewise(
     ranking: &[Candidate],
     pairs: &[Candidate],
     disc: Option<&Discovery>,
+    rem: Option<&Remainder>,
     v: &Verdict,
     floor: Floor,
     s: &DiagnoseSettings,
 ) -> Result<Path, FitError> {
-    let n = n_obs(data);
     let base_level = Level {
         model: model.clone(),
         chi2: base.chi2,
@@ -308,20 +318,17 @@ pub fn stagewise(
         t_deviance: t_deviance_of(model, data)?,
         at_floor: base.at_noise_floor,
     };
-    let mut path: Vec<(Step, Level, Option<Located>)> = Vec::new();
+    let mut path: Steps = Vec::new();
     for p in first_steps(&base_level, data, ranking, pairs, disc, v, floor) {
         path.push((p.step, p.level, p.located));
     }
     let first = path.len();
-    while let Some(prev) = path.last().map(|p| p.1.clone()) {
-        if prev.at_floor || path.len() >= MAX_STEPS {
-            break;
-        }
-        let list = proposals(&prev, data, &path, floor, s)?;
-        let Some(p) = best_taken(list, &prev, n, floor(0)) else {
-            break;
-        };
-        path.push((p.step, p.level, p.located));
+    extend(&mut path, data, floor, s, rem)?;
+    let restarted = restart_from_last(model, data, &path, floor, s)?;
+    let mut added = path.len() - first;
+    if let Some(alt) = restarted {
+        added = added.max(1);
+        path = alt;
     }
     // Each step's share of what the level beneath it left above the floor.
     let floor0 = floor(0);
@@ -333,44 +340,89 @@ pub fn stagewise(
         }
         prev_chi2 = level.chi2;
     }
-    Ok(Path {
-        added: path.len() - first,
-        steps: path,
-    })
+    Ok(Path { added, steps: path })
 }
 
-/// Put the path into the verdict: its steps always; when the path goes
-/// beyond the single-step verdict (or is the first thing found), the kind,
-/// the named effects, the located laws in order and the note.
-pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline) {
-    v.steps = path.steps.iter().map(|p| p.0.clone()).collect();
-    let Some(last) = path.steps.last().map(|p| &p.1) else {
-        return;
-    };
-    if path.added == 0 && v.kind != VerdictKind::Unexplained {
-        return;
+type Steps = Vec<(Step, Level, Option<Located>)>;
+
+/// Take steps on top of the path's last level while one is taken.
+fn extend(
+    path: &mut Steps,
+    data: &Dataset,
+    floor: Floor,
+    s: &DiagnoseSettings,
+    rem: Option<&Remainder>,
+) -> Result<(), FitError> {
+    let n = n_obs(data);
+    while let Some(prev) = path.last().map(|p| p.1.clone()) {
+        if prev.at_floor || path.len() >= MAX_STEPS {
+            break;
+        }
+        // The search on top of a catalogue effect may already be done
+        // (`diagnose`'s remainder): reuse it.
+        let done = rem.filter(|r| {
+            path.len() == 1 && path[0].0.kind == "catalogue" && path[0].0.name == r.effect
+        });
+        let list = proposals(&prev, data, path, floor, s, done.map(|r| &r.discovery))?;
+        let Some(p) = best_taken(list, &prev, n, floor(0)) else {
+            break;
+        };
+        path.push((p.step, p.level, p.located));
     }
-    let catalogue: Vec<&str> = path
-        .steps
-        .iter()
-        .filter(|p| p.0.kind == "catalogue")
-        .map(|p| p.0.name.as_str())
-        .collect();
-    let settled = last.at_floor || matches!(v.kind, VerdictKind::Located | VerdictKind::Identified);
-    v.kind = match (settled, catalogue.is_empty()) {
-        (false, _) => VerdictKind::Unexplained,
-        (true, true) => VerdictKind::Located,
-        (true, false) => VerdictKind::Identified,
+    Ok(())
+}
+
+/// Backfitting: the first steps were chosen before the later ones were
+/// known, so a catalogue effect or a law may have absorbed part of what a
+/// later law explains. Restart from the last law found, alone on the
+/// model, and take steps on top of it by the same rules; the restarted
+/// path replaces the first when it reaches the floor with a lower AICc.
+fn restart_from_last(
+    model: &Model,
+    data: &Dataset,
+    path: &Steps,
+    floor: Floor,
+    s: &DiagnoseSettings,
+) -> Result<Option<Steps>, FitError> {
+    let (Some((_, last, Some(law))), true) = (path.last(), path.len() >= 2) else {
+        return Ok(None);
     };
-    v.explained = settled;
-    v.effect = (!catalogue.is_empty()).then(|| catalogue.join(" + "));
-    v.effect_explained_fraction = path
-        .steps
-        .iter()
-        .find(|p| p.0.kind == "catalogue")
-        .and_then(|p| p.0.explained_fraction);
-    v.indistinguishable.clear();
-    v.suggestion = None;
-    v.located = path.steps.iter().filter_map(|p| p.2.clone()).collect();
-    v.note = super::verdict_text::stagewise_note(base, &path, last);
+    let n = n_obs(data);
+    let inst = law
+        .model
+        .effects
+        .last()
+        .expect("a law's model ends with it")
+        .clone();
+    let m = model.clone().with_effect(inst);
+    let c = evaluate(&m, &[model.effects.len()], data, &floor)?;
+    let mut alone = law.clone();
+    alone.params = c.params.clone();
+    alone.mare = c.mare;
+    alone.cv_mare = c.cv_mare;
+    alone.chi2 = c.chi2;
+    alone.chi2_reduced = c.chi2_reduced;
+    alone.aicc = c.aicc;
+    alone.at_noise_floor = c.at_noise_floor;
+    alone.t_deviance = t_deviance_of(&c.model, data)?;
+    alone.model = c.model;
+    let base = Level {
+        model: model.clone(),
+        chi2: f64::INFINITY,
+        k: 0,
+        mare: f64::INFINITY,
+        cv_mare: f64::INFINITY,
+        chi2_reduced: None,
+        t_deviance: f64::INFINITY,
+        at_floor: false,
+    };
+    let Some(first) = from_located(&alone, &base, data, 0.0) else {
+        return Ok(None);
+    };
+    let mut alt: Steps = vec![(first.step, first.level, first.located)];
+    extend(&mut alt, data, floor, s, None)?;
+    let end = &alt.last().expect("one step").1;
+    let key = |l: &Level| aicc(l.chi2, n, l.k).unwrap_or(f64::INFINITY);
+    let better = end.at_floor && (!last.at_floor || key(end) < key(last));
+    Ok(better.then_some(alt))
 }

@@ -1,0 +1,43 @@
+//! The stagewise path put into the verdict of `diagnose`: the steps in
+//! order, and (when the path goes beyond the single-step verdict) the kind,
+//! the named catalogue effects, the located laws and the note
+//! ([`super::verdict_text::stagewise_note`]).
+
+use super::diagnosis::{Baseline, Verdict, VerdictKind};
+use super::stagewise::Path;
+
+/// Put the path into the verdict: its steps always; when the path goes
+/// beyond the single-step verdict (or is the first thing found), the kind,
+/// the named effects, the located laws in order and the note.
+pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline) {
+    v.steps = path.steps.iter().map(|p| p.0.clone()).collect();
+    let Some(last) = path.steps.last().map(|p| &p.1) else {
+        return;
+    };
+    if path.added == 0 && v.kind != VerdictKind::Unexplained {
+        return;
+    }
+    let catalogue: Vec<&str> = path
+        .steps
+        .iter()
+        .filter(|p| p.0.kind == "catalogue")
+        .map(|p| p.0.name.as_str())
+        .collect();
+    let settled = last.at_floor || matches!(v.kind, VerdictKind::Located | VerdictKind::Identified);
+    v.kind = match (settled, catalogue.is_empty()) {
+        (false, _) => VerdictKind::Unexplained,
+        (true, true) => VerdictKind::Located,
+        (true, false) => VerdictKind::Identified,
+    };
+    v.explained = settled;
+    v.effect = (!catalogue.is_empty()).then(|| catalogue.join(" + "));
+    v.effect_explained_fraction = path
+        .steps
+        .iter()
+        .find(|p| p.0.kind == "catalogue")
+        .and_then(|p| p.0.explained_fraction);
+    v.indistinguishable.clear();
+    v.suggestion = None;
+    v.located = path.steps.iter().filter_map(|p| p.2.clone()).collect();
+    v.note = super::verdict_text::stagewise_note(base, &path, last);
+}
