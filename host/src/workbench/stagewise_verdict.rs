@@ -30,7 +30,8 @@ pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline) {
         (true, false) => VerdictKind::Identified,
     };
     v.explained = settled;
-    v.effect = (!catalogue.is_empty()).then(|| catalogue.join(" + "));
+    // An unexplained verdict names no missing effect (its steps are partial).
+    v.effect = (settled && !catalogue.is_empty()).then(|| catalogue.join(" + "));
     v.effect_explained_fraction = path
         .steps
         .iter()
