@@ -169,6 +169,11 @@ pub fn lone_case_of(obs: &[Obs], data: &Dataset, level: f64) -> Option<LoneCase>
     if big.z.abs() <= threshold {
         return None;
     }
+    // The floor of a subset of the quantities is below the whole set's:
+    // when even that is exceeded without the case, skip the Monte Carlo.
+    if chi2 - share > floor_all {
+        return None;
+    }
     let mut rest = data.clone();
     rest.cases.remove(worst);
     let n_rest = obs.iter().filter(|o| o.case != worst).count();
