@@ -116,7 +116,7 @@ pub fn diagnose(
         (None, None)
     };
     let verdict = match &lone_case {
-        Some(lone) => super::verdict::lone_case_verdict(&baseline, lone),
+        Some(lone) => super::stagewise_verdict::lone_case_verdict(&baseline, lone),
         None => {
             let mut v = super::verdict::verdict(
                 data,
@@ -143,7 +143,7 @@ pub fn diagnose(
                 )?;
                 super::stagewise_verdict::conclude(path, &mut v, &baseline);
             }
-            super::verdict::dedup_located(&mut v.located);
+            super::stagewise_verdict::dedup_located(&mut v.located);
             v
         }
     };

@@ -1,10 +1,14 @@
 //! The stagewise path put into the verdict of `diagnose`: the steps in
 //! order, and (when the path goes beyond the single-step verdict) the kind,
 //! the named catalogue effects, the located laws and the note
-//! ([`super::verdict_text::stagewise_note`]).
+//! ([`super::verdict_text::stagewise_note`]); the verdict when one case
+//! stands alone; and the located list without repeats.
 
 use super::diagnosis::{Baseline, Verdict, VerdictKind};
+use super::discovery::Located;
 use super::stagewise::Path;
+use super::verdict::verdict_of;
+use super::verdict_text::fmt;
 
 /// Put the path into the verdict: its steps always; when the path goes
 /// beyond the single-step verdict (or is the first thing found), the kind,
@@ -41,4 +45,32 @@ pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline) {
     v.suggestion = None;
     v.located = path.steps.iter().filter_map(|p| p.2.clone()).collect();
     v.note = super::verdict_text::stagewise_note(base, &path, last);
+}
+
+/// `none-needed` because one case stands alone ([`super::robust`]).
+pub fn lone_case_verdict(base: &Baseline, lone: &super::robust::LoneCase) -> Verdict {
+    verdict_of(
+        VerdictKind::NoneNeeded,
+        format!(
+            "none needed: {}; without it no effect is needed (reduced chi-square {} on all cases against a noise floor of {})",
+            lone.sentence(),
+            fmt(base.chi2_reduced),
+            fmt(base.noise_floor_chi2_reduced)
+        ),
+    )
+}
+
+/// Keep the first of laws with the same place, feature and form.
+pub fn dedup_located(list: &mut Vec<Located>) {
+    let mut seen: Vec<(
+        &'static str,
+        Option<&'static str>,
+        crate::effects::correction::Form,
+    )> = Vec::new();
+    list.retain(|l| {
+        let key = (l.place, l.feature, l.form);
+        let new = !seen.contains(&key);
+        seen.push(key);
+        new
+    });
 }

@@ -179,7 +179,7 @@ fn rivals<'a>(
     out
 }
 
-fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
+pub(crate) fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
     Verdict {
         effect: None,
         explained: !matches!(kind, VerdictKind::Unexplained),
@@ -548,32 +548,4 @@ fn catalogue_verdict(
     v.suggestion = suggestion;
     v.effect_explained_fraction = fraction;
     v
-}
-
-/// `none-needed` because one case stands alone ([`super::robust`]).
-pub fn lone_case_verdict(base: &Baseline, lone: &super::robust::LoneCase) -> Verdict {
-    verdict_of(
-        VerdictKind::NoneNeeded,
-        format!(
-            "none needed: {}; without it no effect is needed (reduced chi-square {} on all cases against a noise floor of {})",
-            lone.sentence(),
-            fmt(base.chi2_reduced),
-            fmt(base.noise_floor_chi2_reduced)
-        ),
-    )
-}
-
-/// Keep the first of laws with the same place, feature and form.
-pub fn dedup_located(list: &mut Vec<Located>) {
-    let mut seen: Vec<(
-        &'static str,
-        Option<&'static str>,
-        crate::effects::correction::Form,
-    )> = Vec::new();
-    list.retain(|l| {
-        let key = (l.place, l.feature, l.form);
-        let new = !seen.contains(&key);
-        seen.push(key);
-        new
-    });
 }
