@@ -130,6 +130,7 @@ impl ModelArgs {
             }
             model.effects.push(e);
         }
+        let mut model = with_bases(model)?;
         model.tail_method = match self.method {
             MethodArg::Exact => TailMethod::Exact,
             MethodArg::Quadrature => {
@@ -166,6 +167,55 @@ impl ModelArgs {
             DofsArg::All => Dofs::ALL,
         };
         Ok(model)
+    }
+}
+
+/// Add to `model` the effects its user effects were fitted on top of (their
+/// `base` field, written by `diagnose --write-effect`) that it lacks, each
+/// just before the effect that needs it, with a note on stderr; an effect
+/// the model already has keeps the values it was given. A base that cannot
+/// be applied is refused with what to add.
+pub fn with_bases(mut model: Model) -> Result<Model, CliError> {
+    let mut i = 0;
+    while i < model.effects.len() {
+        let name = model.effects[i].name();
+        let Some(user) = crate::effects::user_effects()
+            .into_iter()
+            .find(|u| u.spec().name == name)
+        else {
+            i += 1;
+            continue;
+        };
+        let mut at = i;
+        for spec in &user.spec().base {
+            let e = parse_effect_spec(spec).map_err(|err| {
+                CliError::input(format!(
+                    "effect `{name}`{} was fitted on top of `{spec}`, which cannot be applied: {err}; load the file that defines it with --effect-file, or remove it from the `base` field if you mean to use `{name}` alone",
+                    source(user.source())
+                ))
+            })?;
+            if model.effects.iter().any(|m| m.name() == e.name()) {
+                continue;
+            }
+            eprintln!(
+                "note: `{name}` was fitted on top of `{spec}`; added it to the model (give it with --effect to use other values)"
+            );
+            model.effects.insert(at, e);
+            at += 1;
+        }
+        // An inserted base may have a base of its own: visit it next.
+        if at == i {
+            i += 1;
+        }
+    }
+    Ok(model)
+}
+
+fn source(file: &str) -> String {
+    if file.is_empty() {
+        String::new()
+    } else {
+        format!(" (from {file})")
     }
 }
 

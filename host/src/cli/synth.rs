@@ -89,7 +89,7 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
     super::output::check_output_file(&a.output)?;
     a.effect_files.load()?;
     let design = super::model_args::load_data(&a.data)?;
-    let truth = parse_truth(&a.truth)?;
+    let truth = super::model_args::with_bases(parse_truth(&a.truth)?)?;
     let settings = SynthSettings {
         noise_rel: a.noise,
         trials: a.trials,
