@@ -4,7 +4,8 @@
 //!
 //! Boot order matters: the motor gate is driven low before the clocks are
 //! touched, then the peripherals come up, and the watchdog starts last so
-//! that slow clock start-up cannot trip it.
+//! that slow clock start-up cannot trip it. A panic or HardFault at any
+//! point forces the gate low and resets (`safety`).
 #![no_std]
 #![no_main]
 
@@ -12,10 +13,13 @@ mod battery_adc;
 mod board;
 mod ir;
 mod motor;
+mod power;
 mod run;
+mod safety;
 mod sleep;
 
 use defmt_rtt as _;
+#[cfg(feature = "probe")]
 use panic_probe as _;
 use rp2040_hal as hal;
 
@@ -27,33 +31,49 @@ use hal::pac;
 #[used]
 pub static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_GENERIC_03H;
 
+// Log lines carry the 1 MHz timer's microseconds. Read through the PAC
+// (TIMERAWL/H, no latching side effects): the HAL's Timer is owned by the
+// main loop.
+defmt::timestamp!("{=u64:us}", {
+    // SAFETY: reads of the free-running timer's raw registers.
+    let timer = unsafe { &*pac::TIMER::ptr() };
+    loop {
+        let hi = timer.timerawh().read().bits();
+        let lo = timer.timerawl().read().bits();
+        if timer.timerawh().read().bits() == hi {
+            break (u64::from(hi) << 32) | u64::from(lo);
+        }
+    }
+});
+
 #[hal::entry]
 fn main() -> ! {
     // `take` cannot fail this early: nothing else has taken them.
     let mut p = pac::Peripherals::take().unwrap();
+    let mut cortex = pac::CorePeripherals::take().unwrap();
     let sio = hal::Sio::new(p.SIO);
     let pins = hal::gpio::Pins::new(p.IO_BANK0, p.PADS_BANK0, sio.gpio_bank0, &mut p.RESETS);
     let motor_pin = pins.gpio16.into_push_pull_output_in_state(PinState::Low);
 
-    let watchdog_reset = p.WATCHDOG.reason().read().timer().bit_is_set();
+    let reason = p.WATCHDOG.reason().read();
+    let (watchdog_reset, forced_reset) = (reason.timer().bit_is_set(), reason.force().bit_is_set());
     let mut watchdog = hal::Watchdog::new(p.WATCHDOG);
-    let clocks = hal::clocks::init_clocks_and_plls(
-        board::XOSC_HZ,
-        p.XOSC,
-        p.CLOCKS,
-        p.PLL_SYS,
-        p.PLL_USB,
+    let mut power = power::Power::start(
+        (p.XOSC, p.CLOCKS, p.PLL_SYS, p.PLL_USB),
         &mut p.RESETS,
         &mut watchdog,
-    )
-    .ok()
-    .unwrap();
+        &mut cortex.SCB,
+    );
+    let clocks = &power.clocks;
     let sys_hz = hal::Clock::freq(&clocks.system_clock).to_Hz();
     if watchdog_reset {
         defmt::warn!("reset by the watchdog");
     }
+    if forced_reset {
+        defmt::warn!("reset after a panic or fault (motor was forced off)");
+    }
 
-    let mut timer = hal::Timer::new(p.TIMER, &mut p.RESETS, &clocks);
+    let mut timer = hal::Timer::new(p.TIMER, &mut p.RESETS, clocks);
     let slices = hal::pwm::Slices::new(p.PWM, &mut p.RESETS);
     let motor = motor::Motor::new(slices.pwm0, motor_pin, sys_hz);
     let adc = hal::Adc::new(p.ADC, &mut p.RESETS);
@@ -63,12 +83,20 @@ fn main() -> ! {
     ir::start(pins.gpio15.into_pull_up_input(), timer);
     sleep::start(&mut timer);
 
-    watchdog.pause_on_debug(true);
+    power.keep_resets(p.RESETS);
     watchdog.start((board::WATCHDOG_MS * 1_000).micros());
+    safety::watchdog_runs_under_debugger();
     defmt::info!(
         "swimbot up: sys {} Hz, watchdog {} ms",
         sys_hz,
         board::WATCHDOG_MS
     );
-    run::Robot::new(motor, battery, led, timer).run(&watchdog)
+    let robot = run::Robot {
+        motor,
+        battery,
+        led,
+        timer,
+        power,
+    };
+    robot.run(&mut watchdog)
 }

@@ -3,7 +3,11 @@
 
 use crate::board;
 use embedded_hal::pwm::SetDutyCycle;
-use rp2040_hal::gpio::{bank0::Gpio16, FunctionPwm, FunctionSioOutput, Pin, PullDown};
+use rp2040_hal::gpio::{
+    bank0::Gpio16, FunctionPwm, FunctionSioOutput, OutputDriveStrength, OutputSlewRate, Pin,
+    PullDown,
+};
+use rp2040_hal::pac;
 use rp2040_hal::pwm::{FreeRunning, Pwm0, Slice};
 use swimbot_shared::{Duty, PwmTiming};
 
@@ -14,26 +18,34 @@ const _: () = assert!(PwmTiming::for_carrier(125_000_000, board::PWM_FREQ_HZ).is
 
 pub type MotorPinLow = Pin<Gpio16, FunctionSioOutput, PullDown>;
 
-pub struct Motor {
-    slice: Slice<Pwm0, FreeRunning>,
-    _pin: Pin<Gpio16, FunctionPwm, PullDown>,
-    top: u16,
-    counts: u16,
+pub enum Motor {
+    Pwm {
+        slice: Slice<Pwm0, FreeRunning>,
+        _pin: Pin<Gpio16, FunctionPwm, PullDown>,
+        top: u16,
+        counts: u16,
+    },
+    /// No usable carrier at this system clock: the pin stays a plain
+    /// output, low, and every duty is ignored. A 7.5 Hz "PWM" would jerk
+    /// the motor; off is the only safe fallback.
+    Disabled(MotorPinLow),
 }
 
 impl Motor {
     /// Take over the pin (already driven low) with the PWM at zero duty.
     /// The slice runs with CC = 0 before the pin is switched to it, so the
     /// gate never sees a pulse during the hand-over.
-    pub fn new(mut slice: Slice<Pwm0, FreeRunning>, pin: MotorPinLow, sys_hz: u32) -> Self {
-        // Fall back to the slowest carrier the counter allows rather than
-        // panic: a wrong clock must not keep the board from booting with
-        // the motor safely off.
-        let t = PwmTiming::for_carrier(sys_hz, board::PWM_FREQ_HZ).unwrap_or(PwmTiming {
-            div_int: 255,
-            div_frac: 0,
-            top: u16::MAX,
-        });
+    pub fn new(mut slice: Slice<Pwm0, FreeRunning>, mut pin: MotorPinLow, sys_hz: u32) -> Self {
+        // The gate: 100 ohm into a few nF of MOSFET input capacitance.
+        // 12 mA and fast slew give edges of tens of ns instead of the
+        // default 4 mA / slow slew's hundreds, which kept the MOSFET in its
+        // linear region (and hot) for a sizeable part of each 40 us period.
+        pin.set_drive_strength(OutputDriveStrength::TwelveMilliAmps);
+        pin.set_slew_rate(OutputSlewRate::Fast);
+        let Some(t) = PwmTiming::for_carrier(sys_hz, board::PWM_FREQ_HZ) else {
+            defmt::error!("pwm: no carrier at sys {} Hz: motor disabled", sys_hz);
+            return Motor::Disabled(pin);
+        };
         slice.default_config();
         slice.set_div_int(t.div_int);
         slice.set_div_frac(t.div_frac);
@@ -49,7 +61,7 @@ impl Motor {
             t.carrier_hz(sys_hz),
             t.steps()
         );
-        Self {
+        Motor::Pwm {
             slice,
             _pin: pin,
             top: t.top,
@@ -58,15 +70,32 @@ impl Motor {
     }
 
     pub fn set(&mut self, duty: Duty) {
-        let counts = duty.counts(self.top);
-        if counts != self.counts {
-            self.counts = counts;
-            // Infallible on the RP2040.
-            let _ = self.slice.channel_a.set_duty_cycle(counts);
+        if let Motor::Pwm {
+            slice, top, counts, ..
+        } = self
+        {
+            let c = duty.counts(*top);
+            if c != *counts {
+                *counts = c;
+                // Infallible on the RP2040.
+                let _ = slice.channel_a.set_duty_cycle(c);
+            }
         }
     }
 
-    pub fn is_on(&self) -> bool {
-        self.counts != 0
+    /// Compare value and TOP of the running carrier (for phase-locked ADC
+    /// readings); `None` when the motor is disabled.
+    pub fn timing(&self) -> Option<(u16, u16)> {
+        match self {
+            Motor::Pwm { top, counts, .. } => Some((*counts, *top)),
+            Motor::Disabled(_) => None,
+        }
     }
+}
+
+/// Slice 0's counter, read through the PAC: the HAL has no accessor.
+pub fn counter() -> u16 {
+    // SAFETY: a read of a read-only view of the counter; no side effects.
+    let pwm = unsafe { &*pac::PWM::ptr() };
+    pwm.ch(0).ctr().read().ctr().bits()
 }

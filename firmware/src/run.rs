@@ -1,125 +1,146 @@
-//! The main loop: IR edges -> commands, battery samples -> status, the
-//! shared controller -> PWM duty, LED pattern, watchdog feed. A defmt line
-//! for every state change (commands, controller events, battery level, LED
-//! mode), so a probe log tells the whole story of a run.
+//! The main loop: each pass hands the queued IR edges, the clock and (when
+//! a reading is due) the ADC to the shared `MainLoop::pass`, then applies
+//! what it decided: the PWM duty, the LED, the cut-off latch's copy in the
+//! watchdog scratch registers, the watchdog feed. A defmt line for every
+//! state change (commands, controller events, battery level, LED mode),
+//! so a probe log tells the whole story of a run.
 //!
 //! Between passes the core sleeps until an IR edge or the 1 kHz wake-up
-//! alarm (`sleep`); timing comes from the 1 MHz timer, so a late pass only
-//! delays, never distorts. The watchdog is fed only here, after a complete
-//! pass, so a stall anywhere stops the feeding.
+//! alarm (`sleep`): a pass every 1 ms plus the pass's own few microseconds.
+//! Timing comes from the 1 MHz timer, so a late pass only delays, never
+//! distorts. The watchdog is fed only here, after a complete pass, so a
+//! stall anywhere stops the feeding.
 
-use crate::battery_adc::{BatterySense, SAMPLE_PERIOD_US};
+use crate::battery_adc::BatterySense;
 use crate::board;
 use crate::ir;
 use crate::motor::Motor;
+use crate::power::Power;
 use crate::sleep;
 use embedded_hal::digital::OutputPin;
 use rp2040_hal::gpio::{bank0::Gpio25, FunctionSioOutput, Pin, PullDown};
+use rp2040_hal::watchdog::ScratchRegister;
 use rp2040_hal::{Timer, Watchdog};
-use swimbot_shared::{
-    led, BatteryConfig, BatteryLevel, BatteryMonitor, Command, Controller, ControllerConfig,
-    KeyMap, LedMode, Remote,
-};
+use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop};
 
 const _: () = assert!(board::LED_GPIO == 25, "the typed LED pin is GPIO25");
 
-/// `hang-test`: stop feeding the watchdog this long after boot.
-#[cfg(feature = "hang-test")]
-const HANG_AFTER_US: u64 = 1_000_000;
-
 pub type LedPin = Pin<Gpio25, FunctionSioOutput, PullDown>;
 
-const KEYS: KeyMap = KeyMap {
-    address: board::NEC_ADDRESS,
-    on: board::NEC_CMD_ON,
-    off: board::NEC_CMD_OFF,
-};
+const SCRATCH: [ScratchRegister; 4] = [
+    ScratchRegister::Scratch0,
+    ScratchRegister::Scratch1,
+    ScratchRegister::Scratch2,
+    ScratchRegister::Scratch3,
+];
+
+/// The cut-off latch remembered in SCRATCH0-3 (cleared by power-on).
+pub fn remembered_cutoff(watchdog: &Watchdog) -> bool {
+    reset_memory::cutoff_latched(SCRATCH.map(|r| watchdog.read_scratch(r)))
+}
+
+fn remember_cutoff(watchdog: &mut Watchdog, latched: bool) {
+    for (r, word) in SCRATCH.into_iter().zip(reset_memory::encode(latched)) {
+        watchdog.write_scratch(r, word);
+    }
+}
 
 pub struct Robot {
-    motor: Motor,
-    battery: BatterySense,
-    led: LedPin,
-    timer: Timer,
-    remote: Remote,
-    monitor: BatteryMonitor,
-    controller: Controller,
+    pub motor: Motor,
+    pub battery: BatterySense,
+    pub led: LedPin,
+    pub timer: Timer,
+    pub power: Power,
 }
 
 impl Robot {
-    pub fn new(motor: Motor, battery: BatterySense, led: LedPin, timer: Timer) -> Self {
-        Self {
-            motor,
-            battery,
-            led,
-            timer,
-            remote: Remote::new(KEYS),
-            monitor: BatteryMonitor::new(BatteryConfig::new(
-                board::DIVIDER_TOP_OHM,
-                board::DIVIDER_BOTTOM_OHM,
-                board::ADC_REF_MV,
-            )),
-            controller: Controller::new(ControllerConfig::DEFAULT),
+    pub fn run(mut self, watchdog: &mut Watchdog) -> ! {
+        let cutoff = remembered_cutoff(watchdog);
+        if cutoff {
+            defmt::warn!("battery: cut-off remembered from before the reset");
         }
-    }
-
-    pub fn run(mut self, watchdog: &Watchdog) -> ! {
-        let mut next_sample_us = self.timer.get_counter().ticks();
+        let mut main_loop = MainLoop::new(cutoff);
         let mut level = BatteryLevel::Fault;
         let mut led_mode = LedMode::Off;
         loop {
             let now_us = self.timer.get_counter().ticks();
-
-            let mut command = None;
-            while let Some(edge) = ir::pop() {
-                if let Some(c) = self.remote.edge(edge.level, edge.t_us) {
-                    defmt::info!("ir: {}", c);
-                    command = Some(Command::merge(command, c));
-                }
-            }
-            let dropped = ir::take_dropped();
-            if dropped > 0 {
-                defmt::warn!("ir: queue full, {} edges dropped", dropped);
-            }
-
-            if now_us >= next_sample_us {
-                // Catch up without bursts if a pass was ever late.
-                next_sample_us = now_us + SAMPLE_PERIOD_US;
-                let counts = self.battery.read();
-                let status = self.monitor.sample(counts, now_us, self.motor.is_on());
-                if status.level != level {
-                    level = status.level;
-                    defmt::info!("battery: {} at {} mV ({} counts)", level, status.mv, counts);
-                }
-            }
-
-            let battery = self.monitor.status();
-            let out = self.controller.step(now_us, command, battery);
+            let (motor, battery) = (&self.motor, &mut self.battery);
+            let out = main_loop.pass(now_us, ir::drain(), || battery.read(motor.timing()));
             self.motor.set(out.duty);
-            if let Some(event) = out.event {
-                defmt::info!(
-                    "motor: {} -> {}, duty {}/65536, battery {} mV",
-                    event,
-                    out.state,
-                    out.duty.raw(),
-                    battery.mv
-                );
+            if let Some(latched) = out.latch_changed {
+                remember_cutoff(watchdog, latched);
             }
-
-            let mode = LedMode::of(out.state, battery);
-            if mode != led_mode {
-                led_mode = mode;
-                defmt::info!("led: {}", mode);
+            log(&out, &mut level, &mut led_mode);
+            let _ = self.led.set_state(out.led_lit.into());
+            #[cfg(feature = "fault-test")]
+            fault_test::act();
+            watchdog.feed();
+            if out.may_go_dormant {
+                // Motor off (the condition), LED dark, until an IR edge.
+                let _ = self.led.set_low();
+                defmt::info!("dormant until the next IR edge");
+                self.power.dormant_until_ir();
+                defmt::info!("awake");
+                watchdog.feed();
+                continue;
             }
-            let _ = self.led.set_state(led::is_lit(mode, now_us).into());
+            sleep::until_next_event();
+        }
+    }
+}
 
-            #[cfg(feature = "hang-test")]
-            if now_us >= HANG_AFTER_US {
-                defmt::warn!("hang-test: main loop stops, motor left as it is");
+fn log(out: &swimbot_shared::PassOutput, level: &mut BatteryLevel, led_mode: &mut LedMode) {
+    if let Some(c) = out.command {
+        defmt::info!("ir: {}", c);
+    }
+    let dropped = ir::take_dropped();
+    if dropped > 0 {
+        defmt::warn!("ir: queue full, {} edges dropped", dropped);
+    }
+    if let Some(counts) = out.sample {
+        if out.battery.level != *level {
+            *level = out.battery.level;
+            defmt::info!(
+                "battery: {} at {} mV ({} counts)",
+                *level,
+                out.battery.mv,
+                counts
+            );
+        }
+    }
+    if let Some(event) = out.event {
+        defmt::info!(
+            "motor: {} -> {}, duty {}/65536, battery {} mV",
+            event,
+            out.state,
+            out.duty.raw(),
+            out.battery.mv
+        );
+    }
+    if out.led != *led_mode {
+        *led_mode = out.led;
+        defmt::info!("led: {}", out.led);
+    }
+}
+
+/// `fault-test` images only: the emulator writes `SWIMBOT_FAULT_TEST`
+/// (found by its symbol) to make the main loop hang (1) or panic (2).
+#[cfg(feature = "fault-test")]
+mod fault_test {
+    use core::sync::atomic::{AtomicU32, Ordering};
+
+    #[no_mangle]
+    static SWIMBOT_FAULT_TEST: AtomicU32 = AtomicU32::new(0);
+
+    pub fn act() {
+        match SWIMBOT_FAULT_TEST.load(Ordering::Relaxed) {
+            1 => {
+                defmt::warn!("fault-test: main loop hangs, motor left as it is");
                 #[allow(clippy::empty_loop)]
                 loop {}
             }
-            watchdog.feed();
-            sleep::until_next_event();
+            2 => panic!("fault-test: forced panic"),
+            _ => {}
         }
     }
 }

@@ -22,14 +22,10 @@ use rp2040_hal::Timer;
 
 use crate::{board, ir};
 
-/// Longest sleep: the main loop runs at least this often (1 kHz), fine
-/// enough for the soft-start ramp, the LED patterns and the battery samples.
-pub const WAKE_PERIOD_US: u32 = 1_000;
-
-const _: () = assert!(
-    WAKE_PERIOD_US * 10 < board::WATCHDOG_MS * 1_000,
-    "the watchdog is fed every pass: a pass must come well within its period"
-);
+/// Longest sleep (`board::WAKE_PERIOD_US`): the main loop runs at least
+/// this often (1 kHz), fine enough for the soft-start ramp, the LED
+/// patterns and the battery samples.
+use board::WAKE_PERIOD_US;
 
 static ALARM: Mutex<RefCell<Option<Alarm0>>> = Mutex::new(RefCell::new(None));
 

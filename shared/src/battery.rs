@@ -3,7 +3,7 @@
 //! level, and a debounced, latched under-voltage cut-off.
 //!
 //! The divider (100k over 82k on the board) maps the cell's 3.0-4.2 V to
-//! ADC codes 1676-2346, clear of the RP2040 ADC's differential
+//! ADC codes 1678-2349, clear of the RP2040 ADC's differential
 //! non-linearity spikes at codes 512/1536/2560/3584, so the thresholds
 //! below never sit on a mis-sized code. The 3.3 V reference is assumed to
 //! come from a Pico-style buck-boost that stays regulated below 3.3 V of
@@ -153,10 +153,35 @@ impl BatteryMonitor {
         self.status
     }
 
+    /// Is the cut-off latched (tripped and not yet released by a recharge)?
+    /// The firmware keeps this across resets (`reset_memory`).
+    pub fn cutoff_latched(&self) -> bool {
+        self.latched
+    }
+
+    /// Re-arm a cut-off remembered from before a reset: the cell stays
+    /// locked out until it reads recharged at rest, exactly as if the
+    /// monitor had never restarted.
+    pub fn restore_cutoff_latch(&mut self) {
+        self.latched = true;
+    }
+
     /// Feed one ADC reading taken at `now_us`; `motor_on` says whether the
     /// cell was under load (the latch only releases at rest).
     pub fn sample(&mut self, counts: u16, now_us: u64, motor_on: bool) -> BatteryStatus {
         let mv = u16::try_from(self.cfg.counts_to_mv(counts)).unwrap_or(u16::MAX);
+        if mv < self.cfg.plausible_min_mv || mv > self.cfg.plausible_max_mv {
+            // A broken reading is a fault now, and stays out of the average:
+            // mixed with others (0 V and full scale from a loose divider) it
+            // could average into a plausible voltage, even a recharged one,
+            // and release a cut-off latch (found by the safety properties,
+            // tests/tests/firmware_safety.rs, property 4).
+            self.status = BatteryStatus {
+                mv,
+                level: BatteryLevel::Fault,
+            };
+            return self.status;
+        }
         if let Some(slot) = self.window.get_mut(self.next) {
             *slot = mv;
         }
@@ -229,10 +254,9 @@ mod tests {
 
     #[test]
     fn divider_conversion_matches_the_board_comment() {
-        // board.rs: 3.0-4.2 V gives codes 1676-2346 (its 0.4505 ratio is
-        // rounded; the exact 82/182 gives 1678 and 2349).
-        assert!(CFG.mv_to_counts(3_000).abs_diff(1_676) <= 3);
-        assert!(CFG.mv_to_counts(4_200).abs_diff(2_346) <= 3);
+        // board.rs: 3.0-4.2 V gives codes 1678-2349.
+        assert_eq!(CFG.mv_to_counts(3_000), 1_678);
+        assert_eq!(CFG.mv_to_counts(4_200), 2_349);
         // One code is 1.8 mV of cell voltage.
         assert!(CFG.counts_to_mv(CFG.mv_to_counts(4_200)).abs_diff(4_200) <= 2);
         // The working range 3.0-4.2 V, and with it every threshold, sits
@@ -297,6 +321,23 @@ mod tests {
     }
 
     #[test]
+    fn broken_readings_never_average_into_a_release() {
+        let mut m = BatteryMonitor::new(CFG);
+        m.restore_cutoff_latch();
+        // A loose divider: 0 V and full scale alternately (average 3.7 V,
+        // or 4.6 V+ with more full-scale readings).
+        for i in 0..40u64 {
+            let counts = if i % 3 == 0 { 0 } else { 4_095 };
+            m.sample(counts, i * 20_000, false);
+            assert_eq!(m.status().level, BatteryLevel::Fault);
+        }
+        let t = hold(&mut m, 3_600, 800_000, 400_000, false);
+        assert_eq!(m.status().level, BatteryLevel::Cutoff);
+        hold(&mut m, 4_000, t, 400_000, false);
+        assert_eq!(m.status().level, BatteryLevel::Ok);
+    }
+
+    #[test]
     fn implausible_readings_are_faults() {
         let mut m = BatteryMonitor::new(CFG);
         let t = hold(&mut m, 3_800, 0, 200_000, false);
@@ -306,6 +347,30 @@ mod tests {
         m.sample(4_095, 0, false);
         assert_eq!(m.status().level, BatteryLevel::Fault);
         assert!(!m.status().allows_motor());
+    }
+
+    #[test]
+    fn a_restored_latch_holds_until_recharged() {
+        let mut m = BatteryMonitor::new(CFG);
+        m.restore_cutoff_latch();
+        // A depleted cell recovered at rest reads 3.6 V: still cut off.
+        let t = hold(&mut m, 3_600, 0, 2_000_000, false);
+        assert_eq!(m.status().level, BatteryLevel::Cutoff);
+        hold(&mut m, 4_000, t, 400_000, false);
+        assert_eq!(m.status().level, BatteryLevel::Ok);
+        assert!(!m.cutoff_latched());
+    }
+
+    #[test]
+    fn reference_tolerance_moves_the_reading_by_a_tenth_of_a_volt() {
+        // A rail 3 % low reads the cell 3 % high, 0.1 V at the cut-off (it
+        // would trip 0.1 V late): why board.rs has a calibration constant.
+        let low_ref = BatteryConfig::new(100_000, 82_000, 3_201);
+        let counts = low_ref.mv_to_counts(3_300);
+        let read_nominal = CFG.counts_to_mv(counts);
+        assert!((3_380..3_420).contains(&read_nominal), "{read_nominal}");
+        let calibrated = low_ref.counts_to_mv(counts);
+        assert!(calibrated.abs_diff(3_300) <= 2, "{calibrated}");
     }
 
     proptest! {

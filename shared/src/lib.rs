@@ -1,6 +1,8 @@
 //! The robot's decision logic, free of hardware: the IR remote protocol, the
 //! command set, the motor controller state machine, the battery monitor, the
-//! status LED patterns and the PWM carrier arithmetic.
+//! status LED patterns, the PWM carrier arithmetic, the board's constants,
+//! the one main-loop pass that the chip, the host simulation and the
+//! property tests all run, and what survives a reset.
 //!
 //! Everything here is `#![no_std]` without `alloc`, takes time as an argument
 //! instead of reading a clock, and is therefore exercised identically by the
@@ -9,16 +11,20 @@
 #![forbid(unsafe_code)]
 
 pub mod battery;
+pub mod board;
 pub mod command;
 pub mod controller;
 pub mod led;
+pub mod main_loop;
 pub mod nec;
 pub mod pwm;
 pub mod rate;
+pub mod reset_memory;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
 pub use command::{Command, KeyMap, Remote};
 pub use controller::{Controller, ControllerConfig, Duty, Event, MotorState, Output, StopReason};
 pub use led::LedMode;
+pub use main_loop::{MainLoop, MainLoopConfig, PassOutput};
 pub use nec::{AddressFilter, Level, NecDecoder, NecEvent};
 pub use pwm::PwmTiming;

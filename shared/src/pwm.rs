@@ -59,6 +59,32 @@ impl PwmTiming {
     }
 }
 
+/// The IR receiver's pass band: a 38 kHz TSOP-type part, whose band-pass
+/// filter passes about +-10 % (34-42 kHz). A motor carrier, or one of its
+/// low harmonics (edge-aligned PWM has them all), radiated from the motor
+/// leads into the receiver inside this band desensitises it or makes noise
+/// edges.
+pub const IR_BAND_HZ: (u32, u32) = (34_000, 42_000);
+
+/// Allowed motor carrier: 20-100 kHz (above hearing, below the MOSFET's
+/// switching-loss knee) and no harmonic up to the third inside
+/// `IR_BAND_HZ`. 25 kHz passes; 20 kHz does not (its 2nd harmonic is
+/// 40 kHz), nor does anything from 34 to 42 kHz.
+pub const fn carrier_clear_of_ir(pwm_hz: u32) -> bool {
+    if pwm_hz < 20_000 || pwm_hz > 100_000 {
+        return false;
+    }
+    let mut n = 1;
+    while n <= 3 {
+        let h = pwm_hz * n;
+        if h >= IR_BAND_HZ.0 && h <= IR_BAND_HZ.1 {
+            return false;
+        }
+        n += 1;
+    }
+    true
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -87,8 +113,23 @@ mod tests {
         assert_eq!(PwmTiming::for_carrier(125_000_000, 7), None);
     }
 
+    #[test]
+    fn carrier_keeps_clear_of_the_ir_band() {
+        assert!(carrier_clear_of_ir(25_000));
+        assert!(!carrier_clear_of_ir(38_000), "the IR carrier itself");
+        assert!(!carrier_clear_of_ir(20_000), "2nd harmonic 40 kHz");
+        assert!(!carrier_clear_of_ir(13_000), "below 20 kHz, audible");
+        assert!(!carrier_clear_of_ir(120_000));
+        // Every allowed carrier, swept: no harmonic in the band.
+        for hz in (20_000..=100_000).step_by(500) {
+            if carrier_clear_of_ir(hz) {
+                assert!((1..=3).all(|n| !(IR_BAND_HZ.0..=IR_BAND_HZ.1).contains(&(hz * n))));
+            }
+        }
+    }
+
     proptest! {
-        /// Over the configurable 20-100 kHz range and system clocks from
+        /// Over the 20-100 kHz range (before the IR-band rule) and system clocks from
         /// 103 MHz (the lowest giving 10 bits at 100 kHz) to the RP2040's
         /// 133 MHz maximum: >= 10 bits, the counter fits, carrier within 0.1 %.
         #[test]

@@ -1,26 +1,20 @@
 //! Cross-crate integration tests live in `tests/tests/`; this library holds
 //! the helpers they share.
 //!
-//! [`Rig`] is the firmware's main loop (`firmware/src/run.rs`) rebuilt on
-//! the host: the same shared `Remote`, `BatteryMonitor` and `Controller`,
-//! ticked every millisecond, with the ADC, the PWM stage, the motor and the
-//! cell replaced by the host models of `swimbot::robot`.
+//! [`Rig`] runs the firmware's main-loop pass (`swimbot_shared::MainLoop`,
+//! the very code `firmware/src/run.rs` calls) every millisecond, with the
+//! ADC, the PWM stage, the motor and the cell replaced by the host models
+//! of `swimbot::robot`. The ADC sees the cell's ripple: the reading is the
+//! terminal voltage at the instant of the conversion, which the firmware
+//! takes in the middle of the on-pulse (`firmware/src/battery_adc.rs`).
 
 use std::collections::VecDeque;
 use swimbot::robot::{LiPo, LiPoParams, Motor, MotorState, PwmDrive};
+pub use swimbot_shared::board::{BATTERY, KEYS};
 use swimbot_shared::nec::{for_each_edge, frame_pulses_us};
 use swimbot_shared::{
-    BatteryConfig, BatteryMonitor, BatteryStatus, Command, Controller, ControllerConfig, Duty,
-    Event, KeyMap, Level, MotorState as CtlState, Remote,
+    board, BatteryStatus, Command, Duty, Event, Level, MainLoop, MotorState as CtlState,
 };
-
-/// The board's remote keys and divider (firmware/src/board.rs).
-pub const KEYS: KeyMap = KeyMap {
-    address: 0x00,
-    on: 0x45,
-    off: 0x47,
-};
-pub const BATTERY: BatteryConfig = BatteryConfig::new(100_000, 82_000, 3_300);
 
 /// Tail drag as a viscous coefficient at the motor shaft (direct drive).
 /// Calibrated, not derived: it holds the motor at ~1 Hz at the controller's
@@ -30,9 +24,19 @@ pub const BATTERY: BatteryConfig = BatteryConfig::new(100_000, 82_000, 3_300);
 pub const TAIL_DAMPING_N_M_S: f64 = 5.2e-5;
 
 /// Control-loop tick, as the firmware's main loop at worst.
-pub const TICK_US: u64 = 1_000;
-/// ADC sampling period of the firmware.
-pub const ADC_PERIOD_US: u64 = 20_000;
+pub const TICK_US: u64 = board::WAKE_PERIOD_US as u64;
+
+/// When, within the PWM period, the battery conversion happens.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AdcPhase {
+    /// The firmware: the middle of the on-pulse (at once when not switching).
+    MidOnPulse,
+    /// At this fraction of the period, whatever the duty (0 = the start of
+    /// the on-pulse): what a free-running conversion hits at random.
+    Fixed(f64),
+    /// The cycle-mean terminal voltage: an RC-filtered tap.
+    CycleMean,
+}
 
 /// What powers the drive.
 #[derive(Clone, Debug)]
@@ -51,6 +55,14 @@ pub enum Supply {
 impl Supply {
     pub fn full_cell() -> Self {
         Supply::Cell(LiPo::full(LiPoParams::CELL_70MAH))
+    }
+
+    /// Internal resistance (zero for the stiff source).
+    fn resistance_ohm(&self) -> f64 {
+        match self {
+            Supply::Cell(c) => c.params.internal_resistance_ohm,
+            Supply::Ramp { .. } => 0.0,
+        }
     }
 
     fn terminal_v(&self, t_us: u64, current_a: f64) -> f64 {
@@ -83,7 +95,10 @@ pub struct Sample {
     pub state: CtlState,
     pub duty: Duty,
     pub battery: BatteryStatus,
+    /// Cycle-mean terminal voltage of the supply.
     pub supply_v: f64,
+    /// Terminal voltage during the on-pulse (what the motor sees).
+    pub supply_on_v: f64,
     /// Mean motor terminal voltage over the PWM period.
     pub motor_v: f64,
     pub speed_rad_s: f64,
@@ -91,9 +106,8 @@ pub struct Sample {
 }
 
 pub struct Rig {
-    pub remote: Remote,
-    pub monitor: BatteryMonitor,
-    pub controller: Controller,
+    pub main_loop: MainLoop,
+    pub adc_phase: AdcPhase,
     pub motor: Motor,
     pub drive: PwmDrive,
     pub supply: Supply,
@@ -102,7 +116,6 @@ pub struct Rig {
     pub t_us: u64,
     /// Pending receiver edges, absolute microseconds.
     edges: VecDeque<(Level, u64)>,
-    next_adc_us: u64,
     supply_current_a: f64,
     pub events: Vec<(u64, Event)>,
     pub commands: Vec<(u64, Command)>,
@@ -111,14 +124,9 @@ pub struct Rig {
 
 impl Rig {
     pub fn new(supply: Supply) -> Self {
-        Self::with_config(supply, ControllerConfig::DEFAULT)
-    }
-
-    pub fn with_config(supply: Supply, cfg: ControllerConfig) -> Self {
         Self {
-            remote: Remote::new(KEYS),
-            monitor: BatteryMonitor::new(BATTERY),
-            controller: Controller::new(cfg),
+            main_loop: MainLoop::new(false),
+            adc_phase: AdcPhase::MidOnPulse,
             motor: Motor::coreless_6mm(),
             drive: PwmDrive::BOARD,
             supply,
@@ -126,7 +134,6 @@ impl Rig {
             motor_state: MotorState::REST,
             t_us: 0,
             edges: VecDeque::new(),
-            next_adc_us: 0,
             supply_current_a: 0.0,
             events: Vec::new(),
             commands: Vec::new(),
@@ -151,41 +158,39 @@ impl Rig {
         self.send_pulses(1_000, &frame_pulses_us(KEYS.address, command))
     }
 
-    /// Advance one tick: IR edges due, ADC sample if due, controller,
-    /// PWM stage, motor and supply.
+    /// Advance one tick: the receiver edges due, one main-loop pass (with
+    /// an ADC reading of the rippling cell if one is due), the PWM stage,
+    /// the motor and the supply.
     pub fn tick(&mut self) -> Sample {
         self.t_us += TICK_US;
         let now = self.t_us;
-        let mut command = None;
+        let mut due = Vec::new();
         while let Some(&(level, t)) = self.edges.front() {
             if t > now {
                 break;
             }
             self.edges.pop_front();
             // The firmware timestamps with the timer's low 32 bits.
-            if let Some(c) = self.remote.edge(level, t as u32) {
-                self.commands.push((t, c));
-                command = Some(Command::merge(command, c));
-            }
+            due.push((level, t as u32));
         }
         let supply_v = self.supply.terminal_v(now, self.supply_current_a);
-        if now >= self.next_adc_us {
-            self.next_adc_us = now + ADC_PERIOD_US;
-            let counts = BATTERY.mv_to_counts((supply_v * 1_000.0).round().max(0.0) as u32);
-            let motor_on = self.last.is_some_and(|s| s.duty != Duty::ZERO);
-            self.monitor.sample(counts, now, motor_on);
+        let r_ohm = self.supply.resistance_ohm();
+        let open_v = supply_v + r_ohm * self.supply_current_a;
+        let reading_v = self.adc_reading_v(open_v, supply_v);
+        let out = self.main_loop.pass(now, due, || {
+            BATTERY.mv_to_counts((reading_v * 1_000.0).round().max(0.0) as u32)
+        });
+        if let Some(c) = out.command {
+            self.commands.push((now, c));
         }
-        let battery = self.monitor.status();
-        let out = self.controller.step(now, command, battery);
         if let Some(e) = out.event {
             self.events.push((now, e));
         }
-        let means = self.drive.cycle_average(
-            &self.motor,
-            out.duty.as_f64(),
-            supply_v,
-            self.motor_state.speed_rad_s,
-        );
+        let duty = out.duty.as_f64();
+        let supply_on_v = self.on_pulse_v(open_v, duty);
+        let means =
+            self.drive
+                .cycle_average(&self.motor, duty, supply_on_v, self.motor_state.speed_rad_s);
         let c = self.tail_damping_n_m_s;
         let dt_s = TICK_US as f64 * 1e-6;
         self.motor_state = self.motor.step_implicit(
@@ -201,14 +206,56 @@ impl Rig {
             t_us: now,
             state: out.state,
             duty: out.duty,
-            battery,
+            battery: out.battery,
             supply_v,
+            supply_on_v,
             motor_v: means.motor_v,
             speed_rad_s: self.motor_state.speed_rad_s,
             supply_current_a: means.supply_current_a,
         };
         self.last = Some(s);
         s
+    }
+
+    /// Terminal voltage during the on-pulse at `duty`: the open-circuit
+    /// voltage less the drop of the mean on-phase current (the cell
+    /// supplies current only while the switch is on).
+    fn on_pulse_v(&self, open_v: f64, duty: f64) -> f64 {
+        let r_ohm = self.supply.resistance_ohm();
+        if duty <= 0.0 || r_ohm == 0.0 {
+            return open_v;
+        }
+        let p = &self.motor.params;
+        let e = self.motor.back_emf_v(self.motor_state.speed_rad_s);
+        // Discontinuous conduction: the on-current rises from zero towards
+        // (V_oc - e) / (R_motor + R_cell) with the loop's time constant.
+        let r = p.resistance_ohm + r_ohm;
+        let tau_s = p.inductance_h / r;
+        let t_on_s = duty.min(1.0) / self.drive.carrier_hz;
+        let mean_rise = 1.0 - tau_s / t_on_s * (1.0 - (-t_on_s / tau_s).exp());
+        open_v - r_ohm * (open_v - e).max(0.0) / r * mean_rise
+    }
+
+    /// The terminal voltage the ADC converts, at the firmware's phase.
+    fn adc_reading_v(&self, open_v: f64, mean_v: f64) -> f64 {
+        let duty = self.last.map_or(0.0, |s| s.duty.as_f64());
+        let r_ohm = self.supply.resistance_ohm();
+        let period_s = 1.0 / self.drive.carrier_hz;
+        let at_s = match self.adc_phase {
+            AdcPhase::CycleMean => return mean_v,
+            AdcPhase::MidOnPulse if duty > 0.0 && duty < 1.0 => duty / 2.0 * period_s,
+            AdcPhase::MidOnPulse => 0.5 * period_s,
+            AdcPhase::Fixed(x) => x.clamp(0.0, 1.0) * period_s,
+        };
+        let t_on_s = duty.clamp(0.0, 1.0) * period_s;
+        if at_s >= t_on_s || r_ohm == 0.0 {
+            return open_v; // switch off: no current from the cell
+        }
+        let p = &self.motor.params;
+        let e = self.motor.back_emf_v(self.motor_state.speed_rad_s);
+        let r = p.resistance_ohm + r_ohm;
+        let rise = 1.0 - (-at_s * r / p.inductance_h).exp();
+        open_v - r_ohm * (open_v - e).max(0.0) / r * rise
     }
 
     /// Tick for `duration_us`, returning every sample.

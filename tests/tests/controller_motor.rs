@@ -22,7 +22,7 @@ fn running_rig(supply: Supply) -> Rig {
     let frame_end = rig.press(KEYS.on);
     rig.run_for(frame_end - rig.t_us + 400_000);
     assert_eq!(
-        rig.controller.state(),
+        rig.main_loop.controller().state(),
         MotorState::Running,
         "{:?}",
         rig.events
@@ -119,7 +119,7 @@ fn off_frame_stops_the_motor() {
     // And On starts it again.
     let frame_end = rig.press(KEYS.on);
     rig.run_for(frame_end - rig.t_us + 400_000);
-    assert_eq!(rig.controller.state(), MotorState::Running);
+    assert_eq!(rig.main_loop.controller().state(), MotorState::Running);
 }
 
 #[test]

@@ -1,7 +1,7 @@
-//! Safety properties of the firmware's decision code (shared crate: NEC
-//! decoder, key map, battery monitor, controller), driven as the firmware's
-//! main loop (`firmware/src/run.rs`) drives it, by arbitrary sequences of
-//! ADC readings (including 0, 4095 and sudden jumps) and IR edges:
+//! Safety properties of the firmware's main-loop pass
+//! (`swimbot_shared::MainLoop`, the very code `firmware/src/run.rs` calls),
+//! driven by arbitrary sequences of ADC readings (including 0, 4095 and
+//! sudden jumps) and IR edges:
 //!
 //! 1. without a valid On frame, the motor never starts (duty stays 0),
 //!    whatever noise, foreign frames, corrupted On frames or repeat codes
@@ -10,25 +10,16 @@
 //!    voltage below the cut-off,
 //!    the motor is off within the cut-off's debounce time and stays off
 //!    while the readings stay low, even if On frames keep arriving;
-//! 3. the duty is zero whenever the monitor's status forbids running.
+//! 3. the duty is zero whenever the monitor's status forbids running;
+//! 4. after a reset that remembered a cut-off (watchdog scratch), On frames
+//!    never start the motor until a reading of a recharged cell (the
+//!    monitor's `recharged_mv`, at rest) has come in.
 
 use proptest::prelude::*;
 use swimbot_shared::battery::AVERAGE_SAMPLES;
+use swimbot_shared::board::{BATTERY, BATTERY_SAMPLE_PERIOD_US as SAMPLE_PERIOD_US, KEYS};
 use swimbot_shared::nec::{for_each_edge, frame_pulses_us, raw_frame_pulses_us, REPEAT_PULSES_US};
-use swimbot_shared::{
-    BatteryConfig, BatteryMonitor, Command, Controller, ControllerConfig, KeyMap, Level,
-    MotorState, Remote,
-};
-
-const KEYS: KeyMap = KeyMap {
-    address: 0x00,
-    on: 0x45,
-    off: 0x47,
-};
-/// The board's divider and reference (firmware/src/board.rs).
-const BATTERY: BatteryConfig = BatteryConfig::new(100_000, 82_000, 3_300);
-/// The firmware samples the cell every 20 ms.
-const SAMPLE_PERIOD_US: u64 = 20_000;
+use swimbot_shared::{Command, Level, MainLoop, MotorState};
 
 /// What happens next to the firmware.
 #[derive(Debug, Clone)]
@@ -93,14 +84,14 @@ fn input(with_on: bool) -> BoxedStrategy<Input> {
     }
 }
 
-/// The firmware's loop, with simulated time.
+/// The firmware's main loop, with simulated time: passes at every edge and
+/// at every battery reading (the passes in between change nothing here).
 struct Firmware {
     t_us: u64,
+    /// When the main loop will next read the ADC (from its `sample` output).
     next_sample_us: u64,
-    remote: Remote,
-    monitor: BatteryMonitor,
-    controller: Controller,
-    /// Latest ADC code; sampled every period like the real board.
+    main_loop: MainLoop,
+    /// Latest ADC code; read whenever the pass asks.
     adc: u16,
     /// Cell mV of every sample taken, with its time.
     readings: Vec<(u64, u32)>,
@@ -116,34 +107,36 @@ struct Step {
 
 impl Firmware {
     fn new(adc: u16) -> Self {
+        Self::after_reset(adc, false)
+    }
+
+    fn after_reset(adc: u16, cutoff_remembered: bool) -> Self {
         Firmware {
             t_us: 0,
             next_sample_us: 0,
-            remote: Remote::new(KEYS),
-            monitor: BatteryMonitor::new(BATTERY),
-            controller: Controller::new(ControllerConfig::DEFAULT),
+            main_loop: MainLoop::new(cutoff_remembered),
             adc,
             readings: Vec::new(),
         }
     }
 
-    /// One main-loop pass at `t_us` with the decoded command, if any.
-    fn pass(&mut self, command: Option<Command>, out: &mut Vec<Step>) {
-        if self.t_us >= self.next_sample_us {
+    /// One main-loop pass at `t_us` with the receiver edges since the last.
+    fn pass(&mut self, edges: &[(Level, u32)], out: &mut Vec<Step>) {
+        let adc = self.adc;
+        let o = self
+            .main_loop
+            .pass(self.t_us, edges.iter().copied(), || adc);
+        if let Some(counts) = o.sample {
             self.next_sample_us = self.t_us + SAMPLE_PERIOD_US;
-            let on = self.controller.state() != MotorState::Off;
-            self.monitor.sample(self.adc, self.t_us, on);
             self.readings
-                .push((self.t_us, BATTERY.counts_to_mv(self.adc)));
+                .push((self.t_us, BATTERY.counts_to_mv(counts)));
         }
-        let battery = self.monitor.status();
-        let o = self.controller.step(self.t_us, command, battery);
         out.push(Step {
             t_us: self.t_us,
             state: o.state,
             duty: o.duty.raw(),
-            allows_motor: battery.allows_motor(),
-            command,
+            allows_motor: o.battery.allows_motor(),
+            command: o.command,
         });
     }
 
@@ -151,7 +144,7 @@ impl Firmware {
     fn idle_until(&mut self, until_us: u64, out: &mut Vec<Step>) {
         while self.next_sample_us <= until_us {
             self.t_us = self.t_us.max(self.next_sample_us);
-            self.pass(None, out);
+            self.pass(&[], out);
         }
         self.t_us = self.t_us.max(until_us);
     }
@@ -167,8 +160,7 @@ impl Firmware {
 
     fn edge(&mut self, level: Level, at_us: u64, out: &mut Vec<Step>) {
         self.idle_until(at_us, out);
-        let c = self.remote.edge(level, at_us as u32);
-        self.pass(c, out);
+        self.pass(&[(level, at_us as u32)], out);
     }
 
     fn apply(&mut self, i: &Input, out: &mut Vec<Step>) {
@@ -203,7 +195,10 @@ impl Firmware {
 }
 
 fn run(start_adc: u16, inputs: &[Input]) -> (Firmware, Vec<Step>) {
-    let mut fw = Firmware::new(start_adc);
+    run_from(Firmware::new(start_adc), inputs)
+}
+
+fn run_from(mut fw: Firmware, inputs: &[Input]) -> (Firmware, Vec<Step>) {
     let mut out = Vec::new();
     for i in inputs {
         fw.apply(i, &mut out);
@@ -277,6 +272,44 @@ proptest! {
             }
         }
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    /// Property 4: a remembered cut-off holds through any inputs, On frames
+    /// included, until a reading at or above the recharged level.
+    #[test]
+    fn a_remembered_cutoff_holds_until_recharged(
+        start in adc(),
+        inputs in prop::collection::vec(input(true), 0..160),
+    ) {
+        let (fw, steps) = run_from(Firmware::after_reset(start, true), &inputs);
+        let recharged = u32::from(BATTERY.recharged_mv);
+        let first_recharged = fw
+            .readings
+            .iter()
+            .find(|r| r.1 >= recharged && r.1 <= u32::from(BATTERY.plausible_max_mv))
+            .map_or(u64::MAX, |r| r.0);
+        for s in steps.iter().filter(|s| s.t_us < first_recharged) {
+            prop_assert_eq!(s.state, MotorState::Off, "running at {} us on a remembered cut-off", s.t_us);
+        }
+    }
+}
+
+#[test]
+fn a_remembered_cutoff_is_released_by_a_recharged_cell() {
+    let inputs = [Input::Wait(300_000), Input::On, Input::Wait(100_000)];
+    let (_, steps) = run_from(
+        Firmware::after_reset(BATTERY.mv_to_counts(4_100), true),
+        &inputs,
+    );
+    assert!(steps.iter().any(|s| s.state != MotorState::Off));
+    let (_, steps) = run_from(
+        Firmware::after_reset(BATTERY.mv_to_counts(3_600), true),
+        &inputs,
+    );
+    assert!(steps.iter().all(|s| s.state == MotorState::Off));
 }
 
 /// The property test can fail: a healthy cell with an On frame runs.

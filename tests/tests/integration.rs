@@ -2,6 +2,7 @@
 //! module, so the host crate is linked once, not once per file
 //! (`autotests = false` in tests/Cargo.toml).
 
+mod battery_ripple;
 mod controller_motor;
 mod firmware_safety;
 

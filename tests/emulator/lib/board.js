@@ -1,34 +1,41 @@
 // The swimbot board around an emulated RP2040 (rp2040js): loads the firmware
 // ELF into flash, boots it (through the real B1 bootrom and boot2 by default),
-// drives the IR receiver pin and the battery ADC input, records the motor pin
-// with simulation timestamps, models the watchdog reset, and counts the CPU
+// drives the IR receiver pin, feeds the battery ADC input from a cell model
+// loaded by the motor pin the firmware drives, records the motor pin with
+// simulation timestamps, models the watchdog reset, and counts the CPU
 // cycles spent in the GPIO (IO_IRQ_BANK0) interrupt.
 //
-// Board facts mirror firmware/src/board.rs; change them together.
+// Board facts (pins, divider, reference, timings) come from the image
+// itself (lib/facts.js: the firmware's SWIMBOT_BOARD, from shared/src/board.rs).
 import { readFileSync } from 'node:fs';
 import { BasePeripheral, GPIOPinState, RP2040 } from 'rp2040js';
-import { loadFlash, readElf, symbolize } from './elf.js';
-
-export const MOTOR_GPIO = 16;
-export const IR_GPIO = 15;
-export const BATTERY_ADC_CHANNEL = 0;
-export const PWM_FREQ_HZ = 25_000;
-export const WATCHDOG_MS = 500;
-export const DIVIDER_RATIO = 82 / (100 + 82); // V_pin / V_bat
-export const ADC_REF_V = 3.3;
+import { Cell } from './cell.js';
+import { loadFlash, objectBytes, readElf, symbolize } from './elf.js';
+import { boardFacts } from './facts.js';
 
 const IO_IRQ_BANK0 = 13;
 const EXC_IO_IRQ_BANK0 = 16 + IO_IRQ_BANK0;
 const WATCHDOG_BASE = 0x40058000;
+const CLOCKS_BASE = 0x40008000;
+const IO_BANK0_BASE = 0x40014000;
+const XOSC_BASE = 0x40024000;
+const SLEEP_EN0 = 0xa8; // CLOCKS
+const SLEEP_EN1 = 0xac;
+const DORMANT_WAKE_INTE0 = 0x160; // IO_BANK0, four registers
+const INTR0 = 0xf0; // IO_BANK0 raw interrupts, four registers
+const PROC0_INTS0 = 0x120;
+const SCR = 0xd10; // PPB: SLEEPDEEP is bit 2
+const DORMANT_MAGIC = 0x636f6d61; // XOSC DORMANT: 'coma'
 const FLASH_BASE = 0x10000000;
 const VREG_AND_CHIP_RESET_BASE = 0x40064000;
 
 export const MS = 1e6; // nanoseconds
 export const US = 1e3;
 
-/** ADC code (12 bit, 3.3 V reference) for a battery voltage through the 100k/82k divider. */
-export function adcCodeForBattery(volts) {
-  return Math.max(0, Math.min(4095, Math.round(((volts * DIVIDER_RATIO) / ADC_REF_V) * 4096)));
+/** ADC code (12 bit) for a battery voltage through the board's divider and reference. */
+export function adcCodeForBattery(facts, volts) {
+  const ratio = facts.dividerBottomOhm / (facts.dividerTopOhm + facts.dividerBottomOhm);
+  return Math.max(0, Math.min(4095, Math.round(((volts * ratio * 1000) / facts.adcRefMv) * 4096)));
 }
 
 class QuietLogger {
@@ -56,6 +63,7 @@ export class Board {
    */
   constructor({ elfPath, bootromPath }) {
     this.elf = readElf(elfPath);
+    this.facts = boardFacts(this.elf);
     this.bootrom = bootromPath ? bootromWords(bootromPath) : null;
     this.timeOffsetNs = 0; // simulated time before the current chip instance (resets)
     this.events = []; // external stimuli: { t, fn }, sorted by t
@@ -64,8 +72,10 @@ export class Board {
     this.irqEntries = []; // { t, cycles } one per IO_IRQ_BANK0 handler run
     this.irEdgeTimes = [];
     this.asleep = []; // { from, to } absolute ns, one per stretch the core spent in WFI/WFE
+    this.dormantStretches = []; // { from, to } absolute ns: crystal stopped, every clock frozen
+    this.adcReads = []; // { t, pin, phase, v } one per battery conversion
     this.irLevel = true; // TSOP output idles high
-    this.batteryV = 4.0;
+    this.cell = new Cell(4.0);
     this.watchdogFired = false;
     this.logger = new QuietLogger();
     this.powerOn('power-on');
@@ -75,7 +85,7 @@ export class Board {
     return this.timeOffsetNs + this.clock.nanos;
   }
 
-  /** A fresh chip: power-on or watchdog reset (state is lost, as on the real chip: the board has no battery-backed state). */
+  /** A fresh chip: power-on, or a watchdog reset (timeout or forced), which keeps the watchdog's reason and scratch registers as the real chip does. */
   powerOn(reason) {
     const previous = this.mcu;
     if (previous) this.timeOffsetNs += this.clock.nanos;
@@ -119,14 +129,129 @@ export class Board {
       this.watchdogFired = true;
     };
     this.mcu = mcu;
+    this.modelPowerRegisters(mcu);
     this.resets.push({ t: this.nowNs, reason });
+    const f = this.facts;
     // Motor pin: gate pulled down by 100 kohm, so an undriven pin reads low.
-    this.recordMotor(mcu.gpio[MOTOR_GPIO].value);
-    mcu.gpio[MOTOR_GPIO].addListener((state) => this.recordMotor(state));
-    mcu.gpio[IR_GPIO].setInputValue(this.irLevel);
-    mcu.adc.channelValues[BATTERY_ADC_CHANNEL] = adcCodeForBattery(this.batteryV);
+    this.recordMotor(mcu.gpio[f.motorGpio].value);
+    mcu.gpio[f.motorGpio].addListener((state) => this.recordMotor(state));
+    mcu.gpio[f.irGpio].setInputValue(this.irLevel);
+    // Sample-and-hold at the start of each conversion: the cell's terminal
+    // voltage at that instant, from the motor pin's present level.
+    mcu.adc.onADCRead = (channel) => {
+      mcu.adc.currentChannel = channel;
+      if (channel === f.batteryAdcChannel) {
+        const t = this.nowNs;
+        const last = this.motorEdges[this.motorEdges.length - 1];
+        const pin = last ? last.v : 0;
+        const rise = pin ? t - this.lastMotorRise : null;
+        const v = this.cell.terminalV(rise);
+        const slice = this.pwmSlice0;
+        this.adcReads.push({ t, pin, phase: slice.timer.counter / (slice.top + 1), v });
+        mcu.adc.channelValues[channel] = adcCodeForBattery(f, v);
+      }
+      mcu.adc.sampleAlarm.schedule(mcu.adc.sampleTime * 1000);
+    };
     this.inIrq = false;
     this.irqCycles = 0;
+  }
+
+  /**
+   * rp2040js ignores the sleep clock gates (CLOCKS SLEEP_EN0/1), SCR.SLEEPDEEP
+   * and the GPIO dormant-wake enables, and runs on through an XOSC DORMANT
+   * write. The board keeps those registers, and models DORMANT: from the
+   * write on the chip is frozen (no clock, no timer, no watchdog) until a
+   * falling edge on a pin whose dormant wake is enabled; then the crystal is
+   * stable again at once (its ~1 ms start-up is not modelled).
+   */
+  modelPowerRegisters(mcu) {
+    this.dormant = false;
+    this.sleepEn = [0xffffffff, 0x7fff]; // reset values: everything runs in sleep
+    this.scr = 0;
+    this.dormantWake = [0, 0, 0, 0];
+    this.irEdgesSeen = 0;
+    this.irEdgesLost = 0;
+    const wrap = (peripheral, read, write) => {
+      const r = peripheral.readUint32.bind(peripheral);
+      const w = peripheral.writeUint32.bind(peripheral);
+      peripheral.readUint32 = (offset) => read(offset) ?? r(offset);
+      peripheral.writeUint32 = (offset, value) => {
+        if (!write(offset, value >>> 0)) w(offset, value);
+      };
+    };
+    wrap(
+      mcu.findPeripheral(CLOCKS_BASE),
+      (o) => (o === SLEEP_EN0 ? this.sleepEn[0] : o === SLEEP_EN1 ? this.sleepEn[1] : undefined),
+      (o, v) => {
+        if (o !== SLEEP_EN0 && o !== SLEEP_EN1) return false;
+        this.sleepEn[(o - SLEEP_EN0) >> 2] = v;
+        return true;
+      },
+    );
+    const wakeIndex = (o) => (o >= DORMANT_WAKE_INTE0 && o < DORMANT_WAKE_INTE0 + 16 ? (o - DORMANT_WAKE_INTE0) >> 2 : -1);
+    // IR edge latches: an edge the firmware clears (INTR is write-1-to-clear)
+    // without any read of INTR or INTS having shown it to the firmware is lost.
+    const io = mcu.findPeripheral(IO_BANK0_BASE);
+    const irReg = this.facts.irGpio >> 3;
+    const irEdges = 0xc << ((this.facts.irGpio & 7) * 4);
+    const intrOffset = INTR0 + 4 * irReg;
+    const intsOffset = PROC0_INTS0 + 4 * irReg;
+    const ioRead = io.readUint32.bind(io);
+    wrap(
+      io,
+      (o) => {
+        if (wakeIndex(o) >= 0) return this.dormantWake[wakeIndex(o)];
+        if (o === intrOffset || o === intsOffset) {
+          const v = ioRead(o);
+          this.irEdgesSeen |= v & irEdges;
+          return v;
+        }
+        return undefined;
+      },
+      (o, v) => {
+        if (o === intrOffset) {
+          const cleared = io.rawWriteValue & irEdges & ioRead(intrOffset);
+          for (let m = cleared & ~this.irEdgesSeen; m; m &= m - 1) this.irEdgesLost++;
+          this.irEdgesSeen &= ~cleared;
+          return false;
+        }
+        if (wakeIndex(o) < 0) return false;
+        this.dormantWake[wakeIndex(o)] = v;
+        return true;
+      },
+    );
+    wrap(
+      mcu.ppb,
+      (o) => (o === SCR ? this.scr : undefined),
+      (o, v) => {
+        if (o !== SCR) return false;
+        this.scr = v;
+        return true;
+      },
+    );
+    wrap(
+      mcu.findPeripheral(XOSC_BASE),
+      () => undefined,
+      (o, v) => {
+        if (o === 0x08 && v === DORMANT_MAGIC) {
+          this.dormant = true;
+          this.dormantStretches.push({ from: this.nowNs, to: this.nowNs });
+        }
+        return false;
+      },
+    );
+  }
+
+  /** Is a falling edge on `gpio` enabled as a dormant wake-up? */
+  dormantWakeOnFall(gpio) {
+    return !!(this.dormantWake[gpio >> 3] & (1 << ((gpio & 7) * 4 + 2)));
+  }
+
+  wakeFromDormant() {
+    this.dormant = false;
+    const xosc = this.mcu.findPeripheral(XOSC_BASE);
+    xosc.isDormant = false;
+    xosc.stable = true;
   }
 
   recordMotor(state) {
@@ -134,6 +259,7 @@ export class Board {
     const last = this.motorEdges[this.motorEdges.length - 1];
     if (last && last.v === v) return;
     this.motorEdges.push({ t: this.nowNs, v });
+    if (v) this.lastMotorRise = this.nowNs;
   }
 
   // ---- stimuli -------------------------------------------------------------
@@ -149,7 +275,8 @@ export class Board {
     if (level === this.irLevel) return;
     this.irLevel = level;
     this.irEdgeTimes.push(this.nowNs);
-    this.mcu.gpio[IR_GPIO].setInputValue(level);
+    if (this.dormant && !level && this.dormantWakeOnFall(this.facts.irGpio)) this.wakeFromDormant();
+    this.mcu.gpio[this.facts.irGpio].setInputValue(level);
   }
 
   /** Schedules a waveform: [[durationNs, level], ...] starting at absolute time t; returns its end time. */
@@ -162,9 +289,15 @@ export class Board {
     return t;
   }
 
+  /** The cell's open-circuit voltage (the ADC sees it at rest, sagging during on-pulses). */
   setBattery(volts) {
-    this.batteryV = volts;
-    this.mcu.adc.channelValues[BATTERY_ADC_CHANNEL] = adcCodeForBattery(volts);
+    this.cell.ocvV = volts;
+  }
+
+  /** Write a 32-bit word of the running firmware's data object `name` (test images' switches). */
+  poke(name, value) {
+    const { addr } = objectBytes(this.elf, name);
+    this.mcu.writeUint32(addr, value);
   }
 
   // ---- running -------------------------------------------------------------
@@ -189,6 +322,12 @@ export class Board {
     const core = mcu.core;
     const end = tAbs - this.timeOffsetNs;
     while (clock.nanos < end) {
+      if (this.dormant) {
+        // Frozen until an event (the runUntil loop applies it) wakes it.
+        this.timeOffsetNs += end - clock.nanos;
+        this.dormantStretches[this.dormantStretches.length - 1].to = this.nowNs;
+        return;
+      }
       if (this.watchdogFired) {
         this.watchdogFired = false;
         this.powerOn('watchdog');
@@ -228,6 +367,13 @@ export class Board {
   }
 
   // ---- observation ---------------------------------------------------------
+
+  /** Fraction of [t0, t1] the chip spent DORMANT. */
+  dormantIn(t0, t1) {
+    let ns = 0;
+    for (const { from, to } of this.dormantStretches) ns += Math.max(0, Math.min(to, t1) - Math.max(from, t0));
+    return ns / (t1 - t0);
+  }
 
   /** Fraction of [t0, t1] the core spent asleep (WFI/WFE). */
   asleepIn(t0, t1) {
@@ -308,8 +454,12 @@ export class Board {
     return this.mcu.pwm.channels[0];
   }
 
+  get watchdog() {
+    return this.mcu.findPeripheral(WATCHDOG_BASE);
+  }
+
   get watchdogEnabled() {
-    return this.mcu.findPeripheral(WATCHDOG_BASE).enable;
+    return this.watchdog.enable;
   }
 
   /** The handler installed for IO_IRQ_BANK0, read from the vector table the firmware runs with. */

@@ -1,26 +1,28 @@
-// The firmware's behaviour contract (issue 6 and firmware/src/board.rs), with
-// the tolerances the emulator scenarios accept.
+// The firmware's behaviour contract (issues 6 and 25): the required
+// behaviour and the tolerances the emulator scenarios accept. Board facts
+// (pins, divider, reference, NEC codes, the watchdog period the image uses)
+// are not repeated here: each Board reads them from its image
+// (`board.facts`, lib/facts.js); 1-reset checks the image's facts meet
+// these requirements.
 import { appendFileSync } from 'node:fs';
 import { MS } from './board.js';
-
-export const NEC_ADDRESS = 0x00;
-export const NEC_CMD_ON = 0x45;
-export const NEC_CMD_OFF = 0x47;
 
 export const PWM_FREQ_HZ = 25_000;
 export const PWM_FREQ_TOL = 0.01; // +-1 %
 export const PWM_MIN_COUNTS = 1024; // >= 10-bit duty resolution: TOP + 1 >= 1024
 
-export const MOTOR_TARGET_V = 3.0; // "about 3.0 V": duty = 3.0 V / V_bat
+export const MOTOR_TARGET_V = 3.0; // "about 3.0 V": duty = 3.0 V / V_bat (loaded)
 export const MOTOR_TARGET_TOL = 0.05; // +-5 % on the average motor voltage
 export const SOFT_START_NS = 250 * MS;
 export const SOFT_START_TOL = 0.1; // +-10 %
 
 export const OFF_DEADLINE_NS = 1 * MS; // duty 0 within 1 ms of the end of the Off frame
 
-export const CUTOFF_V = 3.3; // low-battery cut-off
+export const CUTOFF_V = 3.3; // low-battery cut-off, under load
 export const CUTOFF_DEBOUNCE_NS = 1000 * MS; // ~1 s
-export const WATCHDOG_NS = 500 * MS;
+export const WATCHDOG_MIN_NS = 50 * MS; // issue 25: what the 1 ms pass allows
+export const WATCHDOG_MAX_NS = 100 * MS;
+export const FAILSAFE_DEADLINE_NS = 1 * MS; // a panic: gate low within 1 ms
 
 /** Prints one measured number; also collected for the summary at the end of `npm test` (scripts/run.mjs). */
 export function perf(name, value, unit) {

@@ -44,6 +44,7 @@ export function readElf(path) {
     });
   }
   const symbols = [];
+  const objects = [];
   for (const s of sections) {
     if (s.type !== 2 /* SHT_SYMTAB */) continue;
     const strtab = sections[s.link];
@@ -52,14 +53,30 @@ export function readElf(path) {
       const value = u32(o + 4);
       const size = u32(o + 8);
       const info = buf[o + 12];
-      if ((info & 0xf) !== 2 /* STT_FUNC */) continue;
+      const type = info & 0xf;
+      if (type !== 2 /* STT_FUNC */ && type !== 1 /* STT_OBJECT */) continue;
       let end = strtab.offset + nameOff;
       while (buf[end] !== 0) end++;
       const name = buf.toString('latin1', strtab.offset + nameOff, end);
-      symbols.push({ name, addr: value & ~1, size });
+      if (type === 2) symbols.push({ name, addr: value & ~1, size });
+      else objects.push({ name, addr: value, size });
     }
   }
-  return { path, entry, segments, symbols };
+  return { path, entry, segments, symbols, objects };
+}
+
+/** The bytes of the data object `name` as the image loads them (from its segment by load address). */
+export function objectBytes(elf, name) {
+  const sym = elf.objects.find((s) => s.name === name);
+  if (!sym) throw new Error(`${elf.path}: no symbol ${name}`);
+  for (const seg of elf.segments) {
+    if (sym.addr >= seg.vaddr && sym.addr + sym.size <= seg.vaddr + seg.filesz) {
+      const off = sym.addr - seg.vaddr;
+      return { addr: sym.addr, bytes: seg.data.subarray(off, off + sym.size) };
+    }
+  }
+  // Not in a loaded segment (e.g. .bss): only its address is known.
+  return { addr: sym.addr, bytes: null };
 }
 
 /** Copies the ELF's loadable segments that live in flash (by load address) into `flash` (offset 0 = 0x10000000). */

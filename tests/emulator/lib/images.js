@@ -18,7 +18,7 @@ export function manifest() {
   }
 }
 
-/** A board booting the named image (`firmware` or `firmware-hang-test`). */
+/** A board booting the named image (`firmware` or `firmware-fault-test`). */
 export function boardWith(image = 'firmware') {
   const m = manifest();
   return new Board({ elfPath: m.images[image], bootromPath: m.bootrom || undefined });

@@ -1,6 +1,5 @@
 // Steps shared by the scenarios.
 import { MS } from './board.js';
-import { NEC_ADDRESS, NEC_CMD_OFF, NEC_CMD_ON } from './contract.js';
 import { necFrame } from './nec.js';
 
 /** Plays an NEC frame starting at absolute time t, runs until it has ended; returns { start, end }. */
@@ -10,8 +9,8 @@ export function sendFrame(board, t, waveform) {
   return { start: t, end };
 }
 
-export const sendOn = (b, t) => sendFrame(b, t, necFrame(NEC_ADDRESS, NEC_CMD_ON));
-export const sendOff = (b, t) => sendFrame(b, t, necFrame(NEC_ADDRESS, NEC_CMD_OFF));
+export const sendOn = (b, t) => sendFrame(b, t, necFrame(b.facts.necAddress, b.facts.necCmdOn));
+export const sendOff = (b, t) => sendFrame(b, t, necFrame(b.facts.necAddress, b.facts.necCmdOff));
 
 /** Duty in consecutive bins of `binNs` over [t0, t1). */
 export function dutyBins(b, t0, t1, binNs = 1 * MS) {

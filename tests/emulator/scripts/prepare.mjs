@@ -6,7 +6,7 @@
 // share every compiled dependency with `cargo fw` (a separate target
 // directory built the whole embedded tree again). The plain image is the
 // flashed one, target/thumbv6m-none-eabi/fw/firmware, copied. A variant with
-// other features (`hang-test`, route b's `emulator`) is built to the same
+// other features (`fault-test`, route b's `emulator`) is built to the same
 // path, so it is moved out of it at once, and `cargo fw` then puts the plain
 // image back (cargo re-links a build that is up to date); its bytes are
 // checked. The flashed path never keeps a test image.
@@ -29,7 +29,7 @@ if (route !== 'a' && route !== 'b') throw new Error(`SWIMBOT_EMU_ROUTE must be a
 const base = route === 'b' ? ['emulator'] : [];
 const variants = {
   firmware: base,
-  'firmware-hang-test': [...base, 'hang-test'],
+  'firmware-fault-test': [...base, 'fault-test'],
 };
 
 const flashed = join(root, 'target/thumbv6m-none-eabi/fw/firmware');

@@ -2,15 +2,22 @@
 // PWM appears while no command has been received.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { MOTOR_GPIO, MS, US } from '../lib/board.js';
-import { perf } from '../lib/contract.js';
+import { MS, US } from '../lib/board.js';
+import { CUTOFF_DEBOUNCE_NS, CUTOFF_V, MOTOR_TARGET_V, PWM_FREQ_HZ, SOFT_START_NS, WATCHDOG_MAX_NS, WATCHDOG_MIN_NS, perf } from '../lib/contract.js';
 import { boardWith, manifest } from '../lib/images.js';
 
 test('reset: motor pin low within the first ms, no PWM', () => {
   const m = manifest();
   console.log(`emulator: route (${m.route}), ${m.bootrom ? 'B1 bootrom + boot2' : 'no bootrom'}`);
   const b = boardWith('firmware');
-  const pin = b.mcu.gpio[MOTOR_GPIO];
+  const f = b.facts;
+  // The image's board facts (shared/src/board.rs) meet the contract.
+  assert.deepEqual(
+    [f.motorGpio, f.irGpio, f.pwmFreqHz, f.targetMotorMv, f.rampUs * 1e3, f.cutoffMv, f.cutoffDebounceUs * 1e3],
+    [16, 15, PWM_FREQ_HZ, MOTOR_TARGET_V * 1e3, SOFT_START_NS, CUTOFF_V * 1e3, CUTOFF_DEBOUNCE_NS],
+  );
+  assert.ok(f.watchdogMs * MS >= WATCHDOG_MIN_NS && f.watchdogMs * MS <= WATCHDOG_MAX_NS, `watchdog ${f.watchdogMs} ms`);
+  const pin = b.mcu.gpio[f.motorGpio];
   while (!pin.outputEnable && b.nowNs < 1 * MS) b.runFor(1 * US);
   perf('reset to GPIO16 driven low (emulated clocks start at once: no XOSC start-up)', (b.nowNs / US).toFixed(0), 'us');
   b.runUntil(1 * MS);
@@ -18,6 +25,11 @@ test('reset: motor pin low within the first ms, no PWM', () => {
   assert.equal(b.motorAt(1 * MS), 0, 'motor pin not low at 1 ms');
   assert.ok(pin.outputEnable, 'GPIO16 is not driven by 1 ms (left floating on the 100k pull-down)');
   assert.equal(pin.outputValue, false, 'GPIO16 drives high at 1 ms');
+  // The gate pad: 12 mA drive (PADS DRIVE = 3) and fast slew, not the
+  // reset's 4 mA / slow, which stretch the MOSFET's switching edges.
+  const pad = pin.padValue;
+  assert.equal((pad >> 4) & 3, 3, `GPIO16 pad drive ${[2, 4, 8, 12][(pad >> 4) & 3]} mA, want 12 mA`);
+  assert.equal(pad & 1, 1, 'GPIO16 pad slew slow, want fast');
 
   b.runUntil(300 * MS);
   const rises = b.motorEdgesIn(0, 300 * MS).filter((e) => e.v === 1);

@@ -1,7 +1,9 @@
 // Scenario 5: low-battery cut-off. A short dip below 3.3 V does not stop the
 // motor (debounce); a reading below the cut-off for longer than the ~1 s
 // debounce stops it, and it stays stopped (latched) when the reading then
-// recovers a little, even if On is pressed again.
+// recovers a little, even if On is pressed again, and across a watchdog
+// reset (the latch lives in the watchdog's scratch registers). A power-on
+// (scratch cleared: the cell unplugged to be recharged) forgets it.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS } from '../lib/board.js';
@@ -11,7 +13,7 @@ import { dutyBins, ms, pct, sendOn } from '../lib/steps.js';
 
 const LOW_V = 3.1; // below the 3.3 V cut-off, above any "implausible reading" floor
 const OK_V = 3.8;
-const RECOVERED_V = 3.4; // a small recovery: above the cut-off, well below a recharged cell
+const RECOVERED_V = 3.6; // a depleted cell at rest: above the cut-off, below a recharged cell (3.9 V)
 
 test('low battery: debounced cut-off, latched', async (t) => {
   const b = boardWith('firmware');
@@ -59,4 +61,25 @@ test('low battery: debounced cut-off, latched', async (t) => {
   });
 
   assert.equal(b.resets.length, 1, `unexpected reset (${b.resets.map((r) => r.reason).join(', ')})`);
+
+  await t.test('still latched after a watchdog reset', () => {
+    const tReset = b.nowNs;
+    b.watchdog.writeUint32(0, 1 << 31); // CTRL.TRIGGER: a watchdog reset, scratch kept
+    b.runUntil(tReset + 300 * MS);
+    assert.deepEqual(b.resets.map((r) => r.reason), ['power-on', 'watchdog']);
+    const on3 = sendOn(b, b.nowNs);
+    b.runUntil(on3.end + 500 * MS);
+    const rises = b.motorEdgesIn(tReset, b.nowNs).filter((e) => e.v === 1);
+    assert.equal(rises.length, 0, `motor started after the reset at ${RECOVERED_V} V: the cut-off was forgotten`);
+  });
+});
+
+test('a power-on forgets the cut-off: the same cell starts', () => {
+  const b = boardWith('firmware');
+  b.setBattery(RECOVERED_V);
+  b.runUntil(300 * MS);
+  const on = sendOn(b, b.nowNs);
+  b.runUntil(on.end + 400 * MS);
+  const d = b.dutyIn(on.end + 300 * MS, on.end + 400 * MS);
+  assert.ok(d > 0.5, `motor not running at ${RECOVERED_V} V after a power-on (duty ${pct(d)})`);
 });

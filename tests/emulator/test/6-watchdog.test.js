@@ -1,18 +1,24 @@
-// Scenario 6: the watchdog. The normal image enables it and never trips it;
-// the `hang-test` image stops feeding it ~1 s after boot, the chip resets
-// after the 500 ms period, and the motor pin is low after the reset.
+// Scenario 6: the fail-safes. The normal image enables the watchdog (not
+// paused for a debugger) and never trips it; the `fault-test` image, told
+// through its SWIMBOT_FAULT_TEST switch, hangs its main loop (the watchdog
+// resets the chip within its period) or panics (the handler forces the gate
+// low at once and resets). The motor pin is low after each, and stays low.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { MOTOR_GPIO, MS } from '../lib/board.js';
-import { WATCHDOG_NS, perf } from '../lib/contract.js';
+import { MS, US } from '../lib/board.js';
+import { FAILSAFE_DEADLINE_NS, perf } from '../lib/contract.js';
 import { boardWith } from '../lib/images.js';
 import { ms, pct, sendOn } from '../lib/steps.js';
 
-test('normal image: watchdog enabled, fed, never trips (2 s with the motor on)', () => {
+const PAUSE_BITS = (1 << 24) | (1 << 25) | (1 << 26); // PAUSE_JTAG, PAUSE_DBG0, PAUSE_DBG1
+
+test('normal image: watchdog enabled, not paused by a debugger, fed, never trips (2 s with the motor on)', () => {
   const b = boardWith('firmware');
   b.setBattery(3.9);
   b.runUntil(20 * MS);
   assert.ok(b.watchdogEnabled, 'watchdog not enabled 20 ms after boot');
+  const ctrl = b.watchdog.readUint32(0);
+  assert.equal(ctrl & PAUSE_BITS, 0, `watchdog CTRL 0x${ctrl.toString(16)}: paused while a debugger halts the core`);
   const on = sendOn(b, 20 * MS);
   b.runUntil(2000 * MS);
   assert.ok(b.dutyIn(on.end + 300 * MS, 2000 * MS) > 0.5, 'motor not running');
@@ -25,34 +31,59 @@ test('normal image: watchdog enabled, fed, never trips (2 s with the motor on)',
   assert.ok(asleep > 0.9, `core asleep only ${pct(asleep)} of the time: the main loop is not sleeping between passes`);
 });
 
-test('hang-test image: watchdog resets the chip, motor pin low after the reset', () => {
-  const b = boardWith('firmware-hang-test');
+/** Boots the fault-test image, runs the motor, throws `mode` at `tFault`; returns the board and the reset. */
+function faultAt(mode, tFault) {
+  const b = boardWith('firmware-fault-test');
   b.setBattery(3.9);
   b.runUntil(20 * MS);
   const on = sendOn(b, 20 * MS);
-  b.runUntil(950 * MS);
-  const before = b.dutyIn(on.end + 300 * MS, 950 * MS);
-  assert.ok(before > 0.5, `motor not running before the hang (duty ${pct(before)})`);
-  let wd;
-  while (!wd && b.nowNs < 3000 * MS) {
-    b.runUntil(b.nowNs + 5 * MS);
-    wd = b.resets.find((r) => r.reason === 'watchdog');
+  b.runUntil(tFault);
+  const before = b.dutyIn(on.end + 300 * MS, tFault);
+  assert.ok(before > 0.5, `motor not running before the fault (duty ${pct(before)})`);
+  b.poke('SWIMBOT_FAULT_TEST', mode);
+  let reset;
+  while (!reset && b.nowNs < tFault + 1000 * MS) {
+    b.runUntil(b.nowNs + 100 * US);
+    reset = b.resets.find((r) => r.reason === 'watchdog');
   }
-  assert.ok(wd, 'no watchdog reset within 3 s of boot');
-  perf('hang-test: boot to watchdog reset (hang at ~1 s + 500 ms period)', (wd.t / MS).toFixed(1), 'ms');
-  assert.ok(wd.t >= 1000 * MS + 0.8 * WATCHDOG_NS && wd.t <= 1100 * MS + 1.2 * WATCHDOG_NS, `watchdog reset at ${ms(wd.t)}, want ~1.5 s`);
-  const motorDuringHang = b.dutyIn(1050 * MS, wd.t);
-  console.log(`emulator: motor duty between the hang and the watchdog reset: ${pct(motorDuringHang)}`);
+  assert.ok(reset, 'no reset within 1 s of the fault');
+  return { b, reset };
+}
 
-  // After the reset: low at once (pin undriven, 100k pull-down), driven low by
-  // the rebooted firmware within 1 ms, and no PWM without a new command.
-  assert.equal(b.motorAt(wd.t), 0, 'motor pin high at the reset');
-  b.runUntil(wd.t + 1 * MS);
-  const pin = b.mcu.gpio[MOTOR_GPIO];
-  assert.ok(pin.outputEnable && !pin.outputValue, 'GPIO16 not driven low 1 ms after the watchdog reset');
-  b.runUntil(wd.t + 900 * MS);
+/** After a reset at `t`: gate low and driven low, no PWM without a command. */
+function staysOff(b, t) {
+  assert.equal(b.motorAt(t), 0, 'motor pin high at the reset');
+  b.runUntil(t + 1 * MS);
+  const pin = b.mcu.gpio[b.facts.motorGpio];
+  assert.ok(pin.outputEnable && !pin.outputValue, 'GPIO16 not driven low 1 ms after the reset');
+  b.runUntil(t + 500 * MS);
   assert.equal(b.resets.length, 2, `resets: ${b.resets.map((r) => `${r.reason}@${ms(r.t)}`).join(', ')}`);
-  // (A falling edge exactly at the reset is the PWM output being released.)
-  const edges = b.motorEdgesIn(wd.t, b.nowNs).filter((e) => e.t > wd.t || e.v === 1);
-  assert.equal(edges.length, 0, `motor pin moved ${edges.length} times after the watchdog reset without a command`);
+  const edges = b.motorEdgesIn(t, b.nowNs).filter((e) => e.t > t || e.v === 1);
+  assert.equal(edges.length, 0, `motor pin moved ${edges.length} times after the reset without a command`);
+}
+
+test('forced hang: the watchdog resets the chip within its period, motor pin low after it', () => {
+  const tHang = 700 * MS;
+  const { b, reset } = faultAt(1, tHang);
+  const wdNs = b.facts.watchdogMs * MS;
+  perf(`hang: main loop stops to watchdog reset (period ${b.facts.watchdogMs} ms)`, ((reset.t - tHang) / MS).toFixed(1), 'ms');
+  assert.ok(reset.t - tHang <= wdNs + 2 * MS, `watchdog reset ${ms(reset.t - tHang)} after the hang, period ${ms(wdNs)}`);
+  assert.ok(reset.t - tHang >= 0.8 * wdNs, `reset only ${ms(reset.t - tHang)} after the hang: not the watchdog`);
+  const lastHigh = b.lastRiseBefore(reset.t);
+  console.log(`emulator: motor ran on for ${ms(reset.t - tHang)} of hang (last pulse ${ms(reset.t - lastHigh)} before the reset)`);
+  staysOff(b, reset.t);
+});
+
+test('forced panic: gate low at once, then a reset', () => {
+  const tPanic = 700 * MS;
+  const { b, reset } = faultAt(2, tPanic);
+  const lastHigh = b.lastRiseBefore(reset.t);
+  const fall = b.motorEdges.find((e) => e.t >= tPanic && e.v === 0 && !b.motorEdgesIn(e.t + 1, reset.t).some((x) => x.v === 1));
+  assert.ok(fall, 'the motor pin never went low for good after the panic');
+  perf('panic: switch set to motor pin low for good (includes up to one 1 ms pass)', ((fall.t - tPanic) / US).toFixed(1), 'us');
+  assert.ok(fall.t - tPanic <= FAILSAFE_DEADLINE_NS + 1 * MS, `gate low ${ms(fall.t - tPanic)} after the panic`);
+  assert.ok(reset.t - tPanic < 5 * MS, `reset ${ms(reset.t - tPanic)} after the panic (not forced by the handler?)`);
+  assert.equal(b.watchdog.reason, 2, `watchdog REASON ${b.watchdog.reason}: want FORCE (the handler's trigger)`);
+  console.log(`emulator: last motor pulse ${ms(reset.t - lastHigh)} before the reset`);
+  staysOff(b, reset.t);
 });

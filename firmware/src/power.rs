@@ -1,0 +1,201 @@
+//! Power: which clocks run while the core sleeps between passes, and the
+//! DORMANT state after a long idle (or a cut-off), woken by the IR pin.
+//!
+//! Between passes (WFI with SLEEPDEEP set, so the clock gates below apply)
+//! only what a sleeping robot needs keeps its clock: the PWM (the motor's
+//! carrier), the timer and the watchdog (the 1 kHz wake-up alarm and its
+//! tick), IO and pads (the IR edge interrupt, pin levels), the SRAM (a
+//! debug probe may read the RTT buffer while the core sleeps), and the bus,
+//! clock, reset and power controllers themselves. The ADC, USB, UART, SPI,
+//! I2C, PIO, DMA, RTC, ROM, XIP and the rest are gated.
+//!
+//! DORMANT stops the crystal and every clock; only a GPIO edge restarts
+//! them. Before it: motor off (the caller's condition), the system clock
+//! moved to the crystal, the clocks fed by the USB PLL stopped, both PLLs
+//! stopped (the sequence of the C SDK's `sleep_run_from_xosc` and
+//! `sleep_goto_dormant_until_pin`). After the wake: crystal stable, PLLs
+//! relocked, the boot's clock tree restored (125 MHz system, 48 MHz ADC),
+//! so the PWM divider and every timing stay valid. The 1 MHz timer stops
+//! during DORMANT (its tick comes from the crystal): time simply resumes.
+//!
+//! The wake-up edge is the IR receiver's first falling edge (a frame's
+//! leader burst). The IR interrupt also latches it, but on the chip its
+//! timestamp is taken only once the clocks run again (crystal start-up,
+//! about 1 ms, and PLL lock): the leader reads short by that much, within
+//! the decoder's 9 ms +-25 % window. Should the first frame be lost on a
+//! given board, the next press works.
+//!
+//! Expected current (sources, not measured on this board): a Raspberry Pi
+//! Pico board measured from USB by the MicroPython developers (commit
+//! b004e7e, "rp2/modmachine: Implement lightsleep()", 2022) drew about
+//! 1.5 mA in a light sleep with the peripheral clocks gated and about
+//! 0.9 mA in crystal DORMANT, regulator and board included; the RP2040
+//! datasheet's section 5.4 (table "Power Consumption", hello_sleep and
+//! hello_dormant use cases) lists the chip alone. A 70 mAh cell then lasts
+//! about 45 h idle between passes and about 75 h dormant.
+
+use crate::board;
+use fugit::RateExtU32;
+use rp2040_hal::clocks::{Clock, ClockGate, ClocksManager, StoppableClock};
+use rp2040_hal::pac::{self, CLOCKS, PLL_SYS, PLL_USB, RESETS, XOSC};
+use rp2040_hal::pll::common_configs::{PLL_SYS_125MHZ, PLL_USB_48MHZ};
+use rp2040_hal::pll::{setup_pll_blocking, start_pll_blocking, Disabled, Locked, PhaseLockedLoop};
+use rp2040_hal::xosc::{setup_xosc_blocking, CrystalOscillator, Stable};
+use rp2040_hal::Watchdog;
+
+/// The clocks that keep running while the core sleeps between passes.
+pub fn sleep_clock_gates() -> ClockGate {
+    let mut g = ClockGate::default();
+    g.set_sys_clock(true);
+    g.set_sys_busctrl(true);
+    g.set_sys_busfabric(true);
+    g.set_sys_io(true);
+    g.set_sys_pads(true);
+    g.set_sys_vreg_and_chip_reset(true);
+    g.set_sys_pll_sys(true);
+    g.set_sys_pll_usb(true);
+    g.set_sys_psm(true);
+    g.set_sys_pwm(true);
+    g.set_sys_resets(true);
+    g.set_sys_sio(true);
+    g.set_sys_sram0(true);
+    g.set_sys_sram1(true);
+    g.set_sys_sram2(true);
+    g.set_sys_sram3(true);
+    g.set_sys_sram4(true);
+    g.set_sys_sram5(true);
+    g.set_sys_timer(true);
+    g.set_sys_watchdog(true);
+    g.set_sys_xosc(true);
+    g
+}
+
+/// GPIO15's EDGE_LOW bit in DORMANT_WAKE_INTE1 (4 bits per pin from GPIO8).
+const IR_WAKE_REG: usize = board::IR_GPIO as usize / 8;
+const IR_WAKE_EDGE_LOW: u32 = 1 << ((board::IR_GPIO as u32 % 8) * 4 + 2);
+
+/// The clock tree and what it is built from, kept so that DORMANT can take
+/// it down and put it back.
+pub struct Power {
+    pub clocks: ClocksManager,
+    xosc: Option<CrystalOscillator<Stable>>,
+    pll_sys: Option<PhaseLockedLoop<Locked, PLL_SYS>>,
+    pll_usb: Option<PhaseLockedLoop<Locked, PLL_USB>>,
+    /// Handed over once every peripheral is out of reset (`keep_resets`).
+    resets: Option<RESETS>,
+}
+
+impl Power {
+    /// rp2040-hal's `init_clocks_and_plls` (125 MHz system, 48 MHz USB and
+    /// ADC), keeping the crystal and the PLLs for DORMANT; then the sleep
+    /// clock gates, applied by SLEEPDEEP. A clock that does not start is a
+    /// panic: the fail-safe handler keeps the motor off and resets.
+    pub fn start(
+        (xosc, clocks, pll_sys, pll_usb): (XOSC, CLOCKS, PLL_SYS, PLL_USB),
+        resets: &mut RESETS,
+        watchdog: &mut Watchdog,
+        scb: &mut pac::SCB,
+    ) -> Self {
+        let xosc = setup_xosc_blocking(xosc, board::XOSC_HZ.Hz()).ok().unwrap();
+        watchdog.enable_tick_generation((board::XOSC_HZ / 1_000_000) as u8);
+        let mut clocks = ClocksManager::new(clocks);
+        let f = xosc.operating_frequency();
+        let pll_sys = setup_pll_blocking(pll_sys, f, PLL_SYS_125MHZ, &mut clocks, resets)
+            .ok()
+            .unwrap();
+        let pll_usb = setup_pll_blocking(pll_usb, f, PLL_USB_48MHZ, &mut clocks, resets)
+            .ok()
+            .unwrap();
+        clocks.init_default(&xosc, &pll_sys, &pll_usb).ok().unwrap();
+        clocks.configure_sleep_enable(sleep_clock_gates());
+        scb.set_sleepdeep();
+        Self {
+            clocks,
+            xosc: Some(xosc),
+            pll_sys: Some(pll_sys),
+            pll_usb: Some(pll_usb),
+            resets: None,
+        }
+    }
+
+    /// The reset controller, needed to restart the PLLs after DORMANT.
+    pub fn keep_resets(&mut self, resets: RESETS) {
+        self.resets = Some(resets);
+    }
+
+    /// Go DORMANT until the IR pin falls; return with the boot's clock tree
+    /// running again. `false` (nothing done) if the tree is not complete.
+    pub fn dormant_until_ir(&mut self) -> bool {
+        if self.resets.is_none() {
+            return false;
+        }
+        let (Some(xosc), Some(pll_sys), Some(pll_usb)) =
+            (self.xosc.take(), self.pll_sys.take(), self.pll_usb.take())
+        else {
+            return false;
+        };
+        let freq = xosc.operating_frequency();
+        // clk_sys from clk_ref (the crystal), so the PLLs can stop.
+        let _ = self
+            .clocks
+            .system_clock
+            .configure_clock(&self.clocks.reference_clock, freq);
+        self.clocks.usb_clock.disable();
+        self.clocks.adc_clock.disable();
+        self.clocks.rtc_clock.disable();
+        let pll_sys = pll_sys.disable();
+        let pll_usb = pll_usb.disable();
+        set_ir_wake(true);
+        // SAFETY: the system clock runs from the crystal and both PLLs are
+        // stopped (`dormant`'s precondition); the IR pin's wake is enabled.
+        let unstable = unsafe { xosc.dormant() };
+        let token = loop {
+            if let Ok(token) = unstable.await_stabilization() {
+                break token;
+            }
+        };
+        let xosc = unstable.get_stable(token);
+        set_ir_wake(false);
+        self.restore(xosc, pll_sys, pll_usb)
+    }
+
+    fn restore(
+        &mut self,
+        xosc: CrystalOscillator<Stable>,
+        pll_sys: PhaseLockedLoop<Disabled, PLL_SYS>,
+        pll_usb: PhaseLockedLoop<Disabled, PLL_USB>,
+    ) -> bool {
+        // A PLL that does not relock leaves the chip on the crystal, motor
+        // off: a panic here resets it through `safety`, the safe outcome.
+        let Some(resets) = self.resets.as_mut() else {
+            panic!("DORMANT without the reset controller");
+        };
+        let (Ok(pll_sys), Ok(pll_usb)) = (
+            start_pll_blocking(pll_sys, resets),
+            start_pll_blocking(pll_usb, resets),
+        ) else {
+            panic!("a PLL did not relock after DORMANT");
+        };
+        if self.clocks.init_default(&xosc, &pll_sys, &pll_usb).is_err() {
+            panic!("the clock tree did not come back after DORMANT");
+        }
+        self.xosc = Some(xosc);
+        self.pll_sys = Some(pll_sys);
+        self.pll_usb = Some(pll_usb);
+        true
+    }
+}
+
+fn set_ir_wake(enabled: bool) {
+    // SAFETY: atomic set/clear of GPIO15's own bit; nothing else uses the
+    // dormant wake registers.
+    let io = unsafe { &*pac::IO_BANK0::ptr() };
+    let reg = io.dormant_wake_inte(IR_WAKE_REG);
+    reg.modify(|r, w| unsafe {
+        w.bits(if enabled {
+            r.bits() | IR_WAKE_EDGE_LOW
+        } else {
+            r.bits() & !IR_WAKE_EDGE_LOW
+        })
+    });
+}
