@@ -1,10 +1,17 @@
 //! One pass of the robot's main loop: receiver edges -> command (Off wins
 //! within a pass), a battery reading when one is due -> battery status,
 //! the controller -> PWM duty, the LED pattern, and whether the chip may
-//! go dormant. The RP2040 firmware (`firmware/src/run.rs`), the host
-//! simulation (`tests/src/lib.rs`) and the safety property tests
-//! (`tests/tests/firmware_safety.rs`) all run this same pass; only the
-//! hardware around it differs.
+//! go dormant. The RP2040 firmware (`firmware/src/run.rs`), the host rig
+//! (`tests/src/lib.rs`), the safety property tests
+//! (`tests/tests/firmware_safety.rs`) and the whole-robot simulation
+//! (`host/src/sim/dynamics.rs`, `swimbot sim`) all run this same pass; only
+//! the hardware around it differs.
+//!
+//! What turns the command and the battery status into a duty is a
+//! [`MotorControl`]: the voltage-mode [`Controller`] on the board today,
+//! or a rate controller (`swimbot sim --rate-hz`). The decisions around it
+//! (command merge, when to read the cell, the monitor, the latch, the LED,
+//! dormancy) are the pass's, whichever controller it carries.
 //!
 //! "Motor on", for the battery monitor's release-at-rest rule, means the
 //! duty applied since the previous pass is non-zero: that is what loaded
@@ -13,9 +20,21 @@
 use crate::battery::{BatteryConfig, BatteryMonitor, BatteryStatus};
 use crate::board;
 use crate::command::{Command, KeyMap, Remote};
-use crate::controller::{Controller, ControllerConfig, Duty, Event, MotorState};
+use crate::controller::{Controller, ControllerConfig, Duty, Event, MotorState, Output};
 use crate::led::{self, LedMode};
 use crate::nec::Level;
+
+/// The motor's controller inside a pass: a command (if one arrived) and the
+/// battery status in, the duty and state out.
+pub trait MotorControl {
+    fn step(&mut self, now_us: u64, command: Option<Command>, battery: BatteryStatus) -> Output;
+}
+
+impl MotorControl for Controller {
+    fn step(&mut self, now_us: u64, command: Option<Command>, battery: BatteryStatus) -> Output {
+        Controller::step(self, now_us, command, battery)
+    }
+}
 
 /// What one pass decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,6 +64,9 @@ pub struct PassOutput {
 pub struct MainLoopConfig {
     pub keys: KeyMap,
     pub battery: BatteryConfig,
+    /// The voltage-mode controller's settings (used by
+    /// [`MainLoop::with_config`]; a loop built with
+    /// [`MainLoop::with_controller`] carries its own).
     pub controller: ControllerConfig,
     /// Battery readings at most this often.
     pub sample_period_us: u64,
@@ -70,11 +92,11 @@ impl Default for MainLoopConfig {
 
 /// The main loop's state between passes.
 #[derive(Clone, Debug)]
-pub struct MainLoop {
+pub struct MainLoop<C = Controller> {
     cfg: MainLoopConfig,
     remote: Remote,
     monitor: BatteryMonitor,
-    controller: Controller,
+    controller: C,
     next_sample_us: Option<u64>,
     duty: Duty,
     latched: bool,
@@ -89,6 +111,13 @@ impl MainLoop {
     }
 
     pub fn with_config(cfg: MainLoopConfig, cutoff_latched: bool) -> Self {
+        MainLoop::with_controller(cfg, Controller::new(cfg.controller), cutoff_latched)
+    }
+}
+
+impl<C: MotorControl> MainLoop<C> {
+    /// A main loop around another controller (`cfg.controller` unused).
+    pub fn with_controller(cfg: MainLoopConfig, controller: C, cutoff_latched: bool) -> Self {
         let mut monitor = BatteryMonitor::new(cfg.battery);
         if cutoff_latched {
             monitor.restore_cutoff_latch();
@@ -97,7 +126,7 @@ impl MainLoop {
             cfg,
             remote: Remote::new(cfg.keys),
             monitor,
-            controller: Controller::new(cfg.controller),
+            controller,
             next_sample_us: None,
             duty: Duty::ZERO,
             latched: cutoff_latched,
@@ -110,8 +139,14 @@ impl MainLoop {
         self.duty != Duty::ZERO
     }
 
-    pub fn controller(&self) -> &Controller {
+    pub fn controller(&self) -> &C {
         &self.controller
+    }
+
+    /// The controller, for what lies outside the pass (a rate sensor's
+    /// edges, queued between passes as the firmware's interrupt does).
+    pub fn controller_mut(&mut self) -> &mut C {
+        &mut self.controller
     }
 
     pub fn monitor(&self) -> &BatteryMonitor {
@@ -180,7 +215,12 @@ mod tests {
     }
 
     /// Passes every millisecond up to `until_us`, at `mv`, no edges.
-    fn idle(m: &mut MainLoop, from_us: u64, until_us: u64, mv: u32) -> PassOutput {
+    fn idle<C: MotorControl>(
+        m: &mut MainLoop<C>,
+        from_us: u64,
+        until_us: u64,
+        mv: u32,
+    ) -> PassOutput {
         let mut last = m.pass(from_us, [], || counts(mv));
         let mut t = from_us;
         while t < until_us {
@@ -257,5 +297,46 @@ mod tests {
         // An edge (even noise) restarts the count.
         let o = m.pass(quiet + 1_000, [(Level::Low, 5)], || counts(3_900));
         assert!(!o.may_go_dormant);
+    }
+
+    /// A controller that wants the motor on at a fixed duty whenever the
+    /// battery allows, to see the pass's decisions around any controller.
+    #[derive(Clone, Debug)]
+    struct Fixed(Duty);
+
+    impl MotorControl for Fixed {
+        fn step(&mut self, _: u64, _: Option<Command>, battery: BatteryStatus) -> Output {
+            let on = battery.allows_motor();
+            Output {
+                duty: if on { self.0 } else { Duty::ZERO },
+                state: if on {
+                    MotorState::Running
+                } else {
+                    MotorState::Off
+                },
+                event: None,
+            }
+        }
+    }
+
+    #[test]
+    fn another_controller_gets_the_same_sampling_latch_and_led() {
+        let mut m =
+            MainLoop::with_controller(MainLoopConfig::BOARD, Fixed(Duty::percent(50)), false);
+        let o = m.pass(0, [], || counts(3_900));
+        assert_eq!(
+            (o.duty, o.led),
+            (Duty::percent(50), LedMode::of(o.state, o.battery))
+        );
+        assert!(
+            m.motor_on(),
+            "its duty is what the next reading was loaded by"
+        );
+        // A cell under the cut-off for the debounce: the pass latches it and
+        // the controller is handed a status that stops the motor.
+        let o = idle(&mut m, 0, 1_300_000, 3_100);
+        assert_eq!(o.battery.level, BatteryLevel::Cutoff);
+        assert_eq!(o.duty, Duty::ZERO);
+        assert_eq!(m.controller().0, Duty::percent(50));
     }
 }
