@@ -201,6 +201,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         max_time_s: args.max_time_s,
         sample_every_s: args.sample_every_s,
         stop_at_top: !args.no_stop_at_top,
+        ..Options::default()
     };
     let rate = rate_run(&args)?;
     let outcome = sim::simulate_with(&robot, &script, &opts, rate.as_ref())?;

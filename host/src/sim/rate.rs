@@ -13,7 +13,7 @@ use crate::robot::hall::{Failure, HallRing, SensorNoise};
 use swimbot_shared::rate::{
     HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault,
 };
-use swimbot_shared::{BatteryStatus, Command, Controller, Duty, Event, MotorState};
+use swimbot_shared::{BatteryStatus, Command, Controller, MotorControl, Output};
 
 /// A rate-controlled run: when each set-point (Hz) applies, the
 /// controller's configuration, the sensor and its imperfections.
@@ -110,7 +110,10 @@ pub struct RatePoint {
     pub running: bool,
 }
 
-/// What drives the motor: the firmware's voltage mode, or rate control.
+/// What drives the motor inside the main-loop pass: the firmware's
+/// voltage mode, or rate control. Either way the pass
+/// (`swimbot_shared::MainLoop`) decides the rest: commands, battery
+/// readings, cut-off, LED.
 #[derive(Debug, Clone)]
 pub(super) enum Driver {
     Voltage(Controller),
@@ -126,13 +129,6 @@ pub(super) struct RateDriver {
     theta_rad: f64,
     pub(super) reference_hz: f64,
     pub(super) faults: Vec<(f64, RateEvent)>,
-}
-
-/// The driver's decision for one tick.
-pub(super) struct DriveOut {
-    pub duty: Duty,
-    pub state: MotorState,
-    pub event: Option<Event>,
 }
 
 impl Driver {
@@ -153,42 +149,6 @@ impl Driver {
                 reference_hz: 0.0,
                 faults: Vec::new(),
             })),
-        }
-    }
-
-    pub(super) fn step(
-        &mut self,
-        t_us: u64,
-        command: Option<Command>,
-        battery: BatteryStatus,
-    ) -> DriveOut {
-        let d = match self {
-            Driver::Voltage(c) => {
-                let o = c.step(t_us, command, battery);
-                return DriveOut {
-                    duty: o.duty,
-                    state: o.state,
-                    event: o.event,
-                };
-            }
-            Driver::Rate(d) => d,
-        };
-        let set = d.run.set_hz_at(t_us).map(|f| (f * 1e3).round() as u32);
-        d.ctl.set_rate_mhz(set);
-        let o = d.ctl.step(t_us, command, battery, &mut d.est);
-        d.reference_hz = f64::from(o.reference_mhz) / 1e3;
-        let event = match o.event {
-            Some(RateEvent::Motor(e)) => Some(e),
-            Some(other) => {
-                d.faults.push((t_us as f64 * 1e-6, other));
-                None
-            }
-            None => None,
-        };
-        DriveOut {
-            duty: o.duty,
-            state: o.state,
-            event,
         }
     }
 
@@ -234,6 +194,36 @@ impl Driver {
         match self {
             Driver::Rate(d) => d.est.estimate().map(|r| f64::from(r.rate_mhz) / 1e3),
             Driver::Voltage(_) => None,
+        }
+    }
+}
+
+/// Sensor faults and refused starts are the rate driver's own record
+/// ([`Driver::faults`]); the pass sees their effect, the motor stopped.
+impl MotorControl for Driver {
+    fn step(&mut self, t_us: u64, command: Option<Command>, battery: BatteryStatus) -> Output {
+        let d = match self {
+            Driver::Voltage(c) => {
+                return c.step(t_us, command, battery);
+            }
+            Driver::Rate(d) => d,
+        };
+        let set = d.run.set_hz_at(t_us).map(|f| (f * 1e3).round() as u32);
+        d.ctl.set_rate_mhz(set);
+        let o = d.ctl.step(t_us, command, battery, &mut d.est);
+        d.reference_hz = f64::from(o.reference_mhz) / 1e3;
+        let event = match o.event {
+            Some(RateEvent::Motor(e)) => Some(e),
+            Some(other) => {
+                d.faults.push((t_us as f64 * 1e-6, other));
+                None
+            }
+            None => None,
+        };
+        Output {
+            duty: o.duty,
+            state: o.state,
+            event,
         }
     }
 }
