@@ -56,23 +56,39 @@ impl PwmDrive {
         supply_v: f64,
         speed_rad_s: f64,
     ) -> CycleMeans {
+        self.cycle_average_through(motor, duty, supply_v, 0.0, speed_rad_s)
+    }
+
+    /// [`Self::cycle_average`] from a source with resistance: the cell's
+    /// open-circuit `source_v` behind its `source_ohm`, in the loop only
+    /// while the switch is on. Each on-pulse then sags the terminals by
+    /// `source_ohm i` (the ripple the battery input sees) and the motor
+    /// gets `source_v - source_ohm i` during the pulse, not the cycle mean.
+    pub fn cycle_average_through(
+        &self,
+        motor: &Motor,
+        duty: f64,
+        source_v: f64,
+        source_ohm: f64,
+        speed_rad_s: f64,
+    ) -> CycleMeans {
         let p = &motor.params;
         let r = p.resistance_ohm;
-        let tau = p.inductance_h / r;
+        let (tau_on, tau) = (p.inductance_h / (r + source_ohm), p.inductance_h / r);
         let period = 1.0 / self.carrier_hz;
         let t_on = duty.clamp(0.0, 1.0) * period;
         let t_off = period - t_on;
         let e = motor.back_emf_v(speed_rad_s);
-        let (x_on, x_off) = ((-t_on / tau).exp(), (-t_off / tau).exp());
+        let (x_on, x_off) = ((-t_on / tau_on).exp(), (-t_off / tau).exp());
         // Asymptotes of the current: switch on, and diode conducting.
-        let a_on = (supply_v - e) / r;
+        let a_on = (source_v - e) / (r + source_ohm);
         let a_off = -(self.diode_drop_v + e) / r;
         // Continuous conduction if the periodic solution stays positive
         // (at duty 1 it is `a_on`: the motor across the cell, no pulses).
         let i0_ccm = (a_off * (1.0 - x_off) + a_on * (1.0 - x_on) * x_off) / (1.0 - x_on * x_off);
         let i0 = i0_ccm.max(0.0);
         let i1 = (a_on + (i0 - a_on) * x_on).max(0.0);
-        let on_charge = a_on * t_on + (i0 - a_on) * tau * (1.0 - x_on);
+        let on_charge = a_on * t_on + (i0 - a_on) * tau_on * (1.0 - x_on);
         // Diode conduction time: until the current reaches zero, or the
         // whole off-phase in continuous conduction.
         let t_diode = if i0 > 0.0 || a_off >= 0.0 {
@@ -82,9 +98,11 @@ impl PwmDrive {
         };
         let off_charge = a_off * t_diode + (i1 - a_off) * tau * (1.0 - (-t_diode / tau).exp());
         let t_float = t_off - t_diode;
-        let motor_v = (supply_v * t_on - self.diode_drop_v * t_diode + e * t_float) / period;
+        let motor_v = (source_v * t_on - source_ohm * on_charge - self.diode_drop_v * t_diode
+            + e * t_float)
+            / period;
         let mid_on_current_a = if t_on > 0.0 {
-            (a_on + (i0 - a_on) * (-0.5 * t_on / tau).exp()).max(0.0)
+            (a_on + (i0 - a_on) * (-0.5 * t_on / tau_on).exp()).max(0.0)
         } else {
             0.0
         };

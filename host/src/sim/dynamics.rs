@@ -12,8 +12,10 @@
 //!   firmware converts (`firmware/src/battery_adc.rs`, issue 25 item 4);
 //!   [`BatteryReading::CycleMean`] reads `OCV - R_int I_s` instead, what
 //!   an RC filter on the divider tap would give;
-//! * cell: `V = OCV(soc) - R_int I_s`, with `I_s(V)` the drive's mean supply
-//!   current at the new duty, solved by fixed point;
+//! * cell and drive: the cell's `OCV(soc)` behind `R_int`, in the motor's
+//!   loop while the switch is on ([`crate::robot::PwmDrive::cycle_average_through`]):
+//!   each pulse sags the terminals by `R_int i`; the mean terminal voltage
+//!   is `V = OCV - R_int I_s`, `I_s` the mean supply current;
 //! * motor (`Motor::step_implicit`): `L di/dt = v - R i - k w`,
 //!   `J dw/dt = k i - b w - tau_c sgn(w) - tau_m(w)`, `w` the rate of the
 //!   tail relative to the body, `J` rotor + coupler + tail;
@@ -26,7 +28,7 @@
 //! diode, friction and hydrodynamic losses, the external load's work and
 //! the stored kinetic and magnetic energy.
 
-use super::drive::period_losses;
+use super::drive::period_losses_through;
 use super::hydro::Hydro;
 use super::rate::{Driver, RatePoint, RateRun};
 use super::robot::Robot;
@@ -309,21 +311,14 @@ pub fn simulate_with(
             events.push((t_us as f64 * 1e-6, e));
         }
         let d = out.duty.as_f64();
-        // Terminal voltage with the new duty's current: a contraction with
-        // factor ~R_int d / R, so a few passes reach 1e-12 V.
-        let mut v = ocv - cell.internal_resistance_ohm * supply_a;
-        let mut means = robot.drive.cycle_average(&motor, d, v, s.speed_rad_s);
-        for _ in 0..8 {
-            let v_new = ocv - cell.internal_resistance_ohm * means.supply_current_a;
-            if (v_new - v).abs() < 1e-12 {
-                break;
-            }
-            v = v_new;
-            means = robot.drive.cycle_average(&motor, d, v, s.speed_rad_s);
-        }
+        let r_int = cell.internal_resistance_ohm;
+        let means = robot
+            .drive
+            .cycle_average_through(&motor, d, ocv, r_int, s.speed_rad_s);
         supply_a = means.supply_current_a;
         mid_on_a = means.mid_on_current_a;
-        let losses = period_losses(&robot.drive, &motor, d, v, s.speed_rad_s);
+        let v = ocv - r_int * supply_a;
+        let losses = period_losses_through(&robot.drive, &motor, d, ocv, r_int, s.speed_rad_s);
         let stored_before = stored(&s);
         let w_old = s.speed_rad_s;
         s = motor.step_implicit(
@@ -342,7 +337,7 @@ pub fn simulate_with(
         height_mm += vel[0] * 1e3 * dt;
 
         energy.cell_j += ocv * supply_a * dt;
-        energy.internal_j += cell.internal_resistance_ohm * supply_a * supply_a * dt;
+        energy.internal_j += losses.source_w * dt;
         energy.winding_j += losses.winding_w * dt;
         energy.diode_j += losses.diode_w * dt;
         let friction_n_m = mp.viscous_friction_n_m_s * w
