@@ -11,6 +11,7 @@ pub mod drive;
 pub mod dynamics;
 pub mod figure;
 pub mod hydro;
+pub mod outcome;
 pub mod output;
 #[cfg(test)]
 mod pass_tests;
