@@ -80,7 +80,12 @@ fn main() -> ! {
     let battery_pin = hal::adc::AdcPin::new(pins.gpio26.into_floating_input()).unwrap();
     let battery = battery_adc::BatterySense::new(adc, battery_pin);
     let led = pins.gpio25.into_push_pull_output_in_state(PinState::Low);
-    ir::start(pins.gpio15.into_pull_up_input(), timer);
+    let hall_power = pins.gpio12.into_push_pull_output_in_state(PinState::Low);
+    let hall = (
+        pins.gpio13.into_pull_up_input(),
+        pins.gpio14.into_pull_up_input(),
+    );
+    ir::start(pins.gpio15.into_pull_up_input(), hall, timer);
     sleep::start(&mut timer);
 
     power.keep_resets(p.RESETS);
@@ -95,6 +100,7 @@ fn main() -> ! {
         motor,
         battery,
         led,
+        hall_power,
         timer,
         power,
     };

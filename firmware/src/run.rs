@@ -1,8 +1,9 @@
-//! The main loop: each pass hands the queued IR edges, the clock and (when
-//! a reading is due) the ADC to the shared `MainLoop::pass`, then applies
-//! what it decided: the PWM duty, the LED, the cut-off latch's copy in the
+//! The main loop: each pass hands the queued IR and Hall edges, the clock
+//! and (when a reading is due) the ADC to the shared `MainLoop::pass`, then
+//! applies what it decided: the PWM duty, the Hall latches' power, the LED, the cut-off latch's copy in the
 //! watchdog scratch registers, the watchdog feed. A defmt line for every
-//! state change (commands, controller events, battery level, LED mode),
+//! state change (commands, controller events, sensor faults, battery
+//! level, LED mode, and the rate once a second while running),
 //! so a probe log tells the whole story of a run.
 //!
 //! Between passes the core sleeps until an IR edge or the 1 kHz wake-up
@@ -18,14 +19,19 @@ use crate::motor::Motor;
 use crate::power::Power;
 use crate::sleep;
 use embedded_hal::digital::OutputPin;
-use rp2040_hal::gpio::{bank0::Gpio25, FunctionSioOutput, Pin, PullDown};
+use rp2040_hal::gpio::{bank0::Gpio12, bank0::Gpio25, FunctionSioOutput, Pin, PullDown};
 use rp2040_hal::watchdog::ScratchRegister;
 use rp2040_hal::{Timer, Watchdog};
 use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop};
 
 const _: () = assert!(board::LED_GPIO == 25, "the typed LED pin is GPIO25");
+const _: () = assert!(
+    board::HALL_POWER_GPIO == 12,
+    "the typed power pin is GPIO12"
+);
 
 pub type LedPin = Pin<Gpio25, FunctionSioOutput, PullDown>;
+pub type HallPowerPin = Pin<Gpio12, FunctionSioOutput, PullDown>;
 
 const SCRATCH: [ScratchRegister; 4] = [
     ScratchRegister::Scratch0,
@@ -49,6 +55,7 @@ pub struct Robot {
     pub motor: Motor,
     pub battery: BatterySense,
     pub led: LedPin,
+    pub hall_power: HallPowerPin,
     pub timer: Timer,
     pub power: Power,
 }
@@ -62,15 +69,33 @@ impl Robot {
         let mut main_loop = MainLoop::new(cutoff);
         let mut level = BatteryLevel::Fault;
         let mut led_mode = LedMode::Off;
+        let mut next_rate_log_us = 0;
+        let mut foreign = 0;
         loop {
             let now_us = self.timer.get_counter().ticks();
             let (motor, battery) = (&self.motor, &mut self.battery);
-            let out = main_loop.pass(now_us, ir::drain(), || battery.read(motor.timing()));
+            let out = main_loop.pass(now_us, ir::drain(), ir::drain_hall(), || {
+                battery.read(motor.timing())
+            });
             self.motor.set(out.duty);
+            let _ = self.hall_power.set_state(out.hall_power.into());
             if let Some(latched) = out.latch_changed {
                 remember_cutoff(watchdog, latched);
             }
             log(&out, &mut level, &mut led_mode);
+            if out.foreign_frames != foreign {
+                foreign = out.foreign_frames;
+                defmt::warn!("ir: another remote's frame ignored ({} so far)", foreign);
+            }
+            if out.hall_power && now_us >= next_rate_log_us {
+                next_rate_log_us = now_us + 1_000_000;
+                defmt::info!(
+                    "rate: {} mHz, reference {} mHz, duty {}/65536",
+                    out.rate_mhz,
+                    out.reference_mhz,
+                    out.duty.raw()
+                );
+            }
             let _ = self.led.set_state(out.led_lit.into());
             #[cfg(feature = "fault-test")]
             fault_test::act();
@@ -84,7 +109,7 @@ impl Robot {
                 watchdog.feed();
                 continue;
             }
-            sleep::until_next_event();
+            sleep::until_next_event(out.next_pass_in_us.unwrap_or(board::WAKE_PERIOD_US));
         }
     }
 }
@@ -96,6 +121,19 @@ fn log(out: &swimbot_shared::PassOutput, level: &mut BatteryLevel, led_mode: &mu
     let dropped = ir::take_dropped();
     if dropped > 0 {
         defmt::warn!("ir: queue full, {} edges dropped", dropped);
+    }
+    let hall_dropped = ir::take_hall_dropped();
+    if hall_dropped > 0 {
+        defmt::warn!("hall: queue full, {} edges dropped", hall_dropped);
+    }
+    if let Some(mhz) = out.set_point_changed {
+        defmt::info!("set-point: {} mHz", mhz);
+    }
+    if let Some(fault) = out.fault {
+        defmt::error!("rate sensor: {}, motor stopped (a new On retries)", fault);
+    }
+    if out.refused_no_set_point {
+        defmt::warn!("On ignored: no rate set-point selected");
     }
     if let Some(counts) = out.sample {
         if out.battery.level != *level {

@@ -40,13 +40,13 @@ pub fn start(timer: &mut Timer) {
     unsafe { pac::NVIC::unmask(pac::Interrupt::TIMER_IRQ_0) };
 }
 
-/// Sleep until the next IR edge or for at most `WAKE_PERIOD_US`; return at
-/// once if an edge is already queued.
-pub fn until_next_event() {
+/// Sleep until the next IR edge or for at most `wake_us` (capped at
+/// `WAKE_PERIOD_US`); return at once if an edge is already queued.
+pub fn until_next_event(wake_us: u32) {
     critical_section::with(|cs| {
         if let Some(alarm) = ALARM.borrow_ref_mut(cs).as_mut() {
-            // A 1 ms countdown is far below the 2^32 us limit: cannot fail.
-            let _ = alarm.schedule(WAKE_PERIOD_US.micros());
+            // At most 1 ms, far below the 2^32 us limit: cannot fail.
+            let _ = alarm.schedule(wake_us.clamp(1, WAKE_PERIOD_US).micros());
         }
         if !ir::has_edges(cs) {
             cortex_m::asm::wfi();

@@ -1,12 +1,12 @@
 //! Cost of the leak-free tube solver (criterion), a small case: paper tail
 //! #6 cut to two turns in the closed 35 mm tube, MFS wall 6 mm and 4.5 mm
-//! apart (cold solves), and the memoised effect (warm: the matrix from
-//! memory).
+//! apart (cold solves by the ring solver, and by the dense reference at
+//! 4.5 mm), and the memoised effect (warm: the matrix from memory).
 //!
 //! `cargo bench -p swimbot --bench tail_tube`.
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use swimbot::data::paper;
-use swimbot::nonlocal::tube::{tail_resistance_in_tube, TubeSettings};
+use swimbot::nonlocal::tube::{tail_resistance_in_tube, TubeSettings, WallSolver};
 
 fn bench(c: &mut Criterion) {
     let case = {
@@ -26,6 +26,14 @@ fn bench(c: &mut Criterion) {
             b.iter(|| tail_resistance_in_tube(&helix, &channel, 3.5, s).unwrap())
         });
     }
+    let dense = TubeSettings {
+        wall_spacing_m: 4.5e-3,
+        solver: WallSolver::Dense,
+        ..TubeSettings::default()
+    };
+    group.bench_function("cold_dense/4.5", |b| {
+        b.iter(|| tail_resistance_in_tube(&helix, &channel, 3.5, &dense).unwrap())
+    });
     // warm: the effect's memoised matrix (first call solves, then memory)
     let dir = tempfile::tempdir().unwrap();
     std::env::set_var(swimbot::nonlocal::cache::CACHE_DIR_ENV, dir.path());

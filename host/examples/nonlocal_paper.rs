@@ -1,10 +1,9 @@
 //! Non-local resistance of the six paper tails, free and in the closed
 //! 35 mm channel, with the body: `cargo run --release -p swimbot --example
-//! nonlocal_paper [tube]` (the `tube` runs take about a minute each).
+//! nonlocal_paper [tube]` (the `tube` runs solve the leak-free MFS wall).
 use std::time::Instant;
-use swimbot::nonlocal::{
-    robot_resistance, tail_resistance, tail_resistance_in_channel, NonlocalSettings, TailMethod,
-};
+use swimbot::nonlocal::tube::{robot_resistance_in_tube, tail_resistance_in_tube, TubeSettings};
+use swimbot::nonlocal::{robot_resistance, tail_resistance, NonlocalSettings, TailMethod};
 use swimbot::physics::geometry::{Body, Channel, Helix};
 
 fn main() {
@@ -53,7 +52,11 @@ fn main() {
         };
         let t0 = Instant::now();
         let free = tail_resistance(&h, mu, &s).unwrap();
-        let conf = tail_resistance_in_channel(&h, &ch, mu, &s).unwrap();
+        let ts = TubeSettings {
+            tail: s,
+            ..TubeSettings::default()
+        };
+        let conf = tail_resistance_in_tube(&h, &ch, mu, &ts).unwrap().matrix;
         println!(
             "#{} tail in tube / free: xx {:.4} x,wx {:.4} wx,wx {:.4} ({:.1} s)",
             k + 1,
@@ -64,7 +67,10 @@ fn main() {
         );
         for channel in [None, Some(&ch)] {
             let t0 = Instant::now();
-            let r = robot_resistance(&body, &h, channel, mu, &s).unwrap();
+            let r = match channel {
+                None => robot_resistance(&body, &h, mu, &s).unwrap(),
+                Some(ch) => robot_resistance_in_tube(&body, &h, ch, mu, &ts).unwrap().0,
+            };
             let rig = r.rigid();
             println!("#{} robot {}: body xx {:.4e}, tail xx {:.4e}, coupling bt xx {:.4e}, rigid xx {:.4e}, tail x,wx {:.4e}, body wx,wx {:.4e} ({:.1} s)",
                 k + 1, if channel.is_some() { "in tube" } else { "free" },

@@ -8,13 +8,18 @@
 //! - `paper`: the six paper tails, closed 35 mm tube, against free space and
 //!   the old leaky wall, with timings;
 //! - `robot [tail]`: body-tail interaction in the tube, change of U and
-//!   Omega_b (all six tails, or one).
+//!   Omega_b (all six tails, or one);
+//! - `layout`: the six paper tails with the default cap rings against the
+//!   graded caps of the earlier wall (the same discretisation the dense
+//!   solver used), and the ring solver against the dense one on a short
+//!   tail, with timings.
 //!
 //! Each study asserts its own convergence claims (panics if they fail).
 use std::time::Instant;
 use swimbot::data::{paper, Case};
 use swimbot::nonlocal::tube::{
-    robot_resistance_in_tube, tail_resistance_in_tube, TubeSettings, WallModel,
+    robot_resistance_in_tube, tail_resistance_in_tube, CapLayout, TubeSettings, WallModel,
+    WallSolver,
 };
 use swimbot::nonlocal::{tail_resistance, NonlocalSettings};
 use swimbot::physics::geometry::Helix;
@@ -231,6 +236,67 @@ fn robot_study(only: Option<usize>) {
     }
 }
 
+fn layout_study() {
+    println!("six paper tails, closed 35 mm tube, default wall: cap rings / graded caps - 1");
+    println!("tail  Bxx        Bx,wx      Bwx,wx     max|6x6|   flux(rings) flux(graded)  t rings  t graded");
+    let mut worst: f64 = 0.0;
+    for tail in 1..=6 {
+        let c = case(tail, 0.0);
+        let solve = |caps| {
+            let s = TubeSettings {
+                caps,
+                ..TubeSettings::default()
+            };
+            let t0 = Instant::now();
+            let r =
+                tail_resistance_in_tube(&c.helix(), &c.channel(), c.viscosity_pa_s, &s).unwrap();
+            (r, t0.elapsed().as_secs_f64())
+        };
+        let (a, ta) = solve(CapLayout::Rings);
+        let (b, tb) = solve(CapLayout::Graded);
+        let (x, y) = (axial(&a.matrix), axial(&b.matrix));
+        let d: Vec<f64> = (0..3).map(|k| x[k] / y[k] - 1.0).collect();
+        let all = (a.matrix - b.matrix).abs().max() / b.matrix.abs().max();
+        worst = d.iter().fold(worst, |m, v| m.max(v.abs()));
+        println!(
+            "#{tail}   {:+.2e}  {:+.2e}  {:+.2e}  {:.2e}   {:.2e}    {:.2e}     {:.2} s   {:.2} s  (solve {:.2} s, diagnostics {:.2} s, {} points)",
+            d[0],
+            d[1],
+            d[2],
+            all,
+            a.diagnostics.max_flux(),
+            b.diagnostics.max_flux(),
+            ta,
+            tb,
+            a.diagnostics.solve_seconds,
+            a.diagnostics.diagnostics_seconds,
+            a.diagnostics.n_points
+        );
+    }
+    assert!(worst < 1e-3, "cap layouts differ by {worst}");
+    let c = case(6, 2.0);
+    let s = TubeSettings {
+        wall_spacing_m: 4.5e-3,
+        ..TubeSettings::default()
+    };
+    for solver in [WallSolver::Rings, WallSolver::Dense] {
+        let t0 = Instant::now();
+        let r = tail_resistance_in_tube(
+            &c.helix(),
+            &c.channel(),
+            c.viscosity_pa_s,
+            &TubeSettings { solver, ..s },
+        )
+        .unwrap();
+        println!(
+            "tail #6, two turns, 4.5 mm wall, {solver:?}: Bxx {:.9e}, {:.2} s, {} points",
+            r.matrix[(0, 0)],
+            t0.elapsed().as_secs_f64(),
+            r.diagnostics.n_points
+        );
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let tail = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(6);
@@ -240,7 +306,10 @@ fn main() {
         Some("offset") => offset_study(tail, turns),
         Some("margin") => margin_study(tail, turns),
         Some("paper") => paper_study(),
+        Some("layout") => layout_study(),
         Some("robot") => robot_study(args.get(1).and_then(|s| s.parse().ok())),
-        _ => eprintln!("usage: tail_tube wall|offset|margin [tail] [turns] | paper | robot"),
+        _ => {
+            eprintln!("usage: tail_tube wall|offset|margin [tail] [turns] | paper | robot | layout")
+        }
     }
 }

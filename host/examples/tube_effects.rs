@@ -7,16 +7,18 @@
 //! process sharing a new, empty disk cache: the first run is cold (every
 //! solve), the second warm (every matrix read from disk);
 //! `... --example tube_effects -- resolution` measures cost and wall
-//! convergence (wall spacings 2.5-5 mm) on tail #6 and on the body, and the
-//! cost of all six tails at the chosen spacing.
+//! convergence on tail #6 (MFS wall spacings 2.5-5 mm) and on the body
+//! (axisymmetric resolution 4-16 elements per gap), and the cost of all six
+//! tails at the chosen spacing.
 use std::process::Command;
 use std::time::Instant;
 use swimbot::data::paper;
 use swimbot::effects::parse_effect_spec;
 use swimbot::model::Model;
-use swimbot::nonlocal::{
-    body_resistance, tail_resistance, tail_resistance_in_channel, NonlocalSettings,
-};
+use swimbot::nonlocal::axisym::{solve_body, AxisymSettings, Confinement};
+use swimbot::nonlocal::tube::{tail_resistance_in_tube, TubeSettings};
+use swimbot::nonlocal::{tail_resistance, NonlocalSettings};
+use swimbot::physics::profile::BodyProfile;
 use swimbot::workbench::compare::compare;
 
 const EFFECTS: [&str; 2] = ["body-confinement-exact", "tail-confinement-stokeslets"];
@@ -55,56 +57,73 @@ fn compare_once() {
 
 fn resolution() {
     let data = paper();
-    let settings = |wall_mm: f64| NonlocalSettings {
+    let tube = |wall_mm: f64| TubeSettings {
         wall_spacing_m: wall_mm * 1e-3,
-        ..NonlocalSettings::default()
+        ..TubeSettings::default()
     };
     let spacings = [2.5, 3.0, 4.0, 5.0];
     let case6 = &data.cases[5];
     let (h, ch, mu) = (case6.helix(), case6.channel(), case6.viscosity_pa_s);
-    let free = tail_resistance(&h, mu, &settings(3.0)).unwrap();
-    println!("tail #6 in tube / free, by wall spacing:");
+    let free = tail_resistance(&h, mu, &NonlocalSettings::default()).unwrap();
+    println!("tail #6 in tube (MFS wall) / free, by wall spacing:");
     for w in spacings {
         let t0 = Instant::now();
-        let m = tail_resistance_in_channel(&h, &ch, mu, &settings(w)).unwrap();
+        let r = tail_resistance_in_tube(&h, &ch, mu, &tube(w)).unwrap();
+        let m = r.matrix;
         println!(
-            "  wall {w} mm: xx {:.4} x,wx {:.4} wx,wx {:.4}  ({:.1} s)",
+            "  wall {w} mm: xx {:.4} x,wx {:.4} wx,wx {:.4}, flux {:.1e}  ({:.2} s)",
             m[(0, 0)] / free[(0, 0)],
             m[(0, 3)] / free[(0, 3)],
             m[(3, 3)] / free[(3, 3)],
+            r.diagnostics.max_flux(),
             t0.elapsed().as_secs_f64()
         );
     }
     let body = case6.body();
-    let free_b = body_resistance(&body, None, mu, &settings(3.0)).unwrap();
+    let profile = BodyProfile::spheroid(body.length_m * 1e3, body.diameter_m * 1e3);
+    let confined = Confinement::of_channel(&ch);
+    let free_b = solve_body(
+        &profile,
+        &Confinement::Free,
+        0.0,
+        mu,
+        &AxisymSettings::default(),
+    )
+    .unwrap();
     println!(
-        "body free: xx {:.4e} wx,wx {:.4e}; in tube, by wall spacing:",
-        free_b[(0, 0)],
-        free_b[(3, 3)]
+        "body free: xx {:.4e} wx,wx {:.4e}; in the tube (axisymmetric, exact), by resolution:",
+        free_b.drag_n_s_per_m, free_b.rotational_drag_n_m_s
     );
-    for w in spacings {
-        let t0 = Instant::now();
-        let m = body_resistance(&body, Some(&ch), mu, &settings(w)).unwrap();
+    for resolution in [4.0, 8.0, 16.0] {
+        let s = AxisymSettings {
+            resolution,
+            ..AxisymSettings::default()
+        };
+        let m = solve_body(&profile, &confined, 0.0, mu, &s).unwrap();
         println!(
-            "  wall {w} mm: xx {:.4e} ({:.3}x free) wx,wx {:.4e} ({:.3}x free)  ({:.1} s)",
-            m[(0, 0)],
-            m[(0, 0)] / free_b[(0, 0)],
-            m[(3, 3)],
-            m[(3, 3)] / free_b[(3, 3)],
-            t0.elapsed().as_secs_f64()
+            "  {resolution} per gap: xx {:.4e} ({:.3}x free) wx,wx {:.4e} ({:.3}x free), flux {:.1e} ({:.3} s)",
+            m.drag_n_s_per_m,
+            m.drag_n_s_per_m / free_b.drag_n_s_per_m,
+            m.rotational_drag_n_m_s,
+            m.rotational_drag_n_m_s / free_b.rotational_drag_n_m_s,
+            m.flux_error().unwrap_or(f64::NAN),
+            m.seconds
         );
     }
     let w: f64 = std::env::args()
         .nth(2)
         .and_then(|a| a.parse().ok())
-        .unwrap_or(4.0);
+        .unwrap_or(3.0);
     let t_all = Instant::now();
     for c in &data.cases {
         let t0 = Instant::now();
-        let m = tail_resistance_in_channel(&c.helix(), &ch, mu, &settings(w)).unwrap();
-        let f = tail_resistance(&c.helix(), mu, &settings(w)).unwrap();
+        let r = tail_resistance_in_tube(&c.helix(), &ch, mu, &tube(w)).unwrap();
+        let (m, f) = (
+            r.matrix,
+            tail_resistance(&c.helix(), mu, &NonlocalSettings::default()).unwrap(),
+        );
         println!(
-            "  {} at wall {w} mm: xx {:.4} x,wx {:.4} wx,wx {:.4} x free ({:.1} s)",
+            "  {} at wall {w} mm: xx {:.4} x,wx {:.4} wx,wx {:.4} x free ({:.2} s)",
             c.id,
             m[(0, 0)] / f[(0, 0)],
             m[(0, 3)] / f[(0, 3)],

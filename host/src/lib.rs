@@ -11,6 +11,8 @@ pub mod format;
 pub mod model;
 pub mod nonlocal;
 pub mod physics;
+pub mod progress;
+pub mod provenance;
 pub mod report;
 pub mod robot;
 pub mod sim;

@@ -75,6 +75,26 @@ pub struct FitSummary {
     pub free_params: usize,
 }
 
+impl FitSummary {
+    /// Degrees of freedom of the reduced chi-square, `n - k` (`None` when
+    /// not positive).
+    pub fn dof(&self) -> Option<usize> {
+        self.n.checked_sub(self.free_params).filter(|d| *d > 0)
+    }
+}
+
+/// The share of `before`'s excess chi-square (above the noise floor
+/// `floor_chi2`, not reduced) that `after` removes, at most 1; `None` when
+/// `before` is already at the floor. The one definition of "removes X % of
+/// the excess" used by every command and the page.
+pub fn excess_removed(before_chi2: f64, after_chi2: f64, floor_chi2: Option<f64>) -> Option<f64> {
+    let excess = before_chi2 - floor_chi2?;
+    (excess > 0.0).then(|| ((before_chi2 - after_chi2) / excess).min(1.0))
+}
+
+/// The summary statistics of `residuals` judged with `free_params` fitted
+/// parameters: MARE and max |relative error| over every compared quantity,
+/// chi-square and its reduced value over `n - k` degrees of freedom.
 pub fn summarise(residuals: &[Residual], free_params: usize) -> FitSummary {
     let n = residuals.len();
     let rel: Vec<f64> = residuals.iter().map(|r| r.relative_error().abs()).collect();
@@ -136,5 +156,19 @@ mod tests {
         assert_eq!(s.chi2_reduced, Some(6.0));
         assert_eq!(summarise(&r, 3).chi2_reduced, None);
         assert!((s.mare - 1.0).abs() < 1e-15);
+        assert_eq!(s.dof(), Some(2));
+        assert_eq!(summarise(&r, 3).dof(), None);
+    }
+
+    #[test]
+    fn the_excess_removed_is_a_share_of_what_lies_above_the_floor() {
+        // 100 above a floor of 10: falling to 55 removes half the excess
+        assert_eq!(excess_removed(110.0, 60.0, Some(10.0)), Some(0.5));
+        // below the floor it is all removed, not more
+        assert_eq!(excess_removed(110.0, 1.0, Some(10.0)), Some(1.0));
+        // a rise removes a negative share
+        assert_eq!(excess_removed(110.0, 210.0, Some(10.0)), Some(-1.0));
+        assert_eq!(excess_removed(5.0, 1.0, Some(10.0)), None);
+        assert_eq!(excess_removed(5.0, 1.0, None), None);
     }
 }

@@ -162,7 +162,8 @@ fn sweep_writes_one_row_per_grid_point() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
-    let lines: Vec<&str> = text.lines().collect();
+    // Below the provenance comments (`# swimbot ...`).
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(lines.len(), 1 + 5 * 3 * 2);
     assert!(lines[0].starts_with("wavelength_mm,amplitude_mm"));
     assert!(lines[1..]
@@ -253,6 +254,8 @@ fn synth_then_diagnose_finds_the_hidden_effect_through_the_binary() {
         "5",
         "--seed",
         "7",
+        // the truth on the recorded inputs: this test is about the effect
+        "--nominal-inputs",
         "-o",
         out.to_str().unwrap(),
     ]);
@@ -395,13 +398,14 @@ fn default_outputs_go_under_swimbot_out_only() {
     let help = stdout(&swimbot(&["sim", "--help"]));
     assert!(help.contains("[default: swimbot-out/sim]"), "{help}");
     let help = stdout(&swimbot(&["compare", "--help"]));
-    assert!(help.contains("[default: swimbot-out/report]"), "{help}");
+    assert!(help.contains("[default: swimbot-out/compare]"), "{help}");
 }
 
 #[test]
 fn old_flag_spellings_still_work_but_are_not_advertised() {
+    // The JSON without its provenance, which records the command line.
     let helix = |len_flag: &str| {
-        stdout(&swimbot(&[
+        let mut v: serde_json::Value = serde_json::from_str(&stdout(&swimbot(&[
             "helix",
             "--wavelength-mm",
             "15.5",
@@ -411,10 +415,13 @@ fn old_flag_spellings_still_work_but_are_not_advertised() {
             "130",
             "--format",
             "json",
-        ]))
+        ])))
+        .unwrap();
+        v.as_object_mut().unwrap().remove("swimbot");
+        v
     };
     let new = helix("--tail-length-mm");
-    assert!(new.contains("drag_n_s_per_m"), "{new}");
+    assert!(new["drag_n_s_per_m"].is_number(), "{new}");
     assert_eq!(helix("--length-mm"), new);
     let dir = tempfile::tempdir().unwrap();
     let o = swimbot_in(
@@ -503,6 +510,10 @@ fn a_reader_that_stops_early_ends_the_process_quietly() {
     // The read end is dropped here, as `head` closes it.
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.is_empty(), "stderr: {err}");
+    // Nothing but progress lines (a sweep past 2 s on a busy machine).
+    assert!(
+        err.lines().all(|l| l.starts_with("swimbot: sweep: ")),
+        "stderr: {err}"
+    );
     assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{:?}", out.status);
 }

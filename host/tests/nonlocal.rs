@@ -8,8 +8,8 @@ use std::f64::consts::PI;
 use swimbot::nonlocal::curve::Centreline;
 use swimbot::nonlocal::rigid::spd_check;
 use swimbot::nonlocal::{
-    body_resistance, mrs_line, robot_resistance, sbt, sphere_resistance, tail_resistance,
-    NonlocalError, NonlocalSettings, TailMethod,
+    free_body_resistance, mrs_line, robot_resistance, sbt, tail_resistance, NonlocalError,
+    NonlocalSettings, TailMethod,
 };
 use swimbot::physics::geometry::{Body, Channel, Handedness, Helix};
 
@@ -224,7 +224,7 @@ fn bad_geometry_is_an_error_not_a_panic() {
     // tail joint inside the body
     let body = Body::from_mm(50.0, 20.0);
     assert!(matches!(
-        robot_resistance(&body, &ok, None, MU, &s),
+        robot_resistance(&body, &ok, MU, &s),
         Err(NonlocalError::Geometry(_))
     ));
     // robot wider than the channel
@@ -239,7 +239,13 @@ fn bad_geometry_is_an_error_not_a_panic() {
         ..ok
     };
     assert!(matches!(
-        robot_resistance(&body, &behind, Some(&narrow), MU, &s),
+        swimbot::nonlocal::tube::robot_resistance_in_tube(
+            &body,
+            &behind,
+            &narrow,
+            MU,
+            &swimbot::nonlocal::tube::TubeSettings::default()
+        ),
         Err(NonlocalError::Geometry(_))
     ));
 }
@@ -258,12 +264,11 @@ fn prolate_spheroid_surface_matches_exact_drag() {
             body_spacing_m: h,
             ..Default::default()
         };
-        let bb = body_resistance(
+        let bb = free_body_resistance(
             &Body {
                 length_m: 2.0 * c,
                 diameter_m: 2.0 * b,
             },
-            None,
             MU,
             &s,
         )
@@ -277,42 +282,4 @@ fn prolate_spheroid_surface_matches_exact_drag() {
     }
     // O(eps) regularization error, halving with the spacing; 1.4 % measured at h = 0.15
     assert!(errs[1] < errs[0] && errs[1] < 0.04, "{errs:?}");
-}
-
-#[test]
-fn sphere_on_tube_axis_approaches_haberman_sayre() {
-    // Haberman & Sayre (1958) wall factor for a sphere on the axis of a tube
-    // with quiescent fluid far away (= closed far ends), lambda = a / R.
-    let lam: f64 = 0.3;
-    let k_hs = (1.0 - 0.75857 * lam.powi(5))
-        / (1.0 - 2.1050 * lam + 2.0865 * lam.powi(3) - 1.7068 * lam.powi(5)
-            + 0.72603 * lam.powi(6));
-    let ch = Channel {
-        diameter_m: 2.0 / lam,
-        length_m: 100.0,
-        closed: true,
-        vertical: true,
-    };
-    let mut k = vec![];
-    // Extrapolated from wall spacings 0.8 and 0.6: 3.1 % from H&S, against
-    // 3.0 % from 0.6 and 0.45, which took 2.5x as long (measured).
-    let walls = [0.8, 0.6];
-    for hw in walls {
-        let s = NonlocalSettings {
-            body_spacing_m: 0.2,
-            wall_spacing_m: hw,
-            ..Default::default()
-        };
-        let free = sphere_resistance(1.0, None, MU, &s).unwrap();
-        let conf = sphere_resistance(1.0, Some(&ch), MU, &s).unwrap();
-        k.push(conf[(0, 0)] / free[(0, 0)]);
-    }
-    // the wall's regularization error is first order in its spacing: extrapolate
-    let k_extra = k[1] + (k[1] - k[0]) * walls[1] / (walls[0] - walls[1]);
-    println!(
-        "K(h=0.6) {:.4}, K(h=0.45) {:.4}, extrapolated {k_extra:.4}, H&S {k_hs:.4}",
-        k[0], k[1]
-    );
-    assert!(rel(k[1], k_hs) < rel(k[0], k_hs));
-    assert!(rel(k_extra, k_hs) < 0.04, "{k_extra} vs {k_hs}");
 }

@@ -226,3 +226,41 @@ fn the_memory_layer_solves_each_key_once_and_remembers_failures() {
     }
     assert_eq!(calls.load(Ordering::SeqCst), 2);
 }
+
+/// Both wall-resolved effects solve at 1 Pa s and scale (Stokes flow is
+/// linear in the viscosity): the effect's matrix equals a direct solve at
+/// the case's viscosity, and a perturbed viscosity scales it exactly.
+#[test]
+fn the_wall_effects_scale_with_the_viscosity_as_a_direct_solve_does() {
+    use swimbot::nonlocal::tube::{tail_resistance_in_tube, TubeSettings};
+    fresh_cache();
+    let case = short_tail_case();
+    let effect = tube_tail_matrix(&case);
+    let direct = tail_resistance_in_tube(
+        &case.helix(),
+        &case.channel(),
+        case.viscosity_pa_s,
+        &TubeSettings::default(),
+    )
+    .unwrap()
+    .matrix;
+    let diff = (effect - direct).abs().max() / direct.abs().max();
+    assert!(diff < 1e-12, "{diff}");
+    let mut thicker = case.clone();
+    thicker.viscosity_pa_s *= 1.37;
+    let scaled = tube_tail_matrix(&thicker);
+    assert!((scaled - effect * 1.37).abs().max() < 1e-12 * effect.abs().max());
+    let body = |c: &Case| with(TUBE_BODY).body_matrix(c).unwrap();
+    let (b, b2) = (body(&case), body(&thicker));
+    assert!((b2[(0, 0)] / b[(0, 0)] - 1.37).abs() < 1e-12);
+    assert!((b2[(3, 3)] / b[(3, 3)] - 1.37).abs() < 1e-12);
+    let exact = swimbot::nonlocal::axisym::solve_body(
+        &case.body_profile(),
+        &swimbot::nonlocal::axisym::Confinement::of_channel(&case.channel()),
+        0.0,
+        thicker.viscosity_pa_s,
+        &swimbot::nonlocal::axisym::AxisymSettings::default(),
+    )
+    .unwrap();
+    assert!((b2[(0, 0)] / exact.drag_n_s_per_m - 1.0).abs() < 1e-12);
+}

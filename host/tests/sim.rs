@@ -300,7 +300,14 @@ fn the_binary_writes_csv_and_svg() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let csv = std::fs::read_to_string(dir.path().join("sim.csv")).unwrap();
+    let file = std::fs::read_to_string(dir.path().join("sim.csv")).unwrap();
+    // The provenance comes first, as `#` lines.
+    assert!(file.starts_with("# swimbot "), "{file}");
+    let csv: String = file
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
     assert!(csv.starts_with("time_s,duty,battery_v") && csv.lines().count() > 50);
     // Omega_b is the counter-rotation, positive while the motor runs (as
     // in the summary and the paper's Table IV); numbers in plain decimals.
@@ -355,8 +362,15 @@ fn rate_set_points_write_the_step_responses_and_bad_ones_are_input_errors() {
         "{stdout}"
     );
     let csv = std::fs::read_to_string(dir.path().join("rate.csv")).unwrap();
-    assert!(csv.starts_with(swimbot::sim::rate_figure::RATE_CSV_HEADER));
-    assert!(csv.lines().count() > 900, "every 10 ms over 10 s");
+    // the provenance block comes first, as in sim.csv
+    assert!(
+        csv.starts_with("# swimbot"),
+        "{}",
+        &csv[..80.min(csv.len())]
+    );
+    let table: Vec<&str> = csv.lines().filter(|l| !l.starts_with('#')).collect();
+    assert!(table[0].starts_with(swimbot::sim::rate_figure::RATE_CSV_HEADER.trim_end()));
+    assert!(table.len() > 900, "every 10 ms over 10 s");
     let svg = std::fs::read_to_string(dir.path().join("rate.svg")).unwrap();
     swimbot::report::plots::legend_clear(&svg).unwrap();
     assert!(svg.contains("set-point +-2 %") && svg.contains("sensor, one-turn mean"));

@@ -243,6 +243,8 @@ fn a_user_effect_works_in_synth_fit_diagnose_compare_sweep_and_the_listing() {
         shear,
         "--seed",
         "5",
+        // the truth on the recorded inputs: this test is about the effect
+        "--nominal-inputs",
         "-o",
         data.to_str().unwrap(),
     ]);

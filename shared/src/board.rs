@@ -9,6 +9,8 @@ use crate::battery::BatteryConfig;
 use crate::command::KeyMap;
 use crate::controller::ControllerConfig;
 use crate::pwm;
+use crate::rate::{HallConfig, RateConfig};
+use crate::set_point::SetPointKeys;
 
 /// Crystal on the board (Raspberry Pi Pico compatible).
 pub const XOSC_HZ: u32 = 12_000_000;
@@ -23,6 +25,22 @@ pub const BATTERY_ADC_GPIO: u8 = 26;
 pub const BATTERY_ADC_CHANNEL: u8 = 0;
 /// Status LED (active high).
 pub const LED_GPIO: u8 = 25;
+
+/// Two Hall latches in quadrature over an 8-pole ring magnet on the motor's
+/// coupler (`docs/rate-sensing.md`): open-drain outputs with the internal
+/// pull-ups, in bank 0 beside the IR input so one `IO_IRQ_BANK0` handler
+/// serves all three, and A and B come from one read of `SIO.GPIO_IN`.
+pub const HALL_A_GPIO: u8 = 13;
+pub const HALL_B_GPIO: u8 = 14;
+/// Powers both latches (a few mA each): high only while the motor may run,
+/// so the idle and cut-off current budget does not carry them.
+pub const HALL_POWER_GPIO: u8 = 12;
+/// 4 pole pairs: 16 quadrature edges a turn.
+pub const HALL: HallConfig = HallConfig::RING_8_POLE;
+/// The latches' power-on time before their outputs are valid is tens of
+/// microseconds (DRV5013-class parts); the soft start's first 250 ms
+/// turn the rotor far less than one pole, so no edge is missed.
+const _: () = assert!(HALL_A_GPIO / 8 == IR_GPIO / 8 && HALL_B_GPIO / 8 == IR_GPIO / 8);
 
 /// Motor PWM carrier: above hearing, below the MOSFET's switching-loss
 /// knee, and with no harmonic up to the third in the IR receiver's pass
@@ -54,9 +72,20 @@ pub const KEYS: KeyMap = KeyMap {
     on: NEC_CMD_ON,
     off: NEC_CMD_OFF,
 };
+/// Keys 1-5 select 0.5-1.5 Hz, VOL+/VOL- step by 0.05 Hz (`set_point`).
+pub const SET_POINT_KEYS: SetPointKeys = SetPointKeys::CAR_MP3;
 pub const BATTERY: BatteryConfig =
     BatteryConfig::new(DIVIDER_TOP_OHM, DIVIDER_BOTTOM_OHM, ADC_REF_MEASURED_MV);
 pub const CONTROLLER: ControllerConfig = ControllerConfig::DEFAULT;
+/// The rate controller around `CONTROLLER`'s on/off state machine, soft
+/// start and interlocks (`rate::control`).
+pub const RATE: RateConfig = RateConfig {
+    motor: CONTROLLER,
+    ..RateConfig::DEFAULT
+};
+/// The set-point after power-up: 1 Hz, inside the paper's observed
+/// 0.57-1.50 Hz (Table II). The remote's keys change it.
+pub const DEFAULT_RATE_MHZ: u32 = 1_000;
 
 /// Battery sampling period: 50 Hz, five times the minimum rate, so
 /// the 8-sample average spans 160 ms, short against the 1 s cut-off debounce.
@@ -111,6 +140,18 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
         (tag(b"MOTM"), CONTROLLER.target_motor_mv as u32),
         (tag(b"RAMP"), CONTROLLER.ramp_us),
         (tag(b"DORM"), (DORMANT_AFTER_IDLE_US / 1_000) as u32),
+        (tag(b"HALA"), HALL_A_GPIO as u32),
+        (tag(b"HALB"), HALL_B_GPIO as u32),
+        (tag(b"HALP"), HALL_POWER_GPIO as u32),
+        (tag(b"POLE"), HALL.pole_pairs as u32),
+        (tag(b"RATE"), DEFAULT_RATE_MHZ),
+        (tag(b"STAL"), RATE.stall_us / 1_000),
+        (tag(b"LNV0"), RATE.line.intercept_mv as u32),
+        (tag(b"LNSL"), RATE.line.slope_mv_per_hz as u32),
+        (tag(b"KP1 "), SET_POINT_KEYS.presets[0].0 as u32),
+        (tag(b"KP5 "), SET_POINT_KEYS.presets[4].0 as u32),
+        (tag(b"KUP "), SET_POINT_KEYS.faster as u32),
+        (tag(b"KDN "), SET_POINT_KEYS.slower as u32),
     ];
     let mut out = [0u32; 2 + 2 * EXPORT_PAIRS];
     out[0] = tag(b"SWBD");
@@ -123,7 +164,7 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
     }
     out
 };
-pub const EXPORT_PAIRS: usize = 20;
+pub const EXPORT_PAIRS: usize = 32;
 
 #[cfg(test)]
 mod tests {

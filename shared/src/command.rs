@@ -1,9 +1,10 @@
 //! The robot's command set and its mapping from remote-control codes: the
 //! protocol that the firmware and the host simulation both speak.
 //!
-//! Only on/off exists: the paper's robot is switched by its remote and the
-//! tail speed is not a controlled parameter (Table II's frequencies are
-//! observed), so speed steps would add states without a use.
+//! The commands are on/off; the keys that choose the tail's rate are
+//! `set_point`'s (they change a set-point, never the motor's state).
+//! Frames from other remotes (another NEC address: many cheap remotes send
+//! 0x00) are never a key and are counted.
 
 use crate::nec::{AddressFilter, Level, NecDecoder, NecEvent};
 
@@ -57,21 +58,43 @@ impl KeyMap {
 pub struct Remote {
     decoder: NecDecoder,
     keys: KeyMap,
+    foreign_frames: u32,
 }
 
 impl Remote {
     pub const fn new(keys: KeyMap) -> Self {
         Self {
-            decoder: NecDecoder::new(AddressFilter::only(keys.address)),
+            decoder: NecDecoder::new(AddressFilter::ANY),
             keys,
+            foreign_frames: 0,
         }
     }
 
     pub fn edge(&mut self, level: Level, t_us: u32) -> Option<Command> {
+        let code = self.edge_code(level, t_us)?;
+        self.keys.lookup(self.keys.address, code)
+    }
+
+    /// The command code of a complete frame from our remote; repeat
+    /// frames and other addresses (counted) give nothing.
+    pub fn edge_code(&mut self, level: Level, t_us: u32) -> Option<u8> {
         match self.decoder.edge(level, t_us)? {
-            NecEvent::Frame { address, command } => self.keys.lookup(address, command),
+            NecEvent::Frame { address, command } if address == self.keys.address => Some(command),
+            NecEvent::Frame { .. } => {
+                self.foreign_frames = self.foreign_frames.saturating_add(1);
+                None
+            }
             NecEvent::Repeat => None,
         }
+    }
+
+    pub fn keys(&self) -> &KeyMap {
+        &self.keys
+    }
+
+    /// Complete frames from other remotes since power-up.
+    pub fn foreign_frames(&self) -> u32 {
+        self.foreign_frames
     }
 }
 

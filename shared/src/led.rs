@@ -7,7 +7,8 @@
 //! - Off: a 100 ms blip every 2 s (alive, idle);
 //! - Running: steady on;
 //! - LowBattery: two 100 ms blips every second;
-//! - Fault: fast 5 Hz blinking.
+//! - Fault: fast 5 Hz blinking (a broken battery reading, or a rate-sensor
+//!   fault that stopped the motor, shown until the next On).
 
 use crate::battery::{BatteryLevel, BatteryStatus};
 use crate::controller::MotorState;
@@ -22,11 +23,14 @@ pub enum LedMode {
 }
 
 impl LedMode {
-    /// The mode to show: a fault outranks a low battery, which outranks
-    /// the motor state (a low cell while running must be visible).
-    pub fn of(motor: MotorState, battery: BatteryStatus) -> LedMode {
+    /// The mode to show: a fault (of the battery reading, or of the rate
+    /// sensor that stopped the motor, until the next On) outranks a low
+    /// battery, which outranks the motor state (a low cell while running
+    /// must be visible).
+    pub fn of(motor: MotorState, battery: BatteryStatus, sensor_fault: bool) -> LedMode {
         match (battery.level, motor) {
             (BatteryLevel::Fault, _) => LedMode::Fault,
+            _ if sensor_fault => LedMode::Fault,
             (BatteryLevel::Cutoff | BatteryLevel::Low, _) => LedMode::LowBattery,
             (BatteryLevel::Ok, MotorState::Off) => LedMode::Off,
             (BatteryLevel::Ok, MotorState::Ramping | MotorState::Running) => LedMode::Running,
@@ -79,27 +83,32 @@ mod tests {
     fn priority() {
         let s = |level| BatteryStatus { mv: 3_700, level };
         assert_eq!(
-            LedMode::of(MotorState::Running, s(BatteryLevel::Ok)),
+            LedMode::of(MotorState::Running, s(BatteryLevel::Ok), false),
             LedMode::Running
         );
         assert_eq!(
-            LedMode::of(MotorState::Ramping, s(BatteryLevel::Ok)),
+            LedMode::of(MotorState::Ramping, s(BatteryLevel::Ok), false),
             LedMode::Running
         );
         assert_eq!(
-            LedMode::of(MotorState::Off, s(BatteryLevel::Ok)),
+            LedMode::of(MotorState::Off, s(BatteryLevel::Ok), false),
             LedMode::Off
         );
         assert_eq!(
-            LedMode::of(MotorState::Running, s(BatteryLevel::Low)),
+            LedMode::of(MotorState::Running, s(BatteryLevel::Low), false),
             LedMode::LowBattery
         );
         assert_eq!(
-            LedMode::of(MotorState::Off, s(BatteryLevel::Cutoff)),
+            LedMode::of(MotorState::Off, s(BatteryLevel::Cutoff), false),
             LedMode::LowBattery
         );
         assert_eq!(
-            LedMode::of(MotorState::Off, s(BatteryLevel::Fault)),
+            LedMode::of(MotorState::Off, s(BatteryLevel::Low), true),
+            LedMode::Fault,
+            "a sensor fault that stopped the motor outranks a low cell"
+        );
+        assert_eq!(
+            LedMode::of(MotorState::Off, s(BatteryLevel::Fault), false),
             LedMode::Fault
         );
     }

@@ -1,5 +1,6 @@
 //! The robot's decision logic, free of hardware: the IR remote protocol, the
-//! command set, the motor controller state machine, the battery monitor, the
+//! command set and the rate keys, the motor controller state machine, the
+//! tail-rate sensing and control, the battery monitor, the
 //! status LED patterns, the PWM carrier arithmetic, the board's constants,
 //! the one main-loop pass that the chip, the host simulation and the
 //! property tests all run, and what survives a reset.
@@ -20,11 +21,13 @@ pub mod nec;
 pub mod pwm;
 pub mod rate;
 pub mod reset_memory;
+pub mod set_point;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
 pub use command::{Command, KeyMap, Remote};
 pub use controller::{Controller, ControllerConfig, Duty, Event, MotorState, Output, StopReason};
 pub use led::LedMode;
-pub use main_loop::{MainLoop, MainLoopConfig, MotorControl, PassOutput};
+pub use main_loop::{ChipControl, HallEdge, MainLoop, MainLoopConfig, MotorControl, PassOutput};
 pub use nec::{AddressFilter, Level, NecDecoder, NecEvent};
 pub use pwm::PwmTiming;
+pub use set_point::{SetPointKey, SetPointKeys};

@@ -1,17 +1,15 @@
 //! One pass of the robot's main loop: receiver edges -> command (Off wins
-//! within a pass), a battery reading when one is due -> battery status,
-//! the controller -> PWM duty, the LED pattern, and whether the chip may
-//! go dormant. The RP2040 firmware (`firmware/src/run.rs`), the host rig
-//! (`tests/src/lib.rs`), the safety property tests
-//! (`tests/tests/firmware_safety.rs`) and the whole-robot simulation
-//! (`host/src/sim/dynamics.rs`, `swimbot sim`) all run this same pass; only
-//! the hardware around it differs.
-//!
-//! What turns the command and the battery status into a duty is a
-//! [`MotorControl`]: the voltage-mode [`Controller`] on the board today,
-//! or a rate controller (`swimbot sim --rate-hz`). The decisions around it
-//! (command merge, when to read the cell, the monitor, the latch, the LED,
-//! dormancy) are the pass's, whichever controller it carries.
+//! within a pass), Hall edges -> the tail's rate (`rate::hall`), a battery
+//! reading when one is due -> battery status, the rate controller (its
+//! on/off state machine and soft start are `controller::Controller`'s) ->
+//! PWM duty, the LED pattern, whether the Hall latches are powered, and
+//! whether the chip may go dormant. The RP2040 firmware
+//! (`firmware/src/run.rs`), the host rig (`tests/src/lib.rs`), the safety
+//! property tests (`tests/tests/firmware_safety.rs`) and the whole-robot
+//! simulation (`host/src/sim/dynamics.rs`, `swimbot sim`) all run this same
+//! pass; only the hardware around it differs. What turns the command and
+//! the battery status into a duty is a [`MotorControl`]: the chip's rate
+//! control ([`ChipControl`]) by default; the sim's voltage mode in its place.
 //!
 //! "Motor on", for the battery monitor's release-at-rest rule, means the
 //! duty applied since the previous pass is non-zero: that is what loaded
@@ -20,20 +18,22 @@
 use crate::battery::{BatteryConfig, BatteryMonitor, BatteryStatus};
 use crate::board;
 use crate::command::{Command, KeyMap, Remote};
-use crate::controller::{Controller, ControllerConfig, Duty, Event, MotorState, Output};
+use crate::controller::{Duty, Event, MotorState};
 use crate::led::{self, LedMode};
 use crate::nec::Level;
+use crate::rate::{HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault};
+use crate::set_point::SetPointKeys;
 
-/// The motor's controller inside a pass: a command (if one arrived) and the
-/// battery status in, the duty and state out.
-pub trait MotorControl {
-    fn step(&mut self, now_us: u64, command: Option<Command>, battery: BatteryStatus) -> Output;
-}
+mod motor_control;
+pub use motor_control::{ChipControl, MotorControl};
 
-impl MotorControl for Controller {
-    fn step(&mut self, now_us: u64, command: Option<Command>, battery: BatteryStatus) -> Output {
-        Controller::step(self, now_us, command, battery)
-    }
+/// One Hall edge as the interrupt queued it: the timer's low 32 bits and
+/// both latches' levels read together.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HallEdge {
+    pub t_us: u32,
+    pub a: bool,
+    pub b: bool,
 }
 
 /// What one pass decided.
@@ -43,8 +43,22 @@ pub struct PassOutput {
     pub duty: Duty,
     pub state: MotorState,
     pub event: Option<Event>,
+    /// A sensor fault stopped the motor in this pass (log it).
+    pub fault: Option<SensorFault>,
+    /// An On arrived with no set-point: nothing started (log it).
+    pub refused_no_set_point: bool,
+    /// Drive the Hall latches' power pin: on whenever the motor may run.
+    pub hall_power: bool,
+    /// The turn-averaged rate while running (mHz), and what it is driven
+    /// towards (the soft-started, slewed set-point).
+    pub rate_mhz: Option<u32>,
+    pub reference_mhz: u32,
     /// The command decoded in this pass (merged: Off wins).
     pub command: Option<Command>,
+    /// A set-point key changed the set-point in this pass: the new one.
+    pub set_point_changed: Option<u32>,
+    /// Complete frames from other remotes since power-up (ignored).
+    pub foreign_frames: u32,
     /// The battery reading taken in this pass (ADC counts), if one was due.
     pub sample: Option<u16>,
     pub battery: BatteryStatus,
@@ -53,6 +67,12 @@ pub struct PassOutput {
     /// The cut-off latch changed in this pass: store the new value where
     /// it survives a reset (`reset_memory`).
     pub latch_changed: Option<bool>,
+    /// Run the next pass this soon (us) rather than after the usual wake
+    /// period: set on the pass that starts the motor, when the soft start's
+    /// reference (and with it the duty) first becomes non-zero after
+    /// `ramp_us / set-point`, so the first PWM edge does not wait a whole
+    /// wake period (the On -> PWM latency, issue 26.3).
+    pub next_pass_in_us: Option<u32>,
     /// Motor off and no IR edge for `dormant_after_us`:
     /// the chip may stop its clocks until the next IR edge.
     pub may_go_dormant: bool,
@@ -63,11 +83,13 @@ pub struct PassOutput {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MainLoopConfig {
     pub keys: KeyMap,
+    pub set_point_keys: SetPointKeys,
     pub battery: BatteryConfig,
-    /// The voltage-mode controller's settings (used by
-    /// [`MainLoop::with_config`]; a loop built with
-    /// [`MainLoop::with_controller`] carries its own).
-    pub controller: ControllerConfig,
+    pub rate: RateConfig,
+    pub hall: HallConfig,
+    /// The set-point after power-up (mHz); `None`: On starts nothing until
+    /// a key selects one.
+    pub set_point_mhz: Option<u32>,
     /// Battery readings at most this often.
     pub sample_period_us: u64,
     /// Motor off and no IR edge this long: the chip may go dormant.
@@ -77,8 +99,11 @@ pub struct MainLoopConfig {
 impl MainLoopConfig {
     pub const BOARD: Self = Self {
         keys: board::KEYS,
+        set_point_keys: board::SET_POINT_KEYS,
         battery: board::BATTERY,
-        controller: board::CONTROLLER,
+        rate: board::RATE,
+        hall: board::HALL,
+        set_point_mhz: Some(board::DEFAULT_RATE_MHZ),
         sample_period_us: board::BATTERY_SAMPLE_PERIOD_US,
         dormant_after_us: board::DORMANT_AFTER_IDLE_US,
     };
@@ -92,13 +117,14 @@ impl Default for MainLoopConfig {
 
 /// The main loop's state between passes.
 #[derive(Clone, Debug)]
-pub struct MainLoop<C = Controller> {
+pub struct MainLoop<C = ChipControl> {
     cfg: MainLoopConfig,
     remote: Remote,
     monitor: BatteryMonitor,
-    controller: C,
+    control: C,
     next_sample_us: Option<u64>,
     duty: Duty,
+    state: MotorState,
     latched: bool,
     last_activity_us: u64,
 }
@@ -111,27 +137,51 @@ impl MainLoop {
     }
 
     pub fn with_config(cfg: MainLoopConfig, cutoff_latched: bool) -> Self {
-        MainLoop::with_controller(cfg, Controller::new(cfg.controller), cutoff_latched)
+        let control = ChipControl::new(cfg.rate, cfg.hall);
+        MainLoop::with_control(cfg, control, cutoff_latched)
+    }
+
+    pub fn controller(&self) -> &RateController {
+        &self.control.controller
+    }
+
+    pub fn estimator(&self) -> &RateEstimator {
+        &self.control.estimator
     }
 }
 
 impl<C: MotorControl> MainLoop<C> {
-    /// A main loop around another controller (`cfg.controller` unused).
-    pub fn with_controller(cfg: MainLoopConfig, controller: C, cutoff_latched: bool) -> Self {
+    /// A main loop around another controller (`cfg.rate` and `cfg.hall`
+    /// unused; `cfg.set_point_mhz` handed to it).
+    pub fn with_control(cfg: MainLoopConfig, mut control: C, cutoff_latched: bool) -> Self {
         let mut monitor = BatteryMonitor::new(cfg.battery);
         if cutoff_latched {
             monitor.restore_cutoff_latch();
         }
+        control.set_rate_mhz(cfg.set_point_mhz);
         Self {
             cfg,
             remote: Remote::new(cfg.keys),
             monitor,
-            controller,
+            control,
             next_sample_us: None,
             duty: Duty::ZERO,
+            state: MotorState::Off,
             latched: cutoff_latched,
             last_activity_us: 0,
         }
+    }
+
+    /// Apply a set-point key: only the set-point changes, never the state.
+    fn set_key(&mut self, key: crate::set_point::SetPointKey) -> Option<u32> {
+        let (lo, hi) = (self.cfg.rate.min_rate_mhz, self.cfg.rate.max_rate_mhz);
+        let current = self.control.set_rate();
+        let next = self.cfg.set_point_keys.apply(key, current, lo, hi);
+        if next.is_some() && next != current {
+            self.control.set_rate_mhz(next);
+        }
+        // A controller without a set-point took nothing: nothing changed.
+        self.control.set_rate().filter(|n| Some(*n) != current)
     }
 
     /// The duty applied since the last pass is non-zero.
@@ -139,14 +189,17 @@ impl<C: MotorControl> MainLoop<C> {
         self.duty != Duty::ZERO
     }
 
-    pub fn controller(&self) -> &C {
-        &self.controller
+    /// The motor's state after the last pass.
+    pub fn state(&self) -> MotorState {
+        self.state
     }
 
-    /// The controller, for what lies outside the pass (a rate sensor's
-    /// edges, queued between passes as the firmware's interrupt does).
-    pub fn controller_mut(&mut self) -> &mut C {
-        &mut self.controller
+    pub fn control(&self) -> &C {
+        &self.control
+    }
+
+    pub fn control_mut(&mut self) -> &mut C {
+        &mut self.control
     }
 
     pub fn monitor(&self) -> &BatteryMonitor {
@@ -154,21 +207,32 @@ impl<C: MotorControl> MainLoop<C> {
     }
 
     /// One pass at `now_us`: feed `edges` (receiver level and the timer's
-    /// low 32 bits, oldest first), call `read_adc` if a battery reading is
-    /// due (at most every `sample_period_us`; the first pass
-    /// always reads), and decide the outputs.
+    /// low 32 bits, oldest first) and `hall` (oldest first), call
+    /// `read_adc` if a battery reading is due (at most every
+    /// `sample_period_us`; the first pass always reads), and decide the
+    /// outputs.
     pub fn pass(
         &mut self,
         now_us: u64,
         edges: impl IntoIterator<Item = (Level, u32)>,
+        hall: impl IntoIterator<Item = HallEdge>,
         read_adc: impl FnOnce() -> u16,
     ) -> PassOutput {
         let mut command = None;
+        let mut set_point_changed = None;
         for (level, t_us) in edges {
             self.last_activity_us = now_us;
-            if let Some(c) = self.remote.edge(level, t_us) {
+            let Some(code) = self.remote.edge_code(level, t_us) else {
+                continue;
+            };
+            if let Some(c) = self.cfg.keys.lookup(self.cfg.keys.address, code) {
                 command = Some(Command::merge(command, c));
+            } else if let Some(key) = self.cfg.set_point_keys.lookup(code) {
+                set_point_changed = self.set_key(key);
             }
+        }
+        for e in hall {
+            self.control.hall_edge(e);
         }
         let mut sample = None;
         if self.next_sample_us.is_none_or(|due| now_us >= due) {
@@ -179,20 +243,38 @@ impl<C: MotorControl> MainLoop<C> {
             sample = Some(counts);
         }
         let battery = self.monitor.status();
-        let out = self.controller.step(now_us, command, battery);
+        let out = self.control.step(now_us, command, battery);
         self.duty = out.duty;
-        if out.state != MotorState::Off {
+        self.state = out.state;
+        let (event, fault) = match out.event {
+            Some(RateEvent::Motor(e)) => (Some(e), None),
+            Some(RateEvent::Fault(f)) => (None, Some(f)),
+            Some(RateEvent::NoSetPoint) | None => (None, None),
+        };
+        let running = out.state != MotorState::Off;
+        if running {
             self.last_activity_us = now_us;
         }
         let latched = self.monitor.cutoff_latched();
         let latch_changed = (latched != self.latched).then_some(latched);
         self.latched = latched;
-        let led = LedMode::of(out.state, battery);
+        let led = LedMode::of(out.state, battery, self.control.fault().is_some());
         PassOutput {
             duty: out.duty,
             state: out.state,
-            event: out.event,
+            event,
+            fault,
+            refused_no_set_point: out.event == Some(RateEvent::NoSetPoint),
+            hall_power: running,
+            rate_mhz: running.then(|| self.control.rate_mhz()).flatten(),
+            reference_mhz: out.reference_mhz,
             command,
+            set_point_changed,
+            foreign_frames: self.remote.foreign_frames(),
+            next_pass_in_us: (event == Some(Event::Started))
+                .then(|| self.control.set_rate())
+                .flatten()
+                .map(|set| self.cfg.rate.motor.ramp_us.div_ceil(set.max(1))),
             sample,
             battery,
             led,
@@ -205,138 +287,4 @@ impl<C: MotorControl> MainLoop<C> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::battery::BatteryLevel;
-    use crate::nec::{for_each_edge, frame_pulses_us};
-
-    fn counts(mv: u32) -> u16 {
-        board::BATTERY.mv_to_counts(mv)
-    }
-
-    /// Passes every millisecond up to `until_us`, at `mv`, no edges.
-    fn idle<C: MotorControl>(
-        m: &mut MainLoop<C>,
-        from_us: u64,
-        until_us: u64,
-        mv: u32,
-    ) -> PassOutput {
-        let mut last = m.pass(from_us, [], || counts(mv));
-        let mut t = from_us;
-        while t < until_us {
-            t += 1_000;
-            last = m.pass(t, [], || counts(mv));
-        }
-        last
-    }
-
-    fn on_frame() -> heapless::Vec<(Level, u32), 80> {
-        let mut v = heapless::Vec::new();
-        for_each_edge(
-            300_000,
-            &frame_pulses_us(board::NEC_ADDRESS, board::NEC_CMD_ON),
-            |l, t| {
-                let _ = v.push((l, t));
-            },
-        );
-        v
-    }
-
-    #[test]
-    fn samples_on_schedule_and_starts_on_a_frame() {
-        let mut m = MainLoop::new(false);
-        let o = m.pass(0, [], || counts(3_900));
-        assert_eq!(o.sample, Some(counts(3_900)));
-        assert_eq!(m.pass(19_999, [], || unreachable!()).sample, None);
-        assert!(m.pass(20_000, [], || counts(3_900)).sample.is_some());
-        idle(&mut m, 20_000, 290_000, 3_900);
-        let o = m.pass(400_000, on_frame(), || counts(3_900));
-        assert_eq!(o.command, Some(Command::On));
-        assert_eq!(o.event, Some(Event::Started));
-        let o = idle(&mut m, 400_000, 800_000, 3_900);
-        assert_eq!(o.state, MotorState::Running);
-        assert!(m.motor_on());
-    }
-
-    #[test]
-    fn another_robot_samples_on_its_own_period() {
-        let cfg = MainLoopConfig {
-            sample_period_us: 5_000,
-            ..MainLoopConfig::BOARD
-        };
-        let mut m = MainLoop::with_config(cfg, false);
-        assert!(m.pass(0, [], || counts(3_900)).sample.is_some());
-        assert!(m.pass(4_999, [], || counts(3_900)).sample.is_none());
-        assert!(m.pass(5_000, [], || counts(3_900)).sample.is_some());
-    }
-
-    #[test]
-    fn a_remembered_cutoff_refuses_on_and_reports_its_release() {
-        let mut m = MainLoop::new(true);
-        idle(&mut m, 0, 300_000, 3_600);
-        let o = m.pass(400_000, on_frame(), || counts(3_600));
-        assert_eq!(o.battery.level, BatteryLevel::Cutoff);
-        assert_eq!(o.duty, Duty::ZERO);
-        let o = idle(&mut m, 400_000, 420_000, 4_100);
-        assert_eq!(o.latch_changed, None, "the average still reads low");
-        let mut released = None;
-        let mut t = 420_000;
-        while released.is_none() && t < 1_000_000 {
-            t += 1_000;
-            released = m.pass(t, [], || counts(4_100)).latch_changed;
-        }
-        assert_eq!(released, Some(false));
-    }
-
-    #[test]
-    fn dormant_only_after_a_quiet_idle_stretch() {
-        let mut m = MainLoop::new(false);
-        let quiet = board::DORMANT_AFTER_IDLE_US;
-        assert!(!idle(&mut m, 0, quiet - 1_000, 3_900).may_go_dormant);
-        assert!(idle(&mut m, quiet - 1_000, quiet, 3_900).may_go_dormant);
-        // An edge (even noise) restarts the count.
-        let o = m.pass(quiet + 1_000, [(Level::Low, 5)], || counts(3_900));
-        assert!(!o.may_go_dormant);
-    }
-
-    /// A controller that wants the motor on at a fixed duty whenever the
-    /// battery allows, to see the pass's decisions around any controller.
-    #[derive(Clone, Debug)]
-    struct Fixed(Duty);
-
-    impl MotorControl for Fixed {
-        fn step(&mut self, _: u64, _: Option<Command>, battery: BatteryStatus) -> Output {
-            let on = battery.allows_motor();
-            Output {
-                duty: if on { self.0 } else { Duty::ZERO },
-                state: if on {
-                    MotorState::Running
-                } else {
-                    MotorState::Off
-                },
-                event: None,
-            }
-        }
-    }
-
-    #[test]
-    fn another_controller_gets_the_same_sampling_latch_and_led() {
-        let mut m =
-            MainLoop::with_controller(MainLoopConfig::BOARD, Fixed(Duty::percent(50)), false);
-        let o = m.pass(0, [], || counts(3_900));
-        assert_eq!(
-            (o.duty, o.led),
-            (Duty::percent(50), LedMode::of(o.state, o.battery))
-        );
-        assert!(
-            m.motor_on(),
-            "its duty is what the next reading was loaded by"
-        );
-        // A cell under the cut-off for the debounce: the pass latches it and
-        // the controller is handed a status that stops the motor.
-        let o = idle(&mut m, 0, 1_300_000, 3_100);
-        assert_eq!(o.battery.level, BatteryLevel::Cutoff);
-        assert_eq!(o.duty, Duty::ZERO);
-        assert_eq!(m.controller().0, Duty::percent(50));
-    }
-}
+mod tests;

@@ -78,6 +78,10 @@ pub struct AddressFilter {
 impl AddressFilter {
     /// Accept no address at all.
     pub const NONE: Self = Self { bits: [0; 8] };
+    /// Accept every address (to count other remotes' frames).
+    pub const ANY: Self = Self {
+        bits: [u32::MAX; 8],
+    };
 
     /// Accept exactly one address.
     pub const fn only(address: u8) -> Self {

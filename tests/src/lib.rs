@@ -7,13 +7,17 @@
 //! of `swimbot::robot`. The ADC sees the cell's ripple: the reading is the
 //! terminal voltage at the instant of the conversion, which the firmware
 //! takes in the middle of the on-pulse (`firmware/src/battery_adc.rs`).
+//! The Hall latches are modelled on the rotor's angle: the quadrature
+//! levels of the board's ring (`board::HALL`) at exact crossing times,
+//! with the timer's 1 us floor, while the main loop powers them.
 
 use std::collections::VecDeque;
 use swimbot::robot::{LiPo, LiPoParams, Motor, MotorState, PwmDrive};
 pub use swimbot_shared::board::{BATTERY, KEYS};
 use swimbot_shared::nec::{for_each_edge, frame_pulses_us};
+use swimbot_shared::rate::SensorFault;
 use swimbot_shared::{
-    board, BatteryStatus, Command, Duty, Event, Level, MainLoop, MotorState as CtlState,
+    board, BatteryStatus, Command, Duty, Event, HallEdge, Level, MainLoop, MotorState as CtlState,
 };
 
 /// Tail drag as a viscous coefficient at the motor shaft (direct drive).
@@ -118,6 +122,15 @@ pub struct Rig {
     edges: VecDeque<(Level, u64)>,
     supply_current_a: f64,
     pub events: Vec<(u64, Event)>,
+    pub faults: Vec<(u64, SensorFault)>,
+    /// The rotor's angle in turns (for the Hall edges), the edges generated
+    /// but not yet seen by a pass, and whether the latches are powered.
+    pub angle_turns: f64,
+    hall: VecDeque<HallEdge>,
+    hall_powered: bool,
+    /// The rotor turns but the latches see nothing: a stall as the sensor
+    /// sees it (a seized coupler, both wires off).
+    pub hall_disconnected: bool,
     pub commands: Vec<(u64, Command)>,
     pub last: Option<Sample>,
 }
@@ -136,6 +149,11 @@ impl Rig {
             edges: VecDeque::new(),
             supply_current_a: 0.0,
             events: Vec::new(),
+            faults: Vec::new(),
+            angle_turns: 0.0,
+            hall: VecDeque::new(),
+            hall_powered: false,
+            hall_disconnected: false,
             commands: Vec::new(),
             last: None,
         }
@@ -177,9 +195,14 @@ impl Rig {
         let r_ohm = self.supply.resistance_ohm();
         let open_v = supply_v + r_ohm * self.supply_current_a;
         let reading_v = self.adc_reading_v(open_v, supply_v);
-        let out = self.main_loop.pass(now, due, || {
+        let hall: Vec<HallEdge> = self.hall.drain(..).collect();
+        let out = self.main_loop.pass(now, due, hall, || {
             BATTERY.mv_to_counts((reading_v * 1_000.0).round().max(0.0) as u32)
         });
+        self.hall_powered = out.hall_power;
+        if let Some(f) = out.fault {
+            self.faults.push((now, f));
+        }
         if let Some(c) = out.command {
             self.commands.push((now, c));
         }
@@ -200,6 +223,7 @@ impl Rig {
             c,
             dt_s,
         );
+        self.turn(now, dt_s);
         self.supply.draw(means.supply_current_a, dt_s);
         self.supply_current_a = means.supply_current_a;
         let s = Sample {
@@ -215,6 +239,43 @@ impl Rig {
         };
         self.last = Some(s);
         s
+    }
+
+    /// Advance the rotor's angle over the tick that began at `t0_us` and
+    /// queue a Hall edge at each crossing of a quadrature step: levels in
+    /// the Gray order 00, 01, 11, 10 forwards (A leads B).
+    fn turn(&mut self, t0_us: u64, dt_s: f64) {
+        let per_turn = board::HALL.edges_per_turn() as f64;
+        let turns_per_s = self.motor_state.speed_rad_s / std::f64::consts::TAU;
+        let from = self.angle_turns * per_turn;
+        self.angle_turns += turns_per_s * dt_s;
+        let to = self.angle_turns * per_turn;
+        if !self.hall_powered || self.hall_disconnected || turns_per_s == 0.0 {
+            return;
+        }
+        let rate_steps_per_us = (to - from) / (dt_s * 1e6);
+        let (lo, hi) = (from.min(to), from.max(to));
+        let mut k = lo.floor() + 1.0;
+        let mut crossings = Vec::new();
+        while k <= hi {
+            crossings.push(k);
+            k += 1.0;
+        }
+        if to < from {
+            crossings.reverse();
+        }
+        for k in crossings {
+            let t_us = t0_us as f64 + (k - from) / rate_steps_per_us;
+            // Entering step k (going forwards) or k - 1 (backwards).
+            let step = if to > from { k } else { k - 1.0 } as i64;
+            let (a, b) = [(false, false), (false, true), (true, true), (true, false)]
+                [step.rem_euclid(4) as usize];
+            self.hall.push_back(HallEdge {
+                t_us: t_us.floor() as u64 as u32,
+                a,
+                b,
+            });
+        }
     }
 
     /// Terminal voltage during the on-pulse at `duty`: the open-circuit

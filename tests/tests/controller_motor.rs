@@ -5,12 +5,14 @@
 use proptest::prelude::*;
 use swimbot::robot::LiPo;
 use swimbot::robot::LiPoParams;
-use swimbot_integration::{Rig, Supply, KEYS, TAIL_DAMPING_N_M_S};
+use swimbot_integration::{Rig, Sample, Supply, KEYS};
 use swimbot_shared::nec::{
     for_each_edge, frame_pulses_us, raw_frame_pulses_us, FRAME_PULSES, REPEAT_PULSES_US,
 };
+use swimbot_shared::rate::SensorFault;
 use swimbot_shared::{
-    BatteryLevel, Command, Controller, ControllerConfig, Event, MotorState, Remote, StopReason,
+    board, BatteryLevel, Command, Controller, ControllerConfig, Event, MotorState, Remote,
+    StopReason,
 };
 
 const TAU: f64 = std::f64::consts::TAU;
@@ -22,7 +24,7 @@ fn running_rig(supply: Supply) -> Rig {
     let frame_end = rig.press(KEYS.on);
     rig.run_for(frame_end - rig.t_us + 400_000);
     assert_eq!(
-        rig.main_loop.controller().state(),
+        rig.main_loop.state(),
         MotorState::Running,
         "{:?}",
         rig.events
@@ -30,8 +32,21 @@ fn running_rig(supply: Supply) -> Rig {
     rig
 }
 
+/// The set-point in Hz.
+fn set_hz() -> f64 {
+    f64::from(board::DEFAULT_RATE_MHZ) / 1e3
+}
+
+/// The largest relative rate error over `samples`.
+fn worst_rate_error(samples: &[Sample]) -> f64 {
+    samples
+        .iter()
+        .map(|s| (s.speed_rad_s / TAU / set_hz() - 1.0).abs())
+        .fold(0.0, f64::max)
+}
+
 #[test]
-fn on_frame_spins_up_along_the_ramp_to_steady_speed() {
+fn on_frame_soft_starts_then_holds_the_set_point() {
     let mut rig = Rig::new(Supply::full_cell());
     rig.run_for(200_000);
     let frame_end = rig.press(KEYS.on);
@@ -40,7 +55,7 @@ fn on_frame_spins_up_along_the_ramp_to_steady_speed() {
     assert!(before
         .iter()
         .all(|s| s.state == MotorState::Off && s.speed_rad_s.abs() < 1e-3));
-    let samples = rig.run_for(1_000_000);
+    let samples = rig.run_for(10_000_000);
     assert_eq!(rig.commands.len(), 1);
     assert_eq!(rig.commands[0].1, Command::On);
     let t0 = rig.started_at().expect("started");
@@ -48,17 +63,8 @@ fn on_frame_spins_up_along_the_ramp_to_steady_speed() {
         t0 >= frame_end && t0 <= frame_end + 1_000,
         "starts on the frame's last edge"
     );
-
-    let ramp_us = u64::from(ControllerConfig::DEFAULT.ramp_us);
-    let target_v = f64::from(ControllerConfig::DEFAULT.target_motor_mv) / 1e3;
-    let c = TAIL_DAMPING_N_M_S;
-    let steady = rig
-        .motor
-        .steady_state(target_v, 0.0, c)
-        .expect("turns")
-        .speed_rad_s;
-    // Steady speed is the paper's ~1 Hz tail rate.
-    assert!((0.8..1.2).contains(&(steady / TAU)), "{} Hz", steady / TAU);
+    // The soft start: the drive rises along the ramp, from zero.
+    let ramp_us = u64::from(board::RATE.motor.ramp_us);
     let at = |t: u64| {
         samples
             .iter()
@@ -69,36 +75,56 @@ fn on_frame_spins_up_along_the_ramp_to_steady_speed() {
     let mut prev = 0.0;
     for q in 1..=4u64 {
         let s = at(t0 + q * ramp_us / 4);
-        // The mean motor voltage follows the ramp, less the PWM stage's
-        // freewheel-diode loss (0.07-0.12 V, growing with the duty).
-        let ramp_v = target_v * q as f64 / 4.0;
         assert!(
-            (s.motor_v - ramp_v).abs() < 0.15,
-            "q={q}: {} V vs {ramp_v} V",
+            s.motor_v > prev,
+            "q={q}: drive {} V after {prev} V",
             s.motor_v
         );
-        // The motor follows within its 0.2 ms time constant.
-        assert!(s.speed_rad_s > prev, "speed rises along the ramp");
-        prev = s.speed_rad_s;
+        prev = s.motor_v;
     }
-    assert!(at(t0 + ramp_us / 2).speed_rad_s < 0.6 * steady);
-    assert_eq!(at(t0 + ramp_us).state, MotorState::Running);
-    // Steady, once the battery average (160 ms) has caught up with the
-    // load's IR drop: within 7 % of the analytic steady state (diode
-    // drop), and flat.
-    let tail: Vec<f64> = samples
-        .iter()
-        .filter(|s| s.t_us > t0 + ramp_us + 300_000)
-        .map(|s| s.speed_rad_s)
-        .collect();
-    let (lo, hi) = tail
-        .iter()
-        .fold((f64::MAX, f64::MIN), |(l, h), &w| (l.min(w), h.max(w)));
+    let first = at(t0 + 1_000).motor_v;
     assert!(
-        lo > 0.93 * steady && hi < 1.01 * steady,
-        "{lo}..{hi} vs {steady}"
+        first < 0.25 * prev,
+        "drive {first} V at the start, {prev} V after the ramp"
     );
-    assert!(hi - lo < 0.01 * steady, "{lo}..{hi}");
+    assert_eq!(at(t0 + ramp_us).state, MotorState::Running);
+    // Held: the 1 % steady error, over the last 3 s of 10 s (the
+    // first start learns the tail's line: the rig's tail needs about 4x
+    // the lightest load's voltage, `docs/rate-sensing.md`).
+    let tail: Vec<Sample> = samples
+        .iter()
+        .filter(|s| s.t_us > t0 + 7_000_000)
+        .copied()
+        .collect();
+    let mean_hz = tail.iter().map(|s| s.speed_rad_s / TAU).sum::<f64>() / tail.len() as f64;
+    assert!((mean_hz / set_hz() - 1.0).abs() < 0.01, "{mean_hz} Hz");
+    assert!(worst_rate_error(&tail) < 0.02);
+    assert!(rig.faults.is_empty(), "{:?}", rig.faults);
+}
+
+#[test]
+fn a_stalled_motor_is_a_fault_and_stops() {
+    let mut rig = running_rig(Supply::full_cell());
+    rig.run_for(3_000_000);
+    // A seized coupler as the sensor sees it: the latches stop switching.
+    rig.hall_disconnected = true;
+    let stall_us = u64::from(board::RATE.stall_us);
+    let t_stall = rig.t_us;
+    let stopped = rig
+        .run_until(stall_us + 500_000, |s| s.state == MotorState::Off)
+        .expect("stopped");
+    let after = stopped.t_us - t_stall;
+    // Counted from the last edge, which came up to one edge interval
+    // (62.5 ms at 1 Hz) before the latches went quiet.
+    assert!(
+        after + 70_000 >= stall_us && after <= stall_us + 20_000,
+        "{after} us"
+    );
+    assert_eq!(rig.faults.last().map(|f| f.1), Some(SensorFault::Stalled));
+    // Stays off: the sensor coming back is not an On.
+    rig.hall_disconnected = false;
+    let later = rig.run_for(2_000_000);
+    assert!(later.iter().all(|s| s.duty.raw() == 0));
 }
 
 #[test]
@@ -119,41 +145,37 @@ fn off_frame_stops_the_motor() {
     // And On starts it again.
     let frame_end = rig.press(KEYS.on);
     rig.run_for(frame_end - rig.t_us + 400_000);
-    assert_eq!(rig.main_loop.controller().state(), MotorState::Running);
+    assert_eq!(rig.main_loop.state(), MotorState::Running);
 }
 
 #[test]
-fn cell_sag_from_4v2_to_3v5_moves_motor_voltage_less_than_2_percent() {
+fn cell_sag_from_4v2_to_3v5_moves_the_rate_less_than_1_percent() {
     let sag = Supply::Ramp {
         from_v: 4.2,
         to_v: 3.5,
-        start_us: 1_000_000,
+        start_us: 7_000_000,
         duration_us: 5_000_000,
     };
     let mut rig = running_rig(sag);
-    let samples = rig.run_for(6_500_000);
-    let mean = |from: u64, to: u64| {
+    rig.run_for(7_000_000 - rig.t_us);
+    let samples = rig.run_for(6_000_000);
+    let mean_duty = |from: u64, to: u64| {
         let v: Vec<_> = samples
             .iter()
             .filter(|s| s.t_us >= from && s.t_us < to)
             .collect();
-        let n = v.len() as f64;
-        (
-            v.iter().map(|s| s.motor_v).sum::<f64>() / n,
-            v.iter().map(|s| s.duty.as_f64()).sum::<f64>() / n,
-        )
+        v.iter().map(|s| s.duty.as_f64()).sum::<f64>() / v.len() as f64
     };
-    let (v_hi, d_hi) = mean(500_000, 1_000_000);
-    let (v_lo, d_lo) = mean(6_200_000, 6_700_000);
-    let change = (v_lo / v_hi - 1.0).abs();
-    assert!(change < 0.02, "motor {v_hi} V at 4.2 V, {v_lo} V at 3.5 V");
-    // Sensitivity check: the duty did the work (an uncompensated drive
-    // would have lost 17 % of its voltage).
+    // The duty did the work (an uncompensated drive would have lost 17 %
+    // of its voltage), and the rate never left 1 % of the set-point.
+    let (d_hi, d_lo) = (
+        mean_duty(7_000_000, 7_500_000),
+        mean_duty(12_200_000, 12_700_000),
+    );
     assert!(d_lo / d_hi > 1.15, "duty {d_hi} -> {d_lo}");
-    // Throughout, the motor never stopped and stayed within 2 %.
-    assert!(samples
-        .iter()
-        .all(|s| s.state == MotorState::Running && (s.motor_v / v_hi - 1.0).abs() < 0.02));
+    assert!(samples.iter().all(|s| s.state == MotorState::Running));
+    let worst = worst_rate_error(&samples);
+    assert!(worst < 0.01, "rate off by {worst}");
 }
 
 #[test]

@@ -1,7 +1,8 @@
 //! Safety properties of the firmware's main-loop pass
 //! (`swimbot_shared::MainLoop`, the very code `firmware/src/run.rs` calls),
 //! driven by arbitrary sequences of ADC readings (including 0, 4095 and
-//! sudden jumps) and IR edges:
+//! sudden jumps), IR edges and Hall edges (any levels, any gaps: a turning,
+//! stalled, reversed, bouncing or half-wired sensor):
 //!
 //! 1. without a valid On frame, the motor never starts (duty stays 0),
 //!    whatever noise, foreign frames, corrupted On frames or repeat codes
@@ -13,13 +14,16 @@
 //! 3. the duty is zero whenever the monitor's status forbids running;
 //! 4. after a reset that remembered a cut-off (watchdog scratch), On frames
 //!    never start the motor until a reading of a recharged cell (the
-//!    monitor's `recharged_mv`, at rest) has come in.
+//!    monitor's `recharged_mv`, at rest) has come in;
+//! 5. the duty never exceeds full scale, is never non-zero with the Hall
+//!    latches unpowered, and after a rate-sensor fault stays zero until
+//!    the next decoded On (no Hall edge restarts the motor).
 
 use proptest::prelude::*;
 use swimbot_shared::battery::AVERAGE_SAMPLES;
 use swimbot_shared::board::{BATTERY, BATTERY_SAMPLE_PERIOD_US as SAMPLE_PERIOD_US, KEYS};
 use swimbot_shared::nec::{for_each_edge, frame_pulses_us, raw_frame_pulses_us, REPEAT_PULSES_US};
-use swimbot_shared::{Command, Level, MainLoop, MotorState};
+use swimbot_shared::{Command, Duty, HallEdge, Level, MainLoop, MotorState};
 
 /// What happens next to the firmware.
 #[derive(Debug, Clone)]
@@ -28,6 +32,8 @@ enum Input {
     Adc(u16),
     /// A raw receiver edge after `gap_us`.
     Edge(bool, u32),
+    /// A Hall edge (levels of A and B) after `gap_us`.
+    Hall(bool, bool, u32),
     /// A whole NEC frame that is not our On: another key, another address,
     /// a corrupted checksum, or a repeat code.
     NotOn(NotOn),
@@ -74,6 +80,7 @@ fn input(with_on: bool) -> BoxedStrategy<Input> {
     let base = prop_oneof![
         4 => adc().prop_map(Input::Adc),
         4 => (any::<bool>(), 0u32..20_000).prop_map(|(l, g)| Input::Edge(l, g)),
+        4 => (any::<bool>(), any::<bool>(), 0u32..300_000).prop_map(|(a, b, g)| Input::Hall(a, b, g)),
         2 => not_on().prop_map(Input::NotOn),
         1 => (0u32..3_000_000).prop_map(Input::Wait),
     ];
@@ -103,6 +110,8 @@ struct Step {
     duty: u32,
     allows_motor: bool,
     command: Option<Command>,
+    faulted: bool,
+    hall_power: bool,
 }
 
 impl Firmware {
@@ -122,10 +131,14 @@ impl Firmware {
 
     /// One main-loop pass at `t_us` with the receiver edges since the last.
     fn pass(&mut self, edges: &[(Level, u32)], out: &mut Vec<Step>) {
+        self.pass_with(edges, None, out);
+    }
+
+    fn pass_with(&mut self, edges: &[(Level, u32)], hall: Option<HallEdge>, out: &mut Vec<Step>) {
         let adc = self.adc;
         let o = self
             .main_loop
-            .pass(self.t_us, edges.iter().copied(), || adc);
+            .pass(self.t_us, edges.iter().copied(), hall, || adc);
         if let Some(counts) = o.sample {
             self.next_sample_us = self.t_us + SAMPLE_PERIOD_US;
             self.readings
@@ -137,6 +150,8 @@ impl Firmware {
             duty: o.duty.raw(),
             allows_motor: o.battery.allows_motor(),
             command: o.command,
+            faulted: o.fault.is_some(),
+            hall_power: o.hall_power,
         });
     }
 
@@ -174,6 +189,12 @@ impl Firmware {
                 let level = if high { Level::High } else { Level::Low };
                 let at = self.t_us + u64::from(gap);
                 self.edge(level, at, out);
+            }
+            Input::Hall(a, b, gap) => {
+                let at = self.t_us + u64::from(gap);
+                self.idle_until(at, out);
+                let t_us = at as u32;
+                self.pass_with(&[], Some(HallEdge { t_us, a, b }), out);
             }
             Input::On => self.edges(&frame_pulses_us(KEYS.address, KEYS.on), out),
             Input::NotOn(ref n) => match *n {
@@ -277,6 +298,30 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
 
+    /// Property 5: the duty's range, the latches' power, and a sensor
+    /// fault holding the motor off until a new On.
+    #[test]
+    fn a_sensor_fault_holds_until_a_new_on(
+        inputs in prop::collection::vec(input(true), 0..200),
+    ) {
+        let healthy = BATTERY.mv_to_counts(3_900);
+        let (_, steps) = run(healthy, &inputs);
+        let mut held = false;
+        for s in &steps {
+            prop_assert!(s.duty <= Duty::FULL.raw());
+            if s.duty > 0 {
+                prop_assert!(s.hall_power, "driven with the latches off at {} us", s.t_us);
+            }
+            if s.command == Some(Command::On) {
+                held = false;
+            }
+            held |= s.faulted;
+            if held {
+                prop_assert_eq!(s.duty, 0, "driven after a sensor fault at {} us", s.t_us);
+            }
+        }
+    }
+
     /// Property 4: a remembered cut-off holds through any inputs, On frames
     /// included, until a reading at or above the recharged level.
     #[test]
@@ -321,4 +366,24 @@ fn a_valid_on_frame_on_a_healthy_cell_does_start() {
     assert!(steps
         .iter()
         .any(|s| s.state != MotorState::Off && s.duty > 0));
+}
+
+/// Property 5 can fail: a quarter turn backwards while driven is a fault,
+/// and the motor is off from that pass on.
+#[test]
+fn a_reversed_sensor_stops_the_motor() {
+    let healthy = BATTERY.mv_to_counts(3_900);
+    let mut inputs = vec![Input::Wait(300_000), Input::On, Input::Wait(300_000)];
+    let backwards = [(false, false), (true, false), (true, true), (false, true)];
+    for k in 0..6 {
+        let (a, b) = backwards[k % 4];
+        inputs.push(Input::Hall(a, b, 50_000));
+    }
+    let (_, steps) = run(healthy, &inputs);
+    let fault = steps
+        .iter()
+        .position(|s| s.faulted)
+        .expect("a reversal fault");
+    assert!(steps[..fault].iter().any(|s| s.duty > 0));
+    assert!(steps[fault..].iter().all(|s| s.duty == 0 && !s.hall_power));
 }

@@ -39,7 +39,9 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
         family_samples: a.family_samples,
         seed: a.seed,
     };
+    let spinner = crate::progress::spinner("audit");
     let report = audit(&model, &data, &settings)?;
+    spinner.finish_and_clear();
     match a.format {
         TableOrJson::Json => print_json(&report),
         TableOrJson::Table => print_table(&report),

@@ -34,7 +34,7 @@ pub struct BodyArgs {
     pub spheroid: Option<String>,
     /// Dataset file whose case supplies body, channel and viscosity (with --case;
     /// one of the three ways to give the body, none is the default).
-    #[arg(long, value_name = "FILE.toml", requires = "case")]
+    #[arg(long, value_name = "FILE", requires = "case")]
     pub data: Option<std::path::PathBuf>,
     /// Case id in --data (required with --data, no default).
     #[arg(long, requires = "data")]

@@ -4,7 +4,8 @@ use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, Format};
 use super::CliError;
 use crate::format::{fmt_sig, fmt_value_unc};
-use crate::workbench::compare::{compare, Comparison};
+use crate::workbench::compare::Comparison;
+use crate::workbench::path::{user_path, Path};
 use crate::workbench::propagate::{
     affordable, bands, has_input_uncertainty, monte_carlo, MonteCarloCheck,
 };
@@ -20,8 +21,9 @@ pub struct CompareArgs {
     #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
     pub format: Format,
     // `--report`: its old name, hidden, for old scripts.
-    /// Directory for the HTML report (index.html).
-    #[arg(short, long, alias = "report", value_name = "DIR", default_value = super::output::DEFAULT_REPORT_DIR)]
+    /// Directory for the HTML page (index.html, figures as SVG, tables as CSV and JSON,
+    /// manifest.json); a directory another command wrote is refused.
+    #[arg(short, long, alias = "report", value_name = "DIR", default_value = DEFAULT_COMPARE_DIR)]
     pub output: PathBuf,
     /// Do not write the HTML report.
     #[arg(long, conflicts_with = "output")]
@@ -35,6 +37,16 @@ pub struct CompareArgs {
     /// skipped for costly models: non-local tail or wall-resolved effects).
     #[arg(long, default_value_t = 300)]
     pub mc_draws: usize,
+}
+
+/// `compare`'s own folder: `report`'s page in `swimbot-out/report` is
+/// never overwritten by a `compare` with default options.
+pub const DEFAULT_COMPARE_DIR: &str = "swimbot-out/compare";
+
+/// How many effects of the model come with its preset (the start of the
+/// user's path); the effects after them are the user's steps.
+pub fn preset_effects(m: &ModelArgs) -> usize {
+    crate::model::preset(m.preset.as_deref().unwrap_or("base")).map_or(0, |p| p.effects.len())
 }
 
 pub fn run(args: CompareArgs) -> Result<(), CliError> {
@@ -61,8 +73,12 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
     }
     if !args.no_report {
         super::output::check_output_dir(&args.output)?;
+        crate::report::check_bundle_dir(&args.output, "compare").map_err(CliError::input)?;
     }
-    let mut cmp = compare(&model, &data, 0).map_err(super::model_args::in_data(&args.data.data))?;
+    let spinner = crate::progress::spinner(&format!("compare: {}", model.describe()));
+    let to_input = super::model_args::in_data(&args.data.data);
+    // The path is computed once; the table, the JSON and the page print it.
+    let mut path = user_path(&model, preset_effects(&args.model), &data).map_err(&to_input)?;
     let mut checks = Vec::new();
     if has_inputs {
         let bands = bands(&model, &data)?;
@@ -73,8 +89,13 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
                 }
             }
         }
-        cmp = cmp.with_bands(&data, &bands);
+        let last = path.steps.last_mut().expect("a path has its start");
+        if last.comparison.summary_combined.is_none() {
+            last.comparison = last.comparison.clone().with_bands(&data, &bands);
+        }
     }
+    let cmp = path.last().comparison.clone();
+    spinner.set_message("compare: writing the report");
     super::output::check_finite("comparison", &cmp)?;
     // The report is written before anything is printed, so that a failure
     // does not follow a complete-looking table.
@@ -82,7 +103,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         None
     } else {
         Some(
-            crate::report::write_report(&args.output, &model, &data, None).map_err(|e| {
+            crate::report::write_report(&args.output, &path, &data, None).map_err(|e| {
                 CliError::input(format!(
                     "writing the report to {}: {e}",
                     args.output.display()
@@ -90,16 +111,20 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
             })?,
         )
     };
+    spinner.finish_and_clear();
     match args.format {
-        Format::Table => print_table(&cmp, args.input_uncertainty, &checks),
+        Format::Table => {
+            print_table(&cmp, args.input_uncertainty, &checks);
+            print_steps(&path);
+        }
         Format::Json => print_json(&cmp),
         Format::Csv => print_csv(&cmp)?,
     }
     if let Some(path) = report {
         if args.format == Format::Table {
-            println!("\nreport: {}", path.display());
+            println!("\npage: {}", path.display());
         } else {
-            eprintln!("report: {}", path.display());
+            eprintln!("page: {}", path.display());
         }
     }
     Ok(())
@@ -109,21 +134,25 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
     println!("model: {}\ndata:  {}\n", c.model, c.dataset);
     let bands = c.summary_combined.is_some();
     let sigma = |m: Option<f64>, comb: Option<f64>| opt(if combined { comb } else { m }, 3);
-    let band = |v: Option<f64>| match v {
-        Some(x) if bands => format!("±{}", fmt_sig(x, 2)),
-        _ => "-".into(),
+    // the prediction to its band's two significant figures (the number
+    // policy of `swimbot::format`), or to 4 figures without a band
+    let pred = |v: f64, sd: Option<f64>| match sd {
+        Some(u) if bands && u > 0.0 => fmt_value_unc(v, u),
+        _ => fmt_sig(v, 4),
     };
     println!(
-        "{:<10} {:>6} {:>9} {:>9} {:>17} {:>9} {:>7} {:>9} {:>9} {:>17} {:>9} {:>7}",
+        "{:<10} {:>6} {:>19} {:>17} {:>9} {:>7} {:>19} {:>17} {:>9} {:>7}",
         "case",
         "f Hz",
-        "U pred",
-        "± inputs",
+        if bands { "U pred ± inputs" } else { "U pred" },
         "U obs ± CI",
         "U err",
         "U σ",
-        "Ω pred",
-        "± inputs",
+        if bands {
+            "Ω pred ± inputs"
+        } else {
+            "Ω pred"
+        },
         "Ω obs ± CI",
         "Ω err",
         "Ω σ"
@@ -134,16 +163,14 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
             _ => "-".into(),
         };
         println!(
-            "{:<10} {:>6} {:>9} {:>9} {:>17} {:>9} {:>7} {:>9} {:>9} {:>17} {:>9} {:>7}",
+            "{:<10} {:>6} {:>19} {:>17} {:>9} {:>7} {:>19} {:>17} {:>9} {:>7}",
             k.id,
             fmt_sig(k.frequency_hz, 3),
-            fmt_sig(k.u_pred_mm_s, 4),
-            band(k.u_input_sd_mm_s),
+            pred(k.u_pred_mm_s, k.u_input_sd_mm_s),
             obs(k.u_obs_mm_s, k.u_ci_mm_s),
             pct(k.u_rel_err),
             sigma(k.u_err_sigma, k.u_err_sigma_combined),
-            fmt_sig(k.omega_pred_hz, 4),
-            band(k.omega_input_sd_hz),
+            pred(k.omega_pred_hz, k.omega_input_sd_hz),
             obs(k.omega_obs_hz, k.omega_ci_hz),
             pct(k.omega_rel_err),
             sigma(k.omega_err_sigma, k.omega_err_sigma_combined),
@@ -161,16 +188,17 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
         println!(" σ = error in standard errors of the measured mean)");
     }
     println!(
-        "MARE {:.1} %   max |rel err| {:.1} %   reduced chi-square {}   ({} quantities)",
+        "MARE {:.1} %   max |rel err| {:.1} %   reduced chi-square {}   ({} quantities - {} free parameters)",
         100.0 * s.mare,
         100.0 * s.max_abs_rel_err,
-        opt(s.chi2_reduced, 4),
-        s.n
+        opt(s.chi2_reduced, 3),
+        s.n,
+        s.free_params
     );
     if let (false, Some(sc)) = (combined, &c.summary_combined) {
         println!(
             "against the combined uncertainty (measurement + inputs): reduced chi-square {} (--input-uncertainty judges with it)",
-            opt(sc.chi2_reduced, 4)
+            opt(sc.chi2_reduced, 3)
         );
     }
     if bands {
@@ -205,6 +233,64 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
     }
 }
 
+/// The user's steps, each against the one before (nothing when the model
+/// has no added effect): the same numbers the page's step table shows.
+fn print_steps(path: &Path) {
+    if path.steps.len() < 2 {
+        return;
+    }
+    println!("\nthe model step by step (\"+ X\": X added on top of the step before):");
+    for s in &path.steps {
+        let m = s.summary();
+        println!(
+            "  {:<28} MARE {:>7}   reduced chi-square {:>8} ({} quantities - {} free parameters)",
+            s.label,
+            format!("{:.1} %", 100.0 * m.mare),
+            opt(m.chi2_reduced, 3),
+            m.n,
+            m.free_params
+        );
+    }
+}
+
+/// The CSV: one row per case, the body rate's columns named
+/// `omega_body_counter_*` as the README and the data format call Ω_b
+/// (the JSON keeps the field names of the library's types).
 fn print_csv(c: &Comparison) -> Result<(), CliError> {
-    super::output::write_csv_rows(&c.cases, std::io::stdout().lock())
+    let mut bytes = Vec::new();
+    super::output::write_csv_rows(&c.cases, &mut bytes)?;
+    let text = String::from_utf8(bytes).expect("the CSV writer writes UTF-8");
+    let (header, rows) = text.split_once('\n').unwrap_or((&text, ""));
+    let header: Vec<String> = header.split(',').map(csv_column).collect();
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{}", header.join(","))
+        .and_then(|()| out.write_all(rows.as_bytes()))
+        .map_err(|e| CliError::failure(format!("writing the CSV: {e}")))
+}
+
+/// `omega_pred_hz` -> `omega_body_counter_pred_hz`, and so on.
+fn csv_column(name: &str) -> String {
+    match name.strip_prefix("omega_") {
+        Some(rest) if rest.ends_with("_hz") => format!("omega_body_counter_{rest}"),
+        _ => name.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::csv_column;
+
+    #[test]
+    fn the_csv_names_the_body_rate_as_the_readme_does() {
+        assert_eq!(csv_column("omega_pred_hz"), "omega_body_counter_pred_hz");
+        assert_eq!(csv_column("omega_ci_hz"), "omega_body_counter_ci_hz");
+        assert_eq!(
+            csv_column("omega_input_sd_hz"),
+            "omega_body_counter_input_sd_hz"
+        );
+        // not a rate in Hz: kept
+        assert_eq!(csv_column("omega_rel_err"), "omega_rel_err");
+        assert_eq!(csv_column("u_pred_mm_s"), "u_pred_mm_s");
+    }
 }

@@ -84,15 +84,8 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
         progress: Some(stage),
         ..Default::default()
     };
-    // Paper-sized data takes well under a second; a spinner from 20 cases.
-    let spinner = if data.cases.len() >= 20 || a.nonlocal {
-        let s = ProgressBar::new_spinner();
-        s.set_message(format!("diagnosing {} cases", data.cases.len()));
-        s.enable_steady_tick(std::time::Duration::from_millis(120));
-        s
-    } else {
-        ProgressBar::hidden()
-    };
+    // Shown once the work has lasted 2 s (paper-sized data takes less).
+    let spinner = crate::progress::spinner(&format!("diagnosing {} cases", data.cases.len()));
     let _ = SPINNER.set(spinner.clone());
     let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
     super::output::check_finite("diagnosis", &d)?;
@@ -112,25 +105,64 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The correction to write: the verdict's first located one, else the
-/// search's best (a partial finding is still a starting point to refine).
+/// The corrections to write: the verdict's located laws (every step of a
+/// stagewise verdict, in order), else the search's best (a partial finding
+/// is still a starting point to refine). A verdict of none-needed writes
+/// nothing: that is an answer, not an error.
 fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<(), CliError> {
-    let best = d
-        .verdict
-        .located
-        .first()
-        .or_else(|| d.discovery.as_ref().and_then(|x| x.located.first()));
-    let Some(l) = best else {
-        return Err(CliError::input(format!(
-            "--write-effect {}: nothing was located ({}), so there is no correction to write",
-            path.display(),
-            d.verdict.note
-        )));
+    use crate::workbench::diagnose::VerdictKind;
+    let list: Vec<Located> = if d.verdict.kind == VerdictKind::NoneNeeded {
+        Vec::new()
+    } else if d.verdict.located.is_empty() {
+        d.discovery
+            .as_ref()
+            .and_then(|x| x.located.first().cloned())
+            .into_iter()
+            .collect()
+    } else if d.verdict.steps.iter().any(|s| s.kind == "located") {
+        d.verdict.located.clone()
+    } else {
+        d.verdict.located[..1].to_vec()
     };
-    let text = crate::workbench::discovery::write::to_toml(l, dataset);
+    if list.is_empty() {
+        eprintln!(
+            "--write-effect {}: nothing was located (verdict: {}), so no file was written",
+            path.display(),
+            d.verdict.kind.name()
+        );
+        return Ok(());
+    }
+    let text = crate::provenance::Provenance::capture().comment_block()
+        + &crate::workbench::discovery::write::to_toml_steps(&list, dataset);
     super::output::write_atomically(path, text.as_bytes())?;
-    eprintln!("wrote {} ({})", path.display(), l.describe());
+    let what: Vec<String> = list.iter().map(Located::describe).collect();
+    eprintln!("wrote {} ({})", path.display(), what.join("; then "));
     Ok(())
+}
+
+fn print_steps(steps: &[crate::workbench::diagnose::Step]) {
+    if steps.is_empty() {
+        return;
+    }
+    println!("\nstagewise, each step fitted on top of the ones before it:");
+    println!(
+        "  {:<3} {:<62} {:>8} {:>8} {:>10} {:>8} {:>5}",
+        "", "step", "MARE", "CV MARE", "chi2_red", "explains", "noise"
+    );
+    for (i, s) in steps.iter().enumerate() {
+        println!(
+            "  {:<3} {:<62} {:>7.2}% {:>7.2}% {:>10} {:>8} {:>5}",
+            format!("{}.", i + 1),
+            format!("{} {}", s.kind, s.name),
+            100.0 * s.mare,
+            100.0 * s.cv_mare,
+            opt(s.chi2_reduced, 4),
+            s.explained_fraction
+                .map(|f| format!("{:.0}%", 100.0 * f))
+                .unwrap_or_else(|| "-".into()),
+            if s.at_noise_floor { "yes" } else { "no" }
+        );
+    }
 }
 
 fn print_located(title: &str, list: &[Located]) {
@@ -263,12 +295,6 @@ fn print_table(d: &Diagnosis) {
             &r.discovery.located[..r.discovery.located.len().min(3)],
         );
     }
-    println!(
-        "\nverdict ({}): {}",
-        serde_json::to_value(d.verdict.kind)
-            .ok()
-            .and_then(|v| v.as_str().map(str::to_string))
-            .unwrap_or_default(),
-        d.verdict.note
-    );
+    print_steps(&d.verdict.steps);
+    println!("\nverdict ({}): {}", d.verdict.kind.name(), d.verdict.note);
 }

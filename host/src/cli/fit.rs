@@ -87,8 +87,11 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
         .map_err(super::model_args::in_data(&a.data.data))?;
     super::output::check_finite("fit", &result)?;
     super::output::check_finite("comparison", &all)?;
+    // The same lone-case test as diagnose and audit (workbench::robust).
+    let lone = crate::workbench::robust::lone_case(&result.model, &data, 0.95)
+        .map_err(super::model_args::in_data(&a.data.data))?;
     if a.format == TableOrJson::Json {
-        print_json(&serde_json::json!({ "fit": result, "comparison": all }));
+        print_json(&serde_json::json!({ "fit": result, "comparison": all, "lone_case": lone }));
         return Ok(());
     }
     println!(
@@ -142,5 +145,8 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
         100.0 * all.summary.max_abs_rel_err,
         opt(all.summary.chi2_reduced, 4)
     );
+    if let Some(l) = lone {
+        println!("{}", l.sentence());
+    }
     Ok(())
 }

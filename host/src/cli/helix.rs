@@ -64,7 +64,8 @@ pub struct HelixArgs {
     /// Tube wall collocation spacing in mm.
     #[arg(long, default_value_t = 3.0, requires = "channel_diameter_mm")]
     pub wall_spacing_mm: f64,
-    /// Refuse a dense tube solve needing more memory than this, in GB.
+    /// Refuse a tube solve whose memory, estimated before it starts, exceeds
+    /// this, in GB (at most the machine's memory).
     #[arg(long, default_value_t = 4.0)]
     pub max_memory_gb: f64,
     #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
@@ -140,6 +141,9 @@ struct TubeOut {
     length_mm: Option<f64>,
     closed: bool,
     wall_spacing_mm: f64,
+    /// The time estimated before the solve (s), to set against the
+    /// diagnostics' measured `solve_seconds + diagnostics_seconds`.
+    estimated_seconds: f64,
     diagnostics: crate::nonlocal::tube::Diagnostics,
 }
 
@@ -199,7 +203,11 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
                 tail_model.name()
             )));
         }
+        let spinner = crate::progress::spinner(
+            "helix: the tail in the tube (regularized Stokeslets, MFS wall)",
+        );
         let (m, tube) = tube_matrix(&a, &h, mu, d_mm)?;
+        spinner.finish_and_clear();
         let method = "regularized Stokeslets in the tube (MFS wall)";
         return print(&a, &h, drag, set, m, method, Some(tube));
     }
@@ -235,6 +243,17 @@ pub fn run(a: HelixArgs) -> Result<(), CliError> {
     print(&a, &h, drag, set, m, method, None)
 }
 
+/// A tube solve estimated to take longer than this is announced first (s).
+const LONG_SOLVE_S: f64 = 5.0;
+
+/// Physical memory of the machine (`MemTotal` of `/proc/meminfo`), bytes.
+fn machine_memory_bytes() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
 fn tube_matrix(
     a: &HelixArgs,
     h: &Helix,
@@ -243,11 +262,21 @@ fn tube_matrix(
 ) -> Result<(nalgebra::Matrix6<f64>, TubeOut), CliError> {
     use crate::nonlocal::tube::{tail_resistance_in_tube, TubeSettings};
     let d_mm = positive("channel-diameter-mm", d_mm)?;
+    crate::data::limits::check_value("channel_diameter_mm", d_mm)
+        .map_err(|e| CliError::input(format!("--channel-diameter-mm: {e}")))?;
     let length_mm = match a.channel_length_mm {
         Some(l) => Some(positive("channel-length-mm", l)?),
         None => None,
     };
     let max_gb = positive("max-memory-gb", a.max_memory_gb)?;
+    if let Some(total) = machine_memory_bytes() {
+        if max_gb * 1e9 > total as f64 {
+            return Err(CliError::input(format!(
+                "--max-memory-gb {max_gb} is more than this machine has ({:.1} GB)",
+                total as f64 / 1e9
+            )));
+        }
+    }
     let settings = TubeSettings {
         tail: crate::nonlocal::NonlocalSettings::default()
             .with_segments_per_turn(a.segments_per_turn),
@@ -268,16 +297,23 @@ fn tube_matrix(
         closed: !a.open,
         vertical: true,
     };
-    // Memory estimated before anything dense is built.
-    let points = crate::nonlocal::tube::tail_in_tube_points(h, &channel, &settings)
+    // Memory estimated from the counts, before anything is built.
+    let budget = crate::nonlocal::tube::tail_in_tube_budget(h, &channel, &settings)
         .map_err(CliError::input)?;
-    let need = crate::nonlocal::tube::mfs::peak_bytes(points);
-    if need > settings.max_peak_bytes {
+    if budget.peak_bytes > settings.max_peak_bytes {
         return Err(CliError::input(format!(
             "the tube solve has {} unknowns and needs {:.2} GB, above --max-memory-gb {max_gb}: raise --wall-spacing-mm or lower --segments-per-turn",
-            3 * points,
-            need as f64 / 1e9
+            budget.n_points().saturating_mul(3),
+            budget.peak_bytes as f64 / 1e9
         )));
+    }
+    if budget.seconds > LONG_SOLVE_S {
+        eprintln!(
+            "note: the tube solve has {} unknowns; estimated {:.0} s and {:.2} GB before it starts",
+            budget.n_points().saturating_mul(3),
+            budget.seconds,
+            budget.peak_bytes as f64 / 1e9
+        );
     }
     let r = tail_resistance_in_tube(h, &channel, mu, &settings).map_err(CliError::input)?;
     Ok((
@@ -287,6 +323,7 @@ fn tube_matrix(
             length_mm,
             closed: channel.closed,
             wall_spacing_mm: a.wall_spacing_mm,
+            estimated_seconds: budget.seconds,
             diagnostics: r.diagnostics,
         },
     ))

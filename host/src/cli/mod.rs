@@ -5,6 +5,7 @@
 mod audit;
 mod body;
 mod compare;
+mod convert;
 mod diagnose;
 mod effects;
 mod error;
@@ -17,6 +18,7 @@ mod output;
 mod report;
 mod sim;
 mod sweep;
+mod sweep_setup;
 mod synth;
 
 pub use error::CliError;
@@ -33,6 +35,9 @@ use clap::{Parser, Subcommand};
                   and a whole-robot simulation. Without --data, the paper's built-in measurements are used."
 )]
 pub struct Cli {
+    /// No progress lines or bars on stderr (errors and notes still print).
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -61,10 +66,13 @@ pub enum Command {
     Sim(sim::SimArgs),
     /// The body's exact axial drag and rotational drag in free space or in the tube.
     Body(body::BodyArgs),
+    /// A dataset from CSV to TOML or back, losslessly (docs/data-format.md).
+    Convert(convert::ConvertArgs),
 }
 
 /// Run a parsed command line.
 pub fn run(cli: Cli) -> Result<(), CliError> {
+    crate::progress::set_quiet(cli.quiet);
     match cli.command {
         Command::Compare(a) => compare::run(a),
         Command::Audit(a) => audit::run(a),
@@ -77,5 +85,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Report(a) => report::run(a),
         Command::Sim(a) => sim::run(a),
         Command::Body(a) => body::run(a),
+        Command::Convert(a) => convert::run(a),
     }
 }

@@ -130,6 +130,7 @@ impl ModelArgs {
             }
             model.effects.push(e);
         }
+        let mut model = with_bases(model)?;
         model.tail_method = match self.method {
             MethodArg::Exact => TailMethod::Exact,
             MethodArg::Quadrature => {
@@ -169,11 +170,60 @@ impl ModelArgs {
     }
 }
 
+/// Add to `model` the effects its user effects were fitted on top of (their
+/// `base` field, written by `diagnose --write-effect`) that it lacks, each
+/// just before the effect that needs it, with a note on stderr; an effect
+/// the model already has keeps the values it was given. A base that cannot
+/// be applied is refused with what to add.
+pub fn with_bases(mut model: Model) -> Result<Model, CliError> {
+    let mut i = 0;
+    while i < model.effects.len() {
+        let name = model.effects[i].name();
+        let Some(user) = crate::effects::user_effects()
+            .into_iter()
+            .find(|u| u.spec().name == name)
+        else {
+            i += 1;
+            continue;
+        };
+        let mut at = i;
+        for spec in &user.spec().base {
+            let e = parse_effect_spec(spec).map_err(|err| {
+                CliError::input(format!(
+                    "effect `{name}`{} was fitted on top of `{spec}`, which cannot be applied: {err}; load the file that defines it with --effect-file, or remove it from the `base` field if you mean to use `{name}` alone",
+                    source(user.source())
+                ))
+            })?;
+            if model.effects.iter().any(|m| m.name() == e.name()) {
+                continue;
+            }
+            eprintln!(
+                "note: `{name}` was fitted on top of `{spec}`; added it to the model (give it with --effect to use other values)"
+            );
+            model.effects.insert(at, e);
+            at += 1;
+        }
+        // An inserted base may have a base of its own: visit it next.
+        if at == i {
+            i += 1;
+        }
+    }
+    Ok(model)
+}
+
+fn source(file: &str) -> String {
+    if file.is_empty() {
+        String::new()
+    } else {
+        format!(" (from {file})")
+    }
+}
+
 /// `--data F`, shared by the subcommands that read measurements.
 #[derive(Args, Debug, Clone)]
 pub struct DataArgs {
-    /// Dataset (TOML, docs/data-format.md) [default: the paper's built-in data].
-    #[arg(long, value_name = "FILE.toml")]
+    /// Dataset, TOML or CSV (docs/data-format.md) [default: the paper's built-in data].
+    #[arg(long, value_name = "FILE")]
     pub data: Option<PathBuf>,
 }
 
@@ -201,6 +251,9 @@ pub fn in_data(path: &Option<PathBuf>) -> impl Fn(crate::model::ModelError) -> C
 pub fn load_data(path: &Option<PathBuf>) -> Result<Dataset, CliError> {
     match path {
         Some(p) => Ok(data::load_file(p)?),
-        None => Ok(data::paper()),
+        None => {
+            crate::provenance::record_named("<built-in paper data>", data::PAPER_TOML.as_bytes());
+            Ok(data::paper())
+        }
     }
 }

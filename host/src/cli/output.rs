@@ -38,18 +38,26 @@ pub const DEFAULT_REPORT_DIR: &str = "swimbot-out/report";
 /// `sim`'s CSV and SVG.
 pub const DEFAULT_SIM_DIR: &str = "swimbot-out/sim";
 
-/// Print JSON to stdout (serialisation of our own types cannot fail).
+/// Print JSON to stdout (serialisation of our own types cannot fail). An
+/// object gains the run's provenance as its first key, `swimbot`
+/// ([`crate::provenance`]); a list (`effects`) is printed as it is.
 pub fn print_json<T: serde::Serialize>(value: &T) {
-    println!(
-        "{}",
-        serde_json::to_string_pretty(value).expect("serialisable")
-    );
+    // Keys stay in their declared order: the value is not rebuilt as a
+    // (sorted) `serde_json::Value`, only checked for being an object.
+    let is_object = serde_json::to_value(value).is_ok_and(|v| v.is_object());
+    let text = if is_object {
+        serde_json::to_string_pretty(&crate::provenance::with_provenance(value))
+    } else {
+        serde_json::to_string_pretty(value)
+    };
+    println!("{}", text.expect("serialisable"));
 }
 
 /// Rows of flat structs as CSV with every number in the one CSV style
 /// ([`crate::format::csv_f64`]): the csv crate's own float writer switches
 /// to `1e-7` notation for small and large values. Columns in the struct's
-/// declared order; `None` is an empty cell.
+/// declared order; `None` is an empty cell. The provenance comes first, as
+/// `#` comment lines (pandas: `read_csv(..., comment="#")`).
 pub fn write_csv_rows<T: serde::Serialize>(
     rows: &[T],
     out: impl std::io::Write,
@@ -68,6 +76,13 @@ pub fn write_csv_rows<T: serde::Serialize>(
         .iter()
         .map(str::to_string)
         .collect();
+    let mut out = out;
+    out.write_all(
+        crate::provenance::Provenance::capture()
+            .comment_block()
+            .as_bytes(),
+    )
+    .map_err(|e| fail(&e))?;
     let mut w = csv::Writer::from_writer(out);
     w.write_record(&header).map_err(|e| fail(&e))?;
     for row in rows {
@@ -283,8 +298,15 @@ mod tests {
         }];
         let mut out = Vec::new();
         write_csv_rows(&rows, &mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.starts_with("# swimbot "), "{text}");
+        let rows: String = text
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| format!("{l}\n"))
+            .collect();
         assert_eq!(
-            String::from_utf8(out).unwrap(),
+            rows,
             "id,tiny,big,n,none\n1e3,0.00000012,300000000000000000,4,\n"
         );
     }

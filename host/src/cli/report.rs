@@ -8,11 +8,11 @@ use crate::model::preset;
 use crate::report::{write_story, StoryInput, ZeroParam};
 use crate::workbench::audit::{audit, AuditSettings};
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
+use crate::workbench::path::user_path;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use rayon::prelude::*;
 use std::path::PathBuf;
-use std::time::Duration;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
@@ -22,8 +22,9 @@ pub struct ReportArgs {
     /// two models and the zero-parameter model are always drawn.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Output directory; index.html is written there [default: swimbot-out/report].
-    #[arg(short, long, default_value = "swimbot-out/report")]
+    /// Output directory: index.html, every figure as SVG, every table as CSV and JSON, and
+    /// manifest.json; a directory another command wrote is refused.
+    #[arg(short, long, default_value = super::output::DEFAULT_REPORT_DIR)]
     pub output: PathBuf,
     /// Skip section 5, the best model without a fitted parameter (`--preset physics`): its first
     /// run solves every tail inside the tube (tens of seconds on 2 cores, then cached in
@@ -42,16 +43,14 @@ fn stage(message: &str) {
 }
 
 fn spinner(message: &str) -> ProgressBar {
-    let s = ProgressBar::new_spinner();
-    s.set_message(message.to_string());
-    s.enable_steady_tick(Duration::from_millis(120));
-    s
+    crate::progress::spinner(message)
 }
 
 pub fn run(a: ReportArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
     let model = a.model.model()?;
     super::output::check_output_dir(&a.output)?;
+    crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
     let to_input = in_data(&a.data.data);
     // Every model on the page must predict every case: a bad case is the
     // input's fault (exit 2), found before the slow parts.
@@ -70,6 +69,8 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
     s.set_message("auditing the data");
     let audited = audit(&model, &data, &AuditSettings::default()).map_err(&to_input)?;
     s.finish_and_clear();
+    let steps =
+        user_path(&model, super::compare::preset_effects(&a.model), &data).map_err(&to_input)?;
     let physics = preset("physics").expect("preset");
     let zero_param = if a.no_physics {
         ZeroParam::Skipped(
@@ -80,7 +81,7 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
     } else {
         solve_physics(&physics, &data).map_err(&to_input)?;
         ZeroParam::Model {
-            name: "--preset physics".into(),
+            name: "zero-parameter model (physics preset)".into(),
             model: &physics,
         }
     };
@@ -89,6 +90,8 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
         &StoryInput {
             data: &data,
             start: &model,
+            path: &steps,
+            command: "report",
             diagnosis: Some(&d),
             zero_param,
             audit: Some(&audited),
@@ -96,6 +99,10 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
     )
     .map_err(|e| CliError::input(format!("writing the report to {}: {e}", a.output.display())))?;
     println!("{}", path.display());
+    eprintln!(
+        "report: wrote {} (with every figure as SVG, every table as CSV and JSON, manifest.json)",
+        path.display()
+    );
     Ok(())
 }
 
@@ -106,15 +113,11 @@ fn solve_physics(
     model: &crate::model::Model,
     data: &crate::data::Dataset,
 ) -> Result<(), crate::model::ModelError> {
-    let bar = ProgressBar::new(data.cases.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} zero-parameter model (tails in the tube; cached after the first run): \
-             {pos}/{len} cases [{elapsed}]",
-        )
-        .expect("a valid template"),
+    let bar = crate::progress::bar(
+        data.cases.len() as u64,
+        "cases",
+        "zero-parameter model (tails in the tube; cached after the first run)",
     );
-    bar.enable_steady_tick(Duration::from_millis(120));
     let r = data.cases.par_iter().try_for_each(|c| {
         let p = model.predict(c).map(|_| ());
         bar.inc(1);

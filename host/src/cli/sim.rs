@@ -52,8 +52,8 @@ pub struct SimArgs {
     /// Fit one motor to the observed tail rates of all cases instead of simulating.
     #[arg(long)]
     pub fit_motor: bool,
-    /// Dataset for --fit-motor [default: the paper's built-in data].
-    #[arg(long, value_name = "FILE.toml", requires = "fit_motor")]
+    /// Dataset (TOML or CSV) for --fit-motor [default: the paper's built-in data].
+    #[arg(long, value_name = "FILE", requires = "fit_motor")]
     pub data: Option<PathBuf>,
 }
 
@@ -185,6 +185,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
             let text = std::fs::read_to_string(p).map_err(|e| {
                 CliError::input(format!("{}: cannot read the script: {e}", p.display()))
             })?;
+            crate::provenance::record_input(p, text.as_bytes());
             Script::parse(&text).map_err(|e| CliError::input(format!("{}: {e}", p.display())))?
         }
         (None, None) => Script::on_at_zero(),
@@ -210,21 +211,28 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
     // together, so a failure leaves none.
     let svg = output::figure(&robot, &outcome)
         .map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
+    let provenance = crate::provenance::Provenance::capture();
     let mut files = vec![
         (
             args.output.join("sim.csv"),
-            output::csv(&outcome.samples).into_bytes(),
+            (provenance.comment_block() + &output::csv(&outcome.samples)).into_bytes(),
         ),
-        (args.output.join("sim.svg"), svg.into_bytes()),
+        (
+            args.output.join("sim.svg"),
+            provenance.into_svg(&svg).into_bytes(),
+        ),
     ];
     if rate.is_some() {
         let rate_svg = rate_figure::rate_svg(&outcome)
             .map_err(|e| CliError::failure(format!("drawing the rate plot: {e}")))?;
         files.push((
             args.output.join("rate.csv"),
-            rate_figure::rate_csv(&outcome.rate_trace).into_bytes(),
+            (provenance.comment_block() + &rate_figure::rate_csv(&outcome.rate_trace)).into_bytes(),
         ));
-        files.push((args.output.join("rate.svg"), rate_svg.into_bytes()));
+        files.push((
+            args.output.join("rate.svg"),
+            provenance.into_svg(&rate_svg).into_bytes(),
+        ));
     }
     super::output::write_all_atomically(&files)?;
     print!("{}", output::summary(&robot, &outcome));

@@ -6,7 +6,6 @@ use super::CliError;
 use crate::data::Case;
 use crate::model::Model;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
@@ -32,15 +31,17 @@ pub struct SweepArgs {
         allow_hyphen_values = true
     )]
     pub frequency_hz: String,
-    /// Channel inner diameter in mm: start:stop:count or one value (the rest of the
-    /// case, body and fluid, is the paper's first case).
-    #[arg(
-        long,
-        value_name = "A:B:N",
-        default_value = "35.0",
-        allow_hyphen_values = true
-    )]
-    pub channel_diameter_mm: String,
+    /// Channel inner diameter in mm: start:stop:count or one value [default: the
+    /// setup's, 35 mm for the paper].
+    #[arg(long, value_name = "A:B:N", allow_hyphen_values = true)]
+    pub channel_diameter_mm: Option<String>,
+    /// Dataset (TOML or CSV) whose setup the sweep uses: body, coupler, oil, wire and
+    /// channel (diameter, length, ends, orientation) [default: the paper's first case].
+    #[arg(long, value_name = "FILE")]
+    pub data: Option<PathBuf>,
+    /// With --data: the case whose setup is used [default: the first, if every case has the same setup].
+    #[arg(long, value_name = "ID", requires = "data")]
+    pub case: Option<String>,
     #[command(flatten)]
     pub model: ModelArgs,
     /// Output CSV file [default: stdout].
@@ -163,15 +164,19 @@ struct Row {
 }
 
 pub fn run(a: SweepArgs) -> Result<(), CliError> {
+    let mut template = super::sweep_setup::template(a.data.as_ref(), a.case.as_deref())?;
+    let channel = match &a.channel_diameter_mm {
+        Some(text) => text.clone(),
+        None => template.channel_diameter_mm.to_string(),
+    };
     let grid = Grid {
         wavelength: parse_range("wavelength-mm", &a.wavelength_mm)?,
         amplitude: parse_range("amplitude-mm", &a.amplitude_mm)?,
         length: parse_range("tail-length-mm", &a.tail_length_mm)?,
         frequency: parse_range("frequency-hz", &a.frequency_hz)?,
-        channel: parse_range("channel-diameter-mm", &a.channel_diameter_mm)?,
+        channel: parse_range("channel-diameter-mm", &channel)?,
     };
     let model = a.model.model()?;
-    let mut template = crate::data::paper().cases[0].clone();
     template.id = "sweep".into();
     template.u_mm_s = None;
     template.omega_body_hz = None;
@@ -185,7 +190,7 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
     if let Some(p) = &a.output {
         super::output::check_output_file(p)?;
     }
-    let bar = progress(n);
+    let bar = crate::progress::bar(n as u64, "geometries", "sweep");
     let rows: Result<Vec<Row>, CliError> = (0..n)
         .into_par_iter()
         .map(|i| {
@@ -196,8 +201,12 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
             predict_row(&model, &case)
         })
         .collect();
+    // Writing millions of rows takes longer than computing them.
+    bar.set_message("sweep: writing");
+    bar.set_position(0);
+    let written = write_csv(&grid, &template, &rows?, a.output.as_ref(), &bar);
     bar.finish_and_clear();
-    write_csv(&grid, &template, &rows?, a.output.as_ref())
+    written
 }
 
 fn predict_row(model: &Model, case: &Case) -> Result<Row, CliError> {
@@ -257,19 +266,13 @@ fn check_grid(g: &Grid, t: &Case) -> Result<(), CliError> {
     Ok(())
 }
 
-fn progress(n: usize) -> ProgressBar {
-    if n < 200_000 {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(n as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} sweep {bar:40} {pos}/{len} geometries ({eta})")
-            .expect("valid template"),
-    );
-    bar
-}
-
-fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<(), CliError> {
+fn write_csv(
+    g: &Grid,
+    t: &Case,
+    rows: &[Row],
+    out: Option<&PathBuf>,
+    bar: &indicatif::ProgressBar,
+) -> Result<(), CliError> {
     // A file is written to a temporary sibling and renamed at the end, so
     // a failure never leaves half a CSV under the requested name.
     let mut pending = match out {
@@ -282,12 +285,17 @@ fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<
     };
     let mut w = std::io::BufWriter::with_capacity(1 << 20, sink);
     let fail = |e: std::io::Error| CliError::failure(format!("writing the sweep CSV: {e}"));
+    let provenance = crate::provenance::Provenance::capture().comment_block();
+    w.write_all(provenance.as_bytes()).map_err(fail)?;
     writeln!(
         w,
         "wavelength_mm,amplitude_mm,tail_length_mm,frequency_hz,channel_diameter_mm,u_mm_s,omega_body_counter_hz,u_over_u_wave,omega_body_counter_over_f"
     )
     .map_err(fail)?;
     for (i, r) in rows.iter().enumerate() {
+        if i % 4096 == 0 {
+            bar.inc(4096.min(rows.len() - i) as u64);
+        }
         let c = g.case(t, i);
         writeln!(
             w,

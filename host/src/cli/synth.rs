@@ -10,8 +10,8 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct SynthArgs {
-    /// Case design (TOML; measurements in it are replaced) [default: the paper's cases].
-    #[arg(long, value_name = "FILE.toml")]
+    /// Case design (TOML or CSV; measurements in it are replaced) [default: the paper's cases].
+    #[arg(long, value_name = "FILE")]
     pub data: Option<PathBuf>,
     /// The truth: a preset or coefficient set, then effects, joined by `+`,
     /// e.g. "base + backflow + buoyancy:net_force_mn=0.2".
@@ -31,6 +31,11 @@ pub struct SynthArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub effect_files: super::model_args::EffectFiles,
+    /// Run the truth on the recorded inputs exactly. By default, when the design declares input
+    /// uncertainties, each case's true inputs are drawn from them (seeded; shared tube, oil and
+    /// body once for all cases) and the file records the nominal ones, as a lab's would.
+    #[arg(long)]
+    pub nominal_inputs: bool,
 }
 
 /// Parse "PRESET|COEFFICIENTS + EFFECT + EFFECT...".
@@ -84,11 +89,12 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
     super::output::check_output_file(&a.output)?;
     a.effect_files.load()?;
     let design = super::model_args::load_data(&a.data)?;
-    let truth = parse_truth(&a.truth)?;
+    let truth = super::model_args::with_bases(parse_truth(&a.truth)?)?;
     let settings = SynthSettings {
         noise_rel: a.noise,
         trials: a.trials,
         seed: a.seed,
+        draw_inputs: !a.nominal_inputs,
         ..Default::default()
     };
     let data = generate(&truth, &design, settings)?;
@@ -102,12 +108,20 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
             ))
         })?;
     }
-    super::output::write_atomically(&a.output, crate::data::to_toml(&data).as_bytes())?;
+    let text =
+        crate::provenance::Provenance::capture().comment_block() + &crate::data::to_toml(&data);
+    super::output::write_atomically(&a.output, text.as_bytes())?;
+    let drawn = settings.draw_inputs && design.cases.iter().any(|c| !c.inputs.is_empty());
     eprintln!(
-        "wrote {} cases from truth `{}` to {}",
+        "wrote {} cases from truth `{}` to {}{}",
         data.cases.len(),
         truth.describe(),
-        a.output.display()
+        a.output.display(),
+        if drawn {
+            " (true inputs drawn from the declared input uncertainties, nominal ones recorded; --nominal-inputs runs the truth on the recorded inputs)"
+        } else {
+            ""
+        }
     );
     Ok(())
 }

@@ -1,16 +1,21 @@
 //! Datasets: the robot's setup and, per case, a tail geometry, its observed
 //! tail rate and (optionally) the measured swimming speed and body rotation
-//! rate with confidence intervals. The format is TOML, documented in
-//! `docs/data-format.md`; the paper's Tables I, II and IV ship built in.
+//! rate with confidence intervals. The format is TOML or CSV, documented
+//! in `docs/data-format.md`; the paper's Tables I, II and IV ship built in.
 
+pub mod csv_columns;
+mod csv_read;
+mod csv_write;
 pub mod limits;
+mod load;
 mod parse;
 mod profile;
 pub mod quantities;
 pub mod uncertainty;
 mod write;
 
-pub use parse::{load_file, parse_str};
+pub use load::{convert_file, is_csv, load_file, FileFormat};
+pub use parse::parse_str;
 pub use profile::PROFILE_TOLERANCE;
 pub use write::to_toml;
 

@@ -1,12 +1,13 @@
 //! TOML -> [`Dataset`]: serde reads the raw tables (rejecting unknown keys),
 //! then every case is merged with `[setup]` and validated field by field so
-//! that an error names the file, the case and the field.
+//! that an error names the file, the case and the field. A `.csv` file is
+//! first turned into the same raw tables by [`super::csv_read`], so both
+//! formats share every check.
 
 use super::uncertainty::{merge_tables, AmplitudeConvention, CaseInputs};
 use super::{Case, DataError, Dataset, Measured, Orientation};
 use crate::physics::geometry::Handedness;
 use serde::Deserialize;
-use std::path::Path;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -58,26 +59,40 @@ struct RawCase {
     amplitude_convention: Option<AmplitudeConvention>,
 }
 
-/// Read and validate a dataset file.
-pub fn load_file(path: &Path) -> Result<Dataset, DataError> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| DataError {
-        file: file.clone(),
-        case: None,
-        field: None,
-        message: format!("cannot read the file: {e}"),
-    })?;
-    parse_str(&text, &file)
-}
-
 /// Parse and validate dataset text; `file` names it in error messages.
 pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
-    let raw: RawDataset = toml::from_str(text).map_err(|e| DataError {
-        file: file.to_string(),
-        case: None,
-        field: None,
-        message: format!("not a valid dataset: {}", e.to_string().trim_end()),
-    })?;
+    // Straight from the text, so that an unknown key's error keeps its line.
+    let raw: RawDataset = toml::from_str(text).map_err(|e| not_a_dataset(file, &e))?;
+    validate(raw, file, &|_| file.to_string())
+}
+
+fn not_a_dataset(file: &str, e: &toml::de::Error) -> DataError {
+    err(
+        file,
+        None,
+        None,
+        format!("not a valid dataset: {}", e.to_string().trim_end()),
+    )
+}
+
+/// Validate the raw tables of a dataset. `locate(i)` names where case `i`
+/// is written (the file, or the file and its rows for a CSV).
+pub(super) fn parse_table(
+    table: toml::Table,
+    file: &str,
+    locate: &dyn Fn(usize) -> String,
+) -> Result<Dataset, DataError> {
+    let raw: RawDataset = toml::Value::Table(table)
+        .try_into()
+        .map_err(|e| not_a_dataset(file, &e))?;
+    validate(raw, file, locate)
+}
+
+fn validate(
+    raw: RawDataset,
+    file: &str,
+    locate: &dyn Fn(usize) -> String,
+) -> Result<Dataset, DataError> {
     if raw.cases.is_empty() {
         return Err(err(file, None, None, "the dataset has no [[case]] tables"));
     }
@@ -91,10 +106,11 @@ pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
     }
     let mut cases = Vec::with_capacity(raw.cases.len());
     for (i, rc) in raw.cases.iter().enumerate() {
-        let case = resolve(file, i, &raw.setup, rc)?;
-        super::limits::check_case(&case).map_err(|(f, m)| err(file, Some(&case.id), Some(f), m))?;
+        let at = locate(i);
+        let case = resolve(&at, i, &raw.setup, rc)?;
+        super::limits::check_case(&case).map_err(|(f, m)| err(&at, Some(&case.id), Some(f), m))?;
         if cases.iter().any(|c: &Case| c.id == case.id) {
-            return Err(err(file, Some(&case.id), Some("id"), "duplicate case id"));
+            return Err(err(&at, Some(&case.id), Some("id"), "duplicate case id"));
         }
         cases.push(case);
     }
@@ -105,7 +121,7 @@ pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
     })
 }
 
-fn err(
+pub(super) fn err(
     file: &str,
     case: Option<&str>,
     field: Option<&str>,
@@ -403,4 +419,33 @@ fn check_geometry(r: &Resolver<'_>, c: &Case) -> Result<(), DataError> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_case_key_has_a_csv_column_but_the_raw_trials_and_the_uncertainty_table() {
+        // serde lists the keys a case takes: "unknown field `x`, expected
+        // one of `id`, `wavelength_mm`, ...".
+        let e = toml::from_str::<RawCase>("not_a_key = 1")
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        let keys: Vec<&str> = e.split('`').skip(3).step_by(2).collect();
+        assert!(keys.len() > 20, "{e}");
+        let without_column = ["u_trials_mm_s", "omega_body_trials_hz", "uncertainty"];
+        let mut want: Vec<&str> = keys
+            .into_iter()
+            .filter(|k| !without_column.contains(k))
+            .collect();
+        let mut columns: Vec<&str> = super::super::csv_columns::COLUMNS
+            .iter()
+            .map(|(name, _)| *name)
+            .collect();
+        want.sort_unstable();
+        columns.sort_unstable();
+        assert_eq!(columns, want);
+    }
 }

@@ -264,9 +264,67 @@ pub const FIELDS: &[Quantity] = &[
     },
 ];
 
-/// A feature or a field by its identifier.
+/// Dimensionless groups of the setup fields (the oil, the channel's
+/// length, the body and coupler), which a lab may vary between cases.
+pub const SETUP_GROUPS: &[Quantity] = &[
+    Quantity {
+        id: "reynolds",
+        name: "Re = rho omega B_o D_t/mu",
+        unit: "1",
+        doc: "the wire's Reynolds number: the helix speed omega B_o over the oil's kinematic viscosity, on the wire diameter",
+        value: |c| {
+            c.density_kg_m3 * 2.0 * PI * c.frequency_hz * c.amplitude_mm * c.wire_diameter_mm
+                * 1e-6
+                / c.viscosity_pa_s
+        },
+    },
+    Quantity {
+        id: "body_reynolds",
+        name: "Re_b = rho omega R_body^2/mu",
+        unit: "1",
+        doc: "the body's rotational Reynolds number, with the omega the tail turns at",
+        value: |c| {
+            c.density_kg_m3 * 2.0 * PI * c.frequency_hz * (0.5 * c.body_diameter_mm).powi(2) * 1e-6
+                / c.viscosity_pa_s
+        },
+    },
+    Quantity {
+        id: "channel_length_ratio",
+        name: "L_ch/D_ch",
+        unit: "1",
+        doc: "channel length over channel diameter: end effects fade with it",
+        value: |c| c.channel_length_mm / c.channel_diameter_mm,
+    },
+    Quantity {
+        id: "body_aspect",
+        name: "L_b/D_b",
+        unit: "1",
+        doc: "body length over body diameter",
+        value: |c| c.body_length_mm / c.body_diameter_mm,
+    },
+    Quantity {
+        id: "coupler_ratio",
+        name: "D_c/D_b",
+        unit: "1",
+        doc: "coupler diameter over body diameter",
+        value: |c| c.coupler_diameter_mm / c.body_diameter_mm,
+    },
+    Quantity {
+        id: "coupler_length_ratio",
+        name: "L_c/L_b",
+        unit: "1",
+        doc: "coupler length over body length",
+        value: |c| c.coupler_length_mm / c.body_length_mm,
+    },
+];
+
+/// A feature, a setup group or a field by its identifier.
 pub fn by_id(id: &str) -> Option<&'static Quantity> {
-    FEATURES.iter().chain(FIELDS).find(|q| q.id == id)
+    FEATURES
+        .iter()
+        .chain(SETUP_GROUPS)
+        .chain(FIELDS)
+        .find(|q| q.id == id)
 }
 
 #[cfg(test)]
@@ -275,7 +333,7 @@ mod tests {
 
     #[test]
     fn identifiers_are_unique_and_formula_safe() {
-        let all: Vec<&Quantity> = FEATURES.iter().chain(FIELDS).collect();
+        let all: Vec<&Quantity> = FEATURES.iter().chain(SETUP_GROUPS).chain(FIELDS).collect();
         for (i, q) in all.iter().enumerate() {
             assert!(
                 q.id.starts_with(|c: char| c.is_ascii_lowercase()),
@@ -297,7 +355,7 @@ mod tests {
     fn names_say_when_a_feature_involves_the_channel_or_the_rate() {
         let paper = crate::data::paper();
         let base = &paper.cases[2];
-        for q in FEATURES {
+        for q in FEATURES.iter().chain(SETUP_GROUPS) {
             let mut wider = base.clone();
             wider.channel_diameter_mm *= 1.3;
             let mut faster = base.clone();

@@ -12,7 +12,7 @@
 //!
 //! Cost: one solve of about 200 elements (default resolution, 8 elements
 //! per gap), a fraction of a second at most, memoised in memory and on disk
-//! (`crate::nonlocal::cache`, kind `body-axisym`). It is nevertheless
+//! (`crate::nonlocal::cache`, kind `body-axisym-per-pa-s`, at 1 Pa s). It is nevertheless
 //! `costly()`, i.e. proposed by `diagnose --nonlocal` only, like the effect
 //! it replaces: it is a near twin of `body-confinement`, and adding it to
 //! the default candidates would change the default diagnosis (rankings and
@@ -62,24 +62,29 @@ pub fn profile_words(p: &BodyProfile) -> Vec<u64> {
 }
 
 /// `(axial drag N s/m, axial rotational drag N m s)` of the case's body in
-/// its channel, centred, at the default resolution; memoised.
+/// its channel, centred, at the default resolution; memoised at 1 Pa s and
+/// scaled, since Stokes drag is linear in the viscosity (a perturbed
+/// viscosity costs no solve).
 pub fn body_in_tube(case: &Case) -> Result<(f64, f64), String> {
     let (profile, channel, mu) = (case.body_profile(), case.channel(), case.viscosity_pa_s);
+    if !(mu.is_finite() && mu > 0.0) {
+        return Err(format!("viscosity must be positive, got {mu} Pa s"));
+    }
     let s = AxisymSettings::default();
     let key: Vec<u64> = profile_words(&profile)
         .into_iter()
         .chain(cache::channel_words(&channel))
-        .chain([mu.to_bits(), s.resolution.to_bits(), s.growth.to_bits()])
+        .chain([s.resolution.to_bits(), s.growth.to_bits()])
         .collect();
-    let m = cache::cached_matrix("body-axisym", &key, || {
-        solve_body(&profile, &Confinement::of_channel(&channel), 0.0, mu, &s).map(|r| {
+    let m = cache::cached_matrix("body-axisym-per-pa-s", &key, || {
+        solve_body(&profile, &Confinement::of_channel(&channel), 0.0, 1.0, &s).map(|r| {
             let mut m = Matrix6::zeros();
             m[(0, 0)] = r.drag_n_s_per_m;
             m[(3, 3)] = r.rotational_drag_n_m_s;
             m
         })
     })?;
-    Ok((m[(0, 0)], m[(3, 3)]))
+    Ok((mu * m[(0, 0)], mu * m[(3, 3)]))
 }
 
 /// Print each distinct failure once, not once per prediction of a fit.

@@ -50,6 +50,9 @@ pub struct UserEffectSpec {
     pub params: Vec<UserParam>,
     /// Each place at most once, with its formula.
     pub places: Vec<(Place, String)>,
+    /// The effects (`NAME:k=v,...`, in order) this one was fitted on top
+    /// of; commands add those missing from the model when they load it.
+    pub base: Vec<String>,
 }
 
 /// Which stage of the prediction a place acts in.
@@ -255,6 +258,10 @@ pub fn to_toml(specs: &[UserEffectSpec]) -> String {
         if let Some(a) = &e.applies_to {
             out.push_str(&format!("applies_to = {}\n", s(a)));
         }
+        if !e.base.is_empty() {
+            let list: Vec<String> = e.base.iter().map(|b| s(b)).collect();
+            out.push_str(&format!("base = [{}]\n", list.join(", ")));
+        }
         for p in &e.params {
             out.push_str("\n[[effect.param]]\n");
             out.push_str(&format!("name = {}\n", s(&p.name)));
@@ -295,6 +302,7 @@ mod tests {
                 doc: "strength".into(),
             }],
             places,
+            base: vec!["body-correction:translation=25.72,rotation=2.638".into()],
         }
     }
 

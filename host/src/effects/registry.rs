@@ -133,6 +133,7 @@ mod tests {
             applies_to: None,
             params: Vec::new(),
             places: vec![(Place::DriveRate, formula.into())],
+            base: Vec::new(),
         };
         FormulaEffect::new(spec, source).unwrap()
     }

@@ -16,7 +16,8 @@
 //! Not proposed by the default `diagnose` (`costly()` is true): a cold
 //! solve costs seconds per tail; `diagnose --nonlocal` includes it.
 //! Solves are memoised in memory and on disk (`crate::nonlocal::cache`,
-//! kind `tail-in-tube-mfs`), so only the first run on a machine pays.
+//! kind `tail-in-tube-rings-per-pa-s`, at 1 Pa s), so only the first run
+//! on a machine pays.
 //!
 //! References: R. Cortez, L. Fauci & A. Medovikov, Phys. Fluids 17 (2005)
 //! 031504; G. Fairweather & A. Karageorghis, Adv. Comput. Math. 9 (1998) 69.
@@ -24,7 +25,7 @@
 use super::Effect;
 use crate::data::Case;
 use crate::nonlocal::cache;
-use crate::nonlocal::tube::{tail_resistance_in_tube, TubeSettings, WallModel};
+use crate::nonlocal::tube::{tail_matrix_in_tube, CapLayout, TubeSettings, WallModel};
 use nalgebra::Matrix6;
 
 pub struct TubeTail;
@@ -42,13 +43,19 @@ pub fn settings() -> TubeSettings {
 fn tube_words(s: &TubeSettings) -> impl Iterator<Item = u64> {
     cache::settings_words(&s.tail).into_iter().chain([
         u64::from(s.wall == WallModel::Mfs),
+        u64::from(s.caps == CapLayout::Rings),
         s.wall_spacing_m.to_bits(),
         s.source_offset_over_spacing.to_bits(),
         s.cap_margin_over_radius.to_bits(),
     ])
 }
 
-/// The tail matrix in the case's channel at [`settings`], memoised.
+/// The tail's matrix in the case's tube. Stokes flow is linear in the
+/// viscosity (every kernel and the wire spin carry one factor `mu`), so
+/// the matrix is solved and cached at 1 Pa s and scaled: a perturbed
+/// viscosity (an uncertainty band) costs no solve. The leak diagnostics
+/// are not recomputed here; `helix --channel-diameter-mm` and
+/// `examples/tail_tube.rs` show them at these settings.
 pub fn tail_in_tube(case: &Case) -> Result<Matrix6<f64>, String> {
     let (helix, channel, mu, s) = (
         case.helix(),
@@ -56,15 +63,18 @@ pub fn tail_in_tube(case: &Case) -> Result<Matrix6<f64>, String> {
         case.viscosity_pa_s,
         settings(),
     );
+    if !(mu.is_finite() && mu > 0.0) {
+        return Err(format!("viscosity must be positive, got {mu} Pa s"));
+    }
     let key: Vec<u64> = cache::helix_words(&helix)
         .into_iter()
         .chain(cache::channel_words(&channel))
-        .chain([mu.to_bits()])
         .chain(tube_words(&s))
         .collect();
-    cache::cached_matrix("tail-in-tube-mfs", &key, || {
-        tail_resistance_in_tube(&helix, &channel, mu, &s).map(|r| r.matrix)
-    })
+    let unit = cache::cached_matrix("tail-in-tube-rings-per-pa-s", &key, || {
+        tail_matrix_in_tube(&helix, &channel, 1.0, &s)
+    })?;
+    Ok(unit * mu)
 }
 
 impl Effect for TubeTail {

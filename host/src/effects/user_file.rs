@@ -57,6 +57,10 @@ struct RawEffect {
     #[serde(default)]
     param: Vec<RawParam>,
     places: Spanned<BTreeMap<Spanned<String>, Spanned<String>>>,
+    /// Effects it was fitted on top of (`NAME:k=v,...`), checked when a
+    /// command applies them (a base may be defined later in the file).
+    #[serde(default)]
+    base: Vec<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -304,6 +308,19 @@ fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectErro
         }
         places.push((place, formula.get_ref().clone()));
     }
+    for b in &e.base {
+        let head = b.get_ref().split(':').next().unwrap_or("").trim();
+        if !is_kebab(head) {
+            return Err(at(
+                "base",
+                b.span(),
+                format!(
+                    "`{}` is not an effect as the command line takes it: NAME or NAME:k=v,...",
+                    b.get_ref()
+                ),
+            ));
+        }
+    }
     // One canonical order (the stages' order), whatever the file's: a written file reads back equal.
     places.sort_by_key(|(p, _)| *p);
     if let Some(i) = (0..params.len()).find(|&i| !used[i] && params[i].free) {
@@ -317,6 +334,7 @@ fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectErro
         applies_to: e.applies_to,
         params,
         places,
+        base: e.base.into_iter().map(Spanned::into_inner).collect(),
     })
 }
 
@@ -343,6 +361,7 @@ pub fn load_file(path: &std::path::Path) -> Result<Vec<FormulaEffect>, UserEffec
         column: 0,
         message: format!("cannot read: {e}"),
     })?;
+    crate::provenance::record_input(path, text.as_bytes());
     let specs = parse(&text, &file)?;
     specs
         .into_iter()

@@ -14,10 +14,13 @@
 //! - [`TailMethod::RegularizedStokeslets`]: Cortez (2001), Cortez, Fauci &
 //!   Medovikov (2005) regularized Stokeslets along the centre-line, blob
 //!   `eps = e^(1/2) a` matched to SBT, see [`mrs_line`].
-//! - Body (prolate spheroid) and channel wall (cylinder with end caps):
-//!   surfaces of regularized Stokeslets, see [`surface`] and [`robot`]; this
-//!   wall leaks. The leak-free wall (method of fundamental solutions) with
-//!   its flux diagnostics is [`tube`].
+//! - Body (prolate spheroid): a surface of regularized Stokeslets in free
+//!   space, see [`surface`] and [`robot`]. In the tube: the leak-free wall
+//!   (method of fundamental solutions, solved by its rotational symmetry)
+//!   with its flux diagnostics, [`tube`], and the exact axisymmetric body,
+//!   [`axisym`]. The old wall of regularized Stokeslets leaked; it survives
+//!   only in `tail_resistance_in_channel` and `tube::WallModel::Leaky`, as
+//!   the contrast that shows the leak.
 //!
 //! Both tail methods also add the local torque of the wire spinning about
 //! its own axis, `4 pi mu a^2` per length (`wire_spin`), which RFT omits.
@@ -37,10 +40,8 @@
 //!   which is the size of the SBT resolution spread (2.7 %).
 //! - Prolate spheroid 5:2 vs Chwang & Wu (1975): 1.9 % / 1.3 % at spacing
 //!   `0.2 b`, first order in the spacing.
-//! - Sphere on a tube axis, `a/R = 0.3`, vs Haberman & Sayre (1958): the
-//!   wall factor 2.370 is approached from below, 2.065 / 2.123 at wall spacings
-//!   `0.6 a` / `0.45 a`, 2.299 (3 % low) extrapolated linearly; a coarse wall of
-//!   regularized Stokeslets is a slightly leaky wall.
+//! - Sphere on a tube axis, `a/R = 0.3`, vs Haberman & Sayre (1958): see
+//!   `tests/tail_tube.rs` (leak-free wall) and `tests/axisym.rs` (Bohlin).
 //!
 //! # Cost (release build, this 2-core machine shared with others)
 //! Dense `3N x 3N` systems assembled in parallel with rayon and solved by
@@ -49,7 +50,8 @@
 //! entries) is the default, 12 segments per turn: 2-11 ms per paper tail
 //! (regularized Stokeslets), 48 per turn 20-200 ms. With the body (1.5 mm
 //! spacing, about 1200 points) and the closed 35 mm channel (3 mm spacing,
-//! 2000-3500 points), `3N` is 10 000-14 000: 0.8-1.6 GB and 0.5-1.5 min.
+//! 2000-3500 points), `3N` is 10 000-14 000: 0.8-1.6 GB and 0.5-1.5 min
+//! densely; [`tube`] avoids the wall's share of that by its symmetry.
 //! Memory is `8 (3N)^2` bytes, so 24 GiB holds `3N` up to about 50 000
 //! (N = 17 000 points), but its LU (`2/3 (3N)^3` flops at the ~20 Gflop/s
 //! measured) would take over an hour; `3N ~ 20 000` (3 GB, ~4 min) is the
@@ -68,8 +70,7 @@ pub mod surface;
 pub mod tube;
 
 pub use confined::{
-    body_resistance, robot_resistance, sphere_resistance, tail_resistance_in_channel,
-    RobotResistance,
+    free_body_resistance, robot_resistance, tail_resistance_in_channel, RobotResistance,
 };
 
 use crate::physics::geometry::Helix;

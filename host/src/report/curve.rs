@@ -1,6 +1,7 @@
 //! A model's curve through its own markers in the paper's Fig. 4: the
-//! model evaluated densely across (and a little beyond) the measured cases
-//! of one amplitude group, against the number of waves `N_lambda`.
+//! model evaluated densely between the outer measured cases of one
+//! amplitude group (never beyond them: no tail was built there), against
+//! the number of waves `N_lambda`. A group of one case has no curve.
 //!
 //! The paper kept the wire's chord length `ell` fixed and varied the
 //! wavelength; the recorded cases do not share one `ell` exactly (see
@@ -23,9 +24,6 @@ use std::f64::consts::PI;
 
 /// Points sampled across a group (plus the cases' own).
 const SAMPLES: usize = 160;
-/// How far beyond the outer cases the curve reaches, as a fraction of the
-/// cases' `N_lambda` span (at least 2 % of `N_lambda`).
-const REACH: f64 = 0.12;
 /// How far the curve's wavelength may leave the cases' range (fraction).
 const LAMBDA_REACH: f64 = 0.1;
 
@@ -151,13 +149,11 @@ pub fn model_curve(
     cases: &[&Case],
     ratio_of: fn(&Prediction) -> f64,
 ) -> Vec<(f64, f64, f64)> {
-    if cases.is_empty() {
+    let nodes = nodes(cases);
+    if nodes.len() < 2 {
         return Vec::new();
     }
-    let nodes = nodes(cases);
-    let (n0, n1) = (nodes[0].n_waves(), nodes[nodes.len() - 1].n_waves());
-    let reach = (REACH * (n1 - n0)).max(0.02 * n1);
-    let (lo, hi) = ((n0 - reach).max(0.5 * n0), n1 + reach);
+    let (lo, hi) = (nodes[0].n_waves(), nodes[nodes.len() - 1].n_waves());
     // Beyond the cases, a held chord near its tightest helix (lambda -> 0)
     // is no tail anyone built: keep lambda near the measured range.
     let lambda_min = nodes
@@ -169,7 +165,8 @@ pub fn model_curve(
         c.wavelength_mm >= (1.0 - LAMBDA_REACH) * lambda_min
             && c.wavelength_mm <= (1.0 + LAMBDA_REACH) * lambda_max
     };
-    let mut xs: Vec<f64> = (0..SAMPLES)
+    // interior samples, and the nodes themselves as the ends
+    let mut xs: Vec<f64> = (1..SAMPLES - 1)
         .map(|i| lo + (hi - lo) * i as f64 / (SAMPLES - 1) as f64)
         .chain(nodes.iter().map(Case::n_waves))
         .collect();
@@ -218,6 +215,12 @@ mod tests {
                         .fold(0.0, f64::max);
                     assert!(widest <= 0.02 * span, "{name}: a gap of {widest} in {span}");
                     assert!(curve.windows(2).all(|w| w[1].0 > w[0].0), "a function of N");
+                    // no line past the outer cases
+                    let lo = cases.iter().map(|c| c.n_waves()).fold(f64::MAX, f64::min);
+                    let hi = cases.iter().map(|c| c.n_waves()).fold(f64::MIN, f64::max);
+                    assert!(curve.iter().all(|p| p.0 >= lo && p.0 <= hi), "{name}");
+                    assert_eq!(curve.first().map(|p| p.0), Some(lo));
+                    assert_eq!(curve.last().map(|p| p.0), Some(hi));
                     for c in &cases {
                         let marker = ratio(&model.predict(c).unwrap());
                         let on_curve = at(&curve, c.n_waves());
@@ -230,6 +233,13 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_group_of_one_case_has_markers_but_no_curve() {
+        let data = crate::data::paper();
+        let model = preset("paper").unwrap();
+        assert!(model_curve(&model, &[&data.cases[0]], |p| p.u_over_u_wave).is_empty());
     }
 
     #[test]

@@ -104,6 +104,14 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<String, crate::mod
         ],
         &rows,
     ));
+    h.push_str(&super::yours::impossible_note(
+        "The paper's model (Gray-Hancock)",
+        cmp,
+    ));
+    h.push_str(&super::yours::impossible_note(
+        "The paper's model with Lighthill's coefficients",
+        &paper.li,
+    ));
     if let Some((case, q, e, s)) = worst(&cmp.cases) {
         h.push_str(&format!(
             "<p>The largest error is {}'s {q}: {} ({} standard errors). Over all quantities: MARE \

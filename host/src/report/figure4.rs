@@ -1,13 +1,16 @@
 //! The paper's Fig. 4: `U/U_wave` (panels a-c) and `Omega_b/omega`
 //! (panels d-f) against the number of waves `N_lambda`, one panel per
 //! amplitude group `B_o/R_body`: the measurements with their CIs and,
-//! for each model drawn, its markers at the measured cases and its curve
-//! through them ([`super::curve`]).
+//! for each model drawn, its markers at the measured cases (± 2u where the
+//! comparison carries input bands) and its curve through them
+//! ([`super::curve`]). One legend, on panel (a); the captions say that
+//! error bars smaller than a marker are hidden by it.
 
 use super::curve::model_curve;
-use super::plots::{chart, Series};
+use super::plots::{Chart, Series};
 use crate::data::{Case, Dataset};
 use crate::model::{Model, Prediction};
+use crate::workbench::compare::Comparison;
 use plotters::style::RGBColor;
 
 /// The paper's colours: observations red, Gray-Hancock black, Lighthill blue.
@@ -16,10 +19,13 @@ pub const BLACK: RGBColor = RGBColor(0, 0, 0);
 pub const BLUE: RGBColor = RGBColor(31, 119, 180);
 pub const GREEN: RGBColor = RGBColor(44, 160, 44);
 
-/// One model drawn in the figure.
+/// One model drawn in the figure: its markers come from its comparison
+/// (the workbench's numbers, with their input bands), its curve from the
+/// model between the cases.
 pub struct Layer<'a> {
     pub label: String,
     pub model: &'a Model,
+    pub comparison: &'a Comparison,
     pub color: RGBColor,
     /// Draw its curve too (each curve point is a prediction: affordable for
     /// the local RFT models, not for a tube solve per point).
@@ -41,13 +47,39 @@ pub fn amplitude_groups(data: &Dataset) -> Vec<(f64, Vec<&Case>)> {
     groups
 }
 
-/// One panel: `omega` selects `Omega_b/omega`, else `U/U_wave`.
+/// The x range of a panel: the cases' `N_lambda` with a margin of a tenth
+/// of their span (at least 0.3 % of the value), never the chart engine's
+/// minimum span for flat data, which padded 3.73-3.82 out to 3.55-3.98.
+fn x_range(cases: &[&Case]) -> (f64, f64) {
+    let lo = cases.iter().map(|c| c.n_waves()).fold(f64::MAX, f64::min);
+    let hi = cases.iter().map(|c| c.n_waves()).fold(f64::MIN, f64::max);
+    let pad = (0.1 * (hi - lo)).max(0.003 * hi);
+    (lo - pad, hi + pad)
+}
+
+/// The page's content width (px) a row of Fig. 4 panels must fit in, and
+/// the grid's gap between them.
+const ROW_PX: u32 = 1204;
+const GAP_PX: u32 = 16;
+
+/// A panel's width for `groups` panels in a row: shown at its own size
+/// (ticks read at the size they are drawn) up to 390 px, narrower for four
+/// or more groups, never below 240 px.
+pub fn panel_width(groups: usize) -> u32 {
+    let g = groups.max(1) as u32;
+    ((ROW_PX - GAP_PX * (g - 1)) / g).clamp(240, 390)
+}
+
+/// One panel: `omega` selects `Omega_b/omega`, else `U/U_wave`; `legend`
+/// for the one panel that carries the figure's legend.
 fn panel(
     title: &str,
     cases: &[&Case],
     layers: &[Layer],
     omega: bool,
     ci: &str,
+    legend: bool,
+    groups: usize,
 ) -> Result<String, String> {
     let ratio: fn(&Prediction) -> f64 = if omega {
         |p| p.omega_ratio
@@ -74,14 +106,30 @@ fn panel(
     for l in layers {
         let markers: Vec<(f64, f64, f64)> = cases
             .iter()
-            .filter_map(|c| Some((c.n_waves(), ratio(&l.model.predict(c).ok()?), 0.0)))
+            .filter_map(|c| {
+                let k = l.comparison.cases.iter().find(|k| k.id == c.id)?;
+                Some(if omega {
+                    (
+                        k.n_waves,
+                        k.omega_ratio_pred,
+                        2.0 * k.omega_ratio_input_sd.unwrap_or(0.0),
+                    )
+                } else {
+                    (
+                        k.n_waves,
+                        k.u_over_u_wave_pred,
+                        2.0 * k.u_over_u_wave_input_sd.unwrap_or(0.0),
+                    )
+                })
+            })
             .collect();
-        if l.curve {
-            series.push(Series::curve(
-                String::new(),
-                l.color,
-                model_curve(l.model, cases, ratio),
-            ));
+        let curve = if l.curve {
+            model_curve(l.model, cases, ratio)
+        } else {
+            Vec::new()
+        };
+        if !curve.is_empty() {
+            series.push(Series::curve(String::new(), l.color, curve));
         }
         series.push(Series::model(l.label.clone(), l.color, markers));
     }
@@ -90,11 +138,22 @@ fn panel(
     } else {
         "U / U_wave"
     };
-    chart(title, "N_lambda", y, &series, false)
+    let (lo, hi) = x_range(cases);
+    let chart = Chart::new(title, "N_lambda", y)
+        .size(panel_width(groups), 330)
+        .x_range(lo, hi)
+        .without_hidden_note();
+    if legend {
+        chart
+    } else {
+        chart.without_legend()
+    }
+    .render(&series)
 }
 
 /// The panels in the paper's order, each with its caption-letter title:
-/// first `U/U_wave` per group, then `Omega_b/omega` per group.
+/// first `U/U_wave` per group, then `Omega_b/omega` per group; the first
+/// panel carries the one legend.
 pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> {
     let groups = amplitude_groups(data);
     let ci = super::intro::confidence(data);
@@ -108,9 +167,82 @@ pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> 
                 letter as char,
                 crate::format::fmt_sig(ratio, 2)
             );
-            out.push(panel(&title, cases, layers, omega, &ci));
+            let first = out.is_empty();
+            out.push(panel(
+                &title,
+                cases,
+                layers,
+                omega,
+                &ci,
+                first,
+                groups.len(),
+            ));
             letter = letter.wrapping_add(1);
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::workbench::compare::compare;
+
+    /// The paper's data with tail-5 at its own amplitude: four groups, two
+    /// of them a single case.
+    fn four_groups() -> Dataset {
+        let mut data = crate::data::paper();
+        data.cases[4].amplitude_mm = 6.0;
+        data
+    }
+
+    #[test]
+    fn the_layout_follows_the_data_u_row_then_omega_row() {
+        let data = four_groups();
+        assert_eq!(amplitude_groups(&data).len(), 4);
+        let model = crate::model::preset("paper").unwrap();
+        let cmp = compare(&model, &data, 0).unwrap();
+        let layers = [Layer {
+            label: "paper".into(),
+            model: &model,
+            comparison: &cmp,
+            color: BLACK,
+            curve: true,
+        }];
+        let panels: Vec<String> = figure4(&data, &layers)
+            .into_iter()
+            .map(Result::unwrap)
+            .collect();
+        assert_eq!(panels.len(), 8);
+        for (i, p) in panels.iter().enumerate() {
+            let letter = (b'a' + i as u8) as char;
+            assert!(p.contains(&format!("({letter})")), "panel {letter}");
+            // the first row U/U_wave, the second Omega_b/omega
+            assert_eq!(p.contains("Ω"), i >= 4, "panel {letter} in the wrong row");
+            // one legend, on (a)
+            assert_eq!(p.contains("class=\"legend\""), i == 0, "panel {letter}");
+        }
+        // tail-5 (6.0 mm) and tail-6 (7.5 mm) stand alone: markers, no curve
+        for i in [2, 3, 6, 7] {
+            assert!(!panels[i].contains("<polyline"), "panel {i} draws a curve");
+        }
+        assert!(
+            panels[0].contains("<polyline"),
+            "a group of two has its curve"
+        );
+        // four panels in a row fit the page at their own size
+        assert!(4 * panel_width(4) + 3 * GAP_PX <= ROW_PX);
+        assert_eq!(panel_width(3), 390);
+    }
+
+    #[test]
+    fn the_x_axis_spans_the_cases_not_a_padded_minimum() {
+        let data = crate::data::paper();
+        let groups = amplitude_groups(&data);
+        let (_, cases) = &groups[2]; // 3.73 and 3.82 waves
+        let (lo, hi) = x_range(cases);
+        let span = 3.818 - 3.733;
+        assert!(lo > 3.70 && hi < 3.86, "{lo}-{hi}");
+        assert!(hi - lo < 2.0 * span);
+    }
 }

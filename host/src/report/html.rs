@@ -12,20 +12,20 @@ h3{margin-bottom:.3em}p,li{max-width:62em}\
 table{border-collapse:collapse;margin:.6em 0;font-size:.9em;font-variant-numeric:tabular-nums}\
 td,th{padding:3px 9px;border-bottom:1px solid #ddd;text-align:right;vertical-align:top;white-space:nowrap}\
 td.l,th.l{white-space:normal}\
-th{background:#f3f3f3}td.l,th.l{text-align:left}\
+th{background:#f3f3f3;white-space:normal}td.l:first-child{white-space:nowrap}td.l,th.l{text-align:left}\
 code{background:#f3f3f3;padding:1px 4px;border-radius:3px;font-size:.92em}\
 figure{margin:1em 0;break-inside:avoid;page-break-inside:avoid}\
 figcaption{font-size:.9em;color:#333;max-width:62em;margin-top:.3em}\
-.grid{display:grid;gap:10px 16px}.g3{grid-template-columns:repeat(3,1fr)}.g2{grid-template-columns:repeat(2,1fr)}\
-.grid svg{width:100%;height:auto;display:block}figure>svg{max-width:100%;height:auto}\
+.grid{display:grid;gap:10px 16px;grid-template-columns:repeat(var(--cols,2),minmax(0,max-content));justify-content:start}\
+.grid svg{max-width:100%;height:auto;display:block}figure>svg{max-width:100%;height:auto}\
 .rise{color:#b2182b;font-weight:600}.fall{color:#1a7f37;font-weight:600}.flat{color:#666}\
 .note{color:#555;font-size:.9em}.err{color:#b00}.verdict{background:#fff7e6;border-left:4px solid #e6a23c;padding:.5em .9em}\
 .toc{columns:2;font-size:.95em}\
-@media (max-width:900px){.g3{grid-template-columns:repeat(2,1fr)}\
+@media (max-width:900px){.grid{grid-template-columns:repeat(2,minmax(0,max-content))}\
 .flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}}\
 @media print{body{max-width:none;margin:0;padding:0;font-size:10pt}h2{break-after:avoid;page-break-after:avoid}\
 table,figure,.verdict{break-inside:avoid;page-break-inside:avoid}.toc{display:none}\
-.g3{grid-template-columns:repeat(2,1fr)}.flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}\
+.grid{grid-template-columns:repeat(2,minmax(0,max-content))}.flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}\
 @page{size:A4;margin:14mm}}";
 
 pub fn escape(s: &str) -> String {
@@ -78,8 +78,12 @@ fn figure_in(
     columns: usize,
     caption: &str,
 ) -> String {
-    let cls = if columns >= 3 { "g3" } else { "g2" };
-    let mut h = format!("<figure id=\"{id}\"{attrs}><div class=\"grid {cls}\">");
+    // Each SVG is shown at its own size (its ticks read at the size they
+    // were drawn), shrunk only when the columns do not fit.
+    let mut h = format!(
+        "<figure id=\"{id}\"{attrs}><div class=\"grid\" style=\"--cols:{}\">",
+        columns.max(1)
+    );
     for c in charts {
         h.push_str("<div>");
         h.push_str(&svg_or_note(c));

@@ -1,7 +1,10 @@
 //! The static HTML report: one self-contained page that tells the story of
 //! the model against the measurements ([`story`]), its figures as inline
-//! SVG.
+//! SVG, and beside it every figure and table as its own file
+//! ([`bundle`]). The report renders what the workbench computed (the
+//! user's path, [`crate::workbench::path`]); it does not compute.
 
+mod bundle;
 mod curve;
 mod fails;
 mod figure4;
@@ -17,40 +20,33 @@ mod remains;
 mod residuals;
 pub mod story;
 mod wording;
+mod yours;
 
 pub use crate::format::fmt_sig;
 pub use story::{StoryInput, ZeroParam};
 
-/// Write `page` as `dir/index.html` (temporary file, then rename: a failed
-/// write never leaves half a page); returns the page's path.
-fn write_page(dir: &std::path::Path, page: &str) -> Result<std::path::PathBuf, String> {
-    std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
-    let path = dir.join("index.html");
-    let tmp = dir.join(format!(".index.html.tmp-{}", std::process::id()));
-    std::fs::write(&tmp, page)
-        .and_then(|()| std::fs::rename(&tmp, &path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            e.to_string()
-        })?;
-    Ok(path)
+/// Refuse `dir` before any work when another command's page is in it.
+pub fn check_bundle_dir(dir: &std::path::Path, command: &str) -> Result<(), String> {
+    bundle::check_dir(dir, command)
 }
 
-/// Write the story page from `input` into `dir`.
+/// Write the story page from `input` into `dir`, with its bundle (every
+/// figure as SVG, every table as CSV and JSON, `manifest.json`).
 pub fn write_story(
     dir: &std::path::Path,
     input: &StoryInput,
 ) -> Result<std::path::PathBuf, String> {
     let page = story::page(input).map_err(|e| e.to_string())?;
-    write_page(dir, &page)
+    bundle::write(dir, input.command, &page)
 }
 
-/// Write the story page for `model` on `data` (with the path section when
-/// a diagnosis is given), without the zero-parameter model's section (its
-/// first run takes tens of seconds) or the audit: what `compare` writes.
+/// Write the story page for the model at the end of `path` on `data`
+/// (with the path section when a diagnosis is given), without the
+/// zero-parameter model's section (its first run takes tens of seconds) or
+/// the audit: what `compare` writes.
 pub fn write_report(
     dir: &std::path::Path,
-    model: &crate::model::Model,
+    path: &crate::workbench::path::Path,
     data: &crate::data::Dataset,
     diagnosis: Option<&crate::workbench::diagnose::Diagnosis>,
 ) -> Result<std::path::PathBuf, String> {
@@ -58,7 +54,9 @@ pub fn write_report(
         dir,
         &StoryInput {
             data,
-            start: model,
+            start: &path.last().model,
+            path,
+            command: "compare",
             diagnosis,
             zero_param: ZeroParam::Skipped(
                 "the best model without a fitted parameter (`swimbot report` adds it)".into(),

@@ -7,8 +7,8 @@ use super::html::{escape, figure_flow, table};
 use super::wording::{pct, stat};
 use crate::data::Dataset;
 use crate::model::{preset, Model, ModelError};
-use crate::workbench::compare::{compare, Comparison};
-use crate::workbench::propagate;
+use crate::workbench::compare::Comparison;
+use crate::workbench::path::compare_with_bands;
 
 /// The paper's two calibrated models and their comparisons.
 pub struct PaperModels {
@@ -96,15 +96,74 @@ pub const SUMMARY_HEADER: [&str; 7] = [
     "reduced χ²",
 ];
 
+/// The mean of predicted / measured over the cases (`omega`: Omega_b, else U).
+pub fn mean_ratio(cmp: &Comparison, omega: bool) -> Option<f64> {
+    let r: Vec<f64> = cmp
+        .cases
+        .iter()
+        .filter_map(|k| {
+            let (p, o) = if omega {
+                (k.omega_pred_hz, k.omega_obs_hz?)
+            } else {
+                (k.u_pred_mm_s, k.u_obs_mm_s?)
+            };
+            (o != 0.0).then(|| p / o)
+        })
+        .collect();
+    (!r.is_empty()).then(|| r.iter().sum::<f64>() / r.len() as f64)
+}
+
+/// "With its Table III factors, Lighthill predicts U at 3.4 times the
+/// measured on average (1.8-4.1) ..." : the size of the gap, in numbers.
+fn gap_sentence(name: &str, cmp: &Comparison) -> String {
+    let range = |omega: bool| {
+        let v: Vec<f64> = cmp
+            .cases
+            .iter()
+            .filter_map(|k| {
+                let (p, o) = if omega {
+                    (k.omega_pred_hz, k.omega_obs_hz?)
+                } else {
+                    (k.u_pred_mm_s, k.u_obs_mm_s?)
+                };
+                (o != 0.0).then(|| p / o)
+            })
+            .collect();
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    };
+    let part = |omega: bool, q: &str| {
+        mean_ratio(cmp, omega).map(|m| {
+            let (lo, hi) = range(omega);
+            format!(
+                "{q} at {} times the measured on average ({}-{} over the cases)",
+                crate::format::fmt_sig(m, 3),
+                crate::format::fmt_sig(lo, 3),
+                crate::format::fmt_sig(hi, 3)
+            )
+        })
+    };
+    let parts: Vec<String> = [part(false, "U"), part(true, "Ω<sub>b</sub>")]
+        .into_iter()
+        .flatten()
+        .collect();
+    if parts.is_empty() {
+        return String::new();
+    }
+    format!(
+        "<p>Here {name}'s model with the paper's factors predicts {}; MARE {}.</p>",
+        parts.join(" and "),
+        pct(cmp.summary.mare)
+    )
+}
+
 impl PaperModels {
     pub fn new(data: &Dataset) -> Result<Self, ModelError> {
         let gray_hancock = preset("paper").expect("a built-in preset");
         let lighthill = preset("paper-lighthill").expect("a built-in preset");
-        let mut gh = compare(&gray_hancock, data, 0)?;
-        if propagate::has_input_uncertainty(data) && propagate::affordable(&gray_hancock) {
-            gh = gh.with_bands(data, &propagate::bands(&gray_hancock, data)?);
-        }
-        let li = compare(&lighthill, data, 0)?;
+        let gh = compare_with_bands(&gray_hancock, data)?;
+        let li = compare_with_bands(&lighthill, data)?;
         Ok(PaperModels {
             gray_hancock,
             lighthill,
@@ -139,12 +198,14 @@ impl PaperModels {
             Layer {
                 label: "Gray-Hancock".into(),
                 model: &self.gray_hancock,
+                comparison: &self.gh,
                 color: BLACK,
                 curve: true,
             },
             Layer {
                 label: "Lighthill".into(),
                 model: &self.lighthill,
+                comparison: &self.li,
                 color: BLUE,
                 curve: true,
             },
@@ -157,7 +218,7 @@ impl PaperModels {
         h.push_str(&figure_flow(
             "fig4",
             &charts,
-            groups.clamp(2, 3),
+            groups.max(1),
             &format!(
                 "<b>Fig. 4 reproduced.</b> Measurements (red, with their {ci} confidence \
                  intervals) against the paper's model with Gray-Hancock's coefficients (black; \
@@ -165,12 +226,16 @@ impl PaperModels {
                  U/U<sub>wave</sub>, U<sub>wave</sub> = λf; ({first_w})-({last_w}) dimensionless \
                  body rate Ω<sub>b</sub>/ω, against the number of waves N<sub>λ</sub> = \
                  L<sub>t</sub>/λ, one panel per amplitude group B<sub>o</sub>/R<sub>body</sub>. \
-                 Hollow markers: the model at each measured case. Lines: the same model between \
-                 the cases, its inputs (chord length, tail rate, the observed speed its back-flow \
-                 reads) interpolated linearly in N<sub>λ</sub> between neighbouring cases and held \
-                 beyond them, so each line passes through its markers."
+                 Hollow markers: the model at each measured case (± 2u where the dataset states \
+                 input uncertainties). Lines: the same model between the cases of a group, its \
+                 inputs (chord length, tail rate, the observed speed its back-flow reads) \
+                 interpolated linearly in N<sub>λ</sub> between neighbouring cases, so each line \
+                 passes through its markers; a group of one case has markers only. An error bar \
+                 smaller than its marker is hidden by it."
             ),
         ));
+        h.push_str(&gap_sentence("Gray-Hancock", &self.gh));
+        h.push_str(&gap_sentence("Lighthill", &self.li));
         h.push_str(&table(
             &SUMMARY_HEADER,
             &[
@@ -189,9 +254,10 @@ impl PaperModels {
         h.push_str(&format!(
             "<p class=\"note\">MARE: mean absolute relative error over the {} measured \
              quantities; reduced χ²: the squared errors in standard errors of the measured means, \
-             over the degrees of freedom. Models: <code>--preset paper</code> ({}) and \
+             over n − k = {} degrees of freedom (k = 2: the factors the paper fitted). Models: <code>--preset paper</code> ({}) and \
              <code>--preset paper-lighthill</code> ({}).</p>",
             self.gh.summary.n,
+            super::yours::dof_note(&self.gh.summary),
             escape(&self.gray_hancock.describe()),
             escape(&self.lighthill.describe())
         ));

@@ -5,50 +5,73 @@
 
 use super::plots::{Axis, Chart, Glyph, Series, PALETTE};
 use crate::workbench::compare::Comparison;
+use plotters::style::RGBColor;
 
+/// The colour of the legend's error-bar entries (they stand for every series).
+const REF: RGBColor = RGBColor(80, 80, 80);
+
+/// The parity plot of one comparison.
 pub fn parity(cmp: &Comparison, omega: bool) -> Result<String, String> {
-    let mut pts = Vec::new();
-    let mut x_err = Vec::new();
-    let mut labels = Vec::new();
-    for k in &cmp.cases {
-        let (obs, ci, pred, sd) = if omega {
-            (
-                k.omega_obs_hz,
-                k.omega_ci_hz,
-                k.omega_pred_hz,
-                k.omega_input_sd_hz,
-            )
-        } else {
-            (k.u_obs_mm_s, k.u_ci_mm_s, k.u_pred_mm_s, k.u_input_sd_mm_s)
-        };
-        let Some(obs) = obs else { continue };
-        pts.push((obs, pred, 2.0 * sd.unwrap_or(0.0)));
-        x_err.push(ci.unwrap_or(0.0));
-        labels.push(k.id.clone());
-    }
+    parity_of(&[("case: predicted vs measured", PALETTE[0], cmp)], omega)
+}
+
+/// The parity plot of several models `(label, colour, comparison)` on one
+/// chart: the first labelled by case, all with both kinds of error bar.
+pub fn parity_of(models: &[(&str, RGBColor, &Comparison)], omega: bool) -> Result<String, String> {
     let (q, unit) = if omega {
         ("Omega_b", "Hz")
     } else {
         ("U", "mm/s")
     };
-    let has_band = pts.iter().any(|p| p.2 > 0.0);
-    let log = Axis::spans_decade(pts.iter().flat_map(|p| [p.0, p.1]));
-    let color = PALETTE[0];
+    let mut series = Vec::new();
+    let mut has_band = false;
+    let mut all = Vec::new();
+    for (i, (label, color, cmp)) in models.iter().enumerate() {
+        let mut pts = Vec::new();
+        let mut x_err = Vec::new();
+        let mut labels = Vec::new();
+        for k in &cmp.cases {
+            let (obs, ci, pred, sd) = if omega {
+                (
+                    k.omega_obs_hz,
+                    k.omega_ci_hz,
+                    k.omega_pred_hz,
+                    k.omega_input_sd_hz,
+                )
+            } else {
+                (k.u_obs_mm_s, k.u_ci_mm_s, k.u_pred_mm_s, k.u_input_sd_mm_s)
+            };
+            let Some(obs) = obs else { continue };
+            pts.push((obs, pred, 2.0 * sd.unwrap_or(0.0)));
+            x_err.push(ci.unwrap_or(0.0));
+            labels.push(if i + 1 == models.len() {
+                k.id.clone()
+            } else {
+                String::new()
+            });
+        }
+        has_band |= pts.iter().any(|p| p.2 > 0.0);
+        all.extend(pts.iter().flat_map(|p| [p.0, p.1]));
+        let s = if models.len() == 1 {
+            Series::measured(*label, *color, pts)
+        } else {
+            Series::model(*label, *color, pts)
+        };
+        series.push(s.x_errors(x_err).labels(labels));
+    }
+    let log = Axis::spans_decade(all.into_iter());
     let mut chart = Chart::new(
         &format!("Parity: {q}"),
         &format!("{q} measured ({unit})"),
         &format!("{q} predicted ({unit})"),
     )
     .diagonal()
-    .legend_entry(Glyph::HBar, color, "measured 95 % CI");
+    .legend_entry(Glyph::HBar, REF, "measured 95 % CI");
     if has_band {
-        chart = chart.legend_entry(Glyph::VBar, color, "prediction ± 2σ from inputs");
+        chart = chart.legend_entry(Glyph::VBar, REF, "prediction ± 2u from inputs");
     }
     if log {
         chart = chart.log_x().log_y();
     }
-    let s = Series::measured("case: predicted vs measured", color, pts)
-        .x_errors(x_err)
-        .labels(labels);
-    chart.render(&[s])
+    chart.render(&series)
 }

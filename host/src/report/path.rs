@@ -32,6 +32,33 @@ fn free_params(m: &Model) -> usize {
     m.effects.iter().map(|e| e.free_indices().len()).sum()
 }
 
+/// What `to` changes from `from`, by effect name: "+ X" for an effect
+/// added on top, "− Y" for one the step takes out (then the step is an
+/// alternative to the one before, and its label says so).
+pub fn change_label(from: &Model, to: &Model) -> String {
+    let names = |m: &Model| {
+        m.effects
+            .iter()
+            .map(|e| e.name().to_string())
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (names(from), names(to));
+    let removed = a
+        .iter()
+        .filter(|n| !b.contains(n))
+        .map(|n| format!("− {n}"));
+    let added = b
+        .iter()
+        .filter(|n| !a.contains(n))
+        .map(|n| format!("+ {n}"));
+    let label: Vec<String> = removed.chain(added).collect();
+    if label.is_empty() {
+        "refitted".into()
+    } else {
+        label.join(" ")
+    }
+}
+
 fn from_candidate(c: &Candidate, what: &str) -> Step {
     Step {
         label: format!("+ {}", c.effect),
@@ -110,6 +137,30 @@ pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
             chi2_reduced: l.chi2_reduced,
         });
     }
+    // Label each step by what it changes from the step before, so that
+    // "+ X" always means X added on top of the previous step's model.
+    let models: Vec<&Model> = std::iter::once(start)
+        .chain(zero.map(|c| &c.model))
+        .chain(
+            first
+                .filter(|f| zero.is_none_or(|z| z.effect != f.effect))
+                .map(|c| &c.model),
+        )
+        .chain(
+            d.pairs
+                .first()
+                .filter(|p| first.is_none_or(|f| aicc(p) < aicc(f)))
+                .map(|c| &c.model),
+        )
+        .chain(d.verdict.located.first().map(|l| &l.model))
+        .collect();
+    for (i, step) in out.iter_mut().enumerate().skip(1) {
+        step.label = change_label(models[i - 1], models[i]);
+        if step.label.contains('−') {
+            step.what
+                .push_str(" (an alternative to the step before: what it takes out is marked −)");
+        }
+    }
     out
 }
 
@@ -145,7 +196,9 @@ pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> String {
     let mut h = format!(
         "<p><code>swimbot diagnose</code> starts from <code>{}</code>, fits every effect of its \
          catalogue in turn (weighted by the CIs, scored by AICc and cross-validated MARE), pairs \
-         them when none suffices, then searches beyond the catalogue{}. The noise floor is the \
+         them when none suffices, then searches beyond the catalogue{}. Each step is labelled by \
+         what it changes from the step before: \"+ X\" adds X on top of it; \"− Y\" takes Y \
+         out, and marks a step that is an alternative rather than an addition. The noise floor is the \
          reduced χ² a perfect model stays below (at diagnose's confidence level) given only the measurements' scatter: \
          {}. Each step is drawn against the one before it: green where it falls, red where it \
          rises, grey where the change is within the noise (MARE {}) or below {:.0} % of the \
@@ -161,8 +214,8 @@ pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> String {
     h.push_str(&super::html::figure(
         "path-chart",
         &[
-            chart(&steps, Metric::Chi2, floor),
-            chart(&steps, Metric::Mare, None),
+            chart(&steps, Metric::Chi2, floor, noise),
+            chart(&steps, Metric::Mare, None, noise),
         ],
         2,
         "<b>The path.</b> Left: reduced χ² (log scale) with the noise floor (dashed); right: \

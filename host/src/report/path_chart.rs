@@ -9,7 +9,8 @@ use super::path::Step;
 use super::wording::{pct, stat, Change};
 use std::fmt::Write;
 
-const W: f64 = 600.0;
+// two side by side fit the page's 1204 px at their own size
+const W: f64 = 590.0;
 const H: f64 = 410.0;
 const LEFT: f64 = 66.0;
 const RIGHT: f64 = 24.0;
@@ -110,8 +111,15 @@ fn wrap(label: &str, chars: usize) -> Vec<String> {
     lines
 }
 
-/// The chart of `steps` for one metric; `floor` draws the noise floor.
-pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, String> {
+/// The chart of `steps` for one metric; `floor` draws the noise floor (and
+/// is the chi-square's noise); `mare_noise` is the MARE's, the same the
+/// tables judge a change by, so chart and table never disagree.
+pub fn chart(
+    steps: &[Step],
+    m: Metric,
+    floor: Option<f64>,
+    mare_noise: f64,
+) -> Result<String, String> {
     let vals: Vec<f64> = steps.iter().filter_map(|s| value(s, m)).collect();
     if vals.is_empty() {
         return Err("no step has a finite value".into());
@@ -122,7 +130,8 @@ pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, St
     let scale = match m {
         Metric::Chi2 => Scale {
             log: true,
-            lo: 10f64.powf(lo.log10().floor()),
+            // room below the lowest point for its label
+            lo: 10f64.powf((lo / 3.0).log10().floor()),
             hi: 10f64.powf((hi * 1.5).log10().ceil()),
         },
         Metric::Mare => Scale {
@@ -137,7 +146,7 @@ pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, St
     };
     let noise = match m {
         Metric::Chi2 => floor.unwrap_or(0.0),
-        Metric::Mare => 0.0,
+        Metric::Mare => mare_noise,
     };
     let n = steps.len().max(1) as f64;
     let slot = (W - LEFT - RIGHT) / n;
@@ -146,7 +155,7 @@ pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, St
     let _ = write!(
         s,
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{W}\" height=\"{H}\" viewBox=\"0 0 {W} {H}\" \
-         font-family=\"sans-serif\" font-size=\"11\"><rect width=\"{W}\" height=\"{H}\" fill=\"white\"/>"
+         font-family=\"'DejaVu Sans', 'Liberation Sans', Helvetica, Arial, sans-serif\" font-size=\"11\"><rect width=\"{W}\" height=\"{H}\" fill=\"white\"/>"
     );
     let title = match m {
         Metric::Mare => "MARE along the path",
@@ -251,10 +260,18 @@ pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, St
         );
         // value and word beside the point, on the side away from the arrow
         let above = prev.is_none_or(|(_, p)| v >= p);
-        let ty = if above { y - 10.0 } else { y + 16.0 };
+        // below the point unless that reaches the axis: then left of it
+        // (the dotted line from the step before runs at that step's level)
+        let (tx, ty, anchor) = if above {
+            (x, y - 10.0, "middle")
+        } else if y + 16.0 > y_bot - 2.0 {
+            (x - 9.0, y + 4.0, "end")
+        } else {
+            (x, y + 16.0, "middle")
+        };
         let _ = write!(
             s,
-            "<text x=\"{x:.1}\" y=\"{ty:.1}\" text-anchor=\"middle\" font-weight=\"600\" fill=\"{color}\">{}{}</text>",
+            "<text x=\"{tx:.1}\" y=\"{ty:.1}\" text-anchor=\"{anchor}\" font-weight=\"600\" fill=\"{color}\">{}{}</text>",
             word.map(|w| format!("{w}: ")).unwrap_or_default(),
             esc(&show(v))
         );
@@ -262,4 +279,40 @@ pub fn chart(steps: &[Step], m: Metric, floor: Option<f64>) -> Result<String, St
     }
     s.push_str("</svg>");
     Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(label: &str, mare: f64, chi2: f64) -> Step {
+        Step {
+            label: label.into(),
+            what: String::new(),
+            fitted: 0,
+            mare,
+            cv_mare: None,
+            chi2_reduced: Some(chi2),
+        }
+    }
+
+    /// The y of the text that starts with `word`.
+    fn text_y(svg: &str, word: &str) -> f64 {
+        let at = svg.find(&format!(">{word}")).expect("the label");
+        let head = &svg[svg[..at].rfind("<text").unwrap()..at];
+        let y = &head[head.find(" y=\"").unwrap() + 4..];
+        y[..y.find('"').unwrap()].parse().unwrap()
+    }
+
+    #[test]
+    fn a_value_at_the_bottom_keeps_its_label_above_the_category_names() {
+        let steps = [step("start", 2.9, 8.2e6), step("+ a", 0.44, 1.02e5)];
+        for (m, word) in [
+            (Metric::Chi2, "falls: 1.02e5"),
+            (Metric::Mare, "falls: 44.0 %"),
+        ] {
+            let svg = chart(&steps, m, None, 0.0).unwrap();
+            assert!(text_y(&svg, word) < H - BOTTOM, "{m:?}: {word} on the axis");
+        }
+    }
 }

@@ -11,8 +11,8 @@ use super::story::ZeroParam;
 use super::wording::{describe, pct, signed_pct, stat};
 use crate::data::Dataset;
 use crate::model::ModelError;
-use crate::workbench::compare::compare;
 use crate::workbench::diagnose::Diagnosis;
+use crate::workbench::path::compare_with_bands;
 
 pub fn section(
     data: &Dataset,
@@ -29,7 +29,7 @@ pub fn section(
         }
         ZeroParam::Model { name, model } => (name, *model),
     };
-    let cmp = compare(model, data, 0)?;
+    let cmp = compare_with_bands(model, data)?;
     let fitted: usize = model.effects.iter().map(|e| e.free_indices().len()).sum();
     let noise = super::path::noise_mare(data);
     let mut h = format!(
@@ -105,12 +105,14 @@ pub fn section(
         Layer {
             label: "paper (Gray-Hancock)".into(),
             model: &paper.gray_hancock,
+            comparison: &paper.gh,
             color: BLACK,
             curve: true,
         },
         Layer {
             label: name.clone(),
             model,
+            comparison: &cmp,
             color: GREEN,
             curve: false,
         },
@@ -119,12 +121,13 @@ pub fn section(
     h.push_str(&figure_flow(
         "fig4-physics",
         &figure4(data, &layers),
-        groups.clamp(2, 3),
+        groups.max(1),
         &format!(
             "<b>The zero-parameter model in the layout of Fig. 4.</b> Measurements (red, {} \
              CI), the paper's Gray-Hancock model (black, markers and curve) and <code>{}</code> \
-             (green markers at the measured cases; no curve: each point between the cases would \
-             need its own solve of the tail in the tube).",
+             (green markers at the measured cases, ± 2u where its input bands were computed; no \
+             curve: each point between the cases would need its own solve of the tail in the \
+             tube). An error bar smaller than its marker is hidden by it.",
             super::intro::confidence(data),
             escape(name)
         ),

@@ -3,14 +3,27 @@
 //! [`crate::workbench::features::trends`]): where the model fails.
 
 use super::plots::{unit, Chart, Series, PALETTE};
+use super::yours::BEFORE;
 use crate::data::Dataset;
 use crate::workbench::compare::{Comparison, Quantity};
 use crate::workbench::features::{trends, FEATURES};
+use plotters::style::RGBColor;
 
 /// Plots per quantity.
 const PER_QUANTITY: usize = 2;
 
 pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<Result<String, String>> {
+    residual_plots_of(data, ("cases", cmp), None, PALETTE[1])
+}
+
+/// The residual plots of `(label, cmp)` in `color`, with `before`'s
+/// residuals beside them (grey, hollow) on the same features.
+pub fn residual_plots_of(
+    data: &Dataset,
+    (label, cmp): (&str, &Comparison),
+    before: Option<(&str, &Comparison)>,
+    color: RGBColor,
+) -> Vec<Result<String, String>> {
     let all = trends(data, cmp);
     [Quantity::U, Quantity::Omega]
         .into_iter()
@@ -24,33 +37,41 @@ pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<Result<String, St
                 .iter()
                 .find(|f| f.id == t.feature_id)
                 .ok_or_else(|| format!("unknown feature {}", t.feature_id))?;
-            let (pts, labels): (Vec<_>, Vec<_>) = data
-                .cases
-                .iter()
-                .zip(&cmp.cases)
-                .filter_map(|(c, k)| {
-                    let e = match t.quantity {
-                        Quantity::U => k.u_rel_err,
-                        Quantity::Omega => k.omega_rel_err,
-                    }?;
-                    Some(((f.of(c), 100.0 * e, 0.0), k.id.clone()))
-                })
-                .unzip();
+            let points = |cmp: &Comparison| -> (Vec<_>, Vec<_>) {
+                data.cases
+                    .iter()
+                    .zip(&cmp.cases)
+                    .filter_map(|(c, k)| {
+                        let e = match t.quantity {
+                            Quantity::U => k.u_rel_err,
+                            Quantity::Omega => k.omega_rel_err,
+                        }?;
+                        Some(((f.of(c), 100.0 * e, 0.0), k.id.clone()))
+                    })
+                    .unzip()
+            };
+            let (pts, labels) = points(cmp);
             let symbol = f.name.split(" = ").next().unwrap_or(f.name);
             let x_desc = match unit(f.unit) {
                 Some(u) => format!("{} ({u})", f.name),
                 None => f.name.to_string(),
             };
             let q = t.quantity.label();
-            let s = Series::measured(format!("cases (r = {:+.2})", t.r), PALETTE[1], pts)
-                .labels(labels);
+            let mut series = Vec::new();
+            if let Some((before_label, b)) = before {
+                let (pts, _) = points(b);
+                series.push(Series::model(before_label, BEFORE, pts));
+            }
+            series.push(
+                Series::measured(format!("{label} (r = {:+.2})", t.r), color, pts).labels(labels),
+            );
             Chart::new(
                 &format!("{q} error against {symbol}"),
                 &x_desc,
                 &format!("{q}: (predicted - measured)/measured (%)"),
             )
             .zero_line()
-            .render(&[s])
+            .render(&series)
         })
         .collect()
 }

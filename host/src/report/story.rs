@@ -9,6 +9,7 @@ use crate::data::Dataset;
 use crate::model::Model;
 use crate::workbench::audit::Audit;
 use crate::workbench::diagnose::Diagnosis;
+use crate::workbench::path::Path;
 
 /// The zero-parameter model of section 5, or why it was left out.
 pub enum ZeroParam<'a> {
@@ -21,20 +22,45 @@ pub struct StoryInput<'a> {
     pub data: &'a Dataset,
     /// The model `diagnose` starts from (the command's model options).
     pub start: &'a Model,
+    /// That model taken apart into its cumulative steps, computed once by
+    /// the workbench: the section on the model asked for renders it.
+    pub path: &'a Path,
+    /// The command that writes the page (`report`, `compare`).
+    pub command: &'a str,
     pub diagnosis: Option<&'a Diagnosis>,
     pub zero_param: ZeroParam<'a>,
     pub audit: Option<&'a Audit>,
 }
 
 /// Section ids and titles, for the contents and the headings.
-pub const SECTIONS: [(&str, &str); 6] = [
+pub const SECTIONS: [(&str, &str); 7] = [
     ("question", "1. The robot, the data and the question"),
     ("paper", "2. The paper's model and its Fig. 4"),
     ("fails", "3. Where the paper's model fails"),
-    ("path", "4. The path diagnose takes"),
-    ("physics", "5. The best model without a fitted parameter"),
-    ("remains", "6. What remains and what is suspected"),
+    ("yours", "4. The model asked for, step by step"),
+    ("path", "5. The path diagnose takes"),
+    ("physics", "6. The best model without a fitted parameter"),
+    ("remains", "7. What remains and what is suspected"),
 ];
+
+/// Whether `data` is the paper's own dataset (the page's wording then
+/// speaks of "its measurements").
+fn is_paper_data(data: &Dataset) -> bool {
+    let paper = crate::data::paper();
+    data.name == paper.name && data.cases.len() == paper.cases.len()
+}
+
+/// The page's title: the paper's data, or the dataset's own name.
+pub fn title(data: &Dataset) -> String {
+    if is_paper_data(data) {
+        "swimbot: the paper's model against its measurements, and what is missing".into()
+    } else {
+        format!(
+            "swimbot: models against the measurements of “{}”",
+            data.name
+        )
+    }
+}
 
 pub fn heading(i: usize) -> String {
     let (id, title) = SECTIONS[i];
@@ -46,10 +72,14 @@ pub fn page(s: &StoryInput) -> Result<String, crate::model::ModelError> {
     let paper = super::paper::PaperModels::new(s.data)?;
     let mut b = String::new();
     b.push_str(&format!(
-        "<h1>swimbot: the paper's model against its measurements, and what is missing</h1>\
-         <p class=\"note\">data: <code>{}</code> ({}); written by <code>swimbot report</code> {}.</p>",
+        "<h1>{}</h1>\
+         <p class=\"note\">data: <code>{}</code> ({}); model asked for: <code>{}</code>; \
+         written by <code>swimbot {}</code> {}.</p>",
+        escape(&title(s.data)),
         escape(&s.data.name),
         escape(&s.data.source),
+        escape(&s.path.last().spec),
+        escape(s.command),
         env!("CARGO_PKG_VERSION")
     ));
     b.push_str("<ol class=\"toc\">");
@@ -67,17 +97,19 @@ pub fn page(s: &StoryInput) -> Result<String, crate::model::ModelError> {
     b.push_str(&heading(2));
     b.push_str(&super::fails::section(s.data, &paper)?);
     b.push_str(&heading(3));
-    b.push_str(&super::path::section(s.start, s.data, s.diagnosis));
+    b.push_str(&super::yours::section(s.data, s.path));
     b.push_str(&heading(4));
+    b.push_str(&super::path::section(s.start, s.data, s.diagnosis));
+    b.push_str(&heading(5));
     b.push_str(&super::physics::section(
         s.data,
         &s.zero_param,
         &paper,
         s.diagnosis,
     )?);
-    b.push_str(&heading(5));
+    b.push_str(&heading(6));
     b.push_str(&super::remains::section(s.data, s.diagnosis, s.audit));
-    Ok(document("swimbot report", &b))
+    Ok(document(&title(s.data), &b))
 }
 
 #[cfg(test)]
@@ -96,9 +128,12 @@ mod tests {
         let cheap = Model::base().with_effect(EffectInstance::default_of(
             by_name("body-confinement").expect("a catalogue effect"),
         ));
+        let path = crate::workbench::path::user_path(&start, 0, &data).unwrap();
         let html = page(&StoryInput {
             data: &data,
             start: &start,
+            path: &path,
+            command: "report",
             diagnosis: None,
             zero_param: ZeroParam::Model {
                 name: "cheap zero-parameter model".into(),

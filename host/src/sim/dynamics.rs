@@ -1,7 +1,8 @@
 //! The whole robot in time: remote edges and the battery input -> the
 //! firmware's own main-loop pass (`swimbot_shared::MainLoop`, the code
-//! `firmware/src/run.rs` calls; the voltage-mode controller, or the rate
-//! controller of [`super::rate`] in its place) -> PWM drive (cycle average)
+//! `firmware/src/run.rs` calls: the chip's rate control fed the simulated
+//! Hall edges with `--rate-hz`, the host's voltage-mode controller in its
+//! place otherwise; [`super::rate`]) -> PWM drive (cycle average)
 //! -> motor -> the swimmer's hydrodynamics -> height in the channel; the
 //! cell discharges.
 //!
@@ -40,8 +41,9 @@ use crate::robot::MotorState;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use std::f64::consts::TAU;
+use swimbot_shared::rate::{RateEvent, SensorFault};
 use swimbot_shared::{
-    Controller, Event, MainLoop, MainLoopConfig, MotorState as State, StopReason,
+    Controller, Event, MainLoop, MainLoopConfig, MotorControl, MotorState as State, StopReason,
 };
 
 /// What to simulate beyond the robot and the script.
@@ -116,12 +118,15 @@ pub fn simulate_with(
     let board = MainLoopConfig {
         keys: robot.keys,
         battery: robot.battery,
-        controller: robot.controller,
         sample_period_us: robot.adc_period_us,
         ..MainLoopConfig::BOARD
     };
     let driver = Driver::new(Controller::new(robot.controller), rate);
-    let mut main_loop = MainLoop::with_controller(board, driver, false);
+    let mut main_loop = MainLoop::with_control(board, driver, false);
+    // The Hall edges of the last tick, queued for the next pass as the
+    // chip's interrupt queues them.
+    let mut hall_queue = Vec::new();
+    let mut rate_faults = Vec::new();
     // ADC noise only where asked for (rate runs): voltage-mode runs stay
     // exactly what they were.
     let adc_sd = rate.map_or(0.0, |r| r.noise.adc_noise_lsb.abs());
@@ -200,7 +205,14 @@ pub fn simulate_with(
                 None => counts,
             }
         };
-        let out = main_loop.pass(t_us, tick_edges, read_adc);
+        let out = main_loop.pass(t_us, tick_edges, hall_queue.drain(..), read_adc);
+        let t_s = t_us as f64 * 1e-6;
+        if let Some(f) = out.fault {
+            rate_faults.push((t_s, RateEvent::Fault(f)));
+        }
+        if out.refused_no_set_point {
+            rate_faults.push((t_s, RateEvent::NoSetPoint));
+        }
         if let Some(counts) = out.sample {
             battery_readings.push((t_us, counts));
         }
@@ -233,8 +245,8 @@ pub fn simulate_with(
             dt,
         );
         let w = s.speed_rad_s;
-        main_loop
-            .controller_mut()
+        hall_queue = main_loop
+            .control_mut()
             .turned(0.5 * (w_old + w) * dt, t_us, dt);
         charge_c = (charge_c - supply_a * dt).clamp(0.0, capacity_c);
         let vel = hydro.velocity(w);
@@ -273,8 +285,11 @@ pub fn simulate_with(
             rate_trace.push(RatePoint {
                 t_s: last.t_s,
                 set_hz: run.set_hz_at(t_us).unwrap_or(0.0),
-                reference_hz: main_loop.controller().reference_hz(),
-                measured_hz: main_loop.controller().measured_hz().unwrap_or(f64::NAN),
+                reference_hz: f64::from(out.reference_mhz) / 1e3,
+                measured_hz: main_loop
+                    .control()
+                    .rate_mhz()
+                    .map_or(f64::NAN, |r| f64::from(r) / 1e3),
                 motor_rate_hz: last.motor_rate_hz,
                 duty: d,
                 battery_v: v,
@@ -296,7 +311,7 @@ pub fn simulate_with(
             && next_edge == edges.len()
             && t_us > script_end_us + 2_000_000;
         if at_rest {
-            if let Some(f) = main_loop.controller().last_fault_after(last_stop_s) {
+            if let Some(f) = last_fault_after(&rate_faults, last_stop_s) {
                 break End::SensorFault(f);
             }
             break last_stop
@@ -330,8 +345,16 @@ pub fn simulate_with(
         mean_omega_b_hz: mean(sum_om),
         energy,
         ticks,
-        rate_faults: main_loop.controller().faults(),
+        rate_faults,
         rate_trace,
         battery_readings,
+    })
+}
+
+/// The last sensor fault, if it came after `after_s`.
+fn last_fault_after(faults: &[(f64, RateEvent)], after_s: f64) -> Option<SensorFault> {
+    faults.iter().rev().find_map(|&(t, e)| match e {
+        RateEvent::Fault(f) if t >= after_s => Some(f),
+        _ => None,
     })
 }

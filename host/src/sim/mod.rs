@@ -1,6 +1,7 @@
 //! `swimbot sim`: the whole robot in time. A robot description
 //! ([`robot`]) and a remote-control script ([`script`]) drive the
-//! firmware's own main-loop pass (`swimbot_shared::MainLoop`), the host's motor, PWM and cell models and
+//! firmware's own main-loop pass (`swimbot_shared::MainLoop`), the host's
+//! motor, PWM and cell models and
 //! the swimmer model (eq. 11 with the motor between body and tail,
 //! [`hydro`]) through [`dynamics`]; [`output`] writes the time series,
 //! plot and summary, and [`calibrate`] fits one motor to all observed tail

@@ -3,14 +3,14 @@
 //! loaded voltage the firmware converts in the middle of the PWM on-pulse
 //! (issue 25, items 4 and 5).
 
+use super::rate::Driver;
 use super::{default_robot, simulate, BatteryReading, Options, Outcome, Robot, Script};
-use swimbot_shared::{Event, MainLoop, MainLoopConfig, StopReason};
+use swimbot_shared::{Controller, Event, MainLoop, MainLoopConfig, StopReason};
 
 fn board(robot: &Robot) -> MainLoopConfig {
     MainLoopConfig {
         keys: robot.keys,
         battery: robot.battery,
-        controller: robot.controller,
         sample_period_us: robot.adc_period_us,
         ..MainLoopConfig::BOARD
     }
@@ -48,7 +48,9 @@ fn a_fresh_shared_pass_replays_the_sims_decisions() {
         o.events
     );
 
-    let mut pass = MainLoop::with_config(board(&robot), false);
+    // The voltage mode in the chip's pass, as the sim carries it.
+    let voltage = Driver::new(Controller::new(robot.controller), None);
+    let mut pass = MainLoop::with_control(board(&robot), voltage, false);
     let edges = script.edges(&robot.keys);
     let (mut next_edge, mut readings) = (0, o.battery_readings.iter().peekable());
     let mut events = Vec::new();
@@ -60,7 +62,7 @@ fn a_fresh_shared_pass_replays_the_sims_decisions() {
             next_edge += 1;
         }
         let tick_edges = edges[first..next_edge].iter().map(|&(l, t)| (l, t as u32));
-        let out = pass.pass(t_us, tick_edges, || match readings.next() {
+        let out = pass.pass(t_us, tick_edges, [], || match readings.next() {
             Some(&(t, counts)) if t == t_us => counts,
             other => panic!("the pass reads at {t_us} us, the sim read {other:?}"),
         });

@@ -91,6 +91,7 @@ impl Robot {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path)
             .map_err(|e| fail(&file, None, format!("cannot read the file: {e}")))?;
+        crate::provenance::record_input(path, text.as_bytes());
         Robot::from_toml(&text, &file)
     }
 

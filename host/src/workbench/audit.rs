@@ -17,7 +17,10 @@
 //!    of one case over another against the range the model family produces.
 //! 3. **Influence and outliers** ([`super::audit_influence`]): which single
 //!    case drives the best-supported effect or its fitted value; which case
-//!    no candidate fitted on the others can predict.
+//!    no candidate fitted on the others can predict; and a case that stands
+//!    alone under the model ([`super::robust`]: the others at the noise
+//!    floor without it, its residual beyond the Student-t threshold), judged
+//!    in measurement standard errors as `diagnose` judges it.
 //!
 //! Checks 2 and 3 use the measurements with the input uncertainty combined
 //! ([`super::propagate::with_input_uncertainty`]), so that a residual the
@@ -101,6 +104,33 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
     flags.extend(ratio_flags);
     let (influence, influence_flags) = super::audit_influence::influence(model, &combined);
     flags.extend(influence_flags);
+    // One case alone above the noise floor ([`super::robust`]), judged in
+    // measurement standard errors as `diagnose` judges it; an error when it
+    // stands alone with the inputs' uncertainty combined too, else a warning.
+    if let Some(l) = super::robust::lone_case(model, data, 0.95)? {
+        if !flags
+            .iter()
+            .any(|f| f.kind == "outlier" && f.case == l.case)
+        {
+            let also =
+                super::robust::lone_case(model, &combined, 0.95)?.is_some_and(|c| c.case == l.case);
+            let note = if also {
+                ""
+            } else {
+                " (in measurement standard errors; with the inputs' uncertainty combined it is within reach of the model)"
+            };
+            flags.push(Flag {
+                case: l.case.clone(),
+                kind: "outlier".into(),
+                detail: format!("{}: {}{note}", l.case, l.sentence()),
+                severity: if also {
+                    Severity::Error
+                } else {
+                    Severity::Warning
+                },
+            });
+        }
+    }
     Ok(Audit {
         dataset: data.name.clone(),
         model: model.describe(),

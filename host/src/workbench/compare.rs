@@ -122,12 +122,22 @@ pub fn case_residuals(case: &Case, p: &Prediction) -> Vec<(Quantity, Residual)> 
     out
 }
 
-/// Compare `model` with every case of `data`.
+/// Every free parameter `model` carries (the paper's Table III factors,
+/// a written law's coefficients): whoever set them fitted them to data.
+pub fn carried_free_params(model: &Model) -> usize {
+    model.effects.iter().map(|e| e.free_indices().len()).sum()
+}
+
+/// Compare `model` with every case of `data`. The reduced chi-square's
+/// degrees of freedom are `n - k` with `k` every free parameter the model
+/// carries ([`carried_free_params`]), or `free_params` when a caller
+/// counts more: one model reads the same in every command and on the page.
 pub fn compare(
     model: &Model,
     data: &Dataset,
     free_params: usize,
 ) -> Result<Comparison, ModelError> {
+    let free_params = free_params.max(carried_free_params(model));
     let mut cases = Vec::with_capacity(data.cases.len());
     let mut all = Vec::new();
     for case in &data.cases {

@@ -4,6 +4,9 @@
 //! wall, L_t/D_ch, f, the wire's shear rate, ...). A strong correlation
 //! points at the physics that depends on that feature; the located search
 //! ([`super::discovery`]) then tests laws in it at each place of the model.
+//! Recorded setup fields and their groups (viscosity, Reynolds number, ...)
+//! are in the library when they vary in the data and are not a monotone
+//! function of a feature already in it.
 
 use super::compare::{Comparison, Quantity};
 use crate::data::{Case, Dataset};
@@ -42,7 +45,7 @@ pub fn trends(data: &Dataset, cmp: &Comparison) -> Vec<Trend> {
         if pts.len() < 3 {
             continue;
         }
-        for f in FEATURES {
+        for (f, _) in super::discovery::search::usable_features(data) {
             let xs: Vec<f64> = pts.iter().map(|(c, _)| f.of(c)).collect();
             let ys: Vec<f64> = pts.iter().map(|(_, e)| *e).collect();
             if let Some((r, slope)) = pearson(&xs, &ys) {

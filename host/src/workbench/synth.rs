@@ -1,10 +1,17 @@
 //! Synthetic measurements from a chosen "truth" model: each case's true U
 //! and Omega_b get `trials` noisy repeats (relative Gaussian noise), which
 //! become a mean and a Student-t confidence interval, exactly as a lab
-//! would report them. Deterministic for a given seed.
+//! would report them. When the design declares input uncertainties, each
+//! case's *true* inputs are drawn from them first (the tail's own inputs
+//! case by case, the shared tube, oil and body once for all cases, as the
+//! uncertainty module's correlation convention says) and the truth model
+//! runs on those, while the dataset records the nominal inputs: what a lab
+//! measures is a robot that is not exactly the one written down.
+//! Deterministic for a given seed.
 
 use crate::data::limits::MIN_RELATIVE_CI;
-use crate::data::{Dataset, Measured};
+use crate::data::uncertainty::{field_value, scope_of, set_field, Scope};
+use crate::data::{Case, Dataset, Measured};
 use crate::model::{Model, ModelError};
 use crate::stats::mean_and_ci;
 use rand::rngs::StdRng;
@@ -21,6 +28,10 @@ pub struct SynthSettings {
     pub seed: u64,
     /// Confidence level of the reported intervals (the paper: 0.95).
     pub confidence: f64,
+    /// Draw the true inputs from the declared input uncertainties (false
+    /// here, for the studies whose designs borrow the paper's declared
+    /// uncertainties but mean exact inputs; `swimbot synth` sets it true).
+    pub draw_inputs: bool,
 }
 
 impl Default for SynthSettings {
@@ -30,6 +41,7 @@ impl Default for SynthSettings {
             trials: 5,
             seed: 1,
             confidence: 0.95,
+            draw_inputs: false,
         }
     }
 }
@@ -47,8 +59,20 @@ pub fn generate(truth: &Model, design: &Dataset, s: SynthSettings) -> Result<Dat
         s.seed
     );
     out.source = format!("swimbot synth from `{}`", design.name);
+    let declared = s.draw_inputs && out.cases.iter().any(|c| !c.inputs.is_empty());
+    if declared {
+        out.name
+            .push_str(", true inputs drawn from the declared input uncertainties");
+    }
+    // One standard-normal draw per shared input, for every case.
+    let mut shared: Vec<(&'static str, f64)> = Vec::new();
     for case in &mut out.cases {
-        let p = truth.predict(case)?;
+        let true_case = if declared {
+            true_inputs(case, &mut shared, &mut rng)
+        } else {
+            case.clone()
+        };
+        let p = truth.predict(&true_case)?;
         let mut draw = |truth_value: f64| {
             let trials: Vec<f64> = (0..s.trials.max(2))
                 .map(|_| truth_value * (1.0 + s.noise_rel * unit.sample(&mut rng)))
@@ -68,6 +92,38 @@ pub fn generate(truth: &Model, design: &Dataset, s: SynthSettings) -> Result<Dat
         case.omega_body_hz = Some(draw(p.omega_body_hz));
     }
     Ok(out)
+}
+
+/// `case` with its uncertain inputs drawn around the recorded values:
+/// per-case inputs independently, shared ones with the one draw `shared`
+/// holds for them (made on first use). A draw at or below zero (lengths,
+/// rates and viscosities are positive) is redrawn.
+fn true_inputs(case: &Case, shared: &mut Vec<(&'static str, f64)>, rng: &mut StdRng) -> Case {
+    let unit = Normal::new(0.0, 1.0).expect("unit normal");
+    let mut c = case.clone();
+    for (field, u) in case.inputs.nonzero(case) {
+        let x = field_value(case, field).unwrap_or(0.0);
+        let mut z = || unit.sample(rng);
+        let value = match scope_of(field) {
+            Scope::PerCase => (0..100).map(|_| x + u * z()).find(|v| *v > 0.0),
+            Scope::Shared => {
+                let k = match shared.iter().find(|(f, _)| *f == field) {
+                    Some((_, k)) => *k,
+                    None => {
+                        let k = (0..100)
+                            .map(|_| z())
+                            .find(|k| x + u * k > 0.0)
+                            .unwrap_or(0.0);
+                        shared.push((field, k));
+                        k
+                    }
+                };
+                Some(x + u * k).filter(|v| *v > 0.0)
+            }
+        };
+        set_field(&mut c, field, value.unwrap_or(x));
+    }
+    c
 }
 
 /// A case design for hidden-effect studies: each paper tail as built, in a
@@ -118,4 +174,85 @@ pub fn rich_design(paper: &Dataset) -> Dataset {
         out.cases.push(long);
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::preset;
+
+    fn exact(draw_inputs: bool, seed: u64) -> SynthSettings {
+        SynthSettings {
+            noise_rel: 0.0,
+            seed,
+            draw_inputs,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn declared_input_uncertainties_move_the_truth_but_not_the_record() {
+        let design = crate::data::paper();
+        let truth = preset("paper").unwrap();
+        let nominal = generate(&truth, &design, exact(false, 7)).unwrap();
+        let drawn = generate(&truth, &design, exact(true, 7)).unwrap();
+        let bands = super::super::propagate::bands(&truth, &design).unwrap();
+        let mut moved = 0;
+        for ((n, d), (c, b)) in nominal
+            .cases
+            .iter()
+            .zip(&drawn.cases)
+            .zip(design.cases.iter().zip(&bands))
+        {
+            // the file records the nominal inputs
+            assert_eq!(d.wavelength_mm, c.wavelength_mm);
+            assert_eq!(d.frequency_hz, c.frequency_hz);
+            // without drawing, the truth on the recorded inputs
+            let p = truth.predict(c).unwrap();
+            assert!((n.u_mm_s.unwrap().mean - p.u_mm_s).abs() <= 1e-12 * p.u_mm_s.abs());
+            // with it, a different robot, by about the propagated band
+            let du = d.u_mm_s.unwrap().mean - p.u_mm_s;
+            assert!(
+                du.abs() < 5.0 * b.u_sd_mm_s,
+                "{}: {du} against {}",
+                c.id,
+                b.u_sd_mm_s
+            );
+            moved += (du.abs() > 0.05 * b.u_sd_mm_s) as usize;
+        }
+        assert!(moved >= 3, "only {moved} cases moved");
+        // seeded: the same seed the same robot, another seed another
+        let again = generate(&truth, &design, exact(true, 7)).unwrap();
+        let other = generate(&truth, &design, exact(true, 8)).unwrap();
+        let u = |d: &Dataset| {
+            d.cases
+                .iter()
+                .map(|c| c.u_mm_s.unwrap().mean)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(u(&again), u(&drawn));
+        assert_ne!(u(&other), u(&drawn));
+        assert!(drawn
+            .name
+            .contains("drawn from the declared input uncertainties"));
+    }
+
+    #[test]
+    fn without_declared_uncertainties_nothing_is_drawn() {
+        let mut design = crate::data::paper();
+        for c in &mut design.cases {
+            c.inputs.uncertainties.clear();
+        }
+        let truth = preset("paper").unwrap();
+        let a = generate(&truth, &design, exact(true, 3)).unwrap();
+        let b = generate(&truth, &design, exact(false, 3)).unwrap();
+        let u = |d: &Dataset| {
+            d.cases
+                .iter()
+                .map(|c| c.u_mm_s.unwrap().mean)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(u(&a), u(&b));
+        assert!(!a.name.contains("drawn"));
+    }
 }

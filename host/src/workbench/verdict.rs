@@ -24,7 +24,7 @@
 //! Reference: Burnham & Anderson (2002), sec. 2.6 (AICc differences).
 
 use super::design::best_discriminating_case;
-use super::diagnose::{Baseline, Candidate, DiagnoseSettings, Remainder, Verdict, VerdictKind};
+use super::diagnosis::{Baseline, Candidate, DiagnoseSettings, Remainder, Verdict, VerdictKind};
 use super::discovery::{discover, explained_fraction, Discovery, Located, Reference};
 use super::fit::FitError;
 use crate::data::Dataset;
@@ -32,22 +32,7 @@ use crate::data::Dataset;
 /// Share of the excess a partial finding must remove to be shown.
 const PARTIAL: f64 = 0.5;
 
-/// A reduced chi-square in a note: 3 significant figures (`crate::format`).
-fn fmt(x: Option<f64>) -> String {
-    x.map(|v| crate::format::fmt_sig(v, 3))
-        .unwrap_or_else(|| "n/a".into())
-}
-
-fn frac(x: Option<f64>) -> String {
-    x.map(|v| {
-        if v > 0.99 && v < 1.0 {
-            format!("{:.2} %", 100.0 * v)
-        } else {
-            format!("{:.0} %", 100.0 * v)
-        }
-    })
-    .unwrap_or_else(|| "n/a".into())
-}
+use super::verdict_text::{fmt, frac, hint};
 
 /// The finding to report from a discovery: among supported corrections
 /// within the AICc margin of the best at the best's place, the one with the
@@ -96,9 +81,11 @@ fn supported(l: &Located, base: &Baseline, searched: usize, data: &Dataset) -> b
     let k = l.params.len() as f64;
     let approximate =
         l.explained_fraction.is_some_and(|f| f >= 0.95) && l.cv_mare <= noise_mare(data);
+    let cost = 2.0 * k + 2.0 * (searched.max(1) as f64).ln();
     (l.at_noise_floor || approximate)
         && l.cv_mare < base.mare
-        && base.chi2 - l.chi2 >= 2.0 * k + 2.0 * (searched.max(1) as f64).ln()
+        && base.chi2 - l.chi2 >= cost
+        && base.t_deviance - l.t_deviance >= cost
 }
 
 fn partial(l: &Located, base: &Baseline) -> bool {
@@ -192,7 +179,7 @@ fn rivals<'a>(
     out
 }
 
-fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
+pub(crate) fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
     Verdict {
         effect: None,
         explained: !matches!(kind, VerdictKind::Unexplained),
@@ -202,6 +189,7 @@ fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
         suggestion: None,
         effect_explained_fraction: None,
         located: Vec::new(),
+        steps: Vec::new(),
     }
 }
 
@@ -237,10 +225,7 @@ fn finding(
         let mut names = vec![best.describe()];
         names.extend(rivals.iter().map(|r| r.describe()));
         let suggestion = best_discriminating_case(data, &best.model, &rivals[0].model);
-        let hint = suggestion
-            .as_ref()
-            .map(|g| format!("; to tell them apart, measure {} with {} ({} differs by {:.0} %, about {:.0} standard errors)", g.base_case, g.change, g.quantity, 100.0 * g.rel_difference, g.in_sigma))
-            .unwrap_or_default();
+        let hint = suggestion.as_ref().map(hint).unwrap_or_default();
         let mut v = verdict_of(
             VerdictKind::Indistinguishable,
             format!(
@@ -481,10 +466,7 @@ fn unexplained(
                 s.clear_margin
             ));
             if let Some(g) = &g {
-                v.note.push_str(&format!(
-                    "; to tell them apart, measure {} with {} ({} differs by {:.0} %, about {:.0} standard errors)",
-                    g.base_case, g.change, g.quantity, 100.0 * g.rel_difference, g.in_sigma
-                ));
+                v.note.push_str(&hint(g));
             }
             v.suggestion = g;
         }
@@ -508,6 +490,7 @@ fn catalogue_verdict(
         .filter(|c| {
             c.effect != best.effect
                 && c.at_noise_floor
+                && c.cv_mare < base.mare
                 && c.aicc.unwrap_or(f64::INFINITY) - best_aicc < s.clear_margin
         })
         .collect();
@@ -532,7 +515,9 @@ fn catalogue_verdict(
         v.effect_explained_fraction = fraction;
         return v;
     }
-    if rivals.is_empty() {
+    // A variant that does not beat the baseline out of sample is never
+    // reported, whatever its rivals.
+    if !cv_falls {
         return verdict_of(
             VerdictKind::NoneNeeded,
             format!(
@@ -550,19 +535,8 @@ fn catalogue_verdict(
         .and_then(|r| best_discriminating_case(data, &best.model, &r.model));
     let mut names: Vec<String> = vec![best.effect.clone()];
     names.extend(rivals.iter().map(|r| r.effect.clone()));
-    let why = if !cv_falls {
-        format!(
-            "its cross-validated MARE {:.1} % does not beat the baseline's {:.1} %",
-            100.0 * best.cv_mare,
-            100.0 * base.mare
-        )
-    } else {
-        format!("they fit equally well (AICc within {})", s.clear_margin)
-    };
-    let hint = suggestion
-        .as_ref()
-        .map(|g| format!("; to tell them apart, measure {} with {} ({} differs by {:.0} %, about {:.0} standard errors)", g.base_case, g.change, g.quantity, 100.0 * g.rel_difference, g.in_sigma))
-        .unwrap_or_default();
+    let why = format!("they fit equally well (AICc within {})", s.clear_margin);
+    let hint = suggestion.as_ref().map(hint).unwrap_or_default();
     let mut v = verdict_of(
         VerdictKind::Indistinguishable,
         format!(

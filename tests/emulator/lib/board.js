@@ -3,13 +3,18 @@
 // drives the IR receiver pin, feeds the battery ADC input from a cell model
 // loaded by the motor pin the firmware drives, records the motor pin with
 // simulation timestamps, models the watchdog reset, and counts the CPU
-// cycles spent in the GPIO (IO_IRQ_BANK0) interrupt.
+// cycles spent in the GPIO (IO_IRQ_BANK0) interrupt. The motor turns the
+// tail and the Hall latches (lib/rotor.js): every millisecond the mean
+// motor voltage (duty x the loaded cell) sets the rate, and the latches'
+// edges are scheduled at their crossing times, so the rate loop is closed
+// through the chip's own PWM, interrupt and controller.
 //
 // Board facts (pins, divider, reference, timings) come from the image
 // itself (lib/facts.js: the firmware's SWIMBOT_BOARD, from shared/src/board.rs).
 import { readFileSync } from 'node:fs';
 import { BasePeripheral, GPIOPinState, RP2040 } from 'rp2040js';
 import { Cell } from './cell.js';
+import { Rotor } from './rotor.js';
 import { loadFlash, objectBytes, readElf, symbolize } from './elf.js';
 import { boardFacts } from './facts.js';
 
@@ -31,6 +36,7 @@ const VREG_AND_CHIP_RESET_BASE = 0x40064000;
 
 export const MS = 1e6; // nanoseconds
 export const US = 1e3;
+const ROTOR_STEP_NS = 1e6;
 
 /** ADC code (12 bit) for a battery voltage through the board's divider and reference. */
 export function adcCodeForBattery(facts, volts) {
@@ -78,7 +84,43 @@ export class Board {
     this.cell = new Cell(4.0);
     this.watchdogFired = false;
     this.logger = new QuietLogger();
+    this.rotor = new Rotor(4 * this.facts.hallPolePairs);
+    this.rateTrace = []; // { t, hz, v } one per rotor step
+    this.hallLevels = [true, true];
+    this.hallEdgeCount = 0;
     this.powerOn('power-on');
+    this.at(ROTOR_STEP_NS, () => this.stepRotor());
+  }
+
+  /** One rotor step: the rate from the last millisecond's drive, the Hall edges of the next. */
+  stepRotor() {
+    const t = this.nowNs;
+    const v = this.dutyIn(t - ROTOR_STEP_NS, t) * this.cell.loadedV;
+    const crossings = this.rotor.advance(v, ROTOR_STEP_NS);
+    this.rateTrace.push({ t, hz: this.rotor.rateHz, v });
+    for (const c of crossings) this.at(t + c.dtNs, () => this.setHall(c.a, c.b));
+    this.at(t + ROTOR_STEP_NS, () => this.stepRotor());
+  }
+
+  get hallPowered() {
+    return this.mcu.gpio[this.facts.hallPowerGpio].value === GPIOPinState.High;
+  }
+
+  setHall(a, b) {
+    const f = this.facts;
+    const [la, lb] = this.hallPowered ? [a, b] : [true, true];
+    for (const [gpio, level, i] of [[f.hallAGpio, la, 0], [f.hallBGpio, lb, 1]]) {
+      if (this.hallLevels[i] === level) continue;
+      this.hallLevels[i] = level;
+      this.hallEdgeCount++;
+      this.mcu.gpio[gpio].setInputValue(level);
+    }
+  }
+
+  /** Mean rotor rate (Hz) over [t0, t1). */
+  rateIn(t0, t1) {
+    const r = this.rateTrace.filter((x) => x.t >= t0 && x.t < t1);
+    return r.reduce((s, x) => s + x.hz, 0) / Math.max(1, r.length);
   }
 
   get nowNs() {
@@ -136,6 +178,10 @@ export class Board {
     this.recordMotor(mcu.gpio[f.motorGpio].value);
     mcu.gpio[f.motorGpio].addListener((state) => this.recordMotor(state));
     mcu.gpio[f.irGpio].setInputValue(this.irLevel);
+    if (this.hallLevels) {
+      mcu.gpio[f.hallAGpio].setInputValue(this.hallLevels[0]);
+      mcu.gpio[f.hallBGpio].setInputValue(this.hallLevels[1]);
+    }
     // Sample-and-hold at the start of each conversion: the cell's terminal
     // voltage at that instant, from the motor pin's present level.
     mcu.adc.onADCRead = (channel) => {

@@ -11,11 +11,20 @@ export const PWM_FREQ_HZ = 25_000;
 export const PWM_FREQ_TOL = 0.01; // +-1 %
 export const PWM_MIN_COUNTS = 1024; // >= 10-bit duty resolution: TOP + 1 >= 1024
 
-export const MOTOR_TARGET_V = 3.0; // "about 3.0 V": duty = 3.0 V / V_bat (loaded)
+export const DEFAULT_RATE_HZ = 1.0; // the set-point after power-up
+export const HALL_EDGES_PER_TURN = 16; // two latches in quadrature, 8-pole ring
+// Under rate control the motor's voltage is what holds the set-point: the
+// rotor's line (lib/rotor.js) at the set-point, +-5 % once learned.
 export const MOTOR_TARGET_TOL = 0.05; // +-5 % on the average motor voltage
+// "The motor runs": a duty clearly above zero. The rate controller's first
+// duty after the soft start, on the lightest load's line before it has
+// measured a rate, is about 23 % at 4.0 V (2-on); learned, about 64 %.
+export const RUNNING_DUTY = 0.1;
 export const SOFT_START_NS = 250 * MS;
 export const SOFT_START_TOL = 0.1; // +-10 %
 
+export const ON_LATENCY_NS = 1 * MS; // issue 26.3: end of the On frame to the first PWM edge
+export const ASLEEP_RUNNING_MIN = 0.95; // issue 26.3: the core >= 95 % asleep with the motor running
 export const OFF_DEADLINE_NS = 1 * MS; // duty 0 within 1 ms of the end of the Off frame
 
 export const CUTOFF_V = 3.3; // low-battery cut-off, under load

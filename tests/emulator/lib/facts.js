@@ -25,6 +25,18 @@ const NAMES = {
   MOTM: 'targetMotorMv',
   RAMP: 'rampUs',
   DORM: 'dormantAfterMs',
+  HALA: 'hallAGpio',
+  HALB: 'hallBGpio',
+  HALP: 'hallPowerGpio',
+  POLE: 'hallPolePairs',
+  RATE: 'defaultRateMhz',
+  STAL: 'stallMs',
+  LNV0: 'lineInterceptMv',
+  LNSL: 'lineSlopeMvPerHz',
+  'KP1 ': 'necCmdPreset1',
+  'KP5 ': 'necCmdPreset5',
+  'KUP ': 'necCmdFaster',
+  'KDN ': 'necCmdSlower',
 };
 
 const tagText = (w) => String.fromCharCode((w >>> 24) & 0xff, (w >>> 16) & 0xff, (w >>> 8) & 0xff, w & 0xff);

@@ -3,7 +3,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS, US } from '../lib/board.js';
-import { CUTOFF_DEBOUNCE_NS, CUTOFF_V, MOTOR_TARGET_V, PWM_FREQ_HZ, SOFT_START_NS, WATCHDOG_MAX_NS, WATCHDOG_MIN_NS, perf } from '../lib/contract.js';
+import { CUTOFF_DEBOUNCE_NS, CUTOFF_V, DEFAULT_RATE_HZ, HALL_EDGES_PER_TURN, PWM_FREQ_HZ, SOFT_START_NS, WATCHDOG_MAX_NS, WATCHDOG_MIN_NS, perf } from '../lib/contract.js';
 import { boardWith, manifest } from '../lib/images.js';
 
 test('reset: motor pin low within the first ms, no PWM', () => {
@@ -13,8 +13,8 @@ test('reset: motor pin low within the first ms, no PWM', () => {
   const f = b.facts;
   // The image's board facts (shared/src/board.rs) meet the contract.
   assert.deepEqual(
-    [f.motorGpio, f.irGpio, f.pwmFreqHz, f.targetMotorMv, f.rampUs * 1e3, f.cutoffMv, f.cutoffDebounceUs * 1e3],
-    [16, 15, PWM_FREQ_HZ, MOTOR_TARGET_V * 1e3, SOFT_START_NS, CUTOFF_V * 1e3, CUTOFF_DEBOUNCE_NS],
+    [f.motorGpio, f.irGpio, f.hallAGpio, f.hallBGpio, f.hallPowerGpio, 4 * f.hallPolePairs, f.pwmFreqHz, f.defaultRateMhz, f.rampUs * 1e3, f.cutoffMv, f.cutoffDebounceUs * 1e3],
+    [16, 15, 13, 14, 12, HALL_EDGES_PER_TURN, PWM_FREQ_HZ, DEFAULT_RATE_HZ * 1e3, SOFT_START_NS, CUTOFF_V * 1e3, CUTOFF_DEBOUNCE_NS],
   );
   assert.ok(f.watchdogMs * MS >= WATCHDOG_MIN_NS && f.watchdogMs * MS <= WATCHDOG_MAX_NS, `watchdog ${f.watchdogMs} ms`);
   const pin = b.mcu.gpio[f.motorGpio];

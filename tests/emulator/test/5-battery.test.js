@@ -7,7 +7,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS } from '../lib/board.js';
-import { CUTOFF_DEBOUNCE_NS, perf } from '../lib/contract.js';
+import { CUTOFF_DEBOUNCE_NS, RUNNING_DUTY, perf } from '../lib/contract.js';
 import { boardWith } from '../lib/images.js';
 import { dutyBins, ms, pct, sendOn } from '../lib/steps.js';
 
@@ -21,7 +21,7 @@ test('low battery: debounced cut-off, latched', async (t) => {
   b.runUntil(20 * MS);
   const on = sendOn(b, 20 * MS);
   b.runUntil(on.end + 400 * MS);
-  assert.ok(b.dutyIn(on.end + 350 * MS, on.end + 400 * MS) > 0.5, 'motor not running at 3.8 V');
+  assert.ok(b.dutyIn(on.end + 350 * MS, on.end + 400 * MS) > RUNNING_DUTY, 'motor not running at 3.8 V');
 
   await t.test('a 300 ms dip below the cut-off does not stop the motor', () => {
     const tDip = b.nowNs;
@@ -30,7 +30,7 @@ test('low battery: debounced cut-off, latched', async (t) => {
     b.setBattery(OK_V);
     b.runUntil(tDip + 1500 * MS);
     for (const bin of dutyBins(b, tDip, b.nowNs, 10 * MS)) {
-      assert.ok(bin.duty > 0.5, `duty ${pct(bin.duty)} ${ms(bin.t - tDip)} after a 300 ms dip`);
+      assert.ok(bin.duty > RUNNING_DUTY, `duty ${pct(bin.duty)} ${ms(bin.t - tDip)} after a 300 ms dip`);
     }
   });
 
@@ -40,7 +40,7 @@ test('low battery: debounced cut-off, latched', async (t) => {
 
   await t.test('below the cut-off for longer than the debounce: motor stops', () => {
     const stillOn = b.dutyIn(tLow + 400 * MS, tLow + 500 * MS);
-    assert.ok(stillOn > 0.5, `motor stopped within 0.5 s of the low reading (duty ${pct(stillOn)}): no debounce`);
+    assert.ok(stillOn > RUNNING_DUTY, `motor stopped within 0.5 s of the low reading (duty ${pct(stillOn)}): no debounce`);
     const last = b.motorEdgesIn(tLow, tLow + 2000 * MS).pop();
     assert.ok(last, 'no motor edges at all after the drop');
     perf('low-battery cut-off: reading below 3.3 V to motor stopped', ((last.t - tLow) / MS).toFixed(1), 'ms');
@@ -81,5 +81,5 @@ test('a power-on forgets the cut-off: the same cell starts', () => {
   const on = sendOn(b, b.nowNs);
   b.runUntil(on.end + 400 * MS);
   const d = b.dutyIn(on.end + 300 * MS, on.end + 400 * MS);
-  assert.ok(d > 0.5, `motor not running at ${RECOVERED_V} V after a power-on (duty ${pct(d)})`);
+  assert.ok(d > RUNNING_DUTY, `motor not running at ${RECOVERED_V} V after a power-on (duty ${pct(d)})`);
 });

@@ -6,7 +6,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS, US } from '../lib/board.js';
-import { FAILSAFE_DEADLINE_NS, perf } from '../lib/contract.js';
+import { ASLEEP_RUNNING_MIN, FAILSAFE_DEADLINE_NS, RUNNING_DUTY, perf } from '../lib/contract.js';
 import { boardWith } from '../lib/images.js';
 import { ms, pct, sendOn } from '../lib/steps.js';
 
@@ -21,14 +21,14 @@ test('normal image: watchdog enabled, not paused by a debugger, fed, never trips
   assert.equal(ctrl & PAUSE_BITS, 0, `watchdog CTRL 0x${ctrl.toString(16)}: paused while a debugger halts the core`);
   const on = sendOn(b, 20 * MS);
   b.runUntil(2000 * MS);
-  assert.ok(b.dutyIn(on.end + 300 * MS, 2000 * MS) > 0.5, 'motor not running');
+  assert.ok(b.dutyIn(on.end + 300 * MS, 2000 * MS) > RUNNING_DUTY, 'motor not running');
   assert.deepEqual(b.resets.map((r) => r.reason), ['power-on'], 'the normal image was reset');
   // Between passes the core sleeps (WFI) until an IR edge or the 1 kHz
   // wake-up alarm: a pass is a few microseconds, so it is asleep almost
   // always, and the watchdog above was still fed by every pass.
   const asleep = b.asleepIn(on.end + 300 * MS, 2000 * MS);
   perf('core asleep between passes, motor running', pct(asleep), '');
-  assert.ok(asleep > 0.9, `core asleep only ${pct(asleep)} of the time: the main loop is not sleeping between passes`);
+  assert.ok(asleep >= ASLEEP_RUNNING_MIN, `core asleep only ${pct(asleep)} of the time: the main loop is not sleeping between passes`);
 });
 
 /** Boots the fault-test image, runs the motor, throws `mode` at `tFault`; returns the board and the reset. */
@@ -39,7 +39,7 @@ function faultAt(mode, tFault) {
   const on = sendOn(b, 20 * MS);
   b.runUntil(tFault);
   const before = b.dutyIn(on.end + 300 * MS, tFault);
-  assert.ok(before > 0.5, `motor not running before the fault (duty ${pct(before)})`);
+  assert.ok(before > RUNNING_DUTY, `motor not running before the fault (duty ${pct(before)})`);
   b.poke('SWIMBOT_FAULT_TEST', mode);
   let reset;
   while (!reset && b.nowNs < tFault + 1000 * MS) {

@@ -5,7 +5,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS } from '../lib/board.js';
-import { perf } from '../lib/contract.js';
+import { RUNNING_DUTY, perf } from '../lib/contract.js';
 import { boardWith } from '../lib/images.js';
 import { ms, pct, sendOn } from '../lib/steps.js';
 
@@ -42,14 +42,14 @@ test('sleep gates the unneeded clocks; DORMANT after a long idle, woken by IR', 
   assert.ok(!b.dormant, 'the IR frame did not wake the chip');
   b.runUntil(on.end + 400 * MS);
   let frames = 1;
-  if (b.dutyIn(on.end + 300 * MS, on.end + 400 * MS) < 0.5) {
+  if (b.dutyIn(on.end + 300 * MS, on.end + 400 * MS) < RUNNING_DUTY) {
     on = sendOn(b, b.nowNs);
     b.runUntil(on.end + 400 * MS);
     frames = 2;
   }
   perf('On frames needed after DORMANT', frames, '');
   const duty = b.dutyIn(on.end + 300 * MS, on.end + 400 * MS);
-  assert.ok(duty > 0.5, `motor not running after waking from DORMANT (duty ${pct(duty)})`);
+  assert.ok(duty > RUNNING_DUTY, `motor not running after waking from DORMANT (duty ${pct(duty)})`);
   const f = b.pwmFreqIn(on.end + 300 * MS, on.end + 400 * MS);
   assert.ok(Math.abs(f.hz / b.facts.pwmFreqHz - 1) < 0.01, `PWM at ${f.hz.toFixed(0)} Hz after the wake: clock tree not restored`);
 });

@@ -18,7 +18,8 @@
 //! the angle (at least three nodes per wall point of a ring, exponentially
 //! accurate for the periodic integrand).
 
-use super::mfs::{Solution, Wall};
+use super::mfs::Solution;
+use super::wall::Wall;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
@@ -40,11 +41,14 @@ pub struct Diagnostics {
     pub wall_slip_at_x_r_m: [f64; 2],
     /// Reference radius of the rotation speeds (m).
     pub rotation_ref_radius_m: f64,
-    /// Points (3 unknowns each) of the dense solve, and on the wall.
+    /// Points (3 unknowns each) of the solve, and on the wall.
     pub n_points: usize,
     pub n_wall_points: usize,
-    /// Peak memory of the dense solve (bytes).
+    /// Peak memory of the solve, estimated before it (bytes).
     pub peak_bytes: usize,
+    /// Wall-clock time of the solve and of these diagnostics (s).
+    pub solve_seconds: f64,
+    pub diagnostics_seconds: f64,
 }
 
 impl Diagnostics {
@@ -126,7 +130,8 @@ pub fn diagnose(
     sections_x_m: &[f64],
     rotation_ref_radius_m: f64,
 ) -> Diagnostics {
-    let wall = sol.wall;
+    let t0 = std::time::Instant::now();
+    let wall = sol.system.wall;
     let (ct, cr) = (6 * q, 6 * q + 3);
     let piston = PI * wall.radius_m * wall.radius_m;
     let rot_speed = rotation_ref_radius_m;
@@ -147,7 +152,7 @@ pub fn diagnose(
         .unwrap_or(0);
     let p = pts.get(worst).copied().unwrap_or_default();
     let max_speed = |c: usize| u.iter().fold(0.0_f64, |m, u| m.max(u[c].norm()));
-    let n_points = *sol.starts.last().unwrap();
+    let n_points = sol.system.len();
     Diagnostics {
         sections_x_m: sections_x_m.to_vec(),
         flux_over_piston_translation: flux_t,
@@ -158,6 +163,8 @@ pub fn diagnose(
         rotation_ref_radius_m,
         n_points,
         n_wall_points: wall.len(),
-        peak_bytes: super::mfs::peak_bytes(n_points),
+        peak_bytes: sol.peak_bytes,
+        solve_seconds: sol.seconds,
+        diagnostics_seconds: t0.elapsed().as_secs_f64(),
     }
 }

@@ -10,7 +10,7 @@
 //! piston flux for the paper's tails (MFS: below 1 %) where it must vanish
 //! (`docs/notes/tail-tube.md`).
 //!
-//! # Method: the method of fundamental solutions (MFS), [`mfs`]
+//! # Method: the method of fundamental solutions (MFS), [`wall`], [`mfs`]
 //! Singular Stokeslets outside the fluid, one per wall collocation point,
 //! pushed out along the normal by `source_offset_over_spacing` times the
 //! wall spacing; zero velocity collocated on the cylinder and on flat end
@@ -19,9 +19,19 @@
 //! of `super::mrs_line` (validated in free space), the sphere and body the
 //! surfaces of `super::surface`. Chosen over the Liron & Shahar (1978) pipe
 //! Green's function because it treats the closed ends, the open tube and
-//! several bodies alike and reuses the dense LU of `super::linalg`; chosen
-//! over a boundary-element wall because the tube is smooth and far (several
-//! wire spacings) from the tail, where MFS converges exponentially.
+//! several bodies alike; chosen over a boundary-element wall because the
+//! tube is smooth and far (several wire spacings) from the tail, where MFS
+//! converges exponentially.
+//!
+//! # Solver: the wall's rotational symmetry, [`rings`]
+//! Every ring of wall points has the same number of equal stations, so in
+//! each point's cylindrical frame the wall-wall matrix is block-circulant:
+//! a discrete Fourier transform in the station index splits it into
+//! independent small systems, one per azimuthal mode, and the moving
+//! objects are coupled through a dense Schur complement. The forces equal
+//! the dense LU's ([`mfs::solve_dense`], kept as the reference) to
+//! round-off; memory and time are known from the counts before anything
+//! is built ([`budget`]).
 //!
 //! # Diagnostics, [`diagnostics`]
 //! Net flux through cross-sections and the wall velocity between
@@ -35,94 +45,24 @@
 //! Young et al., J. Comput. Phys. 211 (2006) 1; Haberman & Sayre, David
 //! Taylor Model Basin Report 1143 (1958); Liron & Shahar, J. Fluid Mech. 86
 //! (1978) 727.
+pub mod budget;
 pub mod diagnostics;
 pub mod mfs;
+pub mod rings;
+pub mod settings;
+pub mod wall;
 
 use super::confined::RobotResistance;
 use super::curve::{Centreline, Segments};
 use super::mrs_line::LineSources;
 use super::robot::{Object, Surface};
-use super::{surface, validate_helix, NonlocalError, NonlocalSettings, TailMethod};
+use super::{surface, validate_helix, NonlocalError, NonlocalSettings};
 use crate::physics::geometry::{Body, Channel, Helix};
 pub use diagnostics::Diagnostics;
-use mfs::Wall;
 use nalgebra::Matrix6;
-
-/// Which wall.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum WallModel {
-    /// Leak-free: singular Stokeslets outside the wall (MFS).
-    Mfs,
-    /// The old wall: regularized Stokeslets on it, blob
-    /// `tail.surface_blob_over_spacing` times the spacing. For contrast only.
-    Leaky,
-}
-
-/// Default peak memory of one dense solve: 4 GB (matrix and LU copy),
-/// `3N` up to about 16 000 unknowns. The machine has 24 GB shared by
-/// several processes; a larger solve would also take minutes.
-pub const DEFAULT_MAX_PEAK_BYTES: usize = 4_000_000_000;
-
-/// Resolution of the tube solve.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TubeSettings {
-    /// Tail and body discretisation (the `wall_*` fields are not read).
-    pub tail: NonlocalSettings,
-    pub wall: WallModel,
-    /// Distance between wall collocation points (m).
-    pub wall_spacing_m: f64,
-    /// MFS source distance outside the wall over the wall spacing.
-    pub source_offset_over_spacing: f64,
-    /// Caps (closed) or open ends this many tube radii beyond the object.
-    pub cap_margin_over_radius: f64,
-    /// Refuse a dense solve whose peak memory exceeds this (bytes).
-    pub max_peak_bytes: usize,
-}
-
-impl Default for TubeSettings {
-    /// Measured on two-turn tail #6 in the closed 35 mm tube: the axial
-    /// entries at 3 mm are within 0.03 % of 2.5 mm, within 0.15 % of
-    /// sources 2 spacings out, within 0.1 % of caps 1 and 2 radii away, net
-    /// flux 0.08 % of the piston flux; offsets of 0.35-1 spacing leak (21 %
-    /// to 1.3 %), and 4.5 mm walls can excite spurious cap modes
-    /// (`docs/notes/tail-tube.md`).
-    fn default() -> Self {
-        TubeSettings {
-            tail: NonlocalSettings::default(),
-            wall: WallModel::Mfs,
-            wall_spacing_m: 3.0e-3,
-            source_offset_over_spacing: 1.5,
-            cap_margin_over_radius: 1.5,
-            max_peak_bytes: DEFAULT_MAX_PEAK_BYTES,
-        }
-    }
-}
-
-impl TubeSettings {
-    fn validate(&self) -> Result<(), NonlocalError> {
-        self.tail.validate()?;
-        if self.tail.method != TailMethod::RegularizedStokeslets {
-            return Err(NonlocalError::Settings(
-                "the tube solver represents the tail by regularized Stokeslets only".into(),
-            ));
-        }
-        for (name, v) in [
-            ("wall_spacing_m", self.wall_spacing_m),
-            (
-                "source_offset_over_spacing",
-                self.source_offset_over_spacing,
-            ),
-            ("cap_margin_over_radius", self.cap_margin_over_radius),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(NonlocalError::Settings(format!(
-                    "{name} must be positive and finite, got {v}"
-                )));
-            }
-        }
-        Ok(())
-    }
-}
+pub use settings::{TubeSettings, WallModel, WallSolver, DEFAULT_MAX_PEAK_BYTES};
+pub use wall::CapLayout;
+use wall::Wall;
 
 /// A resistance matrix with the leak diagnostics of its solve.
 #[derive(Debug, Clone, PartialEq)]
@@ -141,16 +81,17 @@ fn check_mu(mu: f64) -> Result<(), NonlocalError> {
     }
 }
 
-/// The wall around objects spanning `[x_min, x_max]` and reaching
-/// `radial_m` from the axis. Caps `margin` beyond the objects, nearer if
-/// the channel is shorter (the objects then sit in its middle).
-fn wall_for(
+/// Radius and axial extent `(R, x0, x1)` of the wall around objects
+/// spanning `[x_min, x_max]` and reaching `radial_m` from the axis. Caps
+/// `margin` beyond the objects, nearer if the channel is shorter (the
+/// objects then sit in its middle).
+fn wall_extent(
     channel: &Channel,
     x_min: f64,
     x_max: f64,
     radial_m: f64,
     s: &TubeSettings,
-) -> Result<Wall, NonlocalError> {
+) -> Result<(f64, f64, f64), NonlocalError> {
     let r = channel.radius_m();
     if !(r.is_finite() && r > 0.0) {
         return Err(NonlocalError::Geometry(format!(
@@ -193,25 +134,47 @@ fn wall_for(
             channel.length_m
         )));
     }
-    let (x0, x1) = (x_min - margin, x_max + margin);
+    Ok((r, x_min - margin, x_max + margin))
+}
+
+/// The wall of [`wall_extent`].
+fn wall_for(
+    channel: &Channel,
+    x_min: f64,
+    x_max: f64,
+    radial_m: f64,
+    s: &TubeSettings,
+) -> Result<Wall, NonlocalError> {
+    let (r, x0, x1) = wall_extent(channel, x_min, x_max, radial_m, s)?;
     Ok(match s.wall {
         WallModel::Mfs => Wall::mfs(
             r,
-            x0,
-            x1,
+            (x0, x1),
             s.wall_spacing_m,
             s.source_offset_over_spacing,
-            channel.closed,
+            channel.closed.then_some(s.caps),
         ),
         WallModel::Leaky => Wall::leaky(
             r,
-            x0,
-            x1,
+            (x0, x1),
             s.wall_spacing_m,
             s.tail.surface_blob_over_spacing,
             channel.closed,
         ),
     })
+}
+
+/// Solve with the chosen solver.
+fn solve<'a>(
+    moving: &'a [Object],
+    wall: &'a Wall,
+    viscosity_pa_s: f64,
+    s: &TubeSettings,
+) -> Result<mfs::Solution<'a>, NonlocalError> {
+    match s.solver {
+        WallSolver::Rings => rings::solve(moving, wall, viscosity_pa_s, s.max_peak_bytes),
+        WallSolver::Dense => mfs::solve_dense(moving, wall, viscosity_pa_s, s.max_peak_bytes),
+    }
 }
 
 fn tail_object(helix: &Helix, s: &NonlocalSettings) -> Object {
@@ -251,19 +214,29 @@ fn add_spin(b: &mut Matrix6<f64>, helix: &Helix, mu: f64, s: &NonlocalSettings) 
     }
 }
 
-/// Number of points (3 unknowns each) of the tail-in-tube solve, without
-/// building anything heavy: for memory estimates before the solve.
-pub fn tail_in_tube_points(
+/// Counts and peak memory of the tail-in-tube solve, from the geometry
+/// alone: nothing proportional to the wall is built, so absurd tubes are
+/// refused before they cost anything.
+pub fn tail_in_tube_budget(
     helix: &Helix,
     channel: &Channel,
     settings: &TubeSettings,
-) -> Result<usize, NonlocalError> {
+) -> Result<budget::Budget, NonlocalError> {
     validate_helix(helix)?;
     settings.validate()?;
     let (x0, x1) = helix_x_range(helix);
-    let wall = wall_for(channel, x0, x1, helix.envelope_radius_m(), settings)?;
-    let tail = tail_object(helix, &settings.tail);
-    Ok(tail.len() + wall.len())
+    let (r, x0, x1) = wall_extent(channel, x0, x1, helix.envelope_radius_m(), settings)?;
+    let n_tail = settings.tail.tail_segments(helix);
+    let n_tail = if n_tail < budget::MAX_COUNTED {
+        tail_object(helix, &settings.tail).len()
+    } else {
+        n_tail
+    };
+    Ok(budget::Budget::new(
+        n_tail,
+        &budget::WallCounts::of(r, (x0, x1), channel.closed, settings),
+        settings.solver,
+    ))
 }
 
 /// The rigid tail alone, coaxial in the tube: its 6x6 resistance and the
@@ -280,7 +253,7 @@ pub fn tail_resistance_in_tube(
     let (x0, x1) = helix_x_range(helix);
     let wall = wall_for(channel, x0, x1, helix.envelope_radius_m(), settings)?;
     let moving = [tail_object(helix, &settings.tail)];
-    let sol = mfs::solve(&moving, &wall, viscosity_pa_s, settings.max_peak_bytes)?;
+    let sol = solve(&moving, &wall, viscosity_pa_s, settings)?;
     let mut matrix = sol.block(0, 0);
     add_spin(&mut matrix, helix, viscosity_pa_s, &settings.tail);
     let diagnostics =
@@ -289,6 +262,27 @@ pub fn tail_resistance_in_tube(
         matrix,
         diagnostics,
     })
+}
+
+/// The rigid tail's 6x6 in the tube without the leak diagnostics, which
+/// cost as much as the solve: for models that re-solve many perturbed
+/// geometries (uncertainty bands) once [`tail_resistance_in_tube`] has
+/// shown the wall tight at the same settings.
+pub fn tail_matrix_in_tube(
+    helix: &Helix,
+    channel: &Channel,
+    viscosity_pa_s: f64,
+    settings: &TubeSettings,
+) -> Result<Matrix6<f64>, NonlocalError> {
+    validate_helix(helix)?;
+    settings.validate()?;
+    check_mu(viscosity_pa_s)?;
+    let (x0, x1) = helix_x_range(helix);
+    let wall = wall_for(channel, x0, x1, helix.envelope_radius_m(), settings)?;
+    let moving = [tail_object(helix, &settings.tail)];
+    let mut matrix = solve(&moving, &wall, viscosity_pa_s, settings)?.block(0, 0);
+    add_spin(&mut matrix, helix, viscosity_pa_s, &settings.tail);
+    Ok(matrix)
 }
 
 /// A sphere of radius `radius_m` (regularized Stokeslets `spacing_m`
@@ -311,7 +305,7 @@ pub fn sphere_resistance_in_tube(
     let wall = wall_for(channel, -radius_m, radius_m, radius_m, settings)?;
     let pts = surface::spheroid(0.0, radius_m, radius_m, spacing_m);
     let moving = [surface_object(pts, &settings.tail)];
-    let sol = mfs::solve(&moving, &wall, viscosity_pa_s, settings.max_peak_bytes)?;
+    let sol = solve(&moving, &wall, viscosity_pa_s, settings)?;
     let diagnostics =
         diagnostics::diagnose(&sol, 0, &sections(&wall, -radius_m, radius_m), radius_m);
     Ok(TubeResistance {
@@ -360,7 +354,7 @@ pub fn robot_resistance_in_tube(
         surface_object(pts, &settings.tail),
         tail_object(helix, &settings.tail),
     ];
-    let sol = mfs::solve(&moving, &wall, viscosity_pa_s, settings.max_peak_bytes)?;
+    let sol = solve(&moving, &wall, viscosity_pa_s, settings)?;
     let mut tail_tail = sol.block(1, 1);
     add_spin(&mut tail_tail, helix, viscosity_pa_s, &settings.tail);
     let r = RobotResistance {

@@ -37,6 +37,12 @@ pub struct Chart {
     pub(super) notes: Vec<String>,
     pub(super) references: Vec<Reference>,
     pub(super) entries: Vec<Entry>,
+    /// Draw the legend and the hidden-error-bar note (false: a panel of a
+    /// figure whose legend and notes another panel or the caption carries).
+    pub(super) legend: bool,
+    /// The note naming error bars hidden by their markers (false: the
+    /// figure's caption says it once for every panel).
+    pub(super) hidden_note: bool,
 }
 
 impl Chart {
@@ -55,7 +61,21 @@ impl Chart {
             notes: Vec::new(),
             references: Vec::new(),
             entries: Vec::new(),
+            legend: true,
+            hidden_note: true,
         }
+    }
+
+    /// No note on error bars hidden by their markers (the caption says it).
+    pub fn without_hidden_note(mut self) -> Self {
+        self.hidden_note = false;
+        self
+    }
+
+    /// No legend: one panel of a figure that carries it once.
+    pub fn without_legend(mut self) -> Self {
+        self.legend = false;
+        self
     }
 
     /// Size of the panel before any outside legend or notes are added.

@@ -239,7 +239,7 @@ pub fn draw_panel(
         });
     }
     entries.extend(c.entries.iter().cloned());
-    let legend_at = if entries.is_empty() {
+    let legend_at = if entries.is_empty() || !c.legend {
         None
     } else {
         Some(
@@ -252,7 +252,7 @@ pub fn draw_panel(
     let panel_w = legend_at.map_or(w, |r| w.max(r.x1 + 8.0 - origin.0));
 
     let mut notes = c.notes.clone();
-    if !hidden.is_empty() {
+    if !hidden.is_empty() && c.hidden_note {
         notes.push(format!(
             "Smaller than the marker (drawn, hidden by it): {}.",
             hidden.join("; ")

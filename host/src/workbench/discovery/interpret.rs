@@ -23,6 +23,9 @@ pub enum Family {
     BodyWall,
     Rate,
     Geometry,
+    /// A recorded setup field or one of its groups (the oil, the channel's
+    /// length, the body and coupler).
+    Setup,
 }
 
 pub fn family(q: &Quantity) -> Family {
@@ -31,6 +34,13 @@ pub fn family(q: &Quantity) -> Family {
         | "wavelength_ratio" => Family::TailWall,
         "body_ratio" | "body_gap_ratio" | "body_over_gap" => Family::BodyWall,
         "frequency" | "shear_rate" | "wave_speed" => Family::Rate,
+        id if crate::data::quantities::SETUP_GROUPS
+            .iter()
+            .chain(crate::data::quantities::FIELDS)
+            .any(|f| f.id == id) =>
+        {
+            Family::Setup
+        }
         _ => Family::Geometry,
     }
 }
@@ -39,6 +49,59 @@ pub fn family(q: &Quantity) -> Family {
 /// shrinks then): the sentence speaks of the wall, not of the feature.
 fn grows_towards_wall(q: &Quantity) -> bool {
     !matches!(q.id, "tail_gap_ratio" | "body_gap_ratio")
+}
+
+/// What the design says about a law: whether the channel varies (a wall
+/// reading needs it), and the law's range across the cases.
+#[derive(Debug, Clone, Copy)]
+pub struct Design {
+    pub channel_varies: bool,
+    /// Smallest and largest value of the multiplier (or load) over the cases.
+    pub range: (f64, f64),
+}
+
+/// One sentence for a correction at `place` with `feature` on `design`,
+/// with its range and the readings the axial model cannot tell apart.
+pub fn interpret_on(
+    place: Place,
+    feature: Option<&Quantity>,
+    rising: bool,
+    mean_value: f64,
+    design: Design,
+) -> String {
+    let mut s = match feature {
+        Some(q)
+            if !design.channel_varies
+                && matches!(family(q), Family::TailWall | Family::BodyWall) =>
+        {
+            format!(
+                "{} {} with {}; the channel is the same in every case, so this is a dependence on the helix or body geometry in it, not on the wall",
+                place.meaning(),
+                if rising { "rising" } else { "falling" },
+                q.name
+            )
+        }
+        _ => interpret(place, feature, rising, mean_value),
+    };
+    if feature.is_some() {
+        let (lo, hi) = design.range;
+        s.push_str(&format!(
+            " (from {} to {} across the cases",
+            crate::format::fmt_sig(lo, 3),
+            crate::format::fmt_sig(hi, 3)
+        ));
+        s.push(')');
+    }
+    // In the axial model the body's rotation balances the tail's torque:
+    // scaling one by a law is scaling the other by its reciprocal.
+    match place {
+        Place::TailTorque => s.push_str("; equivalently, body.E_x scaled by the reciprocal law"),
+        Place::BodyRotation => {
+            s.push_str("; equivalently, tail.torque scaled by the reciprocal law")
+        }
+        _ => {}
+    }
+    s
 }
 
 /// One sentence for a correction at `place` with `feature`; `rising` is
@@ -106,6 +169,11 @@ pub fn interpret(
             updown(rising),
             q.name
         ),
+        (_, Family::Setup) => format!(
+            "{what} {} with {}: a dependence on the recorded setup (the oil or the robot's build) that the model does not carry",
+            updown(rising),
+            q.name
+        ),
         (Part::Load, _) => format!(
             "{what} {} with {}: a load outside the model's hydrodynamics",
             updown(rising),
@@ -131,5 +199,34 @@ mod tests {
         let s = by_id("shear_rate").unwrap();
         assert!(interpret(Place::TailViscosity, Some(s), false, 0.8).contains("shear-thinning"));
         assert!(interpret(Place::DriveRate, None, false, 0.85).contains("slower than recorded"));
+    }
+
+    #[test]
+    fn the_design_decides_the_reading() {
+        let fixed = Design {
+            channel_varies: false,
+            range: (0.9, 1.2),
+        };
+        let l = by_id("wavelength_ratio").unwrap();
+        let s = interpret_on(Place::TailNormal, Some(l), false, 1.0, fixed);
+        assert!(
+            s.contains("the same in every case") && !s.contains("nears the wall"),
+            "{s}"
+        );
+        assert!(s.contains("from 0.900 to 1.20"), "{s}");
+        let varied = Design {
+            channel_varies: true,
+            ..fixed
+        };
+        let s = interpret_on(Place::TailNormal, Some(l), false, 1.0, varied);
+        assert!(s.contains("wall"), "{s}");
+        let mu = by_id("viscosity_pa_s").unwrap();
+        let s = interpret_on(Place::TailViscosity, Some(mu), false, 1.0, varied);
+        assert!(
+            s.contains("recorded setup") && !s.contains("non-local"),
+            "{s}"
+        );
+        let t = interpret_on(Place::TailTorque, None, false, 1.2, varied);
+        assert!(t.contains("body.E_x scaled by the reciprocal"), "{t}");
     }
 }

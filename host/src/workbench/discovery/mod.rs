@@ -87,6 +87,11 @@ pub struct Located {
     pub explained_fraction: Option<f64>,
     pub interpretation: String,
     pub non_identifiable: Vec<String>,
+    /// The effects beneath it (`NAME:k=v,...` at full precision): the
+    /// model it was fitted on top of, machine-readable.
+    pub on_top_of: Vec<String>,
+    /// Its Student-t deviance ([`crate::workbench::robust`]).
+    pub t_deviance: f64,
     #[serde(skip)]
     pub model: Model,
     #[serde(skip)]
@@ -116,10 +121,10 @@ pub fn aicc(chi2: f64, n: usize, k: usize) -> Option<f64> {
     (denom > 0).then(|| chi2 + 2.0 * k as f64 + 2.0 * (k * (k + 1)) as f64 / denom as f64)
 }
 
-/// Fraction of `reference`'s excess over the floor that `chi2` removes.
+/// Fraction of `reference`'s excess over the floor that `chi2` removes:
+/// the one definition, [`crate::stats::excess_removed`].
 pub fn explained_fraction(reference: f64, chi2: f64, floor0: Option<f64>) -> Option<f64> {
-    let excess = reference - floor0?;
-    (excess > 0.0).then(|| ((reference - chi2) / excess).min(1.0))
+    crate::stats::excess_removed(reference, chi2, floor0)
 }
 
 /// Search for the correction `model` misses on `data`.
@@ -246,11 +251,35 @@ fn refit(
         aicc: aicc(full.chi2, n, k),
         at_noise_floor: (reference.floor)(k).is_some_and(|f| full.chi2 <= f),
         explained_fraction: explained_fraction(reference.chi2, full.chi2, floor0),
-        interpretation: interpret::interpret(c.place, c.feature, rising, mean_value),
+        interpretation: interpret::interpret_on(
+            c.place,
+            c.feature,
+            rising,
+            mean_value,
+            design_of(c, &values, data),
+        ),
         non_identifiable: full.non_identifiable.clone(),
+        on_top_of: model.effects.iter().map(write::exact_spec).collect(),
+        t_deviance: crate::workbench::robust::t_deviance_of(&full.model, data)?,
         model: full.model,
         correction: c,
     })
+}
+
+/// The channel's variation and the law's range over the cases.
+fn design_of(c: &LocatedCorrection, values: &[f64], data: &Dataset) -> interpret::Design {
+    let d: Vec<f64> = data.cases.iter().map(|k| k.channel_diameter_mm).collect();
+    let (lo_d, hi_d) = d.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &x| {
+        (a.0.min(x), a.1.max(x))
+    });
+    let v: Vec<f64> = data.cases.iter().map(|k| c.value(values, k)).collect();
+    let range = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &x| {
+        (a.0.min(x), a.1.max(x))
+    });
+    interpret::Design {
+        channel_varies: hi_d - lo_d > 1e-6 * hi_d,
+        range,
+    }
 }
 
 impl Located {

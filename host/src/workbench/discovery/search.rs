@@ -10,7 +10,7 @@
 //! Learning*, 2nd ed. (2009), sec. 7.10 (k-fold cross-validation).
 
 use super::screen::Table;
-use crate::data::quantities::{Quantity, FEATURES};
+use crate::data::quantities::{Quantity, FEATURES, FIELDS, SETUP_GROUPS};
 use crate::data::Dataset;
 use crate::effects::correction::{Form, LocatedCorrection};
 use crate::effects::place::Place;
@@ -27,20 +27,35 @@ pub struct Screened {
 }
 
 /// Features usable on this design: finite and positive on every case
-/// (powers need it) and not constant (else it is the constant form).
+/// (powers need it) and not constant (else it is the constant form). The
+/// derived groups come first; then every recorded field and setup group
+/// that varies (viscosity, density, body and coupler sizes, channel length,
+/// Reynolds numbers, ...), unless it orders the cases exactly as one
+/// already in the list (a monotone function of it on this design, which
+/// no fit can tell apart: [`super::equivalent`]).
 pub fn usable_features(data: &Dataset) -> Vec<(&'static Quantity, f64)> {
-    FEATURES
+    let mut out: Vec<(&'static Quantity, f64)> = FEATURES
         .iter()
-        .filter_map(|q| {
-            let mut v: Vec<f64> = data.cases.iter().map(|c| q.of(c)).collect();
-            if v.iter().any(|x| !x.is_finite() || *x <= 0.0) {
-                return None;
-            }
-            v.sort_by(f64::total_cmp);
-            let (lo, hi) = (v[0], v[v.len() - 1]);
-            (hi - lo > 1e-6 * hi).then_some((q, v[v.len() / 2]))
-        })
-        .collect()
+        .filter_map(|q| varying(q, data).map(|m| (q, m)))
+        .collect();
+    for q in SETUP_GROUPS.iter().chain(FIELDS) {
+        let Some(m) = varying(q, data) else { continue };
+        if !out.iter().any(|(o, _)| super::equivalent(o, q, data)) {
+            out.push((q, m));
+        }
+    }
+    out
+}
+
+/// The median of a quantity that is positive, finite and varies.
+fn varying(q: &Quantity, data: &Dataset) -> Option<f64> {
+    let mut v: Vec<f64> = data.cases.iter().map(|c| q.of(c)).collect();
+    if v.iter().any(|x| !x.is_finite() || *x <= 0.0) {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let (lo, hi) = (v[0], v[v.len() - 1]);
+    (hi - lo > 1e-6 * hi).then_some(v[v.len() / 2])
 }
 
 /// Every correction the search considers, at the places the model is

@@ -1,7 +1,9 @@
 //! `diagnose --write-effect F.toml`: a located correction as a user-effect
 //! file in the project's agreed format (`[[effect]]` with `[[effect.param]]`
 //! and `[effect.places]`, formulas over quantity ids), fitted values as
-//! defaults, ready to rename, refine and load with `--effect-file F.toml`.
+//! defaults, ready to rename, refine and load with `--effect-file F.toml`;
+//! each carries its base (`base = ["NAME:k=v,...", ...]`), the model it
+//! was fitted on top of, which commands add when they load it.
 //!
 //! Serialised by the effect file's own writer
 //! ([`crate::effects::formula::to_toml`]), so what is written is exactly
@@ -26,6 +28,58 @@ pub fn effect_name(l: &Located) -> String {
 
 /// The effect file for one located correction found on `dataset`.
 pub fn to_toml(l: &Located, dataset: &str) -> String {
+    to_toml_steps(std::slice::from_ref(l), dataset)
+}
+
+/// The effect file for located corrections found in order by the
+/// stagewise search, each with its base: the model it was fitted on top
+/// of, where an earlier law of the file is named by its name in the file
+/// (and a second law at one place gets `-2`, ...).
+pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
+    let mut names: Vec<(&'static str, String)> = Vec::new();
+    let mut specs = Vec::new();
+    let mut header =
+        String::from("# Corrections located by `swimbot diagnose`, in the order found:\n");
+    for (i, l) in steps.iter().enumerate() {
+        let mut name = effect_name(l);
+        let same = names.iter().filter(|(_, n)| n.starts_with(&name)).count();
+        if same > 0 {
+            name = format!("{name}-{}", same + 1);
+        }
+        // The model it was fitted on top of, machine-readable: every effect
+        // beneath it at full precision, in order.
+        let mut beneath = l.model.clone();
+        beneath.effects.pop();
+        let base = beneath
+            .effects
+            .iter()
+            .map(
+                |e| match names.iter().find(|(internal, _)| *internal == e.name()) {
+                    Some((_, written)) => exact_spec(e).replacen(e.name(), written, 1),
+                    None => exact_spec(e),
+                },
+            )
+            .collect::<Vec<_>>();
+        header.push_str(&format!(
+            "# {}. {}: {}\n#    MARE {:.2} %, cross-validated {:.2} %, explained fraction {}; fitted on top of: {} (the `base` field: a command that loads it adds what is missing).\n",
+            i + 1,
+            name,
+            l.describe(),
+            100.0 * l.mare,
+            100.0 * l.cv_mare,
+            l.explained_fraction
+                .map(|f| format!("{f:.3}"))
+                .unwrap_or_else(|| "n/a".into()),
+            beneath.describe()
+        ));
+        specs.push(spec_of(l, name.clone(), base, dataset));
+        names.push((crate::effects::Effect::name(l.correction), name));
+    }
+    header.push_str("# Rename them, refine the formulas, and use them with --effect-file FILE.\n");
+    format!("{header}{}", formula::to_toml(&specs))
+}
+
+fn spec_of(l: &Located, name: String, base: Vec<String>, dataset: &str) -> UserEffectSpec {
     let specs = crate::effects::Effect::params(l.correction);
     let params = specs
         .iter()
@@ -52,26 +106,28 @@ pub fn to_toml(l: &Located, dataset: &str) -> String {
         })
         .collect();
     let place = Place::from_name(l.place).expect("a located correction acts at a known place");
-    let spec = UserEffectSpec {
-        name: effect_name(l),
+    UserEffectSpec {
+        name,
         statement: l.interpretation.clone(),
         reference: format!("located by swimbot diagnose on {dataset}"),
         applies_to: Some("all cases".into()),
         params,
         places: vec![(place, l.formula.clone())],
-    };
-    let body = formula::to_toml(&[spec]);
-    // The model it was fitted on top of: use it with the same effects.
-    let mut beneath = l.model.clone();
-    beneath.effects.pop();
-    format!(
-        "# A correction located by `swimbot diagnose`: {}\n# MARE {:.2} %, cross-validated {:.2} %, explained fraction of the excess chi-square {}.\n# Fitted on top of: {}.\n# Rename it, refine the formula, and use it with --effect-file FILE.\n{body}",
-        l.describe(),
-        100.0 * l.mare,
-        100.0 * l.cv_mare,
-        l.explained_fraction
-            .map(|f| format!("{f:.3}"))
-            .unwrap_or_else(|| "n/a".into()),
-        beneath.describe()
-    )
+        base,
+    }
+}
+
+/// `name:k=v,...` with every value at full precision, so that the base a
+/// command applies is the model the law was fitted on, not a rounding of it.
+pub fn exact_spec(e: &crate::effects::EffectInstance) -> String {
+    let params = e.effect.params();
+    if params.is_empty() {
+        return e.name().to_string();
+    }
+    let kv: Vec<String> = params
+        .iter()
+        .zip(&e.values)
+        .map(|(p, v)| format!("{}={v}", p.name))
+        .collect();
+    format!("{}:{}", e.name(), kv.join(","))
 }

@@ -1,0 +1,336 @@
+//! The page's bundle: beside `index.html`, every figure panel as its own
+//! SVG file (`figures/`), every table as CSV and JSON (`tables/`), and
+//! `manifest.json` listing each file with its kind and caption and the
+//! command that wrote the folder. Read back from the rendered page, so
+//! the files hold exactly what the page shows.
+//!
+//! A folder whose manifest names another command (or that holds an
+//! `index.html` without a manifest) is refused: no command silently
+//! overwrites another command's page.
+
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// One file of the bundle, as the manifest lists it.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Entry {
+    /// Relative to the folder.
+    pub file: String,
+    /// `page`, `figure` (SVG), `table-csv` or `table-json`.
+    pub kind: String,
+    pub caption: String,
+}
+
+#[derive(Debug, Serialize)]
+struct Manifest<'a> {
+    command: &'a str,
+    swimbot_version: &'a str,
+    files: &'a [Entry],
+}
+
+/// Refuse `dir` when another command's page is in it.
+pub fn check_dir(dir: &Path, command: &str) -> Result<(), String> {
+    let manifest = dir.join("manifest.json");
+    match std::fs::read_to_string(&manifest) {
+        Ok(text) => {
+            let written_by = serde_json::from_str::<serde_json::Value>(&text)
+                .ok()
+                .and_then(|v| v.get("command")?.as_str().map(str::to_string));
+            match written_by {
+                Some(c) if c == command => Ok(()),
+                Some(c) => Err(format!(
+                    "output directory {}: holds the page `swimbot {c}` wrote; give this \
+                     `swimbot {command}` another folder with -o, or remove that one",
+                    dir.display()
+                )),
+                None => Err(format!(
+                    "{}: not a manifest swimbot wrote; give another folder with -o",
+                    manifest.display()
+                )),
+            }
+        }
+        Err(_) if dir.join("index.html").exists() => Err(format!(
+            "output directory {}: holds an index.html that no `swimbot {command}` wrote; give \
+             another folder with -o, or remove it",
+            dir.display()
+        )),
+        Err(_) => Ok(()),
+    }
+}
+
+/// The text of `html` with tags removed and the page's entities decoded.
+pub fn text_of(html: &str) -> String {
+    let mut out = String::with_capacity(html.len());
+    let mut in_tag = false;
+    let html = html.replace("<br>", " ");
+    for ch in html.chars() {
+        match ch {
+            '<' => in_tag = true,
+            '>' if in_tag => in_tag = false,
+            c if !in_tag => out.push(c),
+            _ => {}
+        }
+    }
+    out.replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&quot;", "\"")
+        .replace("&amp;", "&")
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The elements `<tag ...>...</tag>` of `html` in order, without nesting.
+fn elements<'a>(html: &'a str, tag: &str) -> Vec<&'a str> {
+    let (open, close) = (format!("<{tag}"), format!("</{tag}>"));
+    let mut out = Vec::new();
+    let mut rest = html;
+    while let Some(i) = rest.find(&open) {
+        let Some(j) = rest[i..].find(&close) else {
+            break;
+        };
+        out.push(&rest[i..i + j + close.len()]);
+        rest = &rest[i + j + close.len()..];
+    }
+    out
+}
+
+fn attr<'a>(element: &'a str, name: &str) -> Option<&'a str> {
+    let head = &element[..element.find('>')?];
+    let key = format!("{name}=\"");
+    let i = head.find(&key)? + key.len();
+    Some(&head[i..i + head[i..].find('"')?])
+}
+
+/// A table's rows of cell texts, header first.
+fn rows(table: &str) -> Vec<Vec<String>> {
+    elements(table, "tr")
+        .iter()
+        .map(|tr| {
+            let th = elements(tr, "th");
+            let cells = if th.is_empty() {
+                elements(tr, "td")
+            } else {
+                th
+            };
+            cells.iter().map(|c| text_of(c)).collect()
+        })
+        .collect()
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// The bundle's files `(relative path, bytes)` and manifest entries.
+pub fn files(page: &str) -> (Vec<(String, Vec<u8>)>, Vec<Entry>) {
+    let mut files = Vec::new();
+    let mut entries = vec![Entry {
+        file: "index.html".into(),
+        kind: "page".into(),
+        caption: "the whole page".into(),
+    }];
+    for fig in elements(page, "figure") {
+        let id = attr(fig, "id").unwrap_or("figure");
+        let caption = elements(fig, "figcaption")
+            .first()
+            .map_or(String::new(), |c| text_of(c));
+        let svgs = elements(fig, "svg");
+        for (i, svg) in svgs.iter().enumerate() {
+            let file = if svgs.len() == 1 {
+                format!("figures/{id}.svg")
+            } else {
+                format!("figures/{id}-{}.svg", i + 1)
+            };
+            let title = svg_title(svg);
+            entries.push(Entry {
+                file: file.clone(),
+                kind: "figure".into(),
+                caption: format!("{title}: panel {} of {}. {caption}", i + 1, svgs.len()),
+            });
+            files.push((file, format!("{svg}\n").into_bytes()));
+        }
+    }
+    // tables are named by the section they stand in
+    let mut section = "page".to_string();
+    let mut title = String::new();
+    let mut count = std::collections::HashMap::<String, usize>::new();
+    let mut rest = page;
+    loop {
+        let (h2, tb) = (rest.find("<h2 id=\""), rest.find("<table"));
+        match (h2, tb) {
+            (Some(h), t) if t.is_none_or(|t| h < t) => {
+                let el = &rest[h..];
+                section = attr(el, "id").unwrap_or("page").to_string();
+                title = text_of(&el[..el.find("</h2>").unwrap_or(el.len())]);
+                rest = &rest[h + 4..];
+            }
+            (_, Some(t)) => {
+                let end = rest[t..].find("</table>").map_or(rest.len(), |e| t + e + 8);
+                let n = count.entry(section.clone()).or_default();
+                *n += 1;
+                let stem = format!("tables/{section}-{n}");
+                let rows = rows(&rest[t..end]);
+                let csv: String = rows
+                    .iter()
+                    .map(|r| r.iter().map(|c| csv_field(c)).collect::<Vec<_>>().join(",") + "\n")
+                    .collect();
+                let json = table_json(&rows);
+                let caption = format!("table {n} of section \"{title}\"");
+                for (ext, kind, bytes) in [
+                    ("csv", "table-csv", csv.into_bytes()),
+                    ("json", "table-json", json.into_bytes()),
+                ] {
+                    entries.push(Entry {
+                        file: format!("{stem}.{ext}"),
+                        kind: kind.into(),
+                        caption: caption.clone(),
+                    });
+                    files.push((format!("{stem}.{ext}"), bytes));
+                }
+                rest = &rest[end..];
+            }
+            _ => break,
+        }
+    }
+    (files, entries)
+}
+
+/// A panel's title: its text in the largest font (the first of those).
+fn svg_title(svg: &str) -> String {
+    let size = |t: &str| {
+        attr(t, "font-size")
+            .and_then(|s| s.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    let texts = elements(svg, "text");
+    let best = texts.iter().fold(None::<&&str>, |b, t| match b {
+        Some(b) if size(b) >= size(t) => Some(b),
+        _ => Some(t),
+    });
+    best.map(|t| text_of(t)).unwrap_or_default()
+}
+
+/// Rows as a JSON array of objects keyed by the header's texts.
+fn table_json(rows: &[Vec<String>]) -> String {
+    let Some((head, body)) = rows.split_first() else {
+        return "[]".into();
+    };
+    let objects: Vec<serde_json::Map<String, serde_json::Value>> = body
+        .iter()
+        .map(|r| {
+            head.iter()
+                .zip(r)
+                .map(|(k, v)| (k.clone(), serde_json::Value::String(v.clone())))
+                .collect()
+        })
+        .collect();
+    serde_json::to_string_pretty(&objects).expect("strings serialise") + "\n"
+}
+
+/// Write `page` and its bundle into `dir` (each file through a temporary
+/// file and a rename); returns the page's path.
+pub fn write(dir: &Path, command: &str, page: &str) -> Result<PathBuf, String> {
+    check_dir(dir, command)?;
+    let provenance = crate::provenance::Provenance::capture();
+    let page = provenance.into_html(page);
+    let (mut files, entries) = files(&page);
+    // every file of the bundle can be traced back on its own
+    for (rel, bytes) in &mut files {
+        if rel.ends_with(".svg") {
+            *bytes = provenance
+                .into_svg(&String::from_utf8_lossy(bytes))
+                .into_bytes();
+        } else if rel.ends_with(".csv") {
+            let mut with = provenance.comment_block().into_bytes();
+            with.append(bytes);
+            *bytes = with;
+        }
+    }
+    let manifest = Manifest {
+        command,
+        swimbot_version: env!("CARGO_PKG_VERSION"),
+        files: &entries,
+    };
+    let manifest = crate::provenance::with_provenance(&manifest);
+    files.push((
+        "manifest.json".into(),
+        (serde_json::to_string_pretty(&manifest).expect("serialisable") + "\n").into_bytes(),
+    ));
+    files.push(("index.html".into(), page.into_bytes()));
+    // a page rewritten with fewer figures leaves no stale ones behind
+    for sub in ["figures", "tables"] {
+        let _ = std::fs::remove_dir_all(dir.join(sub));
+    }
+    for (rel, bytes) in &files {
+        write_file(&dir.join(rel), bytes)?;
+    }
+    Ok(dir.join("index.html"))
+}
+
+fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let say = |e: std::io::Error| format!("{}: {e}", path.display());
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(say)?;
+    }
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy());
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    std::fs::write(&tmp, bytes)
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            say(e)
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PAGE: &str = "<h2 id=\"a\">1. One</h2><table><tr><th>x, y</th><th>U (mm/s)</th></tr>\
+        <tr><td>tail-1</td><td>0.2609 &plusmn; 1<br><span class=\"fall\">falls</span></td></tr></table>\
+        <figure id=\"f\"><div><svg><text font-size=\"11\">8.4</text><text font-size=\"14\">(a) first</text></svg></div><div><svg><text>(b)</text></svg>\
+        </div><figcaption><b>Fig.</b> Two &amp; panels.</figcaption></figure>";
+
+    #[test]
+    fn every_panel_and_table_becomes_a_file_named_in_the_manifest() {
+        let (files, entries) = files(PAGE);
+        let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "figures/f-1.svg",
+                "figures/f-2.svg",
+                "tables/a-1.csv",
+                "tables/a-1.json"
+            ]
+        );
+        assert_eq!(entries.len(), 5, "the page and four files");
+        assert!(entries[1]
+            .caption
+            .starts_with("(a) first: panel 1 of 2. Fig. Two & panels."));
+        let csv = String::from_utf8(files[2].1.clone()).unwrap();
+        assert_eq!(csv, "\"x, y\",U (mm/s)\ntail-1,0.2609 &plusmn; 1 falls\n");
+        let json: serde_json::Value = serde_json::from_slice(&files[3].1).unwrap();
+        assert_eq!(json[0]["U (mm/s)"], "0.2609 &plusmn; 1 falls");
+        assert_eq!(entries[3].caption, "table 1 of section \"1. One\"");
+    }
+
+    #[test]
+    fn a_folder_another_command_wrote_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "report", PAGE).unwrap();
+        assert!(check_dir(dir.path(), "report").is_ok());
+        let e = check_dir(dir.path(), "compare").unwrap_err();
+        assert!(e.contains("swimbot report") && e.contains("-o"), "{e}");
+        let other = tempfile::tempdir().unwrap();
+        std::fs::write(other.path().join("index.html"), "<p>mine</p>").unwrap();
+        assert!(check_dir(other.path(), "report").is_err());
+    }
+}

@@ -1,0 +1,168 @@
+//! What `diagnose` returns: the baseline, the catalogue's candidates, the
+//! searches and the graded verdict with its steps, as plain data that the
+//! commands and the page print (see [`super::diagnose`] for the method).
+
+use super::compare::Comparison;
+use super::design::Suggestion;
+use super::discovery::{Discovery, DiscoverySettings, Located};
+use super::features::Trend;
+use super::fit::Estimate;
+use super::robust::LoneCase;
+use crate::model::Model;
+use serde::Serialize;
+
+/// Settings of [`diagnose`]; `Default` gives the documented values.
+#[derive(Debug, Clone)]
+pub struct DiagnoseSettings {
+    /// Quantile of the perfect model's chi-square that counts as "at the noise floor" (0.95).
+    pub level: f64,
+    /// AICc margin that makes a winner clear (4).
+    pub clear_margin: f64,
+    /// Try pairs when no single effect reaches the floor (true).
+    pub second_effect: bool,
+    /// Also try effects marked costly (false).
+    pub include_costly: bool,
+    /// Search beyond the catalogue (true).
+    pub discover: bool,
+    pub discovery: DiscoverySettings,
+    /// Called with a short message as each stage starts (progress display).
+    pub progress: Option<fn(&str)>,
+}
+
+impl Default for DiagnoseSettings {
+    fn default() -> Self {
+        DiagnoseSettings {
+            level: 0.95,
+            clear_margin: 4.0,
+            second_effect: true,
+            include_costly: false,
+            discover: true,
+            discovery: DiscoverySettings::default(),
+            progress: None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Baseline {
+    pub model: String,
+    pub mare: f64,
+    pub max_abs_rel_err: f64,
+    pub chi2: f64,
+    pub chi2_reduced: Option<f64>,
+    /// The reduced chi-square a perfect model stays below at `level`.
+    pub noise_floor_chi2_reduced: Option<f64>,
+    pub at_noise_floor: bool,
+    /// The Student-t deviance of the residuals ([`super::robust`]).
+    pub t_deviance: f64,
+}
+
+/// One model variant: the base plus one or two effects, fitted.
+#[derive(Debug, Clone, Serialize)]
+pub struct Candidate {
+    pub effect: String,
+    pub params: Vec<Estimate>,
+    pub mare: f64,
+    pub cv_mare: f64,
+    pub chi2: f64,
+    pub chi2_reduced: Option<f64>,
+    pub aicc: Option<f64>,
+    pub at_noise_floor: bool,
+    pub non_identifiable: Vec<String>,
+    pub converged: bool,
+    #[serde(skip)]
+    pub model: Model,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Verdict {
+    /// The missing effect(s), `None` for "none needed", "indistinguishable" or "unexplained".
+    pub effect: Option<String>,
+    /// Some model variant fits to the noise floor.
+    pub explained: bool,
+    pub kind: VerdictKind,
+    pub note: String,
+    pub indistinguishable: Vec<String>,
+    pub suggestion: Option<Suggestion>,
+    /// Share of the excess chi-square (above the noise floor) the named
+    /// catalogue effect(s) remove.
+    pub effect_explained_fraction: Option<f64>,
+    /// Located corrections: for `located` the finding, for `identified` the
+    /// remainder beyond the named effect (if any), for `indistinguishable`
+    /// the rivals, for `unexplained` the partial corrections that remove at
+    /// least half of the excess and lower MARE. Never the same place,
+    /// feature and form twice.
+    pub located: Vec<Located>,
+    /// The stagewise search's steps in order, each with the model beneath
+    /// it (`on_top_of`); empty when nothing is needed or nothing is found.
+    pub steps: Vec<Step>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VerdictKind {
+    NoneNeeded,
+    Identified,
+    Located,
+    Indistinguishable,
+    Unexplained,
+}
+
+impl VerdictKind {
+    /// The kind as printed and in JSON (`none-needed`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            VerdictKind::NoneNeeded => "none-needed",
+            VerdictKind::Identified => "identified",
+            VerdictKind::Located => "located",
+            VerdictKind::Indistinguishable => "indistinguishable",
+            VerdictKind::Unexplained => "unexplained",
+        }
+    }
+}
+
+/// One step of the stagewise search, in order: a catalogue effect or a
+/// located law, fitted on top of the steps before it.
+#[derive(Debug, Clone, Serialize)]
+pub struct Step {
+    /// `catalogue` or `located`.
+    pub kind: &'static str,
+    /// The catalogue effect's name, or the law `place = formula (values)`.
+    pub name: String,
+    /// The effects beneath it (`NAME:k=v,...`, the model `diagnose` was
+    /// given first): what it was fitted on top of, machine-readable.
+    pub on_top_of: Vec<String>,
+    pub mare: f64,
+    pub cv_mare: f64,
+    pub chi2_reduced: Option<f64>,
+    pub aicc: Option<f64>,
+    pub at_noise_floor: bool,
+    /// Share of the excess chi-square left by the steps before that this
+    /// step removes.
+    pub explained_fraction: Option<f64>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Diagnosis {
+    pub baseline: Baseline,
+    pub comparison: Comparison,
+    pub trends: Vec<Trend>,
+    pub ranking: Vec<Candidate>,
+    pub pairs: Vec<Candidate>,
+    /// The search beyond the catalogue on the model as given.
+    pub discovery: Option<Discovery>,
+    /// The search on top of the catalogue effect that explains most, when
+    /// one explains most but not all of the excess.
+    pub remainder: Option<Remainder>,
+    /// A single case whose removal brings the model to the noise floor
+    /// ([`super::robust`]), when the model is above it.
+    pub lone_case: Option<LoneCase>,
+    pub verdict: Verdict,
+}
+
+/// A located remainder on top of a catalogue effect.
+#[derive(Debug, Clone, Serialize)]
+pub struct Remainder {
+    pub effect: String,
+    pub discovery: Discovery,
+}

@@ -1,0 +1,76 @@
+//! The stagewise path put into the verdict of `diagnose`: the steps in
+//! order, and (when the path goes beyond the single-step verdict) the kind,
+//! the named catalogue effects, the located laws and the note
+//! ([`super::verdict_text::stagewise_note`]); the verdict when one case
+//! stands alone; and the located list without repeats.
+
+use super::diagnosis::{Baseline, Verdict, VerdictKind};
+use super::discovery::Located;
+use super::stagewise::Path;
+use super::verdict::verdict_of;
+use super::verdict_text::fmt;
+
+/// Put the path into the verdict: its steps always; when the path goes
+/// beyond the single-step verdict (or is the first thing found), the kind,
+/// the named effects, the located laws in order and the note.
+pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline) {
+    v.steps = path.steps.iter().map(|p| p.0.clone()).collect();
+    let Some(last) = path.steps.last().map(|p| &p.1) else {
+        return;
+    };
+    if path.added == 0 && v.kind != VerdictKind::Unexplained {
+        return;
+    }
+    let catalogue: Vec<&str> = path
+        .steps
+        .iter()
+        .filter(|p| p.0.kind == "catalogue")
+        .map(|p| p.0.name.as_str())
+        .collect();
+    let settled = last.at_floor || matches!(v.kind, VerdictKind::Located | VerdictKind::Identified);
+    v.kind = match (settled, catalogue.is_empty()) {
+        (false, _) => VerdictKind::Unexplained,
+        (true, true) => VerdictKind::Located,
+        (true, false) => VerdictKind::Identified,
+    };
+    v.explained = settled;
+    // An unexplained verdict names no missing effect (its steps are partial).
+    v.effect = (settled && !catalogue.is_empty()).then(|| catalogue.join(" + "));
+    v.effect_explained_fraction = path
+        .steps
+        .iter()
+        .find(|p| p.0.kind == "catalogue")
+        .and_then(|p| p.0.explained_fraction);
+    v.indistinguishable.clear();
+    v.suggestion = None;
+    v.located = path.steps.iter().filter_map(|p| p.2.clone()).collect();
+    v.note = super::verdict_text::stagewise_note(base, &path, last);
+}
+
+/// `none-needed` because one case stands alone ([`super::robust`]).
+pub fn lone_case_verdict(base: &Baseline, lone: &super::robust::LoneCase) -> Verdict {
+    verdict_of(
+        VerdictKind::NoneNeeded,
+        format!(
+            "none needed: {}; without it no effect is needed (reduced chi-square {} on all cases against a noise floor of {})",
+            lone.sentence(),
+            fmt(base.chi2_reduced),
+            fmt(base.noise_floor_chi2_reduced)
+        ),
+    )
+}
+
+/// Keep the first of laws with the same place, feature and form.
+pub fn dedup_located(list: &mut Vec<Located>) {
+    let mut seen: Vec<(
+        &'static str,
+        Option<&'static str>,
+        crate::effects::correction::Form,
+    )> = Vec::new();
+    list.retain(|l| {
+        let key = (l.place, l.feature, l.form);
+        let new = !seen.contains(&key);
+        seen.push(key);
+        new
+    });
+}
