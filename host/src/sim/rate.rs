@@ -3,7 +3,7 @@
 //! main-loop pass, fed Hall edges from the simulated ring on the motor's
 //! shaft ([`crate::robot::hall`]) through the pass, and a schedule of
 //! set-points in place of the set-point keys. Without `--rate-hz` the
-//! pass carries the host's voltage-mode controller instead ([`Driver`]).
+//! pass carries the host's voltage-mode controller instead (`Driver`).
 //!
 //! The set-point is the motor's rate (tail relative to body): that is what
 //! a sensor in the body sees on the coupler. The lab-frame tail rate the
