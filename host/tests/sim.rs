@@ -363,7 +363,11 @@ fn rate_set_points_write_the_step_responses_and_bad_ones_are_input_errors() {
     );
     let csv = std::fs::read_to_string(dir.path().join("rate.csv")).unwrap();
     // the provenance block comes first, as in sim.csv
-    assert!(csv.starts_with("# swimbot"), "{}", &csv[..80.min(csv.len())]);
+    assert!(
+        csv.starts_with("# swimbot"),
+        "{}",
+        &csv[..80.min(csv.len())]
+    );
     let table: Vec<&str> = csv.lines().filter(|l| !l.starts_with('#')).collect();
     assert!(table[0].starts_with(swimbot::sim::rate_figure::RATE_CSV_HEADER.trim_end()));
     assert!(table.len() > 900, "every 10 ms over 10 s");

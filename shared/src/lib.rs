@@ -27,7 +27,7 @@ pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
 pub use command::{Command, KeyMap, Remote};
 pub use controller::{Controller, ControllerConfig, Duty, Event, MotorState, Output, StopReason};
 pub use led::LedMode;
-pub use main_loop::{HallEdge, MainLoop, MainLoopConfig, PassOutput};
+pub use main_loop::{ChipControl, HallEdge, MainLoop, MainLoopConfig, MotorControl, PassOutput};
 pub use nec::{AddressFilter, Level, NecDecoder, NecEvent};
 pub use pwm::PwmTiming;
 pub use set_point::{SetPointKey, SetPointKeys};

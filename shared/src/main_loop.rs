@@ -3,10 +3,13 @@
 //! reading when one is due -> battery status, the rate controller (its
 //! on/off state machine and soft start are `controller::Controller`'s) ->
 //! PWM duty, the LED pattern, whether the Hall latches are powered, and
-//! whether the chip may go dormant. The RP2040 firmware (`firmware/src/run.rs`), the host
-//! simulation (`tests/src/lib.rs`) and the safety property tests
-//! (`tests/tests/firmware_safety.rs`) all run this same pass; only the
-//! hardware around it differs.
+//! whether the chip may go dormant. The RP2040 firmware
+//! (`firmware/src/run.rs`), the host rig (`tests/src/lib.rs`), the safety
+//! property tests (`tests/tests/firmware_safety.rs`) and the whole-robot
+//! simulation (`host/src/sim/dynamics.rs`, `swimbot sim`) all run this same
+//! pass; only the hardware around it differs. What turns the command and
+//! the battery status into a duty is a [`MotorControl`]: the chip's rate
+//! control ([`ChipControl`]) by default; the sim's voltage mode in its place.
 //!
 //! "Motor on", for the battery monitor's release-at-rest rule, means the
 //! duty applied since the previous pass is non-zero: that is what loaded
@@ -20,6 +23,9 @@ use crate::led::{self, LedMode};
 use crate::nec::Level;
 use crate::rate::{HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault};
 use crate::set_point::SetPointKeys;
+
+mod motor_control;
+pub use motor_control::{ChipControl, MotorControl};
 
 /// One Hall edge as the interrupt queued it: the timer's low 32 bits and
 /// both latches' levels read together.
@@ -111,12 +117,11 @@ impl Default for MainLoopConfig {
 
 /// The main loop's state between passes.
 #[derive(Clone, Debug)]
-pub struct MainLoop {
+pub struct MainLoop<C = ChipControl> {
     cfg: MainLoopConfig,
     remote: Remote,
     monitor: BatteryMonitor,
-    controller: RateController,
-    estimator: RateEstimator,
+    control: C,
     next_sample_us: Option<u64>,
     duty: Duty,
     state: MotorState,
@@ -132,18 +137,33 @@ impl MainLoop {
     }
 
     pub fn with_config(cfg: MainLoopConfig, cutoff_latched: bool) -> Self {
+        let control = ChipControl::new(cfg.rate, cfg.hall);
+        MainLoop::with_control(cfg, control, cutoff_latched)
+    }
+
+    pub fn controller(&self) -> &RateController {
+        &self.control.controller
+    }
+
+    pub fn estimator(&self) -> &RateEstimator {
+        &self.control.estimator
+    }
+}
+
+impl<C: MotorControl> MainLoop<C> {
+    /// A main loop around another controller (`cfg.rate` and `cfg.hall`
+    /// unused; `cfg.set_point_mhz` handed to it).
+    pub fn with_control(cfg: MainLoopConfig, mut control: C, cutoff_latched: bool) -> Self {
         let mut monitor = BatteryMonitor::new(cfg.battery);
         if cutoff_latched {
             monitor.restore_cutoff_latch();
         }
-        let mut controller = RateController::new(cfg.rate);
-        controller.set_rate_mhz(cfg.set_point_mhz);
+        control.set_rate_mhz(cfg.set_point_mhz);
         Self {
             cfg,
             remote: Remote::new(cfg.keys),
             monitor,
-            controller,
-            estimator: RateEstimator::new(cfg.hall),
+            control,
             next_sample_us: None,
             duty: Duty::ZERO,
             state: MotorState::Off,
@@ -155,12 +175,13 @@ impl MainLoop {
     /// Apply a set-point key: only the set-point changes, never the state.
     fn set_key(&mut self, key: crate::set_point::SetPointKey) -> Option<u32> {
         let (lo, hi) = (self.cfg.rate.min_rate_mhz, self.cfg.rate.max_rate_mhz);
-        let current = self.controller.set_rate();
+        let current = self.control.set_rate();
         let next = self.cfg.set_point_keys.apply(key, current, lo, hi);
         if next.is_some() && next != current {
-            self.controller.set_rate_mhz(next);
+            self.control.set_rate_mhz(next);
         }
-        next.filter(|n| Some(*n) != current)
+        // A controller without a set-point took nothing: nothing changed.
+        self.control.set_rate().filter(|n| Some(*n) != current)
     }
 
     /// The duty applied since the last pass is non-zero.
@@ -173,12 +194,12 @@ impl MainLoop {
         self.state
     }
 
-    pub fn controller(&self) -> &RateController {
-        &self.controller
+    pub fn control(&self) -> &C {
+        &self.control
     }
 
-    pub fn estimator(&self) -> &RateEstimator {
-        &self.estimator
+    pub fn control_mut(&mut self) -> &mut C {
+        &mut self.control
     }
 
     pub fn monitor(&self) -> &BatteryMonitor {
@@ -211,7 +232,7 @@ impl MainLoop {
             }
         }
         for e in hall {
-            self.estimator.edge(e.t_us, e.a, e.b);
+            self.control.hall_edge(e);
         }
         let mut sample = None;
         if self.next_sample_us.is_none_or(|due| now_us >= due) {
@@ -222,9 +243,7 @@ impl MainLoop {
             sample = Some(counts);
         }
         let battery = self.monitor.status();
-        let out = self
-            .controller
-            .step(now_us, command, battery, &mut self.estimator);
+        let out = self.control.step(now_us, command, battery);
         self.duty = out.duty;
         self.state = out.state;
         let (event, fault) = match out.event {
@@ -239,7 +258,7 @@ impl MainLoop {
         let latched = self.monitor.cutoff_latched();
         let latch_changed = (latched != self.latched).then_some(latched);
         self.latched = latched;
-        let led = LedMode::of(out.state, battery, self.controller.fault().is_some());
+        let led = LedMode::of(out.state, battery, self.control.fault().is_some());
         PassOutput {
             duty: out.duty,
             state: out.state,
@@ -247,15 +266,13 @@ impl MainLoop {
             fault,
             refused_no_set_point: out.event == Some(RateEvent::NoSetPoint),
             hall_power: running,
-            rate_mhz: running
-                .then(|| self.estimator.estimate().map(|r| r.rate_mhz))
-                .flatten(),
+            rate_mhz: running.then(|| self.control.rate_mhz()).flatten(),
             reference_mhz: out.reference_mhz,
             command,
             set_point_changed,
             foreign_frames: self.remote.foreign_frames(),
             next_pass_in_us: (event == Some(Event::Started))
-                .then(|| self.controller.set_rate())
+                .then(|| self.control.set_rate())
                 .flatten()
                 .map(|set| self.cfg.rate.motor.ramp_us.div_ceil(set.max(1))),
             sample,

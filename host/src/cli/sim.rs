@@ -202,6 +202,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         max_time_s: args.max_time_s,
         sample_every_s: args.sample_every_s,
         stop_at_top: !args.no_stop_at_top,
+        ..Options::default()
     };
     let rate = rate_run(&args)?;
     let outcome = sim::simulate_with(&robot, &script, &opts, rate.as_ref())?;
@@ -226,8 +227,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::failure(format!("drawing the rate plot: {e}")))?;
         files.push((
             args.output.join("rate.csv"),
-            (provenance.comment_block() + &rate_figure::rate_csv(&outcome.rate_trace))
-                .into_bytes(),
+            (provenance.comment_block() + &rate_figure::rate_csv(&outcome.rate_trace)).into_bytes(),
         ));
         files.push((
             args.output.join("rate.svg"),

@@ -56,26 +56,39 @@ impl PwmDrive {
         supply_v: f64,
         speed_rad_s: f64,
     ) -> CycleMeans {
+        self.cycle_average_through(motor, duty, supply_v, 0.0, speed_rad_s)
+    }
+
+    /// [`Self::cycle_average`] from a source with resistance: the cell's
+    /// open-circuit `source_v` behind its `source_ohm`, in the loop only
+    /// while the switch is on. Each on-pulse then sags the terminals by
+    /// `source_ohm i` (the ripple the battery input sees) and the motor
+    /// gets `source_v - source_ohm i` during the pulse, not the cycle mean.
+    pub fn cycle_average_through(
+        &self,
+        motor: &Motor,
+        duty: f64,
+        source_v: f64,
+        source_ohm: f64,
+        speed_rad_s: f64,
+    ) -> CycleMeans {
         let p = &motor.params;
         let r = p.resistance_ohm;
-        let tau = p.inductance_h / r;
+        let (tau_on, tau) = (p.inductance_h / (r + source_ohm), p.inductance_h / r);
         let period = 1.0 / self.carrier_hz;
         let t_on = duty.clamp(0.0, 1.0) * period;
         let t_off = period - t_on;
         let e = motor.back_emf_v(speed_rad_s);
-        let (x_on, x_off) = ((-t_on / tau).exp(), (-t_off / tau).exp());
+        let (x_on, x_off) = ((-t_on / tau_on).exp(), (-t_off / tau).exp());
         // Asymptotes of the current: switch on, and diode conducting.
-        let a_on = (supply_v - e) / r;
+        let a_on = (source_v - e) / (r + source_ohm);
         let a_off = -(self.diode_drop_v + e) / r;
-        // Continuous conduction if the periodic solution stays positive.
+        // Continuous conduction if the periodic solution stays positive
+        // (at duty 1 it is `a_on`: the motor across the cell, no pulses).
         let i0_ccm = (a_off * (1.0 - x_off) + a_on * (1.0 - x_on) * x_off) / (1.0 - x_on * x_off);
-        let i0 = if i0_ccm > 0.0 && t_off > 0.0 {
-            i0_ccm
-        } else {
-            0.0
-        };
+        let i0 = i0_ccm.max(0.0);
         let i1 = (a_on + (i0 - a_on) * x_on).max(0.0);
-        let on_charge = a_on * t_on + (i0 - a_on) * tau * (1.0 - x_on);
+        let on_charge = a_on * t_on + (i0 - a_on) * tau_on * (1.0 - x_on);
         // Diode conduction time: until the current reaches zero, or the
         // whole off-phase in continuous conduction.
         let t_diode = if i0 > 0.0 || a_off >= 0.0 {
@@ -85,11 +98,19 @@ impl PwmDrive {
         };
         let off_charge = a_off * t_diode + (i1 - a_off) * tau * (1.0 - (-t_diode / tau).exp());
         let t_float = t_off - t_diode;
-        let motor_v = (supply_v * t_on - self.diode_drop_v * t_diode + e * t_float) / period;
+        let motor_v = (source_v * t_on - source_ohm * on_charge - self.diode_drop_v * t_diode
+            + e * t_float)
+            / period;
+        let mid_on_current_a = if t_on > 0.0 {
+            (a_on + (i0 - a_on) * (-0.5 * t_on / tau_on).exp()).max(0.0)
+        } else {
+            0.0
+        };
         CycleMeans {
             motor_v,
             motor_current_a: (on_charge + off_charge.max(0.0)) / period,
             supply_current_a: on_charge / period,
+            mid_on_current_a,
         }
     }
 
@@ -138,6 +159,10 @@ pub struct CycleMeans {
     pub motor_current_a: f64,
     /// Mean current out of the cell.
     pub supply_current_a: f64,
+    /// The current through the switch (and the cell) in the middle of the
+    /// on-pulse, where the firmware converts the battery voltage
+    /// (`firmware/src/battery_adc.rs`); 0 at duty 0.
+    pub mid_on_current_a: f64,
 }
 
 #[cfg(test)]
@@ -251,6 +276,56 @@ mod tests {
         assert!(
             (f.motor_v - 4.0).abs() < 1e-12
                 && (f.supply_current_a - f.motor_current_a).abs() < 1e-9
+        );
+    }
+
+    #[test]
+    fn mid_on_pulse_current_matches_the_switched_model() {
+        // Where the firmware converts the battery: the current through the
+        // cell half-way through the on-pulse, from the closed form and from
+        // integrating every period at constant speed (DCM at 0.4 and 0.75,
+        // the pulse settled; and full duty, where it is (V - e)/R).
+        let motor = Motor::coreless_6mm();
+        let drive = PwmDrive::BOARD;
+        let w = 6.0;
+        let steps = 4000;
+        let dt = 1.0 / drive.carrier_hz / f64::from(steps);
+        for duty in [0.4, 0.75, 1.0] {
+            let mut s = MotorState {
+                current_a: 0.0,
+                speed_rad_s: w,
+            };
+            let mid = (duty * f64::from(steps) / 2.0).round() as u32;
+            let mut at_mid = 0.0;
+            for period in 0..20 {
+                for k in 0..steps {
+                    let on = f64::from(k) < duty * f64::from(steps);
+                    let (next, _) = drive.step_switched(&motor, s, on, 4.0, 0.0, dt);
+                    s = MotorState {
+                        speed_rad_s: w,
+                        ..next
+                    };
+                    if period == 19 && k + 1 == mid {
+                        at_mid = s.current_a;
+                    }
+                }
+            }
+            let c = drive.cycle_average(&motor, duty, 4.0, w);
+            assert!(
+                (c.mid_on_current_a / at_mid - 1.0).abs() < 2e-3,
+                "duty {duty}: {c:?} vs {at_mid}"
+            );
+            // Switching, the pulse's middle carries more than the mean:
+            // the ripple the cell's resistance turns into a voltage.
+            assert!(duty == 1.0 || c.mid_on_current_a > 1.2 * c.supply_current_a);
+        }
+        let full = drive.cycle_average(&motor, 1.0, 4.0, w);
+        let steady = (4.0 - motor.back_emf_v(w)) / motor.params.resistance_ohm;
+        assert!((full.mid_on_current_a / steady - 1.0).abs() < 1e-9);
+        assert!((full.supply_current_a / steady - 1.0).abs() < 1e-9);
+        assert_eq!(
+            drive.cycle_average(&motor, 0.0, 4.0, w).mid_on_current_a,
+            0.0
         );
     }
 

@@ -6,9 +6,11 @@
 //! -(V_d + e)/R` until zero; then floating), integrated for `i²` as well:
 //! on a segment `i = a + (i_s - a) e^{-t/tau}`,
 //! `int i² = a² T + 2 a (i_s - a) tau (1 - e^{-T/tau}) + (i_s - a)² tau/2 (1 - e^{-2T/tau})`.
-//! Over a period `L di/dt` integrates to zero, so
-//! `V <i_supply> = R <i²> + V_d <i_d> + e <i>` holds exactly; the energy
-//! test uses these terms as the electrical losses.
+//! With a source resistance `R_s` (the cell's, in the loop while the
+//! switch is on) the on-segments relax with `L/(R + R_s)` towards
+//! `(V - e)/(R + R_s)`. Over a period `L di/dt` integrates to zero, so
+//! `V <i_supply> = R_s <i_on²> + R <i²> + V_d <i_d> + e <i>` holds exactly;
+//! the energy test uses these terms as the electrical losses.
 
 use crate::robot::{Motor, PwmDrive};
 
@@ -19,6 +21,8 @@ pub struct PeriodLosses {
     pub motor_current_a: f64,
     pub winding_w: f64,
     pub diode_w: f64,
+    /// In the source's resistance (the cell's internal loss).
+    pub source_w: f64,
 }
 
 /// `int_0^T (a + (s - a) e^{-t/tau})^{1,2} dt`.
@@ -38,15 +42,29 @@ pub fn period_losses(
     supply_v: f64,
     speed_rad_s: f64,
 ) -> PeriodLosses {
+    period_losses_through(drive, motor, duty, supply_v, 0.0, speed_rad_s)
+}
+
+/// [`period_losses`] from `source_v` behind `source_ohm`
+/// (`PwmDrive::cycle_average_through`).
+pub fn period_losses_through(
+    drive: &PwmDrive,
+    motor: &Motor,
+    duty: f64,
+    source_v: f64,
+    source_ohm: f64,
+    speed_rad_s: f64,
+) -> PeriodLosses {
     let p = &motor.params;
     let (r, tau) = (p.resistance_ohm, p.inductance_h / p.resistance_ohm);
+    let tau_on = p.inductance_h / (r + source_ohm);
     let period = 1.0 / drive.carrier_hz;
     let t_on = duty.clamp(0.0, 1.0) * period;
     let t_off = period - t_on;
     let e = motor.back_emf_v(speed_rad_s);
-    let a_on = (supply_v - e) / r;
+    let a_on = (source_v - e) / (r + source_ohm);
     let a_off = -(drive.diode_drop_v + e) / r;
-    let (x_on, x_off) = ((-t_on / tau).exp(), (-t_off / tau).exp());
+    let (x_on, x_off) = ((-t_on / tau_on).exp(), (-t_off / tau).exp());
     let i0_ccm = (a_off * (1.0 - x_off) + a_on * (1.0 - x_on) * x_off) / (1.0 - x_on * x_off);
     // At duty 1 the current is the on-asymptote throughout. (`cycle_average`
     // starts it from zero instead, ~9 % low at 25 kHz; the controller's
@@ -58,7 +76,7 @@ pub fn period_losses(
     } else {
         0.0
     };
-    let (q_on, sq_on) = segment(a_on, i0, tau, t_on);
+    let (q_on, sq_on) = segment(a_on, i0, tau_on, t_on);
     let i1 = (a_on + (i0 - a_on) * x_on).max(0.0);
     let t_diode = if i0 > 0.0 || a_off >= 0.0 {
         t_off
@@ -72,6 +90,7 @@ pub fn period_losses(
         motor_current_a: (q_on + q_d) / period,
         winding_w: r * (sq_on + sq_d) / period,
         diode_w: drive.diode_drop_v * q_d / period,
+        source_w: source_ohm * sq_on / period,
     }
 }
 
@@ -82,19 +101,23 @@ mod tests {
     #[test]
     fn agrees_with_the_cycle_average_and_balances_power() {
         let m = Motor::coreless_6mm();
-        for &(duty, v, w) in &[
-            (0.75, 4.0, 6.0),
-            (0.3, 3.7, 300.0),
-            (1.0, 4.2, 10.0),
-            (0.05, 3.5, 1.0),
+        for &(duty, v, w, rs) in &[
+            (0.75, 4.0, 6.0, 0.0),
+            (0.3, 3.7, 300.0, 0.0),
+            (1.0, 4.2, 10.0, 0.0),
+            (0.05, 3.5, 1.0, 0.0),
+            (0.75, 4.0, 6.0, 0.6),
+            (0.3, 3.7, 300.0, 1.5),
+            (1.0, 4.2, 10.0, 0.6),
         ] {
-            let c = PwmDrive::BOARD.cycle_average(&m, duty, v, w);
-            let l = period_losses(&PwmDrive::BOARD, &m, duty, v, w);
-            if duty < 1.0 {
-                assert!((l.supply_current_a - c.supply_current_a).abs() < 1e-12);
-                assert!((l.motor_current_a - c.motor_current_a).abs() < 1e-12);
-            }
-            let out = l.winding_w + l.diode_w + m.back_emf_v(w) * l.motor_current_a;
+            let c = PwmDrive::BOARD.cycle_average_through(&m, duty, v, rs, w);
+            let l = period_losses_through(&PwmDrive::BOARD, &m, duty, v, rs, w);
+            assert!((l.supply_current_a - c.supply_current_a).abs() < 1e-12);
+            assert!((l.motor_current_a - c.motor_current_a).abs() < 1e-12);
+            // The mean current follows the mean motor voltage.
+            let from_v = (c.motor_v - m.back_emf_v(w)) / m.params.resistance_ohm;
+            assert!((from_v - c.motor_current_a).abs() < 1e-9, "{c:?}");
+            let out = l.source_w + l.winding_w + l.diode_w + m.back_emf_v(w) * l.motor_current_a;
             let inp = v * l.supply_current_a;
             assert!(
                 (out - inp).abs() < 1e-9 * inp.max(1e-9),

@@ -1,12 +1,22 @@
-//! The whole robot in time: remote edges -> shared `Remote` -> shared
-//! `BatteryMonitor` and `Controller` (the firmware's main loop, ticked like
-//! `firmware/src/run.rs`) -> PWM drive (cycle average) -> motor -> the
-//! swimmer's hydrodynamics -> height in the channel; the cell discharges.
+//! The whole robot in time: remote edges and the battery input -> the
+//! firmware's own main-loop pass (`swimbot_shared::MainLoop`, the code
+//! `firmware/src/run.rs` calls: the chip's rate control fed the simulated
+//! Hall edges with `--rate-hz`, the host's voltage-mode controller in its
+//! place otherwise; [`super::rate`]) -> PWM drive (cycle average)
+//! -> motor -> the swimmer's hydrodynamics -> height in the channel; the
+//! cell discharges.
 //!
-//! Per tick `dt` (1 ms by default):
-//! * cell: `V = OCV(soc) - R_int I_s`, with `I_s(V)` the drive's mean supply
-//!   current at the new duty, solved by fixed point (the ADC reads the
-//!   voltage of the previous tick's load, as the firmware's does);
+//! Per tick `dt` (1 ms by default, one pass a tick):
+//! * the battery input, when the pass asks for a reading, sees the previous
+//!   tick's load as the firmware's ADC does: by default the terminal
+//!   voltage in the middle of the on-pulse, `OCV - R_int i_mid`, where the
+//!   firmware converts (`firmware/src/battery_adc.rs`, issue 25 item 4);
+//!   [`BatteryReading::CycleMean`] reads `OCV - R_int I_s` instead, what
+//!   an RC filter on the divider tap would give;
+//! * cell and drive: the cell's `OCV(soc)` behind `R_int`, in the motor's
+//!   loop while the switch is on ([`crate::robot::PwmDrive::cycle_average_through`]):
+//!   each pulse sags the terminals by `R_int i`; the mean terminal voltage
+//!   is `V = OCV - R_int I_s`, `I_s` the mean supply current;
 //! * motor (`Motor::step_implicit`): `L di/dt = v - R i - k w`,
 //!   `J dw/dt = k i - b w - tau_c sgn(w) - tau_m(w)`, `w` the rate of the
 //!   tail relative to the body, `J` rotor + coupler + tail;
@@ -19,8 +29,9 @@
 //! diode, friction and hydrodynamic losses, the external load's work and
 //! the stored kinetic and magnetic energy.
 
-use super::drive::period_losses;
+use super::drive::period_losses_through;
 use super::hydro::Hydro;
+pub use super::outcome::{End, Energy, Outcome, Sample};
 use super::rate::{Driver, RatePoint, RateRun};
 use super::robot::Robot;
 use super::script::Script;
@@ -32,7 +43,7 @@ use rand_distr::{Distribution, Normal};
 use std::f64::consts::TAU;
 use swimbot_shared::rate::{RateEvent, SensorFault};
 use swimbot_shared::{
-    BatteryMonitor, Command, Controller, Duty, Event, MotorState as State, Remote, StopReason,
+    Controller, Event, MainLoop, MainLoopConfig, MotorControl, MotorState as State, StopReason,
 };
 
 /// What to simulate beyond the robot and the script.
@@ -46,6 +57,20 @@ pub struct Options {
     pub sample_every_s: f64,
     /// End when the nose reaches the channel's top.
     pub stop_at_top: bool,
+    /// What the battery input converts.
+    pub battery_reading: BatteryReading,
+}
+
+/// Where in the PWM period the battery is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BatteryReading {
+    /// In the middle of the on-pulse: the loaded voltage the motor sees,
+    /// what the firmware does.
+    #[default]
+    MidOnPulse,
+    /// The cycle mean, as behind an RC filter on the divider tap (corner
+    /// well below the carrier): the voltage before issue 25 item 4.
+    CycleMean,
 }
 
 impl Default for Options {
@@ -55,99 +80,9 @@ impl Default for Options {
             max_time_s: 1800.0,
             sample_every_s: 0.1,
             stop_at_top: true,
+            battery_reading: BatteryReading::MidOnPulse,
         }
     }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    pub t_s: f64,
-    pub duty: f64,
-    /// Cell terminal voltage (V).
-    pub battery_v: f64,
-    /// Mean current out of the cell (A).
-    pub current_a: f64,
-    /// Mean motor current (A).
-    pub motor_current_a: f64,
-    /// Motor rate, tail relative to body (Hz).
-    pub motor_rate_hz: f64,
-    /// Tail rate in the lab frame (Hz): what a camera sees.
-    pub tail_rate_hz: f64,
-    /// Body rate about x in the lab frame (Hz), signed: negative is
-    /// counter-rotating against the tail.
-    pub body_rate_hz: f64,
-    pub u_mm_s: f64,
-    /// Nose above the channel floor (mm).
-    pub height_mm: f64,
-    pub soc: f64,
-    pub state: State,
-}
-
-/// Energy ledger over the run (J), see the module docs.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Energy {
-    pub cell_j: f64,
-    pub internal_j: f64,
-    pub winding_j: f64,
-    pub diode_j: f64,
-    pub friction_j: f64,
-    pub hydro_j: f64,
-    /// Work done on the robot by external loads (buoyancy), an input.
-    pub external_j: f64,
-    pub stored_j: f64,
-}
-
-impl Energy {
-    /// Input minus everything accounted for (J).
-    pub fn residual_j(&self) -> f64 {
-        self.cell_j + self.external_j
-            - (self.internal_j
-                + self.winding_j
-                + self.diode_j
-                + self.friction_j
-                + self.hydro_j
-                + self.stored_j)
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum End {
-    TopReached,
-    /// The controller stopped the motor and it came to rest.
-    Stopped(StopReason),
-    /// The rate sensor showed a fault and the controller stopped the motor.
-    SensorFault(SensorFault),
-    /// The script ran out and the robot is at rest (never started, or
-    /// started and stopped by a command).
-    Idle,
-    TimeLimit,
-}
-
-#[derive(Debug, Clone)]
-pub struct Outcome {
-    pub tail_id: String,
-    pub hydro: Hydro,
-    pub samples: Vec<Sample>,
-    /// The state after the last tick (also the last sample).
-    pub last: Sample,
-    pub events: Vec<(f64, Event)>,
-    pub commands: Vec<(f64, Command)>,
-    pub end: End,
-    pub top_reached_s: Option<f64>,
-    pub start_height_mm: f64,
-    pub channel_length_mm: f64,
-    /// Time in the Running state (after the soft start), and the means
-    /// of U (mm/s), tail rate f and body counter-rotation (Hz) over it.
-    pub running_s: f64,
-    pub mean_u_mm_s: f64,
-    pub mean_f_hz: f64,
-    pub mean_omega_b_hz: f64,
-    pub energy: Energy,
-    pub ticks: u64,
-    /// Rate control only: the trace every [`RATE_TRACE_EVERY_US`], and the
-    /// sensor faults and refused starts with their times.
-    pub rate_trace: Vec<RatePoint>,
-    pub rate_faults: Vec<(f64, RateEvent)>,
 }
 
 /// Spacing of the rate trace: fine enough for settling times, a tenth of
@@ -180,9 +115,18 @@ pub fn simulate_with(
     let capacity_c = cell.capacity_mah * 3.6;
     let mut charge_c = cell.initial_soc * capacity_c;
     let (tick_us, dt) = (robot.tick_us, robot.tick_us as f64 * 1e-6);
-    let mut remote = Remote::new(robot.keys);
-    let mut monitor = BatteryMonitor::new(robot.battery);
-    let mut driver = Driver::new(Controller::new(robot.controller), rate);
+    let board = MainLoopConfig {
+        keys: robot.keys,
+        battery: robot.battery,
+        sample_period_us: robot.adc_period_us,
+        ..MainLoopConfig::BOARD
+    };
+    let driver = Driver::new(Controller::new(robot.controller), rate);
+    let mut main_loop = MainLoop::with_control(board, driver, false);
+    // The Hall edges of the last tick, queued for the next pass as the
+    // chip's interrupt queues them.
+    let mut hall_queue = Vec::new();
+    let mut rate_faults = Vec::new();
     // ADC noise only where asked for (rate runs): voltage-mode runs stay
     // exactly what they were.
     let adc_sd = rate.map_or(0.0, |r| r.noise.adc_noise_lsb.abs());
@@ -198,9 +142,9 @@ pub fn simulate_with(
     let sample_every_us = ((opts.sample_every_s * 1e6) as u64).max(tick_us);
     let max_us = (opts.max_time_s * 1e6) as u64;
 
-    let (mut t_us, mut next_adc_us, mut next_sample_us) = (0u64, 0u64, 0u64);
-    let (mut s, mut height_mm, mut supply_a, mut duty) =
-        (MotorState::REST, start_height_mm, 0.0f64, Duty::ZERO);
+    let (mut t_us, mut next_sample_us) = (0u64, 0u64);
+    let (mut s, mut height_mm, mut supply_a, mut mid_on_a) =
+        (MotorState::REST, start_height_mm, 0.0f64, 0.0f64);
     let mut energy = Energy::default();
     let stored = |s: &MotorState| {
         0.5 * motor.inertia_kg_m2() * s.speed_rad_s.powi(2)
@@ -212,13 +156,15 @@ pub fn simulate_with(
     let mut last_stop = None;
     let mut last_stop_s = f64::NEG_INFINITY;
     let mut ticks = 0u64;
+    let mut battery_readings = Vec::new();
     let sample_now =
-        |t_us: u64, duty: f64, v: f64, i_s: f64, s: &MotorState, h: f64, q: f64, state: State| {
+        |t_us: u64, duty: f64, v: (f64, f64), i_s: f64, s: &MotorState, h: f64, q: f64, state| {
             let vel = hydro.velocity(s.speed_rad_s);
             Sample {
                 t_s: t_us as f64 * 1e-6,
                 duty,
-                battery_v: v,
+                battery_v: v.0,
+                loaded_v: v.1,
                 current_a: i_s,
                 motor_current_a: s.current_a,
                 motor_rate_hz: s.speed_rad_s / TAU,
@@ -234,32 +180,45 @@ pub fn simulate_with(
     let end = loop {
         t_us += tick_us;
         ticks += 1;
-        let mut command = None;
-        while let Some(&(level, t)) = edges.get(next_edge) {
-            if t > t_us {
-                break;
-            }
+        let first_edge = next_edge;
+        while edges.get(next_edge).is_some_and(|e| e.1 <= t_us) {
             next_edge += 1;
-            // The firmware timestamps with the timer's low 32 bits.
-            if let Some(c) = remote.edge(level, t as u32) {
-                commands.push((t as f64 * 1e-6, c));
-                command = Some(Command::merge(command, c));
-            }
         }
+        // The firmware timestamps with the timer's low 32 bits.
+        let tick_edges = edges[first_edge..next_edge]
+            .iter()
+            .map(|&(level, t)| (level, t as u32));
         let ocv = cell.ocv_v(charge_c / capacity_c);
-        if t_us >= next_adc_us {
-            next_adc_us = t_us + robot.adc_period_us;
-            let v = ocv - cell.internal_resistance_ohm * supply_a;
-            let mut counts = robot
+        let read_adc = || {
+            let i_a = match opts.battery_reading {
+                BatteryReading::MidOnPulse => mid_on_a,
+                BatteryReading::CycleMean => supply_a,
+            };
+            let v = ocv - cell.internal_resistance_ohm * i_a;
+            let counts = robot
                 .battery
                 .mv_to_counts((v * 1e3).round().max(0.0) as u32);
-            if let Some(n) = adc_noise {
-                let noisy = f64::from(counts) + n.sample(&mut rng).round();
-                counts = noisy.clamp(0.0, 4095.0) as u16;
+            match adc_noise {
+                Some(n) => {
+                    (f64::from(counts) + n.sample(&mut rng).round()).clamp(0.0, 4095.0) as u16
+                }
+                None => counts,
             }
-            monitor.sample(counts, t_us, duty != Duty::ZERO);
+        };
+        let out = main_loop.pass(t_us, tick_edges, hall_queue.drain(..), read_adc);
+        let t_s = t_us as f64 * 1e-6;
+        if let Some(f) = out.fault {
+            rate_faults.push((t_s, RateEvent::Fault(f)));
         }
-        let out = driver.step(t_us, command, monitor.status());
+        if out.refused_no_set_point {
+            rate_faults.push((t_s, RateEvent::NoSetPoint));
+        }
+        if let Some(counts) = out.sample {
+            battery_readings.push((t_us, counts));
+        }
+        if let Some(c) = out.command {
+            commands.push((t_us as f64 * 1e-6, c));
+        }
         if let Some(e) = out.event {
             if let Event::Stopped(r) = e {
                 last_stop = Some(r);
@@ -267,22 +226,15 @@ pub fn simulate_with(
             }
             events.push((t_us as f64 * 1e-6, e));
         }
-        duty = out.duty;
-        let d = duty.as_f64();
-        // Terminal voltage with the new duty's current: a contraction with
-        // factor ~R_int d / R, so a few passes reach 1e-12 V.
-        let mut v = ocv - cell.internal_resistance_ohm * supply_a;
-        let mut means = robot.drive.cycle_average(&motor, d, v, s.speed_rad_s);
-        for _ in 0..8 {
-            let v_new = ocv - cell.internal_resistance_ohm * means.supply_current_a;
-            if (v_new - v).abs() < 1e-12 {
-                break;
-            }
-            v = v_new;
-            means = robot.drive.cycle_average(&motor, d, v, s.speed_rad_s);
-        }
+        let d = out.duty.as_f64();
+        let r_int = cell.internal_resistance_ohm;
+        let means = robot
+            .drive
+            .cycle_average_through(&motor, d, ocv, r_int, s.speed_rad_s);
         supply_a = means.supply_current_a;
-        let losses = period_losses(&robot.drive, &motor, d, v, s.speed_rad_s);
+        mid_on_a = means.mid_on_current_a;
+        let v = ocv - r_int * supply_a;
+        let losses = period_losses_through(&robot.drive, &motor, d, ocv, r_int, s.speed_rad_s);
         let stored_before = stored(&s);
         let w_old = s.speed_rad_s;
         s = motor.step_implicit(
@@ -293,13 +245,15 @@ pub fn simulate_with(
             dt,
         );
         let w = s.speed_rad_s;
-        driver.turned(0.5 * (w_old + w) * dt, t_us, dt);
+        hall_queue = main_loop
+            .control_mut()
+            .turned(0.5 * (w_old + w) * dt, t_us, dt);
         charge_c = (charge_c - supply_a * dt).clamp(0.0, capacity_c);
         let vel = hydro.velocity(w);
         height_mm += vel[0] * 1e3 * dt;
 
         energy.cell_j += ocv * supply_a * dt;
-        energy.internal_j += cell.internal_resistance_ohm * supply_a * supply_a * dt;
+        energy.internal_j += losses.source_w * dt;
         energy.winding_j += losses.winding_w * dt;
         energy.diode_j += losses.diode_w * dt;
         let friction_n_m = mp.viscous_friction_n_m_s * w
@@ -315,14 +269,27 @@ pub fn simulate_with(
             sum_f += (w + vel[3]) / TAU * dt;
             sum_om += -vel[3] / TAU * dt;
         }
-        last = sample_now(t_us, d, v, supply_a, &s, height_mm, charge_c, out.state);
+        let loaded_v = ocv - cell.internal_resistance_ohm * mid_on_a;
+        last = sample_now(
+            t_us,
+            d,
+            (v, loaded_v),
+            supply_a,
+            &s,
+            height_mm,
+            charge_c,
+            out.state,
+        );
         if let (Some(run), true) = (rate, t_us >= next_trace_us) {
             next_trace_us += RATE_TRACE_EVERY_US;
             rate_trace.push(RatePoint {
                 t_s: last.t_s,
                 set_hz: run.set_hz_at(t_us).unwrap_or(0.0),
-                reference_hz: driver.reference_hz(),
-                measured_hz: driver.measured_hz().unwrap_or(f64::NAN),
+                reference_hz: f64::from(out.reference_mhz) / 1e3,
+                measured_hz: main_loop
+                    .control()
+                    .rate_mhz()
+                    .map_or(f64::NAN, |r| f64::from(r) / 1e3),
                 motor_rate_hz: last.motor_rate_hz,
                 duty: d,
                 battery_v: v,
@@ -344,7 +311,7 @@ pub fn simulate_with(
             && next_edge == edges.len()
             && t_us > script_end_us + 2_000_000;
         if at_rest {
-            if let Some(f) = driver.last_fault_after(last_stop_s) {
+            if let Some(f) = last_fault_after(&rate_faults, last_stop_s) {
                 break End::SensorFault(f);
             }
             break last_stop
@@ -378,7 +345,16 @@ pub fn simulate_with(
         mean_omega_b_hz: mean(sum_om),
         energy,
         ticks,
-        rate_faults: driver.faults(),
+        rate_faults,
         rate_trace,
+        battery_readings,
+    })
+}
+
+/// The last sensor fault, if it came after `after_s`.
+fn last_fault_after(faults: &[(f64, RateEvent)], after_s: f64) -> Option<SensorFault> {
+    faults.iter().rev().find_map(|&(t, e)| match e {
+        RateEvent::Fault(f) if t >= after_s => Some(f),
+        _ => None,
     })
 }

@@ -1,6 +1,7 @@
 //! `swimbot sim`: the whole robot in time. A robot description
 //! ([`robot`]) and a remote-control script ([`script`]) drive the
-//! firmware's shared controller, the host's motor, PWM and cell models and
+//! firmware's own main-loop pass (`swimbot_shared::MainLoop`), the host's
+//! motor, PWM and cell models and
 //! the swimmer model (eq. 11 with the motor between body and tail,
 //! [`hydro`]) through [`dynamics`]; [`output`] writes the time series,
 //! plot and summary, and [`calibrate`] fits one motor to all observed tail
@@ -11,7 +12,10 @@ pub mod drive;
 pub mod dynamics;
 pub mod figure;
 pub mod hydro;
+pub mod outcome;
 pub mod output;
+#[cfg(test)]
+mod pass_tests;
 pub mod rate;
 pub mod rate_figure;
 mod raw;
@@ -20,7 +24,9 @@ mod robot_limits;
 pub mod script;
 pub mod step_response;
 
-pub use dynamics::{simulate, simulate_with, End, Energy, Options, Outcome, Sample};
+pub use dynamics::{
+    simulate, simulate_with, BatteryReading, End, Energy, Options, Outcome, Sample,
+};
 pub use rate::{RatePoint, RateRun};
 pub use robot::{default_robot, Robot, RobotError};
 pub use script::Script;

@@ -1,7 +1,9 @@
-//! Rate control in `swimbot sim` (issue 26): the shared crate's
-//! [`RateController`] and [`RateEstimator`] in place of the voltage-mode
-//! controller, fed by the simulated Hall ring on the motor's shaft
-//! ([`crate::robot::hall`]) and a schedule of set-points.
+//! Rate control in `swimbot sim` (issue 26): the chip's own rate control
+//! ([`ChipControl`], `RateController` + `RateEstimator`) inside the chip's
+//! main-loop pass, fed Hall edges from the simulated ring on the motor's
+//! shaft ([`crate::robot::hall`]) through the pass, and a schedule of
+//! set-points in place of the set-point keys. Without `--rate-hz` the
+//! pass carries the host's voltage-mode controller instead (`Driver`).
 //!
 //! The set-point is the motor's rate (tail relative to body): that is what
 //! a sensor in the body sees on the coupler. The lab-frame tail rate the
@@ -10,10 +12,8 @@
 
 use super::script::parse_time_us;
 use crate::robot::hall::{Failure, HallRing, SensorNoise};
-use swimbot_shared::rate::{
-    HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault,
-};
-use swimbot_shared::{BatteryStatus, Command, Controller, Duty, Event, MotorState};
+use swimbot_shared::rate::{HallConfig, RateConfig, RateEvent, RateOutput, SensorFault};
+use swimbot_shared::{BatteryStatus, ChipControl, Command, Controller, HallEdge, MotorControl};
 
 /// A rate-controlled run: when each set-point (Hz) applies, the
 /// controller's configuration, the sensor and its imperfections.
@@ -110,7 +110,11 @@ pub struct RatePoint {
     pub running: bool,
 }
 
-/// What drives the motor: the firmware's voltage mode, or rate control.
+/// What drives the motor inside the main-loop pass: the chip's rate
+/// control ([`ChipControl`], the firmware's own) fed by the simulated Hall
+/// ring, or the host's voltage mode. Either way the pass
+/// (`swimbot_shared::MainLoop`) decides the rest: commands, set-point keys,
+/// battery readings, cut-off, sensor faults, LED.
 #[derive(Debug, Clone)]
 pub(super) enum Driver {
     Voltage(Controller),
@@ -120,19 +124,9 @@ pub(super) enum Driver {
 #[derive(Debug, Clone)]
 pub(super) struct RateDriver {
     run: RateRun,
-    ctl: RateController,
-    est: RateEstimator,
+    chip: ChipControl,
     ring: HallRing,
     theta_rad: f64,
-    pub(super) reference_hz: f64,
-    pub(super) faults: Vec<(f64, RateEvent)>,
-}
-
-/// The driver's decision for one tick.
-pub(super) struct DriveOut {
-    pub duty: Duty,
-    pub state: MotorState,
-    pub event: Option<Event>,
 }
 
 impl Driver {
@@ -140,8 +134,7 @@ impl Driver {
         match rate {
             None => Driver::Voltage(voltage),
             Some(run) => Driver::Rate(Box::new(RateDriver {
-                ctl: RateController::new(run.config),
-                est: RateEstimator::new(run.hall),
+                chip: ChipControl::new(run.config, run.hall),
                 ring: match run.failure {
                     Some((at_s, f)) => {
                         HallRing::new(run.hall.edges_per_turn(), &run.noise).with_failure(at_s, f)
@@ -150,89 +143,81 @@ impl Driver {
                 },
                 run: run.clone(),
                 theta_rad: 0.0,
-                reference_hz: 0.0,
-                faults: Vec::new(),
             })),
         }
     }
 
-    pub(super) fn step(
-        &mut self,
-        t_us: u64,
-        command: Option<Command>,
-        battery: BatteryStatus,
-    ) -> DriveOut {
+    /// The rotor turned by `dtheta_rad` over the tick ending at `t_us`: the
+    /// sensor's edges, for the next pass to take as the interrupt's queue.
+    pub(super) fn turned(&mut self, dtheta_rad: f64, t_us: u64, dt_s: f64) -> Vec<HallEdge> {
+        let Driver::Rate(d) = self else {
+            return Vec::new();
+        };
+        let (t1, th0) = (t_us as f64 * 1e-6, d.theta_rad);
+        d.theta_rad += dtheta_rad;
+        d.ring
+            .advance(th0, d.theta_rad, t1 - dt_s, t1)
+            .into_iter()
+            .map(|e| HallEdge {
+                t_us: e.t_us,
+                a: e.a,
+                b: e.b,
+            })
+            .collect()
+    }
+}
+
+/// In rate mode the run's schedule of set-points stands in for the
+/// set-point keys; in voltage mode there is no set-point, no sensor.
+impl MotorControl for Driver {
+    fn hall_edge(&mut self, edge: HallEdge) {
+        if let Driver::Rate(d) = self {
+            d.chip.hall_edge(edge);
+        }
+    }
+
+    fn step(&mut self, t_us: u64, command: Option<Command>, battery: BatteryStatus) -> RateOutput {
         let d = match self {
             Driver::Voltage(c) => {
                 let o = c.step(t_us, command, battery);
-                return DriveOut {
+                return RateOutput {
                     duty: o.duty,
                     state: o.state,
-                    event: o.event,
+                    event: o.event.map(RateEvent::Motor),
+                    reference_mhz: 0,
+                    saturated: false,
                 };
             }
             Driver::Rate(d) => d,
         };
         let set = d.run.set_hz_at(t_us).map(|f| (f * 1e3).round() as u32);
-        d.ctl.set_rate_mhz(set);
-        let o = d.ctl.step(t_us, command, battery, &mut d.est);
-        d.reference_hz = f64::from(o.reference_mhz) / 1e3;
-        let event = match o.event {
-            Some(RateEvent::Motor(e)) => Some(e),
-            Some(other) => {
-                d.faults.push((t_us as f64 * 1e-6, other));
-                None
-            }
-            None => None,
-        };
-        DriveOut {
-            duty: o.duty,
-            state: o.state,
-            event,
+        d.chip.set_rate_mhz(set);
+        d.chip.step(t_us, command, battery)
+    }
+
+    fn set_rate(&self) -> Option<u32> {
+        match self {
+            Driver::Rate(d) => d.chip.set_rate(),
+            Driver::Voltage(_) => None,
         }
     }
 
-    /// The rotor turned by `dtheta_rad` over the tick ending at `t_us`: queue
-    /// the sensor's edges for the next pass.
-    pub(super) fn turned(&mut self, dtheta_rad: f64, t_us: u64, dt_s: f64) {
+    fn set_rate_mhz(&mut self, set: Option<u32>) {
         if let Driver::Rate(d) = self {
-            let (t1, th0) = (t_us as f64 * 1e-6, d.theta_rad);
-            d.theta_rad += dtheta_rad;
-            for e in d.ring.advance(th0, d.theta_rad, t1 - dt_s, t1) {
-                d.est.edge(e.t_us, e.a, e.b);
-            }
+            d.chip.set_rate_mhz(set);
         }
     }
 
-    /// The controller's current reference (Hz; 0 in voltage mode).
-    pub(super) fn reference_hz(&self) -> f64 {
+    fn fault(&self) -> Option<SensorFault> {
         match self {
-            Driver::Rate(d) => d.reference_hz,
-            Driver::Voltage(_) => 0.0,
+            Driver::Rate(d) => d.chip.fault(),
+            Driver::Voltage(_) => None,
         }
     }
 
-    /// The last sensor fault, if it came after `after_s`.
-    pub(super) fn last_fault_after(&self, after_s: f64) -> Option<SensorFault> {
-        let Driver::Rate(d) = self else { return None };
-        d.faults.iter().rev().find_map(|&(t, e)| match e {
-            RateEvent::Fault(f) if t >= after_s => Some(f),
-            _ => None,
-        })
-    }
-
-    /// Sensor faults and refused starts, with their times.
-    pub(super) fn faults(&self) -> Vec<(f64, RateEvent)> {
+    fn rate_mhz(&self) -> Option<u32> {
         match self {
-            Driver::Rate(d) => d.faults.clone(),
-            Driver::Voltage(_) => Vec::new(),
-        }
-    }
-
-    /// The sensor's reading (Hz), if rate-controlled and available.
-    pub(super) fn measured_hz(&self) -> Option<f64> {
-        match self {
-            Driver::Rate(d) => d.est.estimate().map(|r| f64::from(r.rate_mhz) / 1e3),
+            Driver::Rate(d) => d.chip.rate_mhz(),
             Driver::Voltage(_) => None,
         }
     }

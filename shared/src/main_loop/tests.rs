@@ -10,7 +10,7 @@ fn counts(mv: u32) -> u16 {
 }
 
 /// Passes every millisecond up to `until_us`, at `mv`, no edges.
-fn idle(m: &mut MainLoop, from_us: u64, until_us: u64, mv: u32) -> PassOutput {
+fn idle<C: MotorControl>(m: &mut MainLoop<C>, from_us: u64, until_us: u64, mv: u32) -> PassOutput {
     let mut last = m.pass(from_us, [], [], || counts(mv));
     let mut t = from_us;
     while t < until_us {
@@ -199,4 +199,69 @@ fn rate_keys_change_only_the_set_point_and_other_remotes_are_counted() {
         (o.command, o.state, o.foreign_frames),
         (None, MotorState::Off, 1)
     );
+}
+
+/// A controller that wants the motor on at a fixed duty whenever the
+/// battery allows and has no set-point or sensor, to see the pass's
+/// decisions around any controller (the host sim's voltage mode is one).
+#[derive(Clone, Debug)]
+struct Fixed(Duty);
+
+impl MotorControl for Fixed {
+    fn hall_edge(&mut self, _: HallEdge) {}
+    fn step(
+        &mut self,
+        _: u64,
+        _: Option<Command>,
+        battery: BatteryStatus,
+    ) -> crate::rate::RateOutput {
+        let on = battery.allows_motor();
+        crate::rate::RateOutput {
+            duty: if on { self.0 } else { Duty::ZERO },
+            state: if on {
+                MotorState::Running
+            } else {
+                MotorState::Off
+            },
+            event: None,
+            reference_mhz: 0,
+            saturated: false,
+        }
+    }
+    fn set_rate(&self) -> Option<u32> {
+        None
+    }
+    fn set_rate_mhz(&mut self, _: Option<u32>) {}
+    fn fault(&self) -> Option<SensorFault> {
+        None
+    }
+    fn rate_mhz(&self) -> Option<u32> {
+        None
+    }
+}
+
+#[test]
+fn another_controller_gets_the_same_sampling_latch_and_led() {
+    let mut m = MainLoop::with_control(MainLoopConfig::BOARD, Fixed(Duty::percent(50)), false);
+    let o = m.pass(0, [], [], || counts(3_900));
+    assert_eq!(o.sample, Some(counts(3_900)));
+    assert_eq!(
+        (o.duty, o.led, o.hall_power),
+        (
+            Duty::percent(50),
+            LedMode::of(o.state, o.battery, false),
+            true
+        )
+    );
+    assert!(
+        m.motor_on(),
+        "its duty is what the next reading was loaded by"
+    );
+    assert_eq!(m.pass(19_999, [], [], || unreachable!()).sample, None);
+    // A cell under the cut-off for the debounce: the pass latches it and
+    // the controller is handed a status that stops the motor.
+    let o = idle(&mut m, 20_000, 1_400_000, 3_100);
+    assert_eq!(o.battery.level, BatteryLevel::Cutoff);
+    assert_eq!((o.duty, o.hall_power), (Duty::ZERO, false));
+    assert!(m.monitor().cutoff_latched());
 }
