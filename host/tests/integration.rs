@@ -13,6 +13,7 @@ mod cli;
 mod cli_body;
 mod data;
 mod discovery;
+mod formula_input;
 mod hardening;
 mod hidden_effect;
 mod model;

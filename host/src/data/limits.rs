@@ -108,6 +108,49 @@ pub const MAX_QUADRATURE_NODES: f64 = 1e7;
 /// Characters in a case or tail id (it is a column of the tables).
 pub const MAX_ID_CHARS: usize = 64;
 
+/// Characters in one formula of a user effect. A physical law fits in a
+/// line or two; the evaluator walks the formula's tree recursively once per
+/// case and fit step, so the length bounds its depth (a sum of 500 terms)
+/// and its cost.
+pub const MAX_FORMULA_CHARS: usize = 1_000;
+/// Nesting of one formula: parentheses, calls, signs and powers inside one
+/// another. The parser and the evaluator recurse once per level; 8 000
+/// nested parentheses overflowed the stack (exit 134) before this limit.
+/// No law needs more than a handful of levels.
+pub const MAX_FORMULA_DEPTH: usize = 64;
+/// Bytes in one effects file (TOML): a file of a few dozen effects is a few
+/// kB; the whole file is read into memory and parsed at once.
+pub const MAX_EFFECT_FILE_BYTES: u64 = 1 << 20;
+/// Characters of the user's own input that an error message repeats
+/// (identifiers, formulas, values): beyond it the echo is cut and the
+/// length said, so that a 10 MB identifier gives a one-line message.
+pub const MAX_ECHO_CHARS: usize = 120;
+
+/// `s` as an error message may repeat it: control characters and NUL
+/// escaped (`\0`, `\n`, `\u{1b}`), at most [`MAX_ECHO_CHARS`] characters,
+/// then `... (N characters in all)`.
+pub fn echo(s: &str) -> String {
+    let n = s.chars().count();
+    let head: String = s.chars().take(MAX_ECHO_CHARS).collect();
+    let escaped: String = head
+        .chars()
+        .flat_map(|c| {
+            let keep = !c.is_control();
+            let e: Vec<char> = if keep {
+                vec![c]
+            } else {
+                c.escape_default().collect()
+            };
+            e
+        })
+        .collect();
+    if n > MAX_ECHO_CHARS {
+        format!("{escaped}... ({n} characters in all)")
+    } else {
+        escaped
+    }
+}
+
 /// Checks the quadrature resolution for a tail of `turns` turns.
 pub fn check_quadrature(nodes_per_wavelength: usize, turns: f64) -> Result<(), String> {
     let nodes = nodes_per_wavelength as f64 * turns.max(1.0);

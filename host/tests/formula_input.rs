@@ -1,0 +1,159 @@
+//! Hostile formulas (issue 27.1): the inputs that overflowed the stack are
+//! refused with exit 2 through the binary, and the line and column of a
+//! formula error point at the offending character of the raw TOML text,
+//! whatever escapes, wide characters and string forms it is written with
+//! (a property test against the raw text).
+
+use crate::common::{stderr, swimbot};
+use proptest::prelude::*;
+use swimbot::effects::user_file::parse;
+
+/// An effects file with one effect whose `tail.c_n` formula is `value` (raw TOML).
+fn effect_file(value: &str) -> String {
+    format!(
+        "[[effect]]\nname = \"hostile\"\nstatement = \"s\"\nreference = \"r\"\n\n\
+         [[effect.param]]\nname = \"k\"\nunit = \"1\"\ndefault = 1.0\nmin = 0.5\nmax = 2.0\n\n\
+         [effect.places]\n\"tail.c_n\" = {value}\n"
+    )
+}
+
+#[test]
+fn formulas_that_overflowed_the_stack_are_exit_2_with_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "parens",
+            format!("{}k{}", "(".repeat(8_000), ")".repeat(8_000)),
+            "characters",
+        ),
+        ("sum", format!("k{}", " + 1".repeat(60_000)), "characters"),
+        ("minus", format!("{}k", "-".repeat(100_000)), "characters"),
+        (
+            "deep-parens",
+            format!("{}k{}", "(".repeat(200), ")".repeat(200)),
+            "deeper than 64",
+        ),
+        ("powers", format!("k{}", "^1".repeat(300)), "deeper than 64"),
+        ("signs", format!("{}k", "-".repeat(500)), "deeper than 64"),
+        (
+            "abs",
+            format!("{}k{}", "abs(".repeat(100), ")".repeat(100)),
+            "deeper than 64",
+        ),
+    ];
+    for (name, formula, expect) in cases {
+        let path = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&path, effect_file(&format!("\"{formula}\""))).unwrap();
+        let o = swimbot(&["effects", "--effect-file", path.to_str().unwrap()]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(
+            err.contains(expect) && err.contains("tail.c_n"),
+            "{name}: {err}"
+        );
+        assert!(
+            err.contains(&format!("{name}.toml, line 14")),
+            "{name}: {err}"
+        );
+        assert!(
+            err.len() < 2_000,
+            "{name}: the message echoes the whole formula"
+        );
+    }
+    // Just inside the limits, the same shapes load.
+    let path = dir.path().join("deep-ok.toml");
+    let ok = format!("{}k{}", "(".repeat(60), ")".repeat(60));
+    std::fs::write(&path, effect_file(&format!("\"{ok}\""))).unwrap();
+    let o = swimbot(&["effects", "--effect-file", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// One character of a formula prefix, all of which the lexer accepts.
+fn prefix_char() -> impl Strategy<Value = char> {
+    prop::sample::select(vec![
+        '1', '2', '+', '-', '*', '(', 'k', ' ', '\t', '\n', '\u{3000}', '\u{a0}', '\u{2003}',
+    ])
+}
+
+/// How the value is written in the file.
+#[derive(Debug, Clone, Copy)]
+enum Form {
+    Basic,
+    MultiBasic,
+    Literal,
+    MultiLiteral,
+}
+
+/// `c` inside a basic string: raw when the form allows it, or escaped.
+fn basic_char(c: char, multi: bool, pick: u8) -> String {
+    let raw_ok = !(c == '"' || c == '\\' || (c.is_control() && c != '\t' && !(multi && c == '\n')));
+    match pick % 4 {
+        0 if raw_ok => c.to_string(),
+        1 if c == '\t' => "\\t".into(),
+        1 if c == '\n' => "\\n".into(),
+        2 => format!("\\u{:04X}", c as u32),
+        3 => format!("\\U{:08X}", c as u32),
+        _ if raw_ok => c.to_string(),
+        _ => format!("\\u{:04X}", c as u32),
+    }
+}
+
+/// The raw value and the byte offset (in the value) where `$` is written.
+fn encode(formula: &[char], form: Form, picks: &[u8], bend: bool) -> Option<(String, usize)> {
+    let (open, multi, basic) = match form {
+        Form::Basic => ("\"", false, true),
+        Form::MultiBasic => ("\"\"\"", true, true),
+        Form::Literal => ("'", false, false),
+        Form::MultiLiteral => ("'''", true, false),
+    };
+    let mut out = String::from(open);
+    if multi && bend {
+        out.push('\n'); // trimmed by TOML
+    }
+    let mut at = None;
+    for (i, &c) in formula.iter().enumerate() {
+        if c == '$' {
+            at = Some(out.len());
+        }
+        if basic {
+            out.push_str(&basic_char(c, multi, picks[i % picks.len()]));
+            if multi && bend && c == '+' {
+                out.push_str("\\\n   "); // a line-ending backslash: it and the blanks vanish
+            }
+        } else {
+            if c == '\n' && !multi {
+                return None;
+            }
+            out.push(c);
+        }
+    }
+    out.push_str(open);
+    Some((out, at?))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+    #[test]
+    fn formula_errors_point_at_the_raw_character(
+        prefix in prop::collection::vec(prefix_char(), 0..12),
+        suffix in prop::collection::vec(prefix_char(), 0..4),
+        form in prop::sample::select(vec![Form::Basic, Form::MultiBasic, Form::Literal, Form::MultiLiteral]),
+        picks in prop::collection::vec(any::<u8>(), 1..8),
+        bend in any::<bool>(),
+    ) {
+        let mut formula = prefix.clone();
+        formula.push('$');
+        formula.extend(&suffix);
+        let Some((value, at)) = encode(&formula, form, &picks, bend) else {
+            return Ok(());
+        };
+        let text = effect_file(&value);
+        let start = text.find(&value).unwrap() + at;
+        let before = &text[..start];
+        let line = before.matches('\n').count() + 1;
+        let column = before.rsplit('\n').next().unwrap().chars().count() + 1;
+        let e = parse(&text, "f.toml").expect_err("`$` is not allowed in a formula");
+        prop_assert!(e.message.contains("`$`"), "{}\n{}", e, text);
+        prop_assert_eq!((e.line, e.column), (line, column), "{}\n{}", e, text);
+    }
+}
