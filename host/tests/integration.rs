@@ -20,6 +20,7 @@ mod model;
 mod mutation;
 mod nonlocal;
 mod nonlocal_effects;
+mod outputs;
 mod physics_tail;
 mod report;
 mod sim;

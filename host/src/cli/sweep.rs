@@ -281,7 +281,8 @@ fn write_csv(g: &Grid, t: &Case, rows: &[Row], out: Option<&PathBuf>) -> Result<
         None => Box::new(std::io::stdout().lock()),
     };
     let mut w = std::io::BufWriter::with_capacity(1 << 20, sink);
-    let fail = |e: std::io::Error| CliError::failure(format!("writing the sweep CSV: {e}"));
+    // A write that fails (a full disk, a closed device) is the user's to fix: exit 2.
+    let fail = |e: std::io::Error| CliError::input(format!("cannot write the sweep CSV: {e}"));
     writeln!(
         w,
         "wavelength_mm,amplitude_mm,tail_length_mm,frequency_hz,channel_diameter_mm,u_mm_s,omega_body_counter_hz,u_over_u_wave,omega_body_counter_over_f"
