@@ -157,3 +157,31 @@ proptest! {
         prop_assert_eq!((e.line, e.column), (line, column), "{}\n{}", e, text);
     }
 }
+
+/// A multiplier of 1e300 or 1e-300 carried the model out of floating-point
+/// range (exit 1, or NaN printed with exit 0): now exit 2 naming the effect.
+#[test]
+fn multipliers_beyond_a_million_are_exit_2_naming_the_effect() {
+    let dir = tempfile::tempdir().unwrap();
+    for value in ["1e300", "1e-300", "-1e7 * k"] {
+        let path = dir.path().join("thrust.toml");
+        let text = effect_file("\"k\"").replace(
+            "\"tail.c_n\" = \"k\"",
+            &format!("\"tail.thrust\" = \"{value}\"\n\"tail.c_n\" = \"k\""),
+        );
+        std::fs::write(&path, text).unwrap();
+        let o = swimbot(&[
+            "compare",
+            "--effect-file",
+            path.to_str().unwrap(),
+            "--effect",
+            "hostile",
+        ]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{value}: {err}");
+        assert!(
+            err.contains("`hostile`") && err.contains("tail.thrust") && err.contains("thrust.toml"),
+            "{err}"
+        );
+    }
+}

@@ -108,6 +108,17 @@ pub const MAX_QUADRATURE_NODES: f64 = 1e7;
 /// Characters in a case or tail id (it is a column of the tables).
 pub const MAX_ID_CHARS: usize = 64;
 
+/// The range of a user effect's multiplier at a place (`tail.c_n`,
+/// `body.D_x`, ...): no physical effect changes a drag or thrust coefficient
+/// by more than a factor of a million, and beyond it the model leaves the
+/// floating-point range (a thrust multiplier of 1e300 overflowed to a
+/// non-finite speed, 1e-300 to a NaN in the uncertainty check).
+pub const USER_MULTIPLIER_RANGE: (f64, f64) = (1e-6, 1e6);
+/// The largest magnitude of a user effect's added load (mN at `load.force`,
+/// uN m at `load.torque`, rad/s at `drive.rate`): 1e6 mN is 1 kN, a
+/// hundred thousand times the weight of the paper's robot.
+pub const MAX_USER_LOAD: f64 = 1e6;
+
 /// Characters in one formula of a user effect. A physical law fits in a
 /// line or two; the evaluator walks the formula's tree recursively once per
 /// case and fit step, so the length bounds its depth (a sum of 500 terms)
