@@ -4,6 +4,7 @@
 
 mod audit;
 mod body;
+mod budget;
 mod compare;
 mod diagnose;
 mod effects;

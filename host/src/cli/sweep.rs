@@ -46,6 +46,11 @@ pub struct SweepArgs {
     /// Output CSV file [default: stdout].
     #[arg(short, long, value_name = "FILE.csv")]
     pub output: Option<PathBuf>,
+    /// Refuse the sweep when its estimated run time (timed on a sample of
+    /// grid points before the work) is longer [default: no limit; a sweep
+    /// estimated over 10 s is announced on stderr].
+    #[arg(long, value_name = "SECONDS")]
+    pub max_seconds: Option<f64>,
 }
 
 /// Grid points of one sweep: the rows are kept in memory (~100 bytes each
@@ -185,6 +190,14 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
     if let Some(p) = &a.output {
         super::output::check_output_file(p)?;
     }
+    let budget = super::budget::parse_budget(a.max_seconds)?;
+    // 32 points spread over the grid: the cost of one varies with the geometry.
+    let sample = 32.min(n);
+    let per_point = super::budget::seconds_per_call(sample, |j| {
+        let _ = predict_row(&model, &grid.case(&template, j * n / sample));
+    });
+    let estimate = per_point * n as f64 / rayon::current_num_threads() as f64;
+    super::budget::check(&format!("the sweep of {n} grid points"), estimate, budget)?;
     let bar = progress(n);
     let rows: Result<Vec<Row>, CliError> = (0..n)
         .into_par_iter()
