@@ -109,7 +109,9 @@ impl ModelArgs {
         let mut model = preset(name).ok_or_else(|| {
             let known: Vec<&str> = PRESETS.iter().map(|p| p.0).collect();
             CliError::input(format!(
-                "unknown preset `{name}`; known presets: {}",
+                "unknown preset `{}`{}; known presets: {}",
+                crate::data::limits::echo(name),
+                crate::effects::expr::suggest(name, known.iter().copied()),
                 known.join(", ")
             ))
         })?;

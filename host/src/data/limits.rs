@@ -119,6 +119,37 @@ pub const USER_MULTIPLIER_RANGE: (f64, f64) = (1e-6, 1e6);
 /// hundred thousand times the weight of the paper's robot.
 pub const MAX_USER_LOAD: f64 = 1e6;
 
+/// The largest standard uncertainty of an input relative to its value. The
+/// propagation is first order (GUM 5.1.2): it holds while the model is
+/// close to linear over the input's spread, which a spread of half the
+/// value already strains; beyond it the input was not measured (a length
+/// of 2.5 +- 1e6 mm could be negative), and the huge band it gives calls
+/// any model "within the uncertainty" (`amplitude_mm = 1e6` turned a
+/// 295 % error into "none needed").
+pub const MAX_RELATIVE_INPUT_UNCERTAINTY: f64 = 0.5;
+
+/// Each input uncertainty at most [`MAX_RELATIVE_INPUT_UNCERTAINTY`] of its
+/// value (none on a field whose value is 0).
+fn check_input_uncertainties(c: &Case) -> Result<(), (&'static str, String)> {
+    for (field, u) in c.inputs.nonzero(c) {
+        let value = super::uncertainty::field_value(c, field).unwrap_or(0.0);
+        let limit = MAX_RELATIVE_INPUT_UNCERTAINTY * value.abs();
+        if !(u.is_finite() && u <= limit) {
+            return Err((
+                field,
+                format!(
+                    "its standard uncertainty (uncertainty.{field}) is {} for a value of {}: at most {:.0} % of the value is allowed \
+                     (first-order propagation needs small input spreads; beyond half the value the input was not measured)",
+                    show(u),
+                    show(value),
+                    100.0 * MAX_RELATIVE_INPUT_UNCERTAINTY
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Characters in one formula of a user effect. A physical law fits in a
 /// line or two; the evaluator walks the formula's tree recursively once per
 /// case and fit step, so the length bounds its depth (a sum of 500 terms)
@@ -286,6 +317,7 @@ pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
             ),
         ));
     }
+    check_input_uncertainties(c)?;
     let turns = c.tail_length_mm / c.wavelength_mm;
     if turns > MAX_TURNS {
         return Err((
@@ -364,6 +396,33 @@ mod tests {
         for l in LIMITS {
             assert!(l.min < l.max && l.min >= 0.0, "{}", l.field);
             assert!(!l.why.is_empty());
+        }
+    }
+
+    #[test]
+    fn input_uncertainties_are_limited_relative_to_their_values() {
+        let text = crate::data::to_toml(&crate::data::paper());
+        assert!(
+            text.contains("amplitude_mm = 0.3"),
+            "the paper states 0.3 mm"
+        );
+        for (u, ok) in [
+            ("1.25", true),
+            ("1.3", false),
+            ("1e6", false),
+            ("\"49%\"", true),
+            ("\"51%\"", false),
+        ] {
+            let t = text.replace("amplitude_mm = 0.3", &format!("amplitude_mm = {u}"));
+            let r = crate::data::parse_str(&t, "u.toml");
+            assert_eq!(r.is_ok(), ok, "{u}: {r:?}");
+            if let Err(e) = r {
+                let e = e.to_string();
+                assert!(
+                    e.contains("uncertainty.amplitude_mm") && e.contains("50 %"),
+                    "{e}"
+                );
+            }
         }
     }
 }
