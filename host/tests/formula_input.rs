@@ -185,3 +185,42 @@ fn multipliers_beyond_a_million_are_exit_2_naming_the_effect() {
         );
     }
 }
+
+/// The invariants of the effects fuzz target (host/fuzz/fuzz_targets/
+/// effects.rs) on stable, as a property test: arbitrary text around the
+/// shape of an effects file never panics; an accepted file round-trips.
+mod arbitrary_text {
+    use super::*;
+    use swimbot::effects::formula::{to_toml, FormulaEffect};
+
+    fn piece() -> impl Strategy<Value = String> {
+        prop_oneof![
+            Just("[[effect]]\nname = \"x\"\nstatement = \"s\"\nreference = \"r\"\n".to_string()),
+            Just("[[effect.param]]\nname = \"k\"\nunit = \"1\"\ndefault = 1.0\nmin = 0.5\nmax = 2.0\n".to_string()),
+            Just("[effect.places]\n".to_string()),
+            "\"(tail|body|load)\\.[a-zA-Z_]{1,8}\" = \"[ -~]{0,30}\"\n",
+            "[ -~\\n\\t\u{3000}é\\\\\"']{0,40}",
+            any::<String>(),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        #[test]
+        fn arbitrary_effect_files_never_panic(pieces in prop::collection::vec(piece(), 0..8)) {
+            let text: String = pieces.concat();
+            match parse(&text, "f.toml") {
+                Err(e) => prop_assert!(e.line <= text.lines().count() + 1, "{}", e),
+                Ok(specs) => {
+                    let again = parse(&to_toml(&specs), "again.toml").expect("round trip");
+                    prop_assert_eq!(&again, &specs);
+                    for spec in specs {
+                        let p: Vec<f64> = spec.params.iter().map(|p| p.default).collect();
+                        let e = FormulaEffect::new(spec, "").expect("compiles");
+                        let _ = e.values(&p, &swimbot::data::paper().cases[0]);
+                    }
+                }
+            }
+        }
+    }
+}
