@@ -224,3 +224,39 @@ mod arbitrary_text {
         }
     }
 }
+
+/// A user effect at a local drag coefficient with a non-local tail model
+/// changed nothing without a word (issue 27.6): now exit 2 saying why.
+#[test]
+fn local_drag_places_are_refused_with_a_non_local_tail() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("ct.toml");
+    let text = effect_file("\"k\"").replace("\"tail.c_n\"", "\"tail.c_t\"");
+    std::fs::write(&path, text).unwrap();
+    let file = path.to_str().unwrap();
+    let o = swimbot(&[
+        "compare",
+        "--no-report",
+        "--effect-file",
+        file,
+        "--effect",
+        "hostile",
+        "--tail-model",
+        "sbt",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("`hostile`") && err.contains("tail.c_t") && err.contains("ct.toml"),
+        "{err}"
+    );
+    let o = swimbot(&[
+        "compare",
+        "--no-report",
+        "--effect-file",
+        file,
+        "--effect",
+        "hostile",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
