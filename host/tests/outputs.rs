@@ -111,6 +111,11 @@ fn a_full_device_is_exit_2_on_every_path() {
             vec!["effects"],
             Stdio::from(full.try_clone().unwrap()),
         ),
+        (
+            "compare --format csv > /dev/full",
+            vec!["compare", "--no-report", "--format", "csv"],
+            Stdio::from(full.try_clone().unwrap()),
+        ),
     ] {
         let o = Command::new(env!("CARGO_BIN_EXE_swimbot"))
             .args(&args)

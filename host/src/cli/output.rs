@@ -57,7 +57,9 @@ pub fn write_csv_rows<T: serde::Serialize>(
     rows: &[T],
     out: impl std::io::Write,
 ) -> Result<(), CliError> {
-    let fail = |e: &dyn std::fmt::Display| CliError::failure(format!("writing CSV: {e}"));
+    // Our rows always serialise; what fails is the write (a full disk, a
+    // closed device), the user's to fix: exit 2, as every output.
+    let fail = |e: &dyn std::fmt::Display| CliError::input(format!("cannot write the CSV: {e}"));
     let Some(first) = rows.first() else {
         return Ok(());
     };
