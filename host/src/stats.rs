@@ -15,6 +15,25 @@ const T_EXPANSION_DOF: f64 = 1e4;
 /// Two-sided Student-t quantile `t_{(1+confidence)/2, trials-1}` (2.776 for
 /// the paper's 95 % with five trials). Terminates for every `trials`.
 pub fn student_t_quantile(confidence: f64, trials: u32) -> f64 {
+    // Every residual's standard error asks for this quantile, so a fit asks
+    // millions of times for the few (level, trials) pairs of its dataset;
+    // statrs' inverse CDF iterates on the incomplete beta function each
+    // time (half the CPU time of `audit`), so the answers are remembered
+    // per thread (no lock between rayon's workers).
+    thread_local! {
+        static KNOWN: std::cell::RefCell<std::collections::HashMap<(u64, u32), f64>> =
+            std::cell::RefCell::new(std::collections::HashMap::new());
+    }
+    let key = (confidence.to_bits(), trials);
+    if let Some(t) = KNOWN.with(|k| k.borrow().get(&key).copied()) {
+        return t;
+    }
+    let t = student_t_quantile_uncached(confidence, trials);
+    KNOWN.with(|k| k.borrow_mut().insert(key, t));
+    t
+}
+
+fn student_t_quantile_uncached(confidence: f64, trials: u32) -> f64 {
     let dof = f64::from(trials.max(2) - 1);
     let p = 0.5 * (1.0 + confidence);
     if dof > T_EXPANSION_DOF {

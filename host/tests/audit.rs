@@ -115,3 +115,35 @@ fn the_paper_data_audit_is_reported_in_the_documented_form() {
     let bad = swimbot(&["audit", "--family-samples", "3"]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// The one-step leave-one-out (what the audit uses beyond 40 cases) and the
+/// exact refits reach the same conclusions and flags, on consistent data
+/// and on data with a mis-recorded case.
+#[test]
+fn one_step_and_exact_leave_one_out_agree() {
+    use swimbot::workbench::audit_influence::influence_with;
+    use swimbot::workbench::audit_loo::LooMethod;
+    use swimbot::workbench::propagate::with_input_uncertainty;
+    let mut bad = consistent();
+    let c = bad.cases.iter_mut().find(|c| c.id == "tail-4").unwrap();
+    c.u_mm_s.as_mut().unwrap().mean *= 1.3;
+    for (d, flagged) in [(consistent(), false), (bad, true)] {
+        let model = truth();
+        let combined = with_input_uncertainty(&model, &d).unwrap();
+        let (ex, ex_flags) = influence_with(&model, &combined, LooMethod::Exact);
+        let (os, os_flags) = influence_with(&model, &combined, LooMethod::OneStep);
+        assert_eq!(ex.conclusion, os.conclusion);
+        assert_eq!(ex.without, os.without);
+        let key = |f: &Vec<swimbot::workbench::audit::Flag>| {
+            f.iter()
+                .map(|f| (f.case.clone(), f.kind.clone()))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(key(&ex_flags), key(&os_flags));
+        assert_eq!(
+            ex_flags.iter().any(|f| f.case == "tail-4"),
+            flagged,
+            "{ex_flags:#?}"
+        );
+    }
+}

@@ -443,3 +443,42 @@ mod parser_properties {
         }
     }
 }
+
+/// Long work is estimated before it starts and refused over the budget
+/// (issue 27.3): a nine-million-point sweep and an audit, each with a
+/// budget it cannot meet, end at once with exit 2 and the estimate.
+#[test]
+fn long_sweeps_and_audits_are_refused_over_the_budget() {
+    let started = std::time::Instant::now();
+    let o = crate::common::swimbot(&[
+        "sweep",
+        "--wavelength-mm",
+        "10:20:3000",
+        "--amplitude-mm",
+        "2:3:3000",
+        "--tail-length-mm",
+        "100",
+        "--max-seconds",
+        "0.5",
+    ]);
+    let err = crate::common::stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("9000000 grid points would take about") && err.contains("--max-seconds 0.5"),
+        "{err}"
+    );
+    assert!(o.stdout.is_empty());
+    let o = crate::common::swimbot(&["audit", "--max-seconds", "0.0001"]);
+    let err = crate::common::stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("the audit of 6 cases would take about"),
+        "{err}"
+    );
+    assert!(
+        started.elapsed().as_secs() < 30,
+        "the refusal came after the work"
+    );
+    let o = crate::common::swimbot(&["audit", "--max-seconds", "-3"]);
+    assert_eq!(o.status.code(), Some(2));
+}

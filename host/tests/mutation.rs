@@ -1,7 +1,9 @@
 //! Mutation test of the whole binary: random mutations of the built-in
-//! dataset and of the built-in robot file (deleted lines, duplicated keys,
-//! type swaps, extreme numbers, truncations, odd ids) are run through
-//! `compare`, `fit`, `diagnose` and `sim`. Every run must end within a time
+//! dataset (its `[setup.uncertainty]` block and per-case `uncertainty`
+//! tables included), of the built-in robot file and of an effects file of
+//! formulas (deleted lines, duplicated keys, type swaps, extreme numbers,
+//! truncations, odd ids, hostile formulas and uncertainties) are run
+//! through `compare`, `fit`, `diagnose` and `sim`. Every run must end within a time
 //! limit with exit 0 (and no NaN or inf in its output) or exit 2 with a
 //! `swimbot: error:` message; never a panic, a signal, or exit 1.
 //!
@@ -20,6 +22,7 @@ use std::time::{Duration, Instant};
 
 const PAPER: &str = include_str!("../data/paper.toml");
 const ROBOT: &str = include_str!("../data/robot.toml");
+const EFFECTS: &str = include_str!("fixtures/restated.toml");
 const DEFAULT_SEED: u64 = 0x5eed_2026;
 /// About 10 s on two cores with the test profile (opt-level 1).
 const DEFAULT_COUNT: usize = 400;
@@ -52,6 +55,36 @@ const VALUES: &[&str] = &[
     "\"\"",
     "2026-01-01",
 ];
+/// Formulas for a place: out of range, deep, long, odd characters, escapes.
+const FORMULAS: &[&str] = &[
+    "\"1e300\"",
+    "\"1e-300\"",
+    "\"-1\"",
+    "\"0\"",
+    "\"translation / 0\"",
+    "\"ln(0)\"",
+    "\"sqrt(-translation)\"",
+    "\"((((((((((translation))))))))))\"",
+    "\"translation^translation^translation^translation\"",
+    "\"\\t\u{3000}$\"",
+    "\"\"\"\ntranslation\\\n  * 2\"\"\"",
+    "'translation * shear_rate'",
+    "\"exp(1000 * translation)\"",
+    "\"min(translation)\"",
+    "\"\"",
+];
+/// Uncertainty entries: huge, negative, relative, unknown keys, wrong types.
+const UNCERTAINTIES: &[&str] = &[
+    "amplitude_mm = 1e6",
+    "amplitude_mm = \"300%\"",
+    "wavelength_mm = -0.5",
+    "viscosity_pa_s = \"nan%\"",
+    "frequency_hz = \"2\"",
+    "coupler_length_mm = 0.1",
+    "no_such_field = 1",
+    "body_length_mm = [1]",
+    "tail_length_mm = \"49.9%\"",
+];
 const IDS: &[&str] = &[
     "\"\"",
     "\"a\\u0007b\"",
@@ -67,7 +100,23 @@ fn mutate(text: &str, rng: &mut StdRng, log: &mut Vec<String>) -> String {
     for _ in 0..n_mut {
         let i = rng.gen_range(0..lines.len());
         let is_kv = lines[i].contains('=') && !lines[i].trim_start().starts_with('#');
-        match rng.gen_range(0..11) {
+        let key = lines[i].split('=').next().unwrap_or("").trim().to_string();
+        match rng.gen_range(0..13) {
+            11 if key.starts_with('"') && key.contains('.') => {
+                // A place's formula (an effects file).
+                let f = FORMULAS[rng.gen_range(0..FORMULAS.len())];
+                log.push(format!("line {}: {key} = {f}", i + 1));
+                lines[i] = format!("{key} = {f}");
+            }
+            12 if text.contains("[setup.uncertainty]") => {
+                let u = UNCERTAINTIES[rng.gen_range(0..UNCERTAINTIES.len())];
+                let at = lines
+                    .iter()
+                    .position(|l| l.trim() == "[setup.uncertainty]")
+                    .map_or(i, |p| p + 1);
+                log.push(format!("insert at line {}: {u}", at + 1));
+                lines.insert(at.min(lines.len()), u.to_string());
+            }
             8..=10 if is_kv => {
                 // A plausible value: a number scaled by 1/20..20, so that
                 // many runs get through validation to the numerics.
@@ -205,7 +254,25 @@ fn one(k: usize, seed: u64, root: &Path) -> Result<i32, String> {
     std::fs::create_dir_all(&dir).unwrap();
     let mut log = Vec::new();
     let pick = rng.gen_range(0..100);
-    let args: Vec<String> = if pick < 30 {
+    let args: Vec<String> = if pick < 15 {
+        let text = mutate(EFFECTS, &mut rng, &mut log);
+        std::fs::write(dir.join("effects.toml"), text).unwrap();
+        let effect = if pick < 10 {
+            "body-factors:translation=4,rotation=2"
+        } else {
+            "wall-log"
+        };
+        [
+            "compare",
+            "--no-report",
+            "--effect-file",
+            "effects.toml",
+            "--effect",
+            effect,
+        ]
+        .map(String::from)
+        .to_vec()
+    } else if pick < 35 {
         let text = mutate(ROBOT, &mut rng, &mut log);
         std::fs::write(dir.join("robot.toml"), text).unwrap();
         [

@@ -368,7 +368,13 @@ fn a_bad_multiplier_at_evaluation_is_exit_2_naming_case_and_effect() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let err = stderr(&o);
-    for n in ["case `", "effect `my-effect`", "tail.c_n", "> 0", "k=4"] {
+    for n in [
+        "case `",
+        "effect `my-effect`",
+        "tail.c_n",
+        "within [1e-6, 1e6]",
+        "k=4",
+    ] {
         assert!(err.contains(n), "`{n}` missing from: {err}");
     }
     assert!(!err.contains("NaN") && !err.contains("panicked"), "{err}");

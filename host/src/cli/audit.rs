@@ -24,6 +24,11 @@ pub struct AuditArgs {
     /// Seed of the family's Latin hypercube (the same seed gives the same audit).
     #[arg(long, default_value_t = 12)]
     pub seed: u64,
+    /// Refuse the audit when its estimated run time (from timed predictions
+    /// of the model before the work) is longer [default: no limit; an audit
+    /// estimated over 10 s is announced on stderr].
+    #[arg(long, value_name = "SECONDS")]
+    pub max_seconds: Option<f64>,
 }
 
 pub fn run(a: AuditArgs) -> Result<(), CliError> {
@@ -33,8 +38,14 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
             a.family_samples
         )));
     }
+    let budget = super::budget::parse_budget(a.max_seconds)?;
     let data = a.data.load()?;
     let model = a.model.model()?;
+    super::budget::check(
+        &format!("the audit of {} cases", data.cases.len()),
+        estimate_seconds(&model, &data, a.family_samples),
+        budget,
+    )?;
     let settings = AuditSettings {
         family_samples: a.family_samples,
         seed: a.seed,
@@ -47,6 +58,35 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
         TableOrJson::Table => print_table(&report),
     }
     Ok(())
+}
+
+/// Predictions the audit makes per case beyond the family's: the input
+/// bands and the candidates' multi-start fits (counted on the paper data:
+/// about 4 000), and per case pair when the leave-one-out fits are exact.
+const PREDICTIONS_PER_CASE: f64 = 4_000.0;
+const PREDICTIONS_PER_PAIR_EXACT: f64 = 600.0;
+
+/// The audit's run time: a timed prediction of every case (at most 16)
+/// times the predictions it will make, over the cores.
+fn estimate_seconds(
+    model: &crate::model::Model,
+    data: &crate::data::Dataset,
+    samples: usize,
+) -> f64 {
+    let n = data.cases.len();
+    let sample = n.min(16);
+    let per = super::budget::seconds_per_call(sample, |i| {
+        let _ = model.predict(&data.cases[i * n / sample]);
+    });
+    let exact = n <= crate::workbench::audit_loo::EXACT_MAX_CASES;
+    let per_case = PREDICTIONS_PER_CASE
+        + samples as f64
+        + if exact {
+            PREDICTIONS_PER_PAIR_EXACT * n as f64
+        } else {
+            0.0
+        };
+    per * per_case * n as f64 / rayon::current_num_threads() as f64
 }
 
 fn print_table(a: &Audit) {

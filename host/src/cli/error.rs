@@ -28,10 +28,38 @@ impl CliError {
     }
 }
 
+/// The longest message printed, in characters. Messages quote the user's
+/// input, usually cut already ([`crate::data::limits::echo`]); this is the
+/// last guard, so that no input reaches stderr unbounded.
+const MAX_MESSAGE_CHARS: usize = 4_000;
+
+/// Control characters (NUL, escape sequences) of a message escaped, except
+/// the newlines and tabs of its own layout, and its length bounded.
+fn printable(m: &str) -> String {
+    let n = m.chars().count();
+    let mut out: String = m
+        .chars()
+        .take(MAX_MESSAGE_CHARS)
+        .flat_map(|c| {
+            let raw = !c.is_control() || c == '\n' || c == '\t';
+            let v: Vec<char> = if raw {
+                vec![c]
+            } else {
+                c.escape_default().collect()
+            };
+            v
+        })
+        .collect();
+    if n > MAX_MESSAGE_CHARS {
+        out.push_str(&format!("... (message cut: {n} characters)"));
+    }
+    out
+}
+
 impl fmt::Display for CliError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            CliError::Input(m) | CliError::Failure(m) => f.write_str(m),
+            CliError::Input(m) | CliError::Failure(m) => f.write_str(&printable(m)),
         }
     }
 }
@@ -53,5 +81,26 @@ impl From<crate::effects::EffectSpecError> for CliError {
 impl From<crate::model::ModelError> for CliError {
     fn from(e: crate::model::ModelError) -> Self {
         CliError::Input(e.to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_are_escaped_and_bounded() {
+        let e = CliError::input(format!(
+            "bad `a\0b\u{1b}[31m`:\n\t{}",
+            "x".repeat(10_000_000)
+        ));
+        let shown = e.to_string();
+        assert!(
+            shown.starts_with("bad `a\\u{0}b\\u{1b}[31m`:\n\t"),
+            "{}",
+            &shown[..40]
+        );
+        assert!(shown.len() < MAX_MESSAGE_CHARS + 100);
+        assert!(shown.ends_with("(message cut: 10000017 characters)"));
     }
 }

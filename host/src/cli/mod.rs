@@ -4,6 +4,7 @@
 
 mod audit;
 mod body;
+mod budget;
 mod compare;
 mod convert;
 mod diagnose;
@@ -15,6 +16,7 @@ mod helix;
 mod help_lint;
 mod model_args;
 mod output;
+mod output_guard;
 mod report;
 mod sim;
 mod sweep;
@@ -70,9 +72,27 @@ pub enum Command {
     Convert(convert::ConvertArgs),
 }
 
-/// Run a parsed command line.
+/// Run a parsed command line. A run that fails (or is interrupted by
+/// SIGINT or SIGTERM) leaves no temporary file and no folder it created
+/// ([`output_guard`]); a failure to write stdout is an error (exit 2).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     crate::progress::set_quiet(cli.quiet);
+    output_guard::install_signal_cleanup();
+    output_guard::install_stdout_failure_exit();
+    let done = dispatch(cli).and_then(|()| {
+        use std::io::Write;
+        std::io::stdout()
+            .flush()
+            .map_err(|e| CliError::input(format!("cannot write to standard output: {e}")))
+    });
+    match &done {
+        Ok(()) => output_guard::keep_new_dirs(),
+        Err(_) => output_guard::clean_up(),
+    }
+    done
+}
+
+fn dispatch(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Compare(a) => compare::run(a),
         Command::Audit(a) => audit::run(a),

@@ -1,7 +1,10 @@
 //! Output formats shared by the subcommands, and the checked, atomic
 //! writing of output files: paths are checked before any work starts and
-//! files appear only complete (temporary file, then rename).
+//! files appear only complete (temporary file, then rename); which paths
+//! are replaced, followed, written through or refused is
+//! [`super::output_guard`]'s.
 
+use super::output_guard::{self as guard, Target};
 use super::CliError;
 use clap::ValueEnum;
 use std::io::Write;
@@ -62,7 +65,9 @@ pub fn write_csv_rows<T: serde::Serialize>(
     rows: &[T],
     out: impl std::io::Write,
 ) -> Result<(), CliError> {
-    let fail = |e: &dyn std::fmt::Display| CliError::failure(format!("writing CSV: {e}"));
+    // Our rows always serialise; what fails is the write (a full disk, a
+    // closed device), the user's to fix: exit 2, as every output.
+    let fail = |e: &dyn std::fmt::Display| CliError::input(format!("cannot write the CSV: {e}"));
     let Some(first) = rows.first() else {
         return Ok(());
     };
@@ -129,24 +134,42 @@ pub fn pct(v: Option<f64>) -> String {
 /// and renamed over the destination by [`AtomicFile::commit`]: readers see
 /// the old file or the whole new one, never half of it, and a failure (or
 /// a drop without commit) removes the temporary file. The rename is atomic
-/// on POSIX file systems because both names share a directory.
+/// on POSIX file systems because both names share a directory. A symbolic
+/// link is followed to its file; a character device or FIFO is written
+/// through ([`super::output_guard`] says why).
 pub struct AtomicFile {
     dest: PathBuf,
-    tmp: PathBuf,
+    /// The temporary file; `None` when writing through.
+    tmp: Option<PathBuf>,
     file: Option<std::fs::File>,
 }
 
 impl AtomicFile {
     /// Opens the temporary file; an unwritable destination is a user error.
     pub fn create(dest: &Path) -> Result<AtomicFile, CliError> {
-        check_output_file(dest)?;
-        let tmp = temp_sibling(dest);
-        let file = std::fs::File::create(&tmp).map_err(|e| cannot_write(dest, &e))?;
-        Ok(AtomicFile {
-            dest: dest.to_path_buf(),
-            tmp,
-            file: Some(file),
-        })
+        match check_output_file(dest)? {
+            Target::Replace(path) => {
+                let tmp = temp_sibling(&path);
+                let file = std::fs::File::create(&tmp).map_err(|e| cannot_write(dest, &e))?;
+                guard::add_temp(&tmp);
+                Ok(AtomicFile {
+                    dest: path,
+                    tmp: Some(tmp),
+                    file: Some(file),
+                })
+            }
+            Target::WriteThrough(path) => {
+                let file = std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(&path)
+                    .map_err(|e| cannot_write(dest, &e))?;
+                Ok(AtomicFile {
+                    dest: path,
+                    tmp: None,
+                    file: Some(file),
+                })
+            }
+        }
     }
 
     pub fn writer(&mut self) -> &mut std::fs::File {
@@ -155,17 +178,32 @@ impl AtomicFile {
 
     /// Flushes to disk and renames over the destination.
     pub fn commit(mut self) -> Result<(), CliError> {
-        let file = self.file.take().expect("open until commit");
-        file.sync_all().map_err(|e| cannot_write(&self.dest, &e))?;
-        drop(file);
-        std::fs::rename(&self.tmp, &self.dest).map_err(|e| cannot_write(&self.dest, &e))
+        let mut file = self.file.take().expect("open until commit");
+        file.flush().map_err(|e| cannot_write(&self.dest, &e))?;
+        let Some(tmp) = self.tmp.take() else {
+            return Ok(());
+        };
+        let done = file
+            .sync_all()
+            .and_then(|()| {
+                drop(file);
+                std::fs::rename(&tmp, &self.dest)
+            })
+            .map_err(|e| cannot_write(&self.dest, &e));
+        if done.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        guard::forget_temp(&tmp);
+        done
     }
 }
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
-        if self.file.take().is_some() || self.tmp.exists() {
-            let _ = std::fs::remove_file(&self.tmp);
+        self.file.take();
+        if let Some(tmp) = self.tmp.take() {
+            let _ = std::fs::remove_file(&tmp);
+            guard::forget_temp(&tmp);
         }
     }
 }
@@ -195,7 +233,8 @@ pub fn write_all_atomically(files: &[(PathBuf, Vec<u8>)]) -> Result<(), CliError
 }
 
 /// Checks, before any work, that files can be created in `dir` (creating
-/// it if needed), so that a long computation does not end in an I/O error.
+/// it if needed, and removing it again if the run fails), so that a long
+/// computation does not end in an I/O error.
 pub fn check_output_dir(dir: &Path) -> Result<(), CliError> {
     if dir.exists() && !dir.is_dir() {
         return Err(CliError::input(format!(
@@ -203,25 +242,27 @@ pub fn check_output_dir(dir: &Path) -> Result<(), CliError> {
             dir.display()
         )));
     }
-    std::fs::create_dir_all(dir).map_err(|e| {
+    guard::create_dir_all(dir).map_err(|e| {
         CliError::input(format!(
             "output directory {}: cannot create it: {e}",
             dir.display()
         ))
     })?;
-    probe(&dir.join(".swimbot-write-probe"), dir)
+    probe(&temp_sibling(&dir.join("probe")), dir)
 }
 
-/// Checks, before any work, that `path` can be written: not a directory,
-/// in an existing, writable directory.
-pub fn check_output_file(path: &Path) -> Result<(), CliError> {
-    if path.is_dir() {
-        return Err(CliError::input(format!(
-            "output {}: is a directory, expected a file name",
-            path.display()
-        )));
-    }
-    let parent = match path.parent() {
+/// Checks, before any work, that `path` can be written: what kind of file
+/// it names ([`guard::resolve`]), that it is no input of the command, and
+/// for a regular file that its directory exists and is writable. Returns
+/// how it will be written.
+pub fn check_output_file(path: &Path) -> Result<Target, CliError> {
+    let target = guard::resolve(path)?;
+    guard::refuse_if_input(path)?;
+    let Target::Replace(file) = &target else {
+        // Opening a FIFO to probe it would wait for a reader.
+        return Ok(target);
+    };
+    let parent = match file.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
@@ -232,7 +273,8 @@ pub fn check_output_file(path: &Path) -> Result<(), CliError> {
             parent.display()
         )));
     }
-    probe(&temp_sibling(path), path)
+    probe(&temp_sibling(file), path)?;
+    Ok(target)
 }
 
 /// Creates and removes `probe_path`, reporting failure against `shown`.

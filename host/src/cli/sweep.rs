@@ -47,6 +47,11 @@ pub struct SweepArgs {
     /// Output CSV file [default: stdout].
     #[arg(short, long, value_name = "FILE.csv")]
     pub output: Option<PathBuf>,
+    /// Refuse the sweep when its estimated run time (timed on a sample of
+    /// grid points before the work) is longer [default: no limit; a sweep
+    /// estimated over 10 s is announced on stderr].
+    #[arg(long, value_name = "SECONDS")]
+    pub max_seconds: Option<f64>,
 }
 
 /// Grid points of one sweep: the rows are kept in memory (~100 bytes each
@@ -190,6 +195,14 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
     if let Some(p) = &a.output {
         super::output::check_output_file(p)?;
     }
+    let budget = super::budget::parse_budget(a.max_seconds)?;
+    // 32 points spread over the grid: the cost of one varies with the geometry.
+    let sample = 32.min(n);
+    let per_point = super::budget::seconds_per_call(sample, |j| {
+        let _ = predict_row(&model, &grid.case(&template, j * n / sample));
+    });
+    let estimate = per_point * n as f64 / rayon::current_num_threads() as f64;
+    super::budget::check(&format!("the sweep of {n} grid points"), estimate, budget)?;
     let bar = crate::progress::bar(n as u64, "geometries", "sweep");
     let rows: Result<Vec<Row>, CliError> = (0..n)
         .into_par_iter()
@@ -284,7 +297,8 @@ fn write_csv(
         None => Box::new(std::io::stdout().lock()),
     };
     let mut w = std::io::BufWriter::with_capacity(1 << 20, sink);
-    let fail = |e: std::io::Error| CliError::failure(format!("writing the sweep CSV: {e}"));
+    // A write that fails (a full disk, a closed device) is the user's to fix: exit 2.
+    let fail = |e: std::io::Error| CliError::input(format!("cannot write the sweep CSV: {e}"));
     let provenance = crate::provenance::Provenance::capture().comment_block();
     w.write_all(provenance.as_bytes()).map_err(fail)?;
     writeln!(

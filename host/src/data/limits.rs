@@ -108,6 +108,91 @@ pub const MAX_QUADRATURE_NODES: f64 = 1e7;
 /// Characters in a case or tail id (it is a column of the tables).
 pub const MAX_ID_CHARS: usize = 64;
 
+/// The range of a user effect's multiplier at a place (`tail.c_n`,
+/// `body.D_x`, ...): no physical effect changes a drag or thrust coefficient
+/// by more than a factor of a million, and beyond it the model leaves the
+/// floating-point range (a thrust multiplier of 1e300 overflowed to a
+/// non-finite speed, 1e-300 to a NaN in the uncertainty check).
+pub const USER_MULTIPLIER_RANGE: (f64, f64) = (1e-6, 1e6);
+/// The largest magnitude of a user effect's added load (mN at `load.force`,
+/// uN m at `load.torque`, rad/s at `drive.rate`): 1e6 mN is 1 kN, a
+/// hundred thousand times the weight of the paper's robot.
+pub const MAX_USER_LOAD: f64 = 1e6;
+
+/// The largest standard uncertainty of an input relative to its value. The
+/// propagation is first order (GUM 5.1.2): it holds while the model is
+/// close to linear over the input's spread, which a spread of half the
+/// value already strains; beyond it the input was not measured (a length
+/// of 2.5 +- 1e6 mm could be negative), and the huge band it gives calls
+/// any model "within the uncertainty" (`amplitude_mm = 1e6` turned a
+/// 295 % error into "none needed").
+pub const MAX_RELATIVE_INPUT_UNCERTAINTY: f64 = 0.5;
+
+/// Each input uncertainty at most [`MAX_RELATIVE_INPUT_UNCERTAINTY`] of its
+/// value (none on a field whose value is 0).
+fn check_input_uncertainties(c: &Case) -> Result<(), (&'static str, String)> {
+    for (field, u) in c.inputs.nonzero(c) {
+        let value = super::uncertainty::field_value(c, field).unwrap_or(0.0);
+        let limit = MAX_RELATIVE_INPUT_UNCERTAINTY * value.abs();
+        if !(u.is_finite() && u <= limit) {
+            return Err((
+                field,
+                format!(
+                    "its standard uncertainty (uncertainty.{field}) is {} for a value of {}: at most {:.0} % of the value is allowed \
+                     (first-order propagation needs small input spreads; beyond half the value the input was not measured)",
+                    show(u),
+                    show(value),
+                    100.0 * MAX_RELATIVE_INPUT_UNCERTAINTY
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Characters in one formula of a user effect. A physical law fits in a
+/// line or two; the evaluator walks the formula's tree recursively once per
+/// case and fit step, so the length bounds its depth (a sum of 500 terms)
+/// and its cost.
+pub const MAX_FORMULA_CHARS: usize = 1_000;
+/// Nesting of one formula: parentheses, calls, signs and powers inside one
+/// another. The parser and the evaluator recurse once per level; 8 000
+/// nested parentheses overflowed the stack (exit 134) before this limit.
+/// No law needs more than a handful of levels.
+pub const MAX_FORMULA_DEPTH: usize = 64;
+/// Bytes in one effects file (TOML): a file of a few dozen effects is a few
+/// kB; the whole file is read into memory and parsed at once.
+pub const MAX_EFFECT_FILE_BYTES: u64 = 1 << 20;
+/// Characters of the user's own input that an error message repeats
+/// (identifiers, formulas, values): beyond it the echo is cut and the
+/// length said, so that a 10 MB identifier gives a one-line message.
+pub const MAX_ECHO_CHARS: usize = 120;
+
+/// `s` as an error message may repeat it: control characters and NUL
+/// escaped (`\0`, `\n`, `\u{1b}`), at most [`MAX_ECHO_CHARS`] characters,
+/// then `... (N characters in all)`.
+pub fn echo(s: &str) -> String {
+    let n = s.chars().count();
+    let head: String = s.chars().take(MAX_ECHO_CHARS).collect();
+    let escaped: String = head
+        .chars()
+        .flat_map(|c| {
+            let keep = !c.is_control();
+            let e: Vec<char> = if keep {
+                vec![c]
+            } else {
+                c.escape_default().collect()
+            };
+            e
+        })
+        .collect();
+    if n > MAX_ECHO_CHARS {
+        format!("{escaped}... ({n} characters in all)")
+    } else {
+        escaped
+    }
+}
+
 /// Checks the quadrature resolution for a tail of `turns` turns.
 pub fn check_quadrature(nodes_per_wavelength: usize, turns: f64) -> Result<(), String> {
     let nodes = nodes_per_wavelength as f64 * turns.max(1.0);
@@ -232,6 +317,7 @@ pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
             ),
         ));
     }
+    check_input_uncertainties(c)?;
     let turns = c.tail_length_mm / c.wavelength_mm;
     if turns > MAX_TURNS {
         return Err((
@@ -310,6 +396,33 @@ mod tests {
         for l in LIMITS {
             assert!(l.min < l.max && l.min >= 0.0, "{}", l.field);
             assert!(!l.why.is_empty());
+        }
+    }
+
+    #[test]
+    fn input_uncertainties_are_limited_relative_to_their_values() {
+        let text = crate::data::to_toml(&crate::data::paper());
+        assert!(
+            text.contains("amplitude_mm = 0.3"),
+            "the paper states 0.3 mm"
+        );
+        for (u, ok) in [
+            ("1.25", true),
+            ("1.3", false),
+            ("1e6", false),
+            ("\"49%\"", true),
+            ("\"51%\"", false),
+        ] {
+            let t = text.replace("amplitude_mm = 0.3", &format!("amplitude_mm = {u}"));
+            let r = crate::data::parse_str(&t, "u.toml");
+            assert_eq!(r.is_ok(), ok, "{u}: {r:?}");
+            if let Err(e) = r {
+                let e = e.to_string();
+                assert!(
+                    e.contains("uncertainty.amplitude_mm") && e.contains("50 %"),
+                    "{e}"
+                );
+            }
         }
     }
 }

@@ -32,6 +32,7 @@
 
 pub use super::expr_lex::suggest;
 use super::expr_lex::{lex, Kind, Token};
+use crate::data::limits::{MAX_FORMULA_CHARS, MAX_FORMULA_DEPTH};
 use crate::data::quantities::{self, Quantity};
 use crate::data::Case;
 
@@ -103,13 +104,27 @@ pub fn is_reserved(name: &str) -> bool {
 impl Expr {
     /// Compile `text`; identifiers resolve to `params` (by position), then
     /// constants, then case quantities.
+    /// Formulas longer than [`MAX_FORMULA_CHARS`] or nested deeper than
+    /// [`MAX_FORMULA_DEPTH`] are errors (the parser and the evaluator recurse
+    /// per level; without the limits a long formula overflowed the stack).
     pub fn parse(text: &str, params: &[&str]) -> Result<Expr, ExprError> {
+        let chars = text.chars().count();
+        if chars > MAX_FORMULA_CHARS {
+            return Err(ExprError {
+                column: MAX_FORMULA_CHARS + 1,
+                message: format!(
+                    "the formula has {chars} characters; at most {MAX_FORMULA_CHARS} are allowed \
+                     (split the law into parameters and a shorter formula)"
+                ),
+            });
+        }
         let tokens = lex(text)?;
         let mut p = Parser {
             tokens,
             pos: 0,
             params,
-            end_column: text.chars().count() + 1,
+            end_column: chars + 1,
+            depth: 0,
         };
         if p.tokens.is_empty() {
             return Err(ExprError {
@@ -200,6 +215,9 @@ struct Parser<'a> {
     pos: usize,
     params: &'a [&'a str],
     end_column: usize,
+    /// Levels of `unary` open now: every nesting (parenthesis, call
+    /// argument, sign, exponent) passes through it once.
+    depth: usize,
 }
 
 impl Parser<'_> {
@@ -256,6 +274,22 @@ impl Parser<'_> {
     }
 
     fn unary(&mut self) -> Result<Node, ExprError> {
+        if self.depth >= MAX_FORMULA_DEPTH {
+            return Err(ExprError {
+                column: self.column(),
+                message: format!(
+                    "the formula nests deeper than {MAX_FORMULA_DEPTH} levels here \
+                     (parentheses, calls, signs and powers inside one another)"
+                ),
+            });
+        }
+        self.depth += 1;
+        let node = self.unary_at_depth();
+        self.depth -= 1;
+        node
+    }
+
+    fn unary_at_depth(&mut self) -> Result<Node, ExprError> {
         match self.peek_op() {
             Some('-') => {
                 self.pos += 1;

@@ -5,7 +5,7 @@
 //! Each place of the effect (host/src/effects/place.rs) carries a formula
 //! over the effect's parameters and the case quantities
 //! ([`crate::data::quantities`]); at a multiplier place the formula is the
-//! multiplier `m` (finite, `m > 0`), at `load.force` a force in mN, at
+//! multiplier `m` (finite, within 1e-6..=1e6, see `data::limits`), at `load.force` a force in mN, at
 //! `load.torque` a torque in µN m. The formula acts at the stage of
 //! [`crate::model::Model::predict`] its place belongs to, through
 //! [`Place::apply_local_drag`] and its siblings, so a user effect changes
@@ -22,6 +22,7 @@
 use super::expr::{Expr, ExprError};
 use super::place::Place;
 use super::{Effect, ParamSpec};
+use crate::data::limits::{echo, show};
 use crate::data::Case;
 use crate::physics::coefficients::LocalDrag;
 use crate::physics::solve::ForceBalance;
@@ -169,13 +170,24 @@ impl FormulaEffect {
     }
 }
 
-/// Why a place's value is unusable, or `None` when it is fine.
+/// Why a place's value is unusable, or `None` when it is fine; the ranges
+/// and their reasons are in [`crate::data::limits`].
 fn invalid(place: Place, value: f64) -> Option<String> {
+    use crate::data::limits::{MAX_USER_LOAD, USER_MULTIPLIER_RANGE};
     if place.is_additive() {
-        (!value.is_finite()).then(|| format!("{} must be finite", place.unit()))
+        (!(value.is_finite() && value.abs() <= MAX_USER_LOAD)).then(|| {
+            format!(
+                "{} must be finite, at most {MAX_USER_LOAD:e} in magnitude",
+                place.unit()
+            )
+        })
     } else {
-        (!(value.is_finite() && value > 0.0))
-            .then(|| "a multiplier must be finite and > 0".to_string())
+        let (lo, hi) = USER_MULTIPLIER_RANGE;
+        (!(value.is_finite() && (lo..=hi).contains(&value))).then(|| {
+            format!(
+                "a multiplier must be finite and within [{lo:e}, {hi:e}]: a factor beyond a million is no physical effect and carries the model out of floating-point range"
+            )
+        })
     }
 }
 
@@ -204,10 +216,12 @@ impl Effect for FormulaEffect {
                     .params
                     .iter()
                     .zip(p)
-                    .map(|(s, v)| format!("{}={v}", s.name))
+                    .map(|(s, v)| format!("{}={}", s.name, show(*v)))
                     .collect();
                 return Err(format!(
-                    "place `{place}` = `{text}` gives {value} with {} ({why}){}",
+                    "place `{place}` = `{}` gives {} with {} ({why}){}",
+                    echo(text),
+                    show(value),
                     if values.is_empty() {
                         "no parameters".to_string()
                     } else {
@@ -337,7 +351,7 @@ mod tests {
         assert_eq!((fb.load[0], fb.tail_rate_rad_s), (-0.5e-3, 2.0));
         assert!(e.check(&p, case).is_ok());
         let err = e.check(&[-1.0], case).unwrap_err();
-        assert!(err.contains("tail.c_n") && err.contains("> 0") && err.contains("k=-1"));
+        assert!(err.contains("tail.c_n") && err.contains("within") && err.contains("k=-1"));
     }
 
     #[test]

@@ -35,6 +35,7 @@ pub mod place;
 mod registry;
 mod spec;
 mod tail_confinement;
+mod toml_position;
 mod tube_tail;
 pub mod user_file;
 mod wall_contact;

@@ -5,8 +5,13 @@ use super::{all, by_name, EffectInstance};
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EffectSpecError {
-    #[error("unknown effect `{name}`; known effects: {known} (a user effect needs --effect-file FILE.toml before it can be named)")]
-    UnknownEffect { name: String, known: String },
+    #[error("unknown effect `{name}`{suggestion}; known effects: {known} (a user effect needs --effect-file FILE.toml before it can be named)")]
+    UnknownEffect {
+        name: String,
+        /// " (did you mean `x`?)" or nothing.
+        suggestion: String,
+        known: String,
+    },
     #[error("effect `{effect}` has no parameter `{param}`; its parameters: {known}")]
     UnknownParam {
         effect: String,
@@ -19,7 +24,8 @@ pub enum EffectSpecError {
         param: String,
         value: String,
     },
-    #[error("effect `{effect}`, parameter `{param}` = {value} is outside its bounds [{min}, {max}] {unit}")]
+    /// `unit` is empty for a dimensionless parameter, else " mm" etc.
+    #[error("effect `{effect}`, parameter `{param}` = {value} is outside its bounds [{min}, {max}]{unit}")]
     OutOfBounds {
         effect: String,
         param: String,
@@ -41,7 +47,8 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
         None => (text.trim(), None),
     };
     let effect = by_name(name).ok_or_else(|| EffectSpecError::UnknownEffect {
-        name: name.to_string(),
+        name: crate::data::limits::echo(name),
+        suggestion: super::expr::suggest(name, all().iter().map(|e| e.name())),
         known: all()
             .iter()
             .map(|e| e.name())
@@ -97,7 +104,10 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
                 value,
                 min: p.min,
                 max: p.max,
-                unit: p.unit.to_string(),
+                unit: match p.unit {
+                    "" | "1" => String::new(),
+                    u => format!(" {u}"),
+                },
             });
         }
         if std::mem::replace(&mut given[idx], true) {

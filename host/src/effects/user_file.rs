@@ -6,6 +6,8 @@
 use super::expr::{is_reserved, suggest};
 use super::formula::{FormulaEffect, UserEffectSpec, UserParam};
 use super::place::Place;
+use super::toml_position::{line_col, raw_offset};
+use crate::data::limits::echo;
 use crate::data::quantities;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -32,9 +34,9 @@ impl std::fmt::Display for UserEffectError {
             write!(f, ", line {}, column {}", self.line, self.column)?;
         }
         if let Some(e) = &self.effect {
-            write!(f, ": effect `{e}`")?;
+            write!(f, ": effect `{}`", echo(e))?;
         }
-        write!(f, ", field `{}`: {}", self.field, self.message)
+        write!(f, ", field `{}`: {}", echo(&self.field), self.message)
     }
 }
 
@@ -73,14 +75,6 @@ struct RawParam {
     max: Spanned<f64>,
     free: Option<bool>,
     doc: Option<String>,
-}
-
-/// Line and column (1-based, in characters) of byte `offset` in `text`.
-fn line_col(text: &str, offset: usize) -> (usize, usize) {
-    let before = &text[..offset.min(text.len())];
-    let line = before.matches('\n').count() + 1;
-    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    (line, col)
 }
 
 struct Ctx<'a> {
@@ -194,7 +188,7 @@ fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectErro
     let name = e.name.get_ref().clone();
     let at = |field: &str, span: Range<usize>, msg: String| cx.err(Some(&name), field, span, msg);
     if !is_kebab(&name) {
-        return Err(at("name", e.name.span(), format!("`{name}` is not kebab-case; allowed: a lowercase letter, then lowercase letters, digits and `-`")));
+        return Err(at("name", e.name.span(), format!("`{}` is not kebab-case; allowed: a lowercase letter, then lowercase letters, digits and `-`", echo(&name))));
     }
     if super::CATALOGUE.iter().any(|c| c.name() == name) {
         return Err(at("name", e.name.span(), format!("`{name}` is a catalogue effect; choose another name (`swimbot effects` lists the catalogue)")));
@@ -215,7 +209,7 @@ fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectErro
         let pname = p.name.get_ref();
         let field = format!("param.{pname}");
         if !is_ident(pname) {
-            return Err(at("param.name", p.name.span(), format!("`{pname}` is not an identifier; allowed: a lowercase letter, then lowercase letters, digits and `_`")));
+            return Err(at("param.name", p.name.span(), format!("`{}` is not an identifier; allowed: a lowercase letter, then lowercase letters, digits and `_`", echo(pname))));
         }
         if quantities::by_id(pname).is_some() || is_reserved(pname) {
             return Err(at("param.name", p.name.span(), format!("`{pname}` is the name of a case quantity, constant or function; rename the parameter")));
@@ -281,7 +275,7 @@ fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectErro
                 key.span(),
                 format!(
                     "unknown place `{}`{}; places: {}",
-                    key.get_ref(),
+                    echo(key.get_ref()),
                     suggest(key.get_ref(), Place::ALL.iter().map(|p| p.name())),
                     place_list()
                 ),
@@ -289,15 +283,17 @@ fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectErro
         })?;
         let field = format!("places.\"{}\"", place.name());
         let expr = super::expr::Expr::parse(formula.get_ref(), &names).map_err(|err| {
-            // The value's span starts at its opening quote; past it the formula's columns follow.
-            let s = formula.span().start + 1 + byte_of_char(formula.get_ref(), err.column - 1);
+            // The column counts decoded characters; map it through the value's raw text.
+            let span = formula.span();
+            let raw = cx.text.get(span.clone()).unwrap_or_default();
+            let s = span.start + raw_offset(raw, err.column - 1);
             cx.err(
                 Some(&name),
                 &field,
                 s..s,
                 format!(
                     "formula `{}`, formula column {}: {}",
-                    formula.get_ref(),
+                    echo(formula.get_ref()),
                     err.column,
                     err.message
                 ),
@@ -338,10 +334,6 @@ fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectErro
     })
 }
 
-fn byte_of_char(s: &str, chars: usize) -> usize {
-    s.char_indices().nth(chars).map_or(s.len(), |(b, _)| b)
-}
-
 fn place_list() -> String {
     Place::ALL
         .iter()
@@ -353,14 +345,27 @@ fn place_list() -> String {
 /// Read, check and compile an effects file.
 pub fn load_file(path: &std::path::Path) -> Result<Vec<FormulaEffect>, UserEffectError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| UserEffectError {
+    let whole = |message: String| UserEffectError {
         file: file.clone(),
         effect: None,
         field: "(file)".into(),
         line: 0,
         column: 0,
-        message: format!("cannot read: {e}"),
-    })?;
+        message,
+    };
+    let limit = crate::data::limits::MAX_EFFECT_FILE_BYTES;
+    // `take` bounds the read even for a file that grows or a device without a size.
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .and_then(|f| {
+            std::io::Read::read_to_string(&mut std::io::Read::take(f, limit + 1), &mut text)
+        })
+        .map_err(|e| whole(format!("cannot read: {e}")))?;
+    if text.len() as u64 > limit {
+        return Err(whole(format!(
+            "the file is larger than {limit} bytes, the limit of an effects file"
+        )));
+    }
     crate::provenance::record_input(path, text.as_bytes());
     let specs = parse(&text, &file)?;
     specs

@@ -31,6 +31,7 @@
 //! (1982).
 
 use super::audit::{Flag, Severity};
+use super::audit_loo::{leave_one_out, FullFit, LooMethod};
 use super::compare::case_residuals;
 use super::fit::{fit, free_params_of, FitResult};
 use super::noise::{chi2_noise_floor, error_dofs};
@@ -39,6 +40,7 @@ use crate::effects::{EffectInstance, CATALOGUE};
 use crate::model::Model;
 use rayon::prelude::*;
 use serde::Serialize;
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 const CLEAR_MARGIN: f64 = 4.0;
 
@@ -58,11 +60,94 @@ struct Scored {
     aicc: Option<f64>,
 }
 
+fn n_obs_case(c: &crate::data::Case) -> usize {
+    c.u_mm_s.is_some() as usize + c.omega_body_hz.is_some() as usize
+}
+
 fn n_obs(data: &Dataset) -> usize {
-    data.cases
-        .iter()
-        .map(|c| c.u_mm_s.is_some() as usize + c.omega_body_hz.is_some() as usize)
-        .sum()
+    data.cases.iter().map(n_obs_case).sum()
+}
+
+/// The degrees of freedom of the quantities' standard errors as a
+/// histogram (bits of the dof -> count).
+type DofHistogram = Vec<(u64, usize)>;
+
+/// The noise floors the outlier check needs, and the Student-t limits: the
+/// floor is a Monte Carlo quantile over every quantity (20 000 draws each)
+/// and depends only on the histogram of the degrees of freedom and `k`, so
+/// each distinct one is drawn once (in parallel), not once per case; with
+/// equal trials everywhere leaving any case out gives the same histogram.
+struct NoiseFloors {
+    floors: HashMap<(DofHistogram, usize), Option<f64>>,
+    limits: HashMap<u32, f64>,
+}
+
+impl NoiseFloors {
+    /// For every case left out and every `k` of `ks`.
+    fn new(data: &Dataset, ks: &[usize], level: f64) -> NoiseFloors {
+        let all = error_dofs(data);
+        let keys: HashSet<(DofHistogram, usize)> = data
+            .cases
+            .iter()
+            .flat_map(|c| {
+                let own = error_dofs_of(c);
+                let h = histogram(&all, &own);
+                ks.iter().map(move |&k| (h.clone(), k))
+            })
+            .collect();
+        let floors = keys
+            .into_par_iter()
+            .map(|(h, k)| {
+                let dofs: Vec<f64> = h
+                    .iter()
+                    .flat_map(|&(d, n)| std::iter::repeat_n(f64::from_bits(d), n))
+                    .collect();
+                let f = chi2_noise_floor(&dofs, k, 0.95);
+                ((h, k), f)
+            })
+            .collect();
+        let trials: HashSet<u32> = data
+            .cases
+            .iter()
+            .flat_map(|c| [c.u_mm_s, c.omega_body_hz])
+            .flatten()
+            .map(|m| m.trials)
+            .collect();
+        let limits = trials
+            .into_par_iter()
+            .map(|t| (t, crate::stats::student_t_quantile(level, t)))
+            .collect();
+        NoiseFloors { floors, limits }
+    }
+
+    /// The floor with `case` left out.
+    fn floor(&self, all: &[f64], case: &crate::data::Case, k: usize) -> Option<f64> {
+        let h = histogram(all, &error_dofs_of(case));
+        self.floors.get(&(h, k)).copied().flatten()
+    }
+}
+
+/// One case's part of [`error_dofs`] (the same rule: `trials - 1`, at least 1).
+fn error_dofs_of(c: &crate::data::Case) -> Vec<f64> {
+    [c.u_mm_s, c.omega_body_hz]
+        .into_iter()
+        .flatten()
+        .map(|m| f64::from(m.trials.max(2) - 1))
+        .collect()
+}
+
+/// The histogram of `all` without the values of `left_out`.
+fn histogram(all: &[f64], left_out: &[f64]) -> DofHistogram {
+    let mut hist: BTreeMap<u64, usize> = BTreeMap::new();
+    for d in all {
+        *hist.entry(d.to_bits()).or_default() += 1;
+    }
+    for d in left_out {
+        if let Some(n) = hist.get_mut(&d.to_bits()) {
+            *n -= 1;
+        }
+    }
+    hist.into_iter().filter(|(_, n)| *n > 0).collect()
 }
 
 fn aicc(chi2: f64, n: usize, k: usize) -> Option<f64> {
@@ -112,14 +197,18 @@ fn conclusion(list: &[Scored]) -> Option<String> {
     }
 }
 
-fn without(data: &Dataset, i: usize) -> Dataset {
-    let mut d = data.clone();
-    d.cases.remove(i);
-    d
+/// Run the influence and outlier checks (module docs), the leave-one-out
+/// fits by [`LooMethod::Auto`].
+pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>) {
+    influence_with(model, data, LooMethod::Auto)
 }
 
-/// Run the influence and outlier checks (module docs).
-pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>) {
+/// [`influence`] with the leave-one-out fits made by `method`.
+pub fn influence_with(
+    model: &Model,
+    data: &Dataset,
+    method: LooMethod,
+) -> (InfluenceSummary, Vec<Flag>) {
     let base_len = model.effects.len();
     let full: Vec<Scored> = candidate_models(model)
         .par_iter()
@@ -129,18 +218,45 @@ pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>)
     let n_all = n_obs(data);
     let mut flags = Vec::new();
     let mut without_list = Vec::new();
-    let loo: Vec<Vec<Scored>> = (0..data.cases.len())
-        .into_par_iter()
-        .map(|i| {
-            let sub = without(data, i);
+    let fulls: Vec<FullFit> = full
+        .iter()
+        .map(|s| FullFit {
+            fit: &s.fit,
+            free: free_params_of(
+                &s.fit.model,
+                &(base_len..s.fit.model.effects.len()).collect::<Vec<_>>(),
+            ),
+        })
+        .collect();
+    let n_sub = |i: usize| n_all - n_obs_case(&data.cases[i]);
+    let loo: Vec<Vec<Scored>> = leave_one_out(&fulls, data, method)
+        .into_iter()
+        .enumerate()
+        .map(|(i, fits)| {
             full.iter()
-                .filter_map(|s| score(&s.name, &s.fit.model, base_len, &sub, false))
+                .zip(fits)
+                .filter_map(|(s, f)| {
+                    let f = f?;
+                    Some(Scored {
+                        name: s.name.clone(),
+                        aicc: aicc(f.chi2, n_sub(i), f.estimates.len()),
+                        fit: f,
+                    })
+                })
                 .collect()
         })
         .collect();
+    let mut ks: Vec<usize> = loo
+        .iter()
+        .flatten()
+        .map(|s| s.fit.estimates.len())
+        .collect();
+    ks.sort_unstable();
+    ks.dedup();
+    let floors = NoiseFloors::new(data, &ks, outlier_level(n_all));
+    let all_dofs = error_dofs(data);
     for (i, list) in loo.iter().enumerate() {
         let case = &data.cases[i];
-        let sub = without(data, i);
         let c_i = conclusion(list);
         without_list.push((case.id.clone(), c_i.clone()));
         if let (None, Some(y)) = (&concl, &c_i) {
@@ -188,7 +304,7 @@ pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>)
                 }
             }
         }
-        if let Some(f) = outlier(case, &sub, list, n_all) {
+        if let Some(f) = outlier(case, list, &all_dofs, &floors) {
             flags.push(f);
         }
     }
@@ -208,25 +324,31 @@ pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>)
     )
 }
 
+/// The two-sided level of the outlier limit: a family-wise 1 %, Bonferroni
+/// over all `n_all` quantities.
+fn outlier_level(n_all: usize) -> f64 {
+    1.0 - 0.01 / n_all.max(1) as f64
+}
+
 /// The outlier check of one case against the candidates fitted without it.
 fn outlier(
     case: &crate::data::Case,
-    others: &Dataset,
     fitted: &[Scored],
-    n_all: usize,
+    all_dofs: &[f64],
+    floors: &NoiseFloors,
 ) -> Option<Flag> {
-    let dofs = error_dofs(others);
     let at_floor: Vec<&Scored> = fitted
         .iter()
         .filter(|s| {
             let k = s.fit.estimates.len();
-            chi2_noise_floor(&dofs, k, 0.95).is_some_and(|f| s.fit.chi2 <= f)
+            floors
+                .floor(all_dofs, case, k)
+                .is_some_and(|f| s.fit.chi2 <= f)
         })
         .collect();
     if at_floor.is_empty() {
         return None;
     }
-    let level = 1.0 - 0.01 / n_all.max(1) as f64;
     let mut best: Option<(f64, f64, &str, &'static str)> = None;
     for s in &at_floor {
         let p = s.fit.model.predict(case).ok()?;
@@ -238,7 +360,7 @@ fn outlier(
         } else {
             case.omega_body_hz
         }?;
-        let limit = crate::stats::student_t_quantile(level, m.trials);
+        let limit = floors.limits[&m.trials];
         let z = r.normalised().abs();
         if z <= limit {
             return None;

@@ -153,41 +153,53 @@ pub fn ratio_test(
         let idx: Vec<usize> = (0..obs.len()).filter(|&i| obs[i].is_some()).collect();
         let mut bad: Vec<Vec<(usize, String)>> = vec![Vec::new(); data.cases.len()];
         let mut bad_pairs = Vec::new();
-        for (a, &i) in idx.iter().enumerate() {
-            for &j in &idx[a + 1..] {
-                let ((oi, ri), (oj, rj)) = (obs[i].unwrap(), obs[j].unwrap());
-                let r = oi / oj;
-                let sd = r.abs() * (ri + rj).sqrt();
-                let (lo, hi) = preds
-                    .iter()
-                    .map(|p| p[i][q] / p[j][q])
-                    .filter(|x| x.is_finite())
-                    .fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)));
-                if lo > hi {
-                    continue;
-                }
-                tested += 1;
-                let z = if r < lo {
-                    (lo - r) / sd
-                } else if r > hi {
-                    (r - hi) / sd
-                } else {
-                    0.0
-                };
-                if z > Z_OUT {
-                    out_total += 1;
-                    let text = format!(
-                        "{label}({})/{label}({}) = {} measured, the family gives {} to {} ({z:.1} standard uncertainties outside)",
-                        data.cases[i].id,
-                        data.cases[j].id,
-                        crate::format::fmt_sig(r, 3),
-                        crate::format::fmt_sig(lo, 3),
-                        crate::format::fmt_sig(hi, 3)
-                    );
-                    bad[i].push((j, text.clone()));
-                    bad[j].push((i, text.clone()));
-                    bad_pairs.push((i, j, text));
-                }
+        // Each pair's range over the members, in parallel (n^2 / 2 pairs
+        // times the members: the one quadratic part of the audit).
+        // Per case, the members' predictions of this quantity (contiguous for the pair loop).
+        let cols: Vec<Vec<f64>> = (0..data.cases.len())
+            .map(|i| preds.iter().map(|p| p[i][q]).collect())
+            .collect();
+        let pairs: Vec<(usize, usize, f64, f64, f64, f64)> = idx
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(a, &i)| {
+                let (obs, cols) = (&obs, &cols);
+                idx[a + 1..].iter().filter_map(move |&j| {
+                    let ((oi, ri), (oj, rj)) = (obs[i]?, obs[j]?);
+                    let r = oi / oj;
+                    let sd = r.abs() * (ri + rj).sqrt();
+                    let (lo, hi) = cols[i]
+                        .iter()
+                        .zip(&cols[j])
+                        .map(|(a, b)| a / b)
+                        .filter(|x| x.is_finite())
+                        .fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)));
+                    (lo <= hi).then_some((i, j, r, sd, lo, hi))
+                })
+            })
+            .collect();
+        for (i, j, r, sd, lo, hi) in pairs {
+            tested += 1;
+            let z = if r < lo {
+                (lo - r) / sd
+            } else if r > hi {
+                (r - hi) / sd
+            } else {
+                0.0
+            };
+            if z > Z_OUT {
+                out_total += 1;
+                let text = format!(
+                    "{label}({})/{label}({}) = {} measured, the family gives {} to {} ({z:.1} standard uncertainties outside)",
+                    data.cases[i].id,
+                    data.cases[j].id,
+                    crate::format::fmt_sig(r, 3),
+                    crate::format::fmt_sig(lo, 3),
+                    crate::format::fmt_sig(hi, 3)
+                );
+                bad[i].push((j, text.clone()));
+                bad[j].push((i, text.clone()));
+                bad_pairs.push((i, j, text));
             }
         }
         let others = idx.len().saturating_sub(1);

@@ -2,6 +2,7 @@
 //! where it fails, and test which physical effect explains the failure.
 pub mod audit;
 pub mod audit_influence;
+pub mod audit_loo;
 pub mod audit_ratio;
 pub mod candidate;
 pub mod compare;

@@ -1,0 +1,206 @@
+//! Outputs through the real binary (issue 27.2), on private nodes in a
+//! temporary folder: a symbolic link is followed to its file, a FIFO is
+//! written through, an output that is an input is refused, a full device is
+//! exit 2 (`/dev/full`, only read... and written, never replaced), and
+//! SIGINT / SIGTERM leave no temporary file and no new folder.
+
+use crate::common::stderr;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn run_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+const SMALL_SWEEP: [&str; 7] = [
+    "sweep",
+    "--wavelength-mm",
+    "10:20:5",
+    "--amplitude-mm",
+    "2",
+    "--tail-length-mm",
+    "100",
+];
+
+fn sweep_to(dir: &Path, out: &str) -> Output {
+    let mut args = SMALL_SWEEP.to_vec();
+    args.extend(["-o", out]);
+    run_in(dir, &args)
+}
+
+#[test]
+fn a_symlink_is_followed_and_stays_a_link() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("real.csv"), "old").unwrap();
+    std::os::unix::fs::symlink("real.csv", d.join("link.csv")).unwrap();
+    let o = sweep_to(d, "link.csv");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let meta = std::fs::symlink_metadata(d.join("link.csv")).unwrap();
+    assert!(meta.file_type().is_symlink(), "the link was replaced");
+    let text = std::fs::read_to_string(d.join("real.csv")).unwrap();
+    assert!(text.starts_with("wavelength_mm,") && text.lines().count() == 6);
+    // A dangling link is refused, naming the output.
+    std::os::unix::fs::symlink("nowhere/x.csv", d.join("dangling.csv")).unwrap();
+    let o = sweep_to(d, "dangling.csv");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("dangling.csv"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_fifo_is_written_through_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let o = sweep_to(dir.path(), "pipe");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = reader.join().unwrap();
+    assert_eq!(text.lines().count(), 6, "{text}");
+    use std::os::unix::fs::FileTypeExt;
+    let t = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+    assert!(t.is_fifo(), "the FIFO was replaced by a file");
+}
+
+#[test]
+fn an_output_that_is_an_input_is_refused_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let paper = swimbot::data::to_toml(&swimbot::data::paper());
+    std::fs::write(d.join("data.toml"), &paper).unwrap();
+    std::os::unix::fs::symlink("data.toml", d.join("alias.toml")).unwrap();
+    for out in ["data.toml", "./data.toml", "alias.toml"] {
+        let o = run_in(
+            d,
+            &["diagnose", "--data", "data.toml", "--write-effect", out],
+        );
+        assert_eq!(o.status.code(), Some(2), "{out}: {}", stderr(&o));
+        assert!(stderr(&o).contains("also an input"), "{}", stderr(&o));
+        assert!(o.stdout.is_empty(), "work was done before the refusal");
+    }
+    assert_eq!(std::fs::read_to_string(d.join("data.toml")).unwrap(), paper);
+}
+
+#[test]
+fn a_full_device_is_exit_2_on_every_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = std::fs::File::options()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let mut args = SMALL_SWEEP.to_vec();
+    args.extend(["-o", "/dev/full"]);
+    for (what, args, stdout) in [
+        ("sweep -o /dev/full", args.clone(), Stdio::null()),
+        (
+            "sweep > /dev/full",
+            SMALL_SWEEP.to_vec(),
+            Stdio::from(full.try_clone().unwrap()),
+        ),
+        (
+            "effects > /dev/full",
+            vec!["effects"],
+            Stdio::from(full.try_clone().unwrap()),
+        ),
+        (
+            "compare --format csv > /dev/full",
+            vec!["compare", "--no-report", "--format", "csv"],
+            Stdio::from(full.try_clone().unwrap()),
+        ),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+            .args(&args)
+            .current_dir(dir.path())
+            .stdout(stdout)
+            .output()
+            .unwrap();
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{what}: {err}");
+        assert!(
+            err.contains("No space left") && !err.contains("panicked"),
+            "{what}: {err}"
+        );
+    }
+    // /dev/full is still a character device (written through, never replaced).
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::metadata("/dev/full")
+        .unwrap()
+        .file_type()
+        .is_char_device());
+}
+
+/// Start `args`, wait until `ready` holds, send `signal`, wait for the end.
+fn interrupt(dir: &Path, args: &[&str], ready: impl Fn() -> bool, signal: i32) -> bool {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !ready() {
+        if child.try_wait().unwrap().is_some() || start.elapsed() > Duration::from_secs(60) {
+            return false;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    // SAFETY: kill(2) on our own child's pid.
+    unsafe { libc::kill(child.id() as i32, signal) };
+    use std::os::unix::process::ExitStatusExt;
+    let status = child.wait().unwrap();
+    assert_eq!(status.signal(), Some(signal), "{status:?}");
+    true
+}
+
+#[test]
+fn sigint_and_sigterm_leave_no_temporary_file_and_no_new_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_path_buf();
+    // A new folder, interrupted while the report is being computed.
+    let seen = interrupt(
+        &d,
+        &["report", "-o", "new/deep/report"],
+        || d.join("new/deep/report").exists(),
+        libc::SIGINT,
+    );
+    assert!(seen, "the report ended before its folder was seen");
+    assert!(!d.join("new").exists(), "the new folders were left behind");
+    // A temporary file, interrupted while the CSV is written.
+    let temp_seen = || {
+        std::fs::read_dir(&d)
+            .unwrap()
+            .flatten()
+            .any(|e| e.file_name().to_string_lossy().starts_with(".big.csv.tmp-"))
+    };
+    let args = [
+        "sweep",
+        "--wavelength-mm",
+        "10:20:500",
+        "--amplitude-mm",
+        "2:3:300",
+        "--tail-length-mm",
+        "100",
+        "-o",
+        "big.csv",
+    ];
+    assert!(
+        interrupt(&d, &args, temp_seen, libc::SIGTERM),
+        "the sweep ended first"
+    );
+    let left: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}
