@@ -208,7 +208,8 @@ fn dataset_toml() -> impl Strategy<Value = String> {
         (5.0..30.0f64, 1.0..6.0f64, 20.0..150.0f64, 0.2..3.0f64),
         prop::option::of((0.1..2.0f64, 0.01..0.2f64)),
         prop::option::of(prop::collection::vec(-0.5..0.5f64, 2..6)),
-        prop::option::of(0.0..1.0f64),
+        // within the 50 %-of-value limit for the smallest amplitude (1 mm)
+        prop::option::of(0.0..0.5f64),
         any::<bool>(),
         "[a-zA-Z0-9\"#' -]{0,6}",
     );

@@ -266,7 +266,8 @@ fn print_csv(c: &Comparison) -> Result<(), CliError> {
     let mut out = std::io::stdout().lock();
     writeln!(out, "{}", header.join(","))
         .and_then(|()| out.write_all(rows.as_bytes()))
-        .map_err(|e| CliError::failure(format!("writing the CSV: {e}")))
+        // a full disk or a closed device is the user's to fix: exit 2
+        .map_err(|e| CliError::input(format!("cannot write the CSV to standard output: {e}")))
 }
 
 /// `omega_pred_hz` -> `omega_body_counter_pred_hz`, and so on.
