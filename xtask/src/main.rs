@@ -259,6 +259,22 @@ fn firmware_size(root: &Path, steps: &mut Steps) -> Result<(), String> {
     for (name, bytes, region) in &usage.sections {
         println!("    {name:<24} {bytes:>6} B  {region}");
     }
+    // flip-link (the linker in .cargo/config.toml) puts the stack below the
+    // statics, so an overflow faults instead of overwriting them; a build
+    // linked without it has its statics at the RAM's origin.
+    match usage.lowest_static_ram {
+        Some(a) if a > size::RAM_START => println!(
+            "stack below the statics (flip-link): statics from {a:#010x}, stack grows down to {:#010x}",
+            size::RAM_START
+        ),
+        Some(a) => {
+            return Err(format!(
+                "statics start at the RAM's origin ({a:#010x}): the firmware was not linked by \
+                 flip-link, so a stack overflow would overwrite them (install it: `cargo install flip-link`)"
+            ))
+        }
+        None => {}
+    }
     if usage.flash_bytes > FLASH_BUDGET_BYTES {
         return Err(format!(
             "firmware flash use {} B exceeds the {} B budget",

@@ -9,7 +9,7 @@ use std::path::Path;
 
 const FLASH_START: u64 = 0x1000_0000;
 const FLASH_END: u64 = 0x1100_0000;
-const RAM_START: u64 = 0x2000_0000;
+pub const RAM_START: u64 = 0x2000_0000;
 const RAM_END: u64 = 0x2004_2000;
 const SHF_ALLOC: u64 = 0x2;
 
@@ -17,6 +17,9 @@ pub struct Usage {
     pub flash_bytes: u64,
     pub ram_bytes: u64,
     pub sections: Vec<(String, u64, &'static str)>,
+    /// The lowest address of a static in RAM: above the RAM's origin only
+    /// when flip-link has put the stack below the statics.
+    pub lowest_static_ram: Option<u64>,
 }
 
 pub fn measure(elf: &Path) -> Result<Usage, String> {
@@ -32,6 +35,7 @@ pub fn measure(elf: &Path) -> Result<Usage, String> {
         flash_bytes: 0,
         ram_bytes: 0,
         sections: Vec::new(),
+        lowest_static_ram: None,
     };
     for section in file.sections() {
         let SectionFlags::Elf { sh_flags } = section.flags() else {
@@ -55,6 +59,7 @@ pub fn measure(elf: &Path) -> Result<Usage, String> {
             usage.sections.push((name, size, "flash"));
         } else if in_ram {
             usage.ram_bytes += size;
+            usage.lowest_static_ram = Some(usage.lowest_static_ram.map_or(addr, |a| a.min(addr)));
             // Initialised RAM data is copied from flash at reset.
             if has_file_bytes {
                 usage.flash_bytes += size;
