@@ -210,3 +210,30 @@ fn sigint_and_sigterm_leave_no_temporary_file_and_no_new_folder() {
         .collect();
     assert!(left.is_empty(), "left behind: {left:?}");
 }
+
+/// `diagnose --write-effect F | head -n 3`: the file the user asked for is
+/// written before stdout is touched, so a reader that closed the pipe at
+/// once (the process then ends by SIGPIPE at its first line) still leaves F.
+#[cfg(unix)]
+#[test]
+fn the_asked_for_file_is_written_before_a_closed_stdout_ends_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let found = dir.path().join("found.toml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(["diagnose", "--quiet", "--write-effect"])
+        .arg(&found)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader is gone before the first line
+    let out = child.wait_with_output().unwrap();
+    let text = std::fs::read_to_string(&found).unwrap_or_else(|e| {
+        panic!(
+            "{} not written ({e}); stderr: {}",
+            found.display(),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    });
+    assert!(text.contains("[[effect]]"), "{text}");
+}

@@ -90,6 +90,12 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
     super::output::check_finite("diagnosis", &d)?;
     spinner.finish_and_clear();
+    // The file the user asked for is written before stdout is touched: a
+    // reader that stops early (`| head`) ends the process by SIGPIPE while
+    // the table is printed, and the file must already be there.
+    if let Some(path) = &a.write_effect {
+        write_effect(&d, &data.name, path)?;
+    }
     match a.format {
         TableOrJson::Json => print_json(&d),
         TableOrJson::Table => {
@@ -98,9 +104,6 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
             }
             print_table(&d)
         }
-    }
-    if let Some(path) = &a.write_effect {
-        write_effect(&d, &data.name, path)?;
     }
     Ok(())
 }
