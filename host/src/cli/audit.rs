@@ -3,7 +3,7 @@
 //! [`crate::workbench::audit`].
 
 use super::model_args::{DataArgs, ModelArgs};
-use super::output::{print_json, TableOrJson};
+use super::output::{print_csv, print_json, TableJsonCsv};
 use super::CliError;
 use crate::workbench::audit::{audit, Audit, AuditSettings};
 use clap::Args;
@@ -15,9 +15,9 @@ pub struct AuditArgs {
     /// The base of the model family (the catalogue's cheap effects are added to it).
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Output format on stdout (json: `flags: [{case, kind, detail, severity}]`).
+    /// Output format on stdout (json: the whole audit; csv: one row per flag, `case,kind,detail,severity`).
     #[arg(long, value_enum, default_value = "table")]
-    pub format: TableOrJson,
+    pub format: TableJsonCsv,
     /// Members of the model family sampled for the ratio test.
     #[arg(long, default_value_t = 256)]
     pub family_samples: usize,
@@ -54,8 +54,9 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
     let report = audit(&model, &data, &settings)?;
     spinner.finish_and_clear();
     match a.format {
-        TableOrJson::Json => print_json(&report),
-        TableOrJson::Table => print_table(&report),
+        TableJsonCsv::Json => print_json(&report),
+        TableJsonCsv::Csv => print_csv(&report.flags)?,
+        TableJsonCsv::Table => print_table(&report),
     }
     Ok(())
 }

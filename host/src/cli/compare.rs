@@ -260,11 +260,20 @@ fn print_csv(c: &Comparison) -> Result<(), CliError> {
     let mut bytes = Vec::new();
     super::output::write_csv_rows(&c.cases, &mut bytes)?;
     let text = String::from_utf8(bytes).expect("the CSV writer writes UTF-8");
-    let (header, rows) = text.split_once('\n').unwrap_or((&text, ""));
+    // the provenance block's `#` lines come first, then the header
+    let table_at = text
+        .match_indices('\n')
+        .map(|(i, _)| i + 1)
+        .find(|&i| !text[i..].starts_with('#'))
+        .filter(|_| text.starts_with('#'))
+        .unwrap_or(0);
+    let (comments, table) = text.split_at(table_at);
+    let (header, rows) = table.split_once('\n').unwrap_or((table, ""));
     let header: Vec<String> = header.split(',').map(csv_column).collect();
     use std::io::Write;
     let mut out = std::io::stdout().lock();
-    writeln!(out, "{}", header.join(","))
+    out.write_all(comments.as_bytes())
+        .and_then(|()| writeln!(out, "{}", header.join(",")))
         .and_then(|()| out.write_all(rows.as_bytes()))
         // a full disk or a closed device is the user's to fix: exit 2
         .map_err(|e| CliError::input(format!("cannot write the CSV to standard output: {e}")))

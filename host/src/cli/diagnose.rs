@@ -1,7 +1,7 @@
 //! `swimbot diagnose`: where the model fails and which effect is missing.
 
 use super::model_args::{DataArgs, ModelArgs};
-use super::output::{opt, print_json, TableOrJson};
+use super::output::{opt, print_csv, print_json, TableJsonCsv};
 use super::CliError;
 use crate::format::{fmt_estimate, fmt_sig};
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
@@ -15,8 +15,11 @@ pub struct DiagnoseArgs {
     pub data: DataArgs,
     #[command(flatten)]
     pub model: ModelArgs,
-    #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
-    pub format: TableOrJson,
+    /// Output format on stdout (csv: the ranking of catalogue effects and
+    /// pairs, one row per candidate, `kind,effect,params,mare,cv_mare,chi2,
+    /// chi2_reduced,aicc,at_noise_floor,converged`; json: the whole diagnosis).
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: TableJsonCsv,
     /// Quantile of a perfect model's chi-square distribution taken as the noise floor (0.5 to 1).
     #[arg(long, default_value_t = 0.95)]
     pub level: f64,
@@ -97,8 +100,9 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
         write_effect(&d, &data.name, path)?;
     }
     match a.format {
-        TableOrJson::Json => print_json(&d),
-        TableOrJson::Table => {
+        TableJsonCsv::Json => print_json(&d),
+        TableJsonCsv::Csv => print_csv(&ranking_rows(&d))?,
+        TableJsonCsv::Table => {
             if a.input_uncertainty {
                 println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
             }
@@ -300,4 +304,48 @@ fn print_table(d: &Diagnosis) {
     }
     print_steps(&d.verdict.steps);
     println!("\nverdict ({}): {}", d.verdict.kind.name(), d.verdict.note);
+}
+
+/// One row of `diagnose --format csv`: a candidate of the ranking.
+#[derive(serde::Serialize)]
+struct RankingRow<'a> {
+    /// `single` (one catalogue effect) or `pair` (two at once).
+    kind: &'static str,
+    effect: &'a str,
+    /// `effect.name=value` for each fitted parameter, `;`-separated.
+    params: String,
+    mare: f64,
+    cv_mare: f64,
+    chi2: f64,
+    chi2_reduced: Option<f64>,
+    aicc: Option<f64>,
+    at_noise_floor: bool,
+    converged: bool,
+}
+
+fn ranking_rows(d: &Diagnosis) -> Vec<RankingRow<'_>> {
+    let singles = d.ranking.iter().map(|c| ranking_row("single", c));
+    singles
+        .chain(d.pairs.iter().map(|c| ranking_row("pair", c)))
+        .collect()
+}
+
+fn ranking_row<'a>(kind: &'static str, c: &'a Candidate) -> RankingRow<'a> {
+    let params: Vec<String> = c
+        .params
+        .iter()
+        .map(|e| format!("{}.{}={}", e.effect, e.name, e.value))
+        .collect();
+    RankingRow {
+        kind,
+        effect: &c.effect,
+        params: params.join(";"),
+        mare: c.mare,
+        cv_mare: c.cv_mare,
+        chi2: c.chi2,
+        chi2_reduced: c.chi2_reduced,
+        aicc: c.aicc,
+        at_noise_floor: c.at_noise_floor,
+        converged: c.converged,
+    }
 }

@@ -2,7 +2,7 @@
 //! error on all cases (as the paper calibrated on the B_o/R_body = 0.45 tails).
 
 use super::model_args::{DataArgs, ModelArgs};
-use super::output::{opt, pct, print_json, TableOrJson};
+use super::output::{opt, pct, print_csv, print_json, TableJsonCsv};
 use super::CliError;
 use crate::format::{fmt_estimate, fmt_sig, with_unit};
 use crate::workbench::compare::compare;
@@ -18,8 +18,11 @@ pub struct FitArgs {
     /// Calibrate on these case ids only (comma-separated) [default: all cases].
     #[arg(long, value_delimiter = ',')]
     pub cases: Vec<String>,
-    #[arg(long, value_enum, default_value = "table", help = super::output::FORMAT_HELP)]
-    pub format: TableOrJson,
+    /// Output format on stdout (csv: one row per calibrated parameter,
+    /// `effect,name,unit,value,ci95,at_bound`; the per-case errors of the
+    /// calibrated model are `compare --format csv` with the same effects).
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: TableJsonCsv,
 }
 
 pub fn run(a: FitArgs) -> Result<(), CliError> {
@@ -90,9 +93,13 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
     // The same lone-case test as diagnose and audit (workbench::robust).
     let lone = crate::workbench::robust::lone_case(&result.model, &data, 0.95)
         .map_err(super::model_args::in_data(&a.data.data))?;
-    if a.format == TableOrJson::Json {
-        print_json(&serde_json::json!({ "fit": result, "comparison": all, "lone_case": lone }));
-        return Ok(());
+    match a.format {
+        TableJsonCsv::Json => {
+            print_json(&serde_json::json!({ "fit": result, "comparison": all, "lone_case": lone }));
+            return Ok(());
+        }
+        TableJsonCsv::Csv => return print_csv(&result.estimates),
+        TableJsonCsv::Table => {}
     }
     println!(
         "calibrated on: {}",

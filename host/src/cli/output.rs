@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 /// `--format` of the commands with a per-case table (compare).
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
-    /// Aligned console table (significant figures, see `crate::format`).
+    /// Aligned console table, to significant figures.
     Table,
     /// JSON on stdout, full precision.
     Json,
@@ -24,10 +24,43 @@ pub enum Format {
 /// `--format` of the commands whose output has no rows for a CSV.
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TableOrJson {
-    /// Console text (significant figures, see `crate::format`).
+    /// Console text, to significant figures.
     Table,
     /// JSON on stdout, full precision.
     Json,
+}
+
+/// `--format` of the commands whose main table has rows (diagnose, fit,
+/// audit): the CSV is that table, full precision, after the provenance
+/// block's `#` lines.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableJsonCsv {
+    /// Console text, to significant figures.
+    Table,
+    /// JSON on stdout, full precision.
+    Json,
+    /// CSV on stdout: the command's main table, one row per line, full precision.
+    Csv,
+}
+
+/// `rows` as CSV on stdout (provenance block first); an empty table still
+/// gets its provenance, so a script reading it sees where it came from.
+pub fn print_csv<T: serde::Serialize>(rows: &[T]) -> Result<(), CliError> {
+    let mut bytes = Vec::new();
+    if rows.is_empty() {
+        bytes.extend(
+            crate::provenance::Provenance::capture()
+                .comment_block()
+                .into_bytes(),
+        );
+    } else {
+        write_csv_rows(rows, &mut bytes)?;
+    }
+    use std::io::Write;
+    std::io::stdout()
+        .lock()
+        .write_all(&bytes)
+        .map_err(|e| CliError::input(format!("cannot write the CSV to standard output: {e}")))
 }
 
 /// The help of every `--format`.
