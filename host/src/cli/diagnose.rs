@@ -163,7 +163,7 @@ fn print_steps(steps: &[crate::workbench::diagnose::Step]) {
             format!("{} {}", s.kind, s.name),
             100.0 * s.mare,
             100.0 * s.cv_mare,
-            opt(s.chi2_reduced, 4),
+            opt(s.chi2_reduced, 3),
             s.explained_fraction
                 .map(|f| format!("{:.0}%", 100.0 * f))
                 .unwrap_or_else(|| "-".into()),
@@ -193,7 +193,7 @@ fn print_located(title: &str, list: &[Located]) {
             format!("{} = {}", l.place, l.formula),
             100.0 * l.mare,
             100.0 * l.cv_mare,
-            opt(l.chi2_reduced, 4),
+            opt(l.chi2_reduced, 3),
             l.explained_fraction
                 .map(|f| format!("{:.0}%", 100.0 * f))
                 .unwrap_or_else(|| "-".into()),
@@ -234,7 +234,7 @@ fn print_candidates(title: &str, list: &[Candidate]) {
             c.effect,
             100.0 * c.mare,
             100.0 * c.cv_mare,
-            opt(c.chi2_reduced, 4),
+            opt(c.chi2_reduced, 3),
             opt(c.aicc, 5),
             c.aicc
                 .map(|a| fmt_sig(a - best, 3))
@@ -255,7 +255,7 @@ fn print_table(d: &Diagnosis) {
     let b = &d.baseline;
     println!("model: {}\ndata:  {}\n", b.model, d.comparison.dataset);
     println!("baseline: MARE {:.1} %, max |rel err| {:.1} %, reduced chi-square {} (a perfect model stays below {} at this data's precision)",
-        100.0 * b.mare, 100.0 * b.max_abs_rel_err, opt(b.chi2_reduced, 4), opt(b.noise_floor_chi2_reduced, 3));
+        100.0 * b.mare, 100.0 * b.max_abs_rel_err, opt(b.chi2_reduced, 3), opt(b.noise_floor_chi2_reduced, 3));
     println!("\nresiduals in standard errors of the measured mean:");
     println!("  {:<18} {:>9} {:>9}", "case", "U", "Omega_b");
     for c in &d.comparison.cases {

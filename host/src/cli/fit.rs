@@ -150,7 +150,7 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
         "MARE {:.1} %, max |rel err| {:.1} %, reduced chi-square {}",
         100.0 * all.summary.mare,
         100.0 * all.summary.max_abs_rel_err,
-        opt(all.summary.chi2_reduced, 4)
+        opt(all.summary.chi2_reduced, 3)
     );
     if let Some(l) = lone {
         println!("{}", l.sentence());
