@@ -12,7 +12,7 @@
 
 use super::Effect;
 use crate::data::Case;
-use crate::model::nonlocal_tail::nonlocal_tail;
+use crate::nonlocal::memo::nonlocal_tail;
 use crate::nonlocal::TailMethod;
 use nalgebra::Matrix6;
 

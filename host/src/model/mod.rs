@@ -6,7 +6,6 @@
 //! the body rate is reported as the counter-rotation rate (positive when
 //! opposite to the tail), as the paper's Table IV does.
 
-pub mod nonlocal_tail;
 mod presets;
 pub mod time_domain;
 
@@ -165,11 +164,16 @@ impl Model {
             e.effect.local_drag(&e.values, case, &mut drag);
         }
         let nonlocal = |method, segments_per_turn| {
-            nonlocal_tail::nonlocal_tail(&helix, case.viscosity_pa_s, method, segments_per_turn)
-                .map_err(|e| ModelError::Nonlocal {
-                    case: case.id.clone(),
-                    message: e.to_string(),
-                })
+            crate::nonlocal::memo::nonlocal_tail(
+                &helix,
+                case.viscosity_pa_s,
+                method,
+                segments_per_turn,
+            )
+            .map_err(|e| ModelError::Nonlocal {
+                case: case.id.clone(),
+                message: e.to_string(),
+            })
         };
         let mut m = match (self.tail_method, self.dofs == Dofs::AXIAL) {
             // The x-only solve reads only the axial block: skip the 36-entry integration.

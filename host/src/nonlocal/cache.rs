@@ -19,7 +19,7 @@
 //!    key or a non-finite entry is ignored and overwritten by a fresh solve.
 //!
 //! The key is the exact bit pattern of every input (as in
-//! `crate::model::nonlocal_tail`), prefixed by a `kind` naming the solve.
+//! `crate::nonlocal::memo`), prefixed by a `kind` naming the solve.
 //! The matrix is stored as the bit patterns of its 36 entries (hexadecimal),
 //! so a cached matrix is identical to the computed one, bit for bit.
 //! [`SOLVER_REVISION`] is part of every file: bump it when a change to the

@@ -61,6 +61,7 @@ pub mod cache;
 pub mod confined;
 pub mod curve;
 pub mod linalg;
+pub mod memo;
 pub mod mrs_line;
 pub mod rigid;
 pub mod robot;

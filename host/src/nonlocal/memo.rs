@@ -1,5 +1,7 @@
 //! The non-local tail matrices (slender-body theory or regularized
-//! Stokeslets, `crate::nonlocal`) for the model, memoised: one solve costs
+//! Stokeslets) memoised for the model and the effects, which both sit
+//! above this layer and ask for them (it lived in `model`, which made the
+//! `nonlocal-tail` effect reach up into the model): one solve costs
 //! milliseconds, and a fit or a diagnosis asks for the same geometry
 //! thousands of times. The key is the exact bit pattern of every input.
 
