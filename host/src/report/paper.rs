@@ -96,10 +96,9 @@ pub const SUMMARY_HEADER: [&str; 7] = [
     "reduced χ²",
 ];
 
-/// The mean of predicted / measured over the cases (`omega`: Omega_b, else U).
-pub fn mean_ratio(cmp: &Comparison, omega: bool) -> Option<f64> {
-    let r: Vec<f64> = cmp
-        .cases
+/// Predicted / measured for every measured case (`omega`: Omega_b, else U).
+fn ratios(cmp: &Comparison, omega: bool) -> Vec<f64> {
+    cmp.cases
         .iter()
         .filter_map(|k| {
             let (p, o) = if omega {
@@ -109,7 +108,12 @@ pub fn mean_ratio(cmp: &Comparison, omega: bool) -> Option<f64> {
             };
             (o != 0.0).then(|| p / o)
         })
-        .collect();
+        .collect()
+}
+
+/// The mean of predicted / measured over the cases (`omega`: Omega_b, else U).
+pub fn mean_ratio(cmp: &Comparison, omega: bool) -> Option<f64> {
+    let r = ratios(cmp, omega);
     (!r.is_empty()).then(|| r.iter().sum::<f64>() / r.len() as f64)
 }
 
@@ -117,18 +121,7 @@ pub fn mean_ratio(cmp: &Comparison, omega: bool) -> Option<f64> {
 /// measured on average (1.8-4.1) ..." : the size of the gap, in numbers.
 fn gap_sentence(name: &str, cmp: &Comparison) -> String {
     let range = |omega: bool| {
-        let v: Vec<f64> = cmp
-            .cases
-            .iter()
-            .filter_map(|k| {
-                let (p, o) = if omega {
-                    (k.omega_pred_hz, k.omega_obs_hz?)
-                } else {
-                    (k.u_pred_mm_s, k.u_obs_mm_s?)
-                };
-                (o != 0.0).then(|| p / o)
-            })
-            .collect();
+        let v = ratios(cmp, omega);
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         (lo, hi)
