@@ -563,3 +563,22 @@ fn diagnose_fit_and_audit_print_their_tables_as_csv() {
     let c = table(&swimbot(&["compare", "--no-report", "--format", "csv"]));
     assert!(c[0].contains(",omega_body_counter_pred_hz,"), "{}", c[0]);
 }
+
+/// One case allows no diagnosis (cross-validation has nothing to predict
+/// from): an input error that says what one case allows, not a NaN (exit 1).
+#[test]
+fn diagnose_on_one_case_says_what_one_case_allows() {
+    let dir = tempfile::tempdir().unwrap();
+    let paper =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/paper.toml")).unwrap();
+    let second = paper.match_indices("[[case]]").nth(1).unwrap().0;
+    let one = dir.path().join("one.toml");
+    std::fs::write(&one, &paper[..second]).unwrap();
+    let o = swimbot(&["diagnose", "--data", one.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("at least 2 cases") && stderr(&o).contains("swimbot fit"),
+        "{}",
+        stderr(&o)
+    );
+}

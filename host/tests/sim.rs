@@ -399,3 +399,30 @@ fn rate_set_points_write_the_step_responses_and_bad_ones_are_input_errors() {
         assert!(err.contains(says), "{bad}: {err}");
     }
 }
+
+/// A robot tail whose wire is as thick as its wavelength is refused at
+/// validation, naming the file and the field (it used to pass and then fail
+/// inside the model without either).
+#[test]
+fn a_wire_as_thick_as_the_wavelength_is_refused_naming_file_and_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/robot.toml"))
+        .unwrap()
+        .replacen("wire_diameter_mm = 1.0", "wire_diameter_mm = 16.0", 1);
+    let robot = dir.path().join("thick.toml");
+    std::fs::write(&robot, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(["sim", "--robot"])
+        .arg(&robot)
+        .arg("-o")
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("thick.toml") && err.contains("tail[0].wire_diameter_mm"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out").exists(), "nothing written");
+}

@@ -72,6 +72,18 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
         super::output::check_output_file(path)?;
     }
     let data = a.data.load()?;
+    if data.cases.len() < 2 {
+        // Cross-validation leaves a case out; with one case there is nothing
+        // to predict it from, and every one-parameter effect fits its two
+        // quantities, so no ranking could mean anything.
+        return Err(CliError::input(format!(
+            "{}: diagnose needs at least 2 cases, the dataset has {}: with one case, cross-validation \
+             has nothing to predict from and every effect with a free parameter fits its two quantities; \
+             `swimbot compare` shows the model's error on it and `swimbot fit` calibrates on it",
+            data.name,
+            data.cases.len()
+        )));
+    }
     let model = a.model.model()?;
     let data = if a.input_uncertainty {
         crate::workbench::propagate::with_input_uncertainty(&model, &data)?

@@ -125,6 +125,20 @@ pub(super) fn check(r: &Robot, file: &str) -> Result<(), RobotError> {
                 format!("duplicate tail id `{}`", t.id),
             ));
         }
+        // Adjacent turns touch when the wire is as thick as the pitch: no
+        // helix, and the local drag coefficients' logarithm ln(lambda/D_t)
+        // loses its meaning well before (Gray & Hancock, eqs. 4-5).
+        if t.wire_diameter_mm >= t.wavelength_mm {
+            return Err(fail(
+                file,
+                Some(&field("wire_diameter_mm")),
+                format!(
+                    "{} mm is not thinner than the wavelength ({} mm): adjacent turns of the helix would touch",
+                    crate::data::limits::show(t.wire_diameter_mm),
+                    crate::data::limits::show(t.wavelength_mm)
+                ),
+            ));
+        }
         // Any rate inside the limits will do: the geometry is what is checked.
         let case = r.case(i, 1.0);
         check_case(&case).map_err(|(f, e)| {
