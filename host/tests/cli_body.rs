@@ -121,6 +121,18 @@ fn bad_input_exits_with_2_and_says_what_is_wrong() {
         &swimbot(&["body", "--spheroid", "50:20", "--channel-diameter-mm", "18"]),
         &["does not fit"],
     );
+    // A neck far thinner than its neighbours: the solve's own flux check
+    // fails (3.3e6 of the piston flux), so no drag is printed.
+    assert_input_error(
+        &swimbot(&[
+            "body",
+            "--profile",
+            "10:20,0.001:0.001,10:20",
+            "--channel-diameter-mm",
+            "35",
+        ]),
+        &["own check fails", "piston flux"],
+    );
     assert_input_error(
         &swimbot(&[
             "body",

@@ -97,6 +97,10 @@ fn positive(flag: &str, v: f64) -> Result<f64, CliError> {
     }
 }
 
+/// The largest net flux (relative to the piston flux) a closed-tube solve
+/// may let through and still be printed.
+const FLUX_ERROR_LIMIT: f64 = 1e-2;
+
 pub fn run(a: BodyArgs) -> Result<(), CliError> {
     let mut mu = 3.5;
     let mut channel: Option<(f64, f64, bool)> = None;
@@ -212,6 +216,20 @@ pub fn run(a: BodyArgs) -> Result<(), CliError> {
         wall_elements: solved.wall_elements,
         solve_seconds: solved.seconds,
     };
+    // The solve's own check: in a closed tube the net flux through any
+    // cross-section is zero, so what the discrete solve lets through
+    // measures its error (1e-4 of the piston flux for the paper's body). A
+    // failed check is not a result.
+    if let Some(e) = out.flux_error.filter(|e| e.is_nan() || *e > FLUX_ERROR_LIMIT) {
+        return Err(CliError::input(format!(
+            "the solve's own check fails: the net flux through the tube is {} of the piston flux \
+             (a resolved solve keeps it below {}; 1e-4 for the paper's body): the profile is too \
+             thin or too sharp for the mesh (a neck or a section much smaller than its neighbours), \
+             so no drag is printed",
+            crate::format::fmt_sig(e, 2),
+            crate::format::fmt_sig(FLUX_ERROR_LIMIT, 1)
+        )));
+    }
     match a.format {
         TableOrJson::Json => print_json(&out),
         TableOrJson::Table => print_table(&out),
