@@ -110,7 +110,7 @@ fn wall_extent(
     // regularized tail would overlap it): refuse rather than predict.
     if r - radial_m < s.wall_spacing_m {
         return Err(NonlocalError::Geometry(format!(
-            "the gap of {:.3} mm between the object (radius {:.3} mm) and the wall (radius {:.3} mm) is narrower than the wall spacing {:.3} mm; use a finer wall",
+            "the gap of {:.3} mm between the object (radius {:.3} mm) and the wall (radius {:.3} mm) is narrower than the wall spacing {:.3} mm, which cannot resolve it (a finer wall is `swimbot helix --wall-spacing-mm`; the model presets use the default spacing)",
             (r - radial_m) * 1e3,
             radial_m * 1e3,
             r * 1e3,
