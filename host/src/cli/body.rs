@@ -220,7 +220,10 @@ pub fn run(a: BodyArgs) -> Result<(), CliError> {
     // cross-section is zero, so what the discrete solve lets through
     // measures its error (1e-4 of the piston flux for the paper's body). A
     // failed check is not a result.
-    if let Some(e) = out.flux_error.filter(|e| e.is_nan() || *e > FLUX_ERROR_LIMIT) {
+    if let Some(e) = out
+        .flux_error
+        .filter(|e| e.is_nan() || *e > FLUX_ERROR_LIMIT)
+    {
         return Err(CliError::input(format!(
             "the solve's own check fails: the net flux through the tube is {} of the piston flux \
              (a resolved solve keeps it below {}; 1e-4 for the paper's body): the profile is too \
