@@ -54,6 +54,7 @@ pub const COLUMNS: &[(&str, Kind)] = &[
     ("coupler_length_mm", Kind::Number),
     ("body_profile", Kind::Inline),
     ("body_rounded_mm", Kind::Number),
+    ("net_weight_g", Kind::Number),
     ("chord_length_mm", Kind::Number),
     ("chord_fixed", Kind::Flag),
     ("amplitude_convention", Kind::Text),
@@ -87,11 +88,7 @@ pub fn order_of(name: &str) -> usize {
     }
     match name.strip_prefix(UNCERTAINTY_PREFIX) {
         Some(k) => {
-            COLUMNS.len()
-                + super::quantities::FIELDS
-                    .iter()
-                    .position(|q| q.id == k)
-                    .unwrap_or(usize::MAX - COLUMNS.len())
+            COLUMNS.len() + super::uncertainty::input_order(k).unwrap_or(usize::MAX - COLUMNS.len())
         }
         None => COLUMNS
             .iter()

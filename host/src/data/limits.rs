@@ -63,6 +63,13 @@ pub const LIMITS: &[Limit] = &[
         why: "from a light gas to above the densest element (osmium, 22 590)",
     },
     Limit {
+        field: "net_weight_g",
+        min: 0.0,
+        max: 1e4,
+        unit: "g (absolute value)",
+        why: "a trim error of up to 10 kg either way: beyond, the robot is not a swimmer but a sinker or a float",
+    },
+    Limit {
         field: "u_mm_s",
         min: 1e-6,
         max: 1e6,
@@ -128,10 +135,41 @@ pub const MAX_USER_LOAD: f64 = 1e6;
 /// 295 % error into "none needed").
 pub const MAX_RELATIVE_INPUT_UNCERTAINTY: f64 = 0.5;
 
+/// The largest standard uncertainty of the trim `net_weight_g`, relative
+/// to the mass of the oil the body displaces. The trim is signed and often
+/// 0, so a bound relative to its value cannot serve; a trim known only to
+/// a tenth of the displaced oil (1.4 g, 13 mN on the paper's robot, whose
+/// swimming thrust is a few mN) is no trim at all.
+pub const MAX_TRIM_UNCERTAINTY_OF_DISPLACED: f64 = 0.1;
+
+/// The trim's uncertainty against [`MAX_TRIM_UNCERTAINTY_OF_DISPLACED`].
+fn check_trim_uncertainty(c: &Case, u: f64) -> Result<(), (&'static str, String)> {
+    let displaced_g = c.density_kg_m3 * c.body_profile().volume_m3() * 1e3;
+    let limit = MAX_TRIM_UNCERTAINTY_OF_DISPLACED * displaced_g;
+    if u.is_finite() && u <= limit {
+        return Ok(());
+    }
+    Err((
+        "net_weight_g",
+        format!(
+            "its standard uncertainty (uncertainty.net_weight_g) is {} g: at most {:.0} % of the {} g of oil the body displaces is allowed \
+             (a robot trimmed no better than that is not trimmed)",
+            show(u),
+            100.0 * MAX_TRIM_UNCERTAINTY_OF_DISPLACED,
+            show(displaced_g)
+        ),
+    ))
+}
+
 /// Each input uncertainty at most [`MAX_RELATIVE_INPUT_UNCERTAINTY`] of its
-/// value (none on a field whose value is 0).
+/// value (none on a field whose value is 0); the signed trim against the
+/// displaced oil instead.
 fn check_input_uncertainties(c: &Case) -> Result<(), (&'static str, String)> {
     for (field, u) in c.inputs.nonzero(c) {
+        if super::uncertainty::is_signed(field) {
+            check_trim_uncertainty(c, u)?;
+            continue;
+        }
         let value = super::uncertainty::field_value(c, field).unwrap_or(0.0);
         let limit = MAX_RELATIVE_INPUT_UNCERTAINTY * value.abs();
         if !(u.is_finite() && u <= limit) {
@@ -224,7 +262,7 @@ pub fn check_value(field: &str, value: f64) -> Result<(), String> {
     let Some(l) = limit_of(field) else {
         return Ok(());
     };
-    let v = if field == "u_mm_s" || field == "omega_body_hz" {
+    let v = if matches!(field, "u_mm_s" | "omega_body_hz" | "net_weight_g") {
         value.abs()
     } else {
         value
@@ -264,7 +302,7 @@ pub fn check_id(id: &str) -> Result<(), String> {
 /// `(field, message)`.
 pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
     check_id(&c.id).map_err(|m| ("id", m))?;
-    let fields: [(&'static str, f64); 13] = [
+    let fields: [(&'static str, f64); 14] = [
         ("wavelength_mm", c.wavelength_mm),
         ("amplitude_mm", c.amplitude_mm),
         ("tail_length_mm", c.tail_length_mm),
@@ -278,6 +316,7 @@ pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
         ("frequency_hz", c.frequency_hz),
         ("viscosity_pa_s", c.viscosity_pa_s),
         ("density_kg_m3", c.density_kg_m3),
+        ("net_weight_g", c.net_weight_g),
     ];
     for (f, v) in fields {
         check_value(f, v).map_err(|m| (f, m))?;

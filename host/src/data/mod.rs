@@ -3,6 +3,7 @@
 //! rate with confidence intervals. The format is TOML or CSV, documented
 //! in `docs/data-format.md`; the paper's Tables I, II and IV ship built in.
 
+pub mod body_inputs;
 pub mod csv_columns;
 mod csv_read;
 mod csv_write;
@@ -21,6 +22,9 @@ pub use write::to_toml;
 
 use crate::physics::geometry::{Body, Channel, Coupler, Handedness, Helix};
 use crate::physics::profile::BodyProfile;
+
+/// Standard gravity (m/s^2), CGPM 1901.
+pub const STANDARD_GRAVITY_M_S2: f64 = 9.806_65;
 
 /// The built-in dataset: the paper's six tails.
 pub const PAPER_TOML: &str = include_str!("../../data/paper.toml");
@@ -97,6 +101,11 @@ pub struct Case {
     /// The body's shape as cylindrical sections (`body_profile`), if given;
     /// see [`Case::body_profile`].
     pub body_profile: Option<BodyProfile>,
+    /// The robot's weight minus the weight of the oil it displaces, as a
+    /// mass (g): positive sinks. 0 (the default) is the paper's neutral
+    /// trim; in a vertical channel it is a constant axial load
+    /// ([`Case::net_weight_n`]).
+    pub net_weight_g: f64,
     /// Swimming speed along the channel (mm/s), if measured.
     pub u_mm_s: Option<Measured>,
     /// Body counter-rotation rate (Hz), if measured.
@@ -145,6 +154,16 @@ impl Case {
             length_m: self.channel_length_mm * 1e-3,
             closed: self.channel_closed,
             vertical: self.orientation == Orientation::Vertical,
+        }
+    }
+
+    /// The axial load of the trim error (N, positive up the channel, the
+    /// swimming direction): `-net_weight_g g` in a vertical channel, none
+    /// in a horizontal one (the weight acts across the axis there).
+    pub fn net_weight_n(&self) -> f64 {
+        match self.orientation {
+            Orientation::Vertical => -self.net_weight_g * 1e-3 * STANDARD_GRAVITY_M_S2,
+            Orientation::Horizontal => 0.0,
         }
     }
 

@@ -44,6 +44,7 @@ struct RawCase {
     /// `[[length_mm, diameter_mm], ...]`, nose first.
     body_profile: Option<Vec<[f64; 2]>>,
     body_rounded_mm: Option<f64>,
+    net_weight_g: Option<f64>,
     confidence: Option<f64>,
     trials: Option<u32>,
     u_mm_s: Option<f64>,
@@ -166,6 +167,16 @@ impl Resolver<'_> {
             return Err(self.fail(field, format!("must be positive, got {v}")));
         }
         Ok(v)
+    }
+
+    /// A signed value, 0 when absent.
+    fn finite(&self, field: &str, v: Option<f64>) -> Result<f64, DataError> {
+        match v {
+            Some(v) if !v.is_finite() => {
+                Err(self.fail(field, format!("must be a finite number, got {v}")))
+            }
+            v => Ok(v.unwrap_or(0.0)),
+        }
     }
 
     fn non_negative(
@@ -309,6 +320,7 @@ fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, D
             0.0,
         )?,
         body_profile: None,
+        net_weight_g: r.finite("net_weight_g", c.net_weight_g.or(s.net_weight_g))?,
         u_mm_s: r.measured(
             ["u_mm_s", "u_ci_mm_s", "u_trials_mm_s"],
             c.u_mm_s,
@@ -336,6 +348,10 @@ fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, D
         body_profile: super::profile::resolve(|f, m| r.fail(f, m), &case, profile, rounded)?,
         ..case
     };
+    for (field, _) in &case.inputs.uncertainties {
+        super::body_inputs::check(&case, field)
+            .map_err(|m| r.fail(&format!("uncertainty.{field}"), m))?;
+    }
     Ok(case)
 }
 

@@ -7,12 +7,14 @@
 //! (absolute standard uncertainty in the field's own unit) or a string
 //! `"N%"` (relative standard uncertainty); `[setup.uncertainty]` gives
 //! defaults and `[case.uncertainty]` overrides them key by key. Every key
-//! must be one of [`super::quantities::FIELDS`].
+//! must be one of [`input_names`]: the numeric fields of a case, the trim
+//! `net_weight_g`, and the lengths of the body profile's end sections.
 //!
 //! Correlation convention (GUM 5.2): the tail's own inputs
 //! ([`Scope::PerCase`]: wavelength, amplitude, tail length, wire diameter,
 //! tail rate) are measured tail by tail, so their errors are independent
-//! between cases; the others ([`Scope::Shared`]: tube, oil, body, coupler)
+//! between cases; the others ([`Scope::Shared`]: tube, oil, body and its
+//! sections, trim, coupler)
 //! are one physical object shared by every case, so their errors are fully
 //! correlated between cases and cancel, to first order, in ratios between
 //! cases.
@@ -157,7 +159,7 @@ impl CaseInputs {
     }
 }
 
-/// The inputs [`set_field`] can vary (every numeric field of a case).
+/// The inputs [`set_field`] can vary that are fields of a case.
 const SETTABLE: &[&str] = &[
     "wavelength_mm",
     "amplitude_mm",
@@ -174,22 +176,65 @@ const SETTABLE: &[&str] = &[
     "coupler_length_mm",
 ];
 
-/// The canonical `'static` name of a numeric input field that can carry
-/// an uncertainty (a field [`set_field`] can vary).
+/// Inputs that are not among the case quantities (`FIELDS`, which
+/// `diagnose` searches as features): the trim, 0 in most datasets, and the
+/// lengths of the body profile's end sections ([`super::body_inputs`]).
+pub const OTHER_INPUTS: &[&str] = &[
+    "net_weight_g",
+    super::body_inputs::NOSE,
+    super::body_inputs::REAR,
+];
+
+/// An input whose value may be negative (its draws are not redrawn at 0).
+pub fn is_signed(field: &str) -> bool {
+    field == "net_weight_g"
+}
+
+/// The canonical `'static` name of a numeric input that can carry an
+/// uncertainty (an input [`set_field`] can vary).
 pub fn field_id(name: &str) -> Option<&'static str> {
     FIELDS
         .iter()
-        .find(|q| q.id == name && SETTABLE.contains(&name))
         .map(|q| q.id)
+        .find(|id| *id == name && SETTABLE.contains(&name))
+        .or_else(|| OTHER_INPUTS.iter().copied().find(|id| *id == name))
 }
 
-/// The value of a numeric input field.
+/// Every input that can carry an uncertainty, in the documented order.
+pub fn input_names() -> impl Iterator<Item = &'static str> {
+    FIELDS
+        .iter()
+        .map(|q| q.id)
+        .filter(|id| SETTABLE.contains(id))
+        .chain(OTHER_INPUTS.iter().copied())
+}
+
+/// Where an input goes in the writer's order (the case quantities first).
+pub fn input_order(name: &str) -> Option<usize> {
+    FIELDS.iter().position(|q| q.id == name).or_else(|| {
+        OTHER_INPUTS
+            .iter()
+            .position(|id| *id == name)
+            .map(|i| FIELDS.len() + i)
+    })
+}
+
+/// The value of a numeric input.
 pub fn field_value(case: &Case, field: &str) -> Option<f64> {
-    FIELDS.iter().find(|q| q.id == field).map(|q| q.of(case))
+    match field {
+        "net_weight_g" => Some(case.net_weight_g),
+        _ => super::body_inputs::value(case, field)
+            .or_else(|| FIELDS.iter().find(|q| q.id == field).map(|q| q.of(case))),
+    }
 }
 
-/// Set a numeric input field; `false` for a name that is not one.
+/// Set a numeric input; `false` for a name that is not one. The body's
+/// length, diameter and end sections move its profile with them (see
+/// [`super::body_inputs`]), so that every body model sees the same body.
 pub fn set_field(case: &mut Case, field: &str, v: f64) -> bool {
+    if super::body_inputs::set(case, field, v) {
+        return true;
+    }
     let slot = match field {
         "wavelength_mm" => &mut case.wavelength_mm,
         "amplitude_mm" => &mut case.amplitude_mm,
@@ -200,10 +245,9 @@ pub fn set_field(case: &mut Case, field: &str, v: f64) -> bool {
         "channel_length_mm" => &mut case.channel_length_mm,
         "viscosity_pa_s" => &mut case.viscosity_pa_s,
         "density_kg_m3" => &mut case.density_kg_m3,
-        "body_diameter_mm" => &mut case.body_diameter_mm,
-        "body_length_mm" => &mut case.body_length_mm,
         "coupler_diameter_mm" => &mut case.coupler_diameter_mm,
         "coupler_length_mm" => &mut case.coupler_length_mm,
+        "net_weight_g" => &mut case.net_weight_g,
         _ => return false,
     };
     *slot = v;
@@ -221,11 +265,7 @@ pub fn merge_tables(
         for (k, v) in table {
             let field = format!("uncertainty.{k}");
             let id = field_id(k).ok_or_else(|| {
-                let known: Vec<&str> = FIELDS
-                    .iter()
-                    .map(|q| q.id)
-                    .filter(|id| SETTABLE.contains(id))
-                    .collect();
+                let known: Vec<&str> = input_names().collect();
                 (
                     field.clone(),
                     format!(
@@ -241,7 +281,7 @@ pub fn merge_tables(
             }
         }
     }
-    out.sort_by_key(|(f, _)| FIELDS.iter().position(|q| q.id == *f));
+    out.sort_by_key(|(f, _)| input_order(f));
     Ok(out)
 }
 
@@ -281,15 +321,19 @@ mod tests {
     #[test]
     fn every_field_can_be_set_and_scopes_are_stated() {
         let mut c = crate::data::paper().cases[0].clone();
+        assert!(c.body_profile.is_some(), "the paper's body is its parts");
         for q in FIELDS {
             assert_eq!(field_id(q.id).is_some(), SETTABLE.contains(&q.id));
         }
-        for q in FIELDS.iter().filter(|q| SETTABLE.contains(&q.id)) {
-            assert!(set_field(&mut c, q.id, 7.25), "{}", q.id);
-            assert_eq!(q.of(&c), 7.25, "{}", q.id);
+        for id in input_names() {
+            let mut c = c.clone();
+            assert!(set_field(&mut c, id, 7.25), "{id}");
+            assert_eq!(field_value(&c, id), Some(7.25), "{id}");
         }
         assert!(!set_field(&mut c, "u_mm_s", 1.0));
         assert_eq!(scope_of("amplitude_mm"), Scope::PerCase);
         assert_eq!(scope_of("viscosity_pa_s"), Scope::Shared);
+        assert_eq!(scope_of("net_weight_g"), Scope::Shared);
+        assert_eq!(scope_of(crate::data::body_inputs::NOSE), Scope::Shared);
     }
 }

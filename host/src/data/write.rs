@@ -50,6 +50,9 @@ pub fn to_toml(data: &Dataset) -> String {
             let _ = writeln!(out, "body_profile = [{}]", pairs.join(", "));
             num(&mut out, "body_rounded_mm", *rounded_mm);
         }
+        if c.net_weight_g != 0.0 {
+            num(&mut out, "net_weight_g", c.net_weight_g);
+        }
         let measured = |out: &mut String, mean_key: &str, ci_key: &str, m: &Option<Measured>| {
             if let Some(m) = m {
                 let _ = writeln!(

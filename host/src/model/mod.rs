@@ -242,6 +242,8 @@ impl Model {
         let body = self.body_matrix_checked(case)?;
         let mut fb = ForceBalance::new(body, tail, case.tail_rate_rad_s());
         fb.dofs = self.dofs;
+        // The recorded trim error acts on every model (0 for a neutral robot).
+        fb.load[0] += case.net_weight_n();
         for e in self.active(case) {
             e.effect.balance(&e.values, case, &mut fb);
         }

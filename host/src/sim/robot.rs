@@ -242,6 +242,7 @@ impl Robot {
             coupler_diameter_mm: v.non_neg("body.coupler_diameter_mm", bd.coupler_diameter_mm)?,
             coupler_length_mm: v.non_neg("body.coupler_length_mm", bd.coupler_length_mm)?,
             body_profile: None,
+            net_weight_g: 0.0,
             u_mm_s: None,
             omega_body_hz: None,
             inputs: Default::default(),

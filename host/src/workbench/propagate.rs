@@ -198,10 +198,12 @@ pub fn monte_carlo(
             for (field, u) in &inputs {
                 let x = crate::data::uncertainty::field_value(case, field).unwrap_or(0.0);
                 let normal = Normal::new(x, *u).expect("u > 0 is finite");
-                // Lengths and rates are positive; a draw below zero is redrawn.
+                // Lengths and rates are positive; a draw below zero is
+                // redrawn. The trim is signed: every draw stands.
+                let signed = crate::data::uncertainty::is_signed(field) || x <= 0.0;
                 let v = (0..100)
                     .map(|_| normal.sample(&mut rng))
-                    .find(|v| *v > 0.0 || x <= 0.0)
+                    .find(|v| *v > 0.0 || signed)
                     .unwrap_or(x);
                 set_field(&mut c, field, v);
             }

@@ -104,6 +104,19 @@ fn true_inputs(case: &Case, shared: &mut Vec<(&'static str, f64)>, rng: &mut Std
     for (field, u) in case.inputs.nonzero(case) {
         let x = field_value(case, field).unwrap_or(0.0);
         let mut z = || unit.sample(rng);
+        if crate::data::uncertainty::is_signed(field) {
+            // The trim has no sign to keep: one draw, shared by every case.
+            let k = match shared.iter().find(|(f, _)| *f == field) {
+                Some((_, k)) => *k,
+                None => {
+                    let k = z();
+                    shared.push((field, k));
+                    k
+                }
+            };
+            set_field(&mut c, field, x + u * k);
+            continue;
+        }
         let value = match scope_of(field) {
             Scope::PerCase => (0..100).map(|_| x + u * z()).find(|v| *v > 0.0),
             Scope::Shared => {
