@@ -387,3 +387,41 @@ fn a_lab_s_four_groups_and_second_tube_shape_the_page() {
         "a per-case tube column"
     );
 }
+
+/// The coverage (how many of the 12 quantities lie within 2 combined
+/// standard deviations) reads the same in `compare --input-uncertainty`'s
+/// table and JSON and on the page `report` writes for the same model.
+#[test]
+fn coverage_reads_the_same_in_compare_and_on_the_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let args = [
+        "compare",
+        "--no-report",
+        "--preset",
+        "paper",
+        "--input-uncertainty",
+    ];
+    let table = ok(&run_in(d, &args));
+    let line = table
+        .lines()
+        .find_map(|l| l.strip_prefix("coverage: "))
+        .unwrap_or_else(|| panic!("no coverage line in {table}"));
+    let statistic = line.split(';').next().unwrap();
+    let v = json(&run_in(d, &[&args[..], &["--format", "json"]].concat()));
+    let cov = &v["coverage"];
+    let (within, of) = (cov["within"].as_u64().unwrap(), cov["of"].as_u64().unwrap());
+    assert_eq!(of, 12);
+    assert_eq!(
+        statistic,
+        format!("{within} of {of} quantities within 2 combined standard deviations")
+    );
+    assert_eq!(cov["outside"].as_array().unwrap().len() as u64, of - within);
+    ok(&run_in(
+        d,
+        &["report", "--no-physics", "--preset", "paper", "-o", "r"],
+    ));
+    let page = std::fs::read_to_string(d.join("r/index.html")).unwrap();
+    let yours = section(&page, "yours");
+    assert!(yours.contains(&format!("<b>{statistic}</b>")), "{yours}");
+}

@@ -195,6 +195,22 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
         s.n,
         s.free_params
     );
+    if let Some(cov) = &c.coverage {
+        let outside: Vec<String> = cov
+            .outside
+            .iter()
+            .map(|o| format!("{} {} {}", o.case, o.quantity.label(), fmt_sig(o.sigmas, 3)))
+            .collect();
+        println!(
+            "coverage: {}{}",
+            cov.describe(),
+            if outside.is_empty() {
+                String::new()
+            } else {
+                format!("; outside: {}", outside.join(", "))
+            }
+        );
+    }
     if let (false, Some(sc)) = (combined, &c.summary_combined) {
         println!(
             "against the combined uncertainty (measurement + inputs): reduced chi-square {} (--input-uncertainty judges with it)",

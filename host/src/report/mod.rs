@@ -15,6 +15,7 @@ mod parity;
 mod path;
 mod path_chart;
 mod physics;
+mod physics_misses;
 pub mod plots;
 mod remains;
 mod residuals;

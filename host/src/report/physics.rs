@@ -8,17 +8,53 @@ use super::figure4::{figure4, Layer, BLACK, GREEN};
 use super::html::{escape, figure_flow, table};
 use super::paper::{fitted_by_paper, summary_row, table_iii, PaperModels, SUMMARY_HEADER};
 use super::story::ZeroParam;
-use super::wording::{describe, pct, signed_pct, stat};
+use super::wording::{describe, pct, signed_pct, stat, value_unc};
 use crate::data::Dataset;
+use crate::format::fmt_sig;
 use crate::model::ModelError;
+use crate::workbench::audit::Audit;
+use crate::workbench::compare::{compare_with_input_bands, CaseComparison};
 use crate::workbench::diagnose::Diagnosis;
-use crate::workbench::path::compare_with_bands;
+
+/// `v ± 2u (error)`, or `v (error)` without a band.
+fn predicted(v: f64, sd: Option<f64>, err: Option<f64>) -> String {
+    let v = match sd {
+        Some(u) if u > 0.0 => value_unc(v, 2.0 * u),
+        _ => fmt_sig(v, 4),
+    };
+    format!("{v} ({})", signed_pct(err))
+}
+
+fn measured(m: Option<f64>, ci: Option<f64>) -> String {
+    m.zip(ci).map_or("-".into(), |(m, c)| value_unc(m, c))
+}
+
+fn sigmas(x: Option<f64>) -> String {
+    x.map_or("-".into(), |v| fmt_sig(v, 3))
+}
+
+/// One tail: measured, predicted ± 2u with its error and the error in
+/// combined standard deviations, the paper's error; U then Omega_b.
+fn case_row(z: &CaseComparison, p: &CaseComparison) -> Vec<String> {
+    vec![
+        escape(&z.id),
+        measured(z.u_obs_mm_s, z.u_ci_mm_s),
+        predicted(z.u_pred_mm_s, z.u_input_sd_mm_s, z.u_rel_err),
+        sigmas(z.u_err_sigma_combined),
+        signed_pct(p.u_rel_err),
+        measured(z.omega_obs_hz, z.omega_ci_hz),
+        predicted(z.omega_pred_hz, z.omega_input_sd_hz, z.omega_rel_err),
+        sigmas(z.omega_err_sigma_combined),
+        signed_pct(p.omega_rel_err),
+    ]
+}
 
 pub fn section(
     data: &Dataset,
     zero: &ZeroParam,
     paper: &PaperModels,
     d: Option<&Diagnosis>,
+    audit: Option<&Audit>,
 ) -> Result<String, ModelError> {
     let (name, model) = match zero {
         ZeroParam::Skipped(why) => {
@@ -29,7 +65,9 @@ pub fn section(
         }
         ZeroParam::Model { name, model } => (name, *model),
     };
-    let cmp = compare_with_bands(model, data)?;
+    // The band of the zero-parameter prediction: its whole point is that
+    // nothing was fitted, so only the inputs' uncertainty can widen it.
+    let cmp = compare_with_input_bands(model, data)?;
     let fitted: usize = model.effects.iter().map(|e| e.free_indices().len()).sum();
     let noise = super::path::noise_mare(data);
     let mut h = format!(
@@ -81,26 +119,36 @@ pub fn section(
         .cases
         .iter()
         .zip(&paper.gh.cases)
-        .map(|(z, p)| {
-            vec![
-                escape(&z.id),
-                signed_pct(z.u_rel_err),
-                signed_pct(p.u_rel_err),
-                signed_pct(z.omega_rel_err),
-                signed_pct(p.omega_rel_err),
-            ]
-        })
+        .map(|(z, p)| case_row(z, p))
         .collect();
+    let ci = super::intro::confidence(data);
     h.push_str(&table(
         &[
             "<tail",
-            &format!("U error, {}", escape(name)),
+            &format!("U measured ± {ci} CI"),
+            &format!("U {} ± 2u (error)", escape(name)),
+            "U error (combined σ)",
             "U error, paper",
-            &format!("Ω<sub>b</sub> error, {}", escape(name)),
+            &format!("Ω<sub>b</sub> measured ± {ci} CI"),
+            &format!("Ω<sub>b</sub> {} ± 2u (error)", escape(name)),
+            "Ω<sub>b</sub> error (combined σ)",
             "Ω<sub>b</sub> error, paper",
         ],
         &case_rows,
     ));
+    if cmp.coverage.is_some() {
+        h.push_str(
+            "<p>U in mm/s, Ω<sub>b</sub> in Hz. ± 2u: twice the prediction's standard \
+             uncertainty from the dataset's stated input uncertainties (geometry, rate, \
+             viscosity, the body's section lengths, the trim); combined σ: the error in \
+             standard deviations of measurement and inputs in quadrature.</p>",
+        );
+    }
+    let models = [
+        ("paper (Gray-Hancock)".to_string(), &paper.gh),
+        ("paper (Lighthill)".to_string(), &paper.li),
+    ];
+    h.push_str(&super::physics_misses::list(data, &cmp, &models, d, audit));
     let layers = [
         Layer {
             label: "paper (Gray-Hancock)".into(),

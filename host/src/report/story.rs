@@ -106,6 +106,7 @@ pub fn page(s: &StoryInput) -> Result<String, crate::model::ModelError> {
         &s.zero_param,
         &paper,
         s.diagnosis,
+        s.audit,
     )?);
     b.push_str(&heading(6));
     b.push_str(&super::remains::section(s.data, s.diagnosis, s.audit));
@@ -158,6 +159,17 @@ mod tests {
         assert!(
             section.contains(&super::super::wording::pct(mare)),
             "{section}"
+        );
+        // its coverage with its input bands, worded as `compare` words it,
+        // and a line for every quantity outside
+        let banded = crate::workbench::compare::compare_with_input_bands(&cheap, &data).unwrap();
+        let cov = banded
+            .coverage
+            .expect("the paper data state input uncertainties");
+        assert!(section.contains(&cov.describe()), "{section}");
+        assert_eq!(
+            section.matches("combined standard deviations);").count(),
+            cov.outside.len()
         );
         let paper = compare(&crate::model::preset("paper").unwrap(), &data, 0).unwrap();
         assert!(section.contains(&super::super::wording::pct(paper.summary.mare)));

@@ -249,6 +249,14 @@ pub fn section(data: &Dataset, path: &Path) -> String {
         pct(noise),
         100.0 * super::wording::FLAT_SHARE
     ));
+    if let Some(cov) = &last.comparison.coverage {
+        h.push_str(&format!(
+            "<p id=\"yours-coverage\">{}, judged against measurement and inputs combined: \
+             <b>{}</b> (<code>swimbot compare --input-uncertainty</code> prints the same).</p>",
+            escape(&last.label),
+            escape(&cov.describe())
+        ));
+    }
     for s in &path.steps {
         h.push_str(&impossible_note(&s.label, &s.comparison));
     }

@@ -50,6 +50,70 @@ pub struct Comparison {
     pub summary: FitSummary,
     /// The summary against the combined uncertainty, with bands attached.
     pub summary_combined: Option<FitSummary>,
+    /// How many quantities lie within [`COVERAGE_SIGMAS`] combined
+    /// standard deviations, with bands attached.
+    pub coverage: Option<Coverage>,
+}
+
+/// The coverage factor of [`Coverage`]: 2 combined standard deviations,
+/// about 95 % for a normal error (GUM 6.2-6.3), the width the page draws.
+pub const COVERAGE_SIGMAS: f64 = 2.0;
+
+/// One quantity outside the coverage interval.
+#[derive(Debug, Clone, Serialize)]
+pub struct Outside {
+    pub case: String,
+    pub quantity: Quantity,
+    /// The error in combined standard deviations (signed).
+    pub sigmas: f64,
+}
+
+/// The measured quantities within [`COVERAGE_SIGMAS`] combined standard
+/// deviations (measurement and inputs in quadrature) of the prediction.
+#[derive(Debug, Clone, Serialize)]
+pub struct Coverage {
+    pub within: usize,
+    pub of: usize,
+    pub sigmas: f64,
+    /// The rest, in case order (U before Omega_b).
+    pub outside: Vec<Outside>,
+}
+
+impl Coverage {
+    /// The one wording `compare` and the page print.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} of {} quantities within {} combined standard deviations",
+            self.within, self.of, self.sigmas
+        )
+    }
+
+    fn of_cases(cases: &[CaseComparison]) -> Self {
+        let mut outside = Vec::new();
+        let mut of = 0;
+        for k in cases {
+            for (q, e) in [
+                (Quantity::U, k.u_err_sigma_combined),
+                (Quantity::Omega, k.omega_err_sigma_combined),
+            ] {
+                let Some(e) = e else { continue };
+                of += 1;
+                if e.abs() > COVERAGE_SIGMAS {
+                    outside.push(Outside {
+                        case: k.id.clone(),
+                        quantity: q,
+                        sigmas: e,
+                    });
+                }
+            }
+        }
+        Coverage {
+            within: of - outside.len(),
+            of,
+            sigmas: COVERAGE_SIGMAS,
+            outside,
+        }
+    }
 }
 
 impl Comparison {
@@ -84,6 +148,7 @@ impl Comparison {
             }
         }
         self.summary_combined = Some(summarise(&all, self.summary.free_params));
+        self.coverage = Some(Coverage::of_cases(&self.cases));
         self
     }
 }
@@ -179,5 +244,20 @@ pub fn compare(
         cases,
         summary: summarise(&all, free_params),
         summary_combined: None,
+        coverage: None,
     })
+}
+
+/// [`compare`] with the input bands attached whenever the data declare
+/// input uncertainties, however costly the model: what the zero-parameter
+/// model on the page and `compare --input-uncertainty` show. Each shared
+/// input costs one solve per perturbed geometry (memoised, the same for
+/// every case), each per-case input two per case.
+pub fn compare_with_input_bands(model: &Model, data: &Dataset) -> Result<Comparison, ModelError> {
+    let cmp = compare(model, data, carried_free_params(model))?;
+    if super::propagate::has_input_uncertainty(data) {
+        Ok(cmp.with_bands(data, &super::propagate::bands(model, data)?))
+    } else {
+        Ok(cmp)
+    }
 }

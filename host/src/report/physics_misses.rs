@@ -1,0 +1,150 @@
+//! Section 5's list of the quantities the zero-parameter model misses by
+//! more than the coverage interval (2 combined standard deviations:
+//! measurement and inputs in quadrature), each with what the rest of the
+//! page names for it: the audit's flags on that case, the catalogue
+//! candidate of `diagnose` that moves that quantity most, and whether every
+//! model on the page errs the same way there (a shortfall no model of the
+//! family reaches). Nothing is named by hand: every clause is computed from
+//! the comparisons, the diagnosis and the audit given.
+//!
+//! References: JCGM 100:2008 (GUM) 6.2-6.3 (coverage factor k = 2).
+
+use super::html::escape;
+use super::wording::{pct, signed_pct};
+use crate::data::Dataset;
+use crate::format::fmt_sig;
+use crate::workbench::audit::Audit;
+use crate::workbench::compare::{compare, Comparison, Outside, Quantity};
+use crate::workbench::diagnose::Diagnosis;
+
+/// Candidates of the diagnosis's ranking consulted, best first.
+const CANDIDATES: usize = 5;
+
+/// `quantity`'s relative error for `case` in `cmp`.
+fn rel_err(cmp: &Comparison, case: &str, q: Quantity) -> Option<f64> {
+    let k = cmp.cases.iter().find(|k| k.id == case)?;
+    match q {
+        Quantity::U => k.u_rel_err,
+        Quantity::Omega => k.omega_rel_err,
+    }
+}
+
+fn label(q: Quantity) -> &'static str {
+    match q {
+        Quantity::U => "U",
+        Quantity::Omega => "Ω<sub>b</sub>",
+    }
+}
+
+/// The diagnosis's fitted candidates, `(effect, comparison)`, best first.
+pub fn candidates(data: &Dataset, d: Option<&Diagnosis>) -> Vec<(String, Comparison)> {
+    d.map(|d| d.ranking.iter().take(CANDIDATES).collect::<Vec<_>>())
+        .unwrap_or_default()
+        .into_iter()
+        .filter_map(|c| Some((c.effect.clone(), compare(&c.model, data, 0).ok()?)))
+        .collect()
+}
+
+/// What the page names for one quantity outside the interval.
+fn named(
+    o: &Outside,
+    own: f64,
+    models: &[(String, &Comparison)],
+    fitted: &[(String, Comparison)],
+    audit: Option<&Audit>,
+) -> Vec<String> {
+    let mut says = Vec::new();
+    let errs: Vec<f64> = models
+        .iter()
+        .map(|(_, c)| *c)
+        .chain(fitted.iter().map(|(_, c)| c))
+        .filter_map(|c| rel_err(c, &o.case, o.quantity))
+        .chain([own])
+        .collect();
+    if errs.len() > 1 && errs.iter().all(|e| e.signum() == own.signum()) {
+        let lo = errs.iter().map(|e| e.abs()).fold(f64::MAX, f64::min);
+        let hi = errs.iter().map(|e| e.abs()).fold(0.0, f64::max);
+        says.push(format!(
+            "every model on this page {} it, by {} to {} ({} models, {} of them fitted by \
+             <code>diagnose</code>)",
+            if own > 0.0 {
+                "over-predicts"
+            } else {
+                "under-predicts"
+            },
+            pct(lo),
+            pct(hi),
+            errs.len(),
+            fitted.len()
+        ));
+    }
+    let best = fitted
+        .iter()
+        .filter_map(|(e, c)| Some((e, rel_err(c, &o.case, o.quantity)?)))
+        .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+    if let Some((effect, e)) = best.filter(|(_, e)| e.abs() < 0.5 * own.abs()) {
+        says.push(format!(
+            "<code>diagnose</code>'s candidate <code>{}</code>, fitted to all cases, brings it \
+             to {}",
+            escape(effect),
+            signed_pct(Some(e))
+        ));
+    }
+    for f in audit
+        .map(|a| {
+            a.flags
+                .iter()
+                .filter(|f| f.case == o.case)
+                .collect::<Vec<_>>()
+        })
+        .unwrap_or_default()
+    {
+        says.push(format!(
+            "the audit flags this case ({}): {}",
+            escape(&f.kind),
+            escape(&f.detail)
+        ));
+    }
+    says
+}
+
+/// The list, or one sentence when every quantity is inside.
+pub fn list(
+    data: &Dataset,
+    cmp: &Comparison,
+    models: &[(String, &Comparison)],
+    d: Option<&Diagnosis>,
+    audit: Option<&Audit>,
+) -> String {
+    let Some(cov) = &cmp.coverage else {
+        return String::new();
+    };
+    let mut h = format!(
+        "<p id=\"physics-coverage\"><b>Coverage: {}.</b>",
+        escape(&cov.describe())
+    );
+    if cov.outside.is_empty() {
+        h.push_str("</p>");
+        return h;
+    }
+    h.push_str(" Outside, and what this page names for each:</p><ul>");
+    let fitted = candidates(data, d);
+    for o in &cov.outside {
+        let own = rel_err(cmp, &o.case, o.quantity).unwrap_or(f64::NAN);
+        let says = named(o, own, models, &fitted, audit);
+        h.push_str(&format!(
+            "<li><b>{} {}</b>: {} ({} combined standard deviations); {}.</li>",
+            escape(&o.case),
+            label(o.quantity),
+            signed_pct(Some(own)),
+            fmt_sig(o.sigmas, 3),
+            if says.is_empty() {
+                "neither the audit nor the diagnosis on this page names a cause".to_string()
+            } else {
+                says.join("; ")
+            }
+        ));
+    }
+    h.push_str("</ul>");
+    h
+}
