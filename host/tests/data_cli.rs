@@ -266,6 +266,9 @@ fn sweep_takes_its_setup_from_a_dataset() {
                 "body_profile = [[10.0, 20.0], [30.0, 18.0], [10.0, 20.0]]\n",
                 "",
             ),
+            // without a profile its sections' lengths are no input
+            ("body_nose_length_mm = 2.887\n", ""),
+            ("body_rear_length_mm = 2.887\n", ""),
             ("body_diameter_mm = 20.0", "body_diameter_mm = 16.0"),
             ("channel_diameter_mm = 35.0", "channel_diameter_mm = 40.0"),
         ],

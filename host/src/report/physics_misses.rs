@@ -2,8 +2,9 @@
 //! more than the coverage interval (2 combined standard deviations:
 //! measurement and inputs in quadrature), each with what the rest of the
 //! page names for it: the audit's flags on that case, the catalogue
-//! candidate of `diagnose` that moves that quantity most, and whether every
-//! model on the page errs the same way there (a shortfall no model of the
+//! model of `diagnose` (a ranked candidate or the located correction, each
+//! fitted to all cases) that moves that quantity most, and whether every
+//! model compared errs the same way there (a shortfall no model of the
 //! family reaches). Nothing is named by hand: every clause is computed from
 //! the comparisons, the diagnosis and the audit given.
 //!
@@ -16,9 +17,6 @@ use crate::format::fmt_sig;
 use crate::workbench::audit::Audit;
 use crate::workbench::compare::{compare, Comparison, Outside, Quantity};
 use crate::workbench::diagnose::Diagnosis;
-
-/// Candidates of the diagnosis's ranking consulted, best first.
-const CANDIDATES: usize = 5;
 
 /// `quantity`'s relative error for `case` in `cmp`.
 fn rel_err(cmp: &Comparison, case: &str, q: Quantity) -> Option<f64> {
@@ -36,12 +34,21 @@ fn label(q: Quantity) -> &'static str {
     }
 }
 
-/// The diagnosis's fitted candidates, `(effect, comparison)`, best first.
+/// The diagnosis's fitted models, `(name, comparison)`: every ranked
+/// catalogue candidate (each fitted to all cases, a few local predictions
+/// each) and the best located correction.
 pub fn candidates(data: &Dataset, d: Option<&Diagnosis>) -> Vec<(String, Comparison)> {
-    d.map(|d| d.ranking.iter().take(CANDIDATES).collect::<Vec<_>>())
-        .unwrap_or_default()
-        .into_iter()
-        .filter_map(|c| Some((c.effect.clone(), compare(&c.model, data, 0).ok()?)))
+    let Some(d) = d else { return Vec::new() };
+    let located = d
+        .verdict
+        .located
+        .first()
+        .map(|l| (format!("located: {}", l.describe()), &l.model));
+    d.ranking
+        .iter()
+        .map(|c| (c.effect.clone(), &c.model))
+        .chain(located)
+        .filter_map(|(name, m)| Some((name, compare(m, data, 0).ok()?)))
         .collect()
 }
 
@@ -65,8 +72,8 @@ fn named(
         let lo = errs.iter().map(|e| e.abs()).fold(f64::MAX, f64::min);
         let hi = errs.iter().map(|e| e.abs()).fold(0.0, f64::max);
         says.push(format!(
-            "every model on this page {} it, by {} to {} ({} models, {} of them fitted by \
-             <code>diagnose</code>)",
+            "every model compared here {} it, by {} to {} (this one, the paper's two and \
+             <code>diagnose</code>'s {} fitted models)",
             if own > 0.0 {
                 "over-predicts"
             } else {
@@ -74,7 +81,6 @@ fn named(
             },
             pct(lo),
             pct(hi),
-            errs.len(),
             fitted.len()
         ));
     }
@@ -84,8 +90,7 @@ fn named(
         .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
     if let Some((effect, e)) = best.filter(|(_, e)| e.abs() < 0.5 * own.abs()) {
         says.push(format!(
-            "<code>diagnose</code>'s candidate <code>{}</code>, fitted to all cases, brings it \
-             to {}",
+            "<code>diagnose</code>'s <code>{}</code>, fitted to all cases, brings it to {}",
             escape(effect),
             signed_pct(Some(e))
         ));
@@ -120,8 +125,10 @@ pub fn list(
         return String::new();
     };
     let mut h = format!(
-        "<p id=\"physics-coverage\"><b>Coverage: {}.</b>",
-        escape(&cov.describe())
+        "<p id=\"physics-coverage\"><b>Coverage: {}</b> (reduced χ² against measurement and \
+         inputs combined: {}).",
+        escape(&cov.describe()),
+        super::wording::stat(cmp.summary_combined.as_ref().and_then(|s| s.chi2_reduced))
     );
     if cov.outside.is_empty() {
         h.push_str("</p>");
