@@ -34,7 +34,7 @@ fn label(q: Quantity) -> &'static str {
     }
 }
 
-/// The diagnosis's fitted models, `(name, comparison)`: every ranked
+/// The diagnosis's fitted models, `(name as HTML, comparison)`: every ranked
 /// catalogue candidate (each fitted to all cases, a few local predictions
 /// each) and the best located correction.
 pub fn candidates(data: &Dataset, d: Option<&Diagnosis>) -> Vec<(String, Comparison)> {
@@ -48,8 +48,31 @@ pub fn candidates(data: &Dataset, d: Option<&Diagnosis>) -> Vec<(String, Compari
         .iter()
         .map(|c| (c.effect.clone(), &c.model))
         .chain(located)
-        .filter_map(|(name, m)| Some((name, compare(m, data, 0).ok()?)))
+        .filter_map(|(name, m)| Some((with_reach(name, m, data), compare(m, data, 0).ok()?)))
         .collect()
+}
+
+/// The name as HTML, with how many cases the model's last effect acts on
+/// when it is not all of them: an effect fitted to one case fits it
+/// trivially.
+fn with_reach(name: String, m: &crate::model::Model, data: &Dataset) -> String {
+    let Some(e) = m.effects.last() else {
+        return name;
+    };
+    let acts = data
+        .cases
+        .iter()
+        .filter(|c| e.effect.applies_to(c, &e.values))
+        .count();
+    let name = format!("<code>{}</code>", escape(&name));
+    if acts < data.cases.len() {
+        format!(
+            "{name} (which acts on {acts} of {} cases)",
+            data.cases.len()
+        )
+    } else {
+        name
+    }
 }
 
 /// What the page names for one quantity outside the interval.
@@ -90,8 +113,7 @@ fn named(
         .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
     if let Some((effect, e)) = best.filter(|(_, e)| e.abs() < 0.5 * own.abs()) {
         says.push(format!(
-            "<code>diagnose</code>'s <code>{}</code>, fitted to all cases, brings it to {}",
-            escape(effect),
+            "<code>diagnose</code>'s {effect}, fitted to all cases, brings it to {}",
             signed_pct(Some(e))
         ));
     }
