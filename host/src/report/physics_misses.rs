@@ -177,3 +177,42 @@ pub fn list(
     h.push_str("</ul>");
     h
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The base model's comparison with tail-3's U error set to `e`.
+    fn with_tail3_u(e: f64) -> Comparison {
+        let data = crate::data::paper();
+        let mut c = compare(&crate::model::Model::base(), &data, 0).unwrap();
+        c.cases[2].u_rel_err = Some(e);
+        c
+    }
+
+    #[test]
+    fn the_same_sign_everywhere_is_said_and_a_mixed_sign_is_not() {
+        let o = Outside {
+            case: "tail-3".into(),
+            quantity: Quantity::U,
+            sigmas: 3.5,
+        };
+        let (a, b) = (with_tail3_u(0.4), with_tail3_u(2.0));
+        let models = [("a".to_string(), &a), ("b".to_string(), &b)];
+        let fitted = vec![("<code>x</code>".to_string(), with_tail3_u(0.3))];
+        let says = named(&o, 1.0, &models, &fitted, None).join("; ");
+        assert!(
+            says.contains("over-predicts it, by 30.0 % to 200.0 %"),
+            "{says}"
+        );
+        // 0.3 is below half of 1.0: the fitted model is named
+        assert!(says.contains("<code>x</code>, fitted to all cases, brings it to +30.0 %"));
+        let mixed = vec![("<code>y</code>".to_string(), with_tail3_u(-0.8))];
+        let says = named(&o, 1.0, &models, &mixed, None).join("; ");
+        assert!(!says.contains("every model"), "{says}");
+        assert!(
+            !says.contains("<code>y</code>"),
+            "-80 % is no halving: {says}"
+        );
+    }
+}
