@@ -11,7 +11,9 @@
 //!   motor may run, plus one closing record when it stops;
 //! - [`image`]: the log image (32-byte header + records), `encode` and a
 //!   total `decode` (any bytes give a log or a typed [`DecodeError`]);
-//! - [`readout`]: the request/answer protocol over USB CDC.
+//! - [`readout`]: the request/answer protocol over USB CDC;
+//! - [`store`]: the log's slots in flash: which slot a power-up writes,
+//!   which it erases (only while the motor is off), what a readout holds.
 //!
 //! # The log image (version 1, all integers little-endian)
 //!
@@ -23,10 +25,10 @@
 //! | 8 | 2 | record length = 16 |
 //! | 10 | 2 | sample period, ms (100: 10 Hz) |
 //! | 12 | 4 | record count N |
-//! | 16 | 4 | records dropped (the log slot was full or not yet erased) |
-//! | 20 | 4 | frames from other remotes ignored since power-up |
+//! | 16 | 4 | records dropped (the log slot was full or not yet erased); 0 in a log of an earlier power-up |
+//! | 20 | 4 | frames from other remotes ignored since power-up; in a log of an earlier power-up, the sum of its records' counts |
 //! | 24 | 2 | paired remote's NEC address (0x0000-0x00FF), 0xFFFF = unpaired |
-//! | 26 | 2 | flags: bit 0 closed (the run ended and the header was written), bit 1 recovered (header rebuilt at boot after a power loss mid-run) |
+//! | 26 | 2 | flags: bit 0 closed (the motor was off when the image was made: always, since USB holds it off), bit 1 recovered (the log of an earlier power-up, rebuilt from flash) |
 //! | 28 | 4 | CRC-32 (ISO-HDLC, as zlib's `crc32`) of bytes 0-27 followed by the N records |
 //! | 32 | 16 N | records |
 //!
@@ -68,6 +70,7 @@ pub mod image;
 pub mod readout;
 pub mod record;
 pub mod recorder;
+pub mod store;
 #[cfg(test)]
 mod tests;
 
@@ -77,3 +80,4 @@ pub use image::{
 pub use readout::{Request, RequestReader};
 pub use record::{Events, Record, RECORD_LEN};
 pub use recorder::Recorder;
+pub use store::{LogFlash, LogStore, ReadoutImage, StoreLayout};
