@@ -8,6 +8,7 @@
 use crate::battery::BatteryConfig;
 use crate::command::KeyMap;
 use crate::controller::ControllerConfig;
+use crate::pairing::PairingConfig;
 use crate::pwm;
 use crate::rate::{HallConfig, RateConfig};
 use crate::set_point::SetPointKeys;
@@ -66,6 +67,11 @@ pub const ADC_REF_MEASURED_MV: u32 = ADC_REF_NOMINAL_MV;
 pub const NEC_ADDRESS: u8 = 0x00;
 pub const NEC_CMD_ON: u8 = 0x45;
 pub const NEC_CMD_OFF: u8 = 0x47;
+
+/// Pairing (`pairing`): within 5 s of power-up, hold Off (CH+) for 1 s.
+/// The key map's address above is the host simulation's remote; the
+/// robot obeys the address kept in its pairing sector.
+pub const PAIRING: PairingConfig = PairingConfig::hold(NEC_CMD_OFF);
 
 pub const KEYS: KeyMap = KeyMap {
     address: NEC_ADDRESS,

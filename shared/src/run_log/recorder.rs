@@ -24,6 +24,7 @@ pub struct Recorder {
     /// The pass's cumulative foreign-frame count at the last record.
     foreign_at_last: u32,
     foreign_now: u32,
+    usb_connected: bool,
 }
 
 impl Recorder {
@@ -37,11 +38,12 @@ impl Recorder {
             fault: None,
             foreign_at_last: 0,
             foreign_now: 0,
+            usb_connected: false,
         }
     }
 
-    /// An event the pass does not see (pairing, a queue overflow, USB):
-    /// it goes into the next record.
+    /// An event the pass does not see (a queue overflow): it goes into
+    /// the next record.
     pub fn note(&mut self, events: Events) {
         self.pending.insert(events);
     }
@@ -96,6 +98,13 @@ impl Recorder {
         if out.latch_changed == Some(true) {
             e.insert(Events::CUTOFF_LATCHED);
         }
+        if out.newly_paired.is_some() {
+            e.insert(Events::PAIRED);
+        }
+        if out.usb_connected && !self.usb_connected {
+            e.insert(Events::USB_CONNECTED);
+        }
+        self.usb_connected = out.usb_connected;
         if out.fault.is_some() {
             self.fault = out.fault;
         }
