@@ -4,7 +4,7 @@
 //! [`LogImage`] or a [`DecodeError`] saying what is wrong, never a panic.
 
 use super::record::{Record, RecordError, RECORD_LEN};
-use crc::{Crc, Digest, Table, CRC_32_ISO_HDLC};
+use crc::{Crc, Digest, NoTable, CRC_32_ISO_HDLC};
 
 /// Bytes of the header.
 pub const HEADER_LEN: usize = 32;
@@ -14,10 +14,11 @@ pub const VERSION: u16 = 1;
 const CRC_AT: usize = 28;
 const UNPAIRED: u16 = 0xFFFF;
 
-/// One 1 KiB table (built at compile time): the bitwise form would take
-/// about 60 ms for a 10-minute log's 96 kB on the 125 MHz Cortex-M0+,
-/// most of the 80 ms watchdog period, when the readout computes it.
-const CRC32: Crc<u32, Table<1>> = Crc::<u32, Table<1>>::new(&CRC_32_ISO_HDLC);
+/// Bitwise, without the 1 KiB table: flash is the scarcer resource (the
+/// firmware's budget is 32 KiB with the USB stack); a 10-minute log's
+/// 96 kB then take some 50 ms of the chip's time at a readout, with the
+/// watchdog fed between pieces (`LogStore::readout`).
+const CRC32: Crc<u32, NoTable> = Crc::<u32, NoTable>::new(&CRC_32_ISO_HDLC);
 
 /// Header flag: the motor was off when the image was made.
 pub const FLAG_CLOSED: u16 = 1 << 0;
@@ -72,7 +73,7 @@ impl Header {
 /// The image's CRC, fed the records in order (the firmware streams them
 /// from flash): header bytes 0-27 first, then every record's bytes.
 pub struct ImageDigest {
-    digest: Digest<'static, u32, Table<1>>,
+    digest: Digest<'static, u32, NoTable>,
 }
 
 impl ImageDigest {
@@ -185,7 +186,8 @@ fn u32_at(b: &[u8], i: usize) -> u32 {
     u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]])
 }
 
-fn decode_header(b: &[u8]) -> Result<(Header, u32), DecodeError> {
+/// The header's fields and stored CRC, checked for form only.
+pub(crate) fn decode_header(b: &[u8]) -> Result<(Header, u32), DecodeError> {
     if b.len() < HEADER_LEN {
         return Err(DecodeError::TooShort { len: b.len() });
     }

@@ -5,7 +5,6 @@
 //! reader or leave it stuck.
 
 use super::image::Header;
-use core::fmt::Write;
 
 /// Longest request line kept (bytes before the newline).
 pub const MAX_REQUEST: usize = 16;
@@ -59,18 +58,50 @@ impl RequestReader {
     }
 }
 
-/// The `INFO` answer for `header`, newline included.
-pub fn info_line(header: &Header) -> heapless::String<112> {
-    let mut s = heapless::String::new();
-    // The longest line (three 10-digit counts, a 5-digit period) is 100 bytes.
-    let _ = write!(
-        s,
-        "swimbot-log v1 records={} period_ms={} dropped={} foreign={} paired=",
-        header.record_count, header.sample_period_ms, header.dropped_records, header.foreign_frames
-    );
-    let _ = match header.paired_address {
-        Some(a) => writeln!(s, "{a:#04x}"),
-        None => writeln!(s, "none"),
+/// The `INFO` answer for `header`, newline included. Formatted by hand:
+/// `core::fmt` would cost the firmware about 2 kB of flash for this line.
+pub fn info_line(header: &Header) -> heapless::Vec<u8, 112> {
+    let mut s = heapless::Vec::new();
+    // The longest line (three 10-digit counts, a 5-digit period) is 100
+    // bytes: every push below fits.
+    let mut put = |bytes: &[u8]| {
+        let _ = s.extend_from_slice(bytes);
     };
+    put(b"swimbot-log v1 records=");
+    put(decimal(header.record_count).as_slice());
+    put(b" period_ms=");
+    put(decimal(u32::from(header.sample_period_ms)).as_slice());
+    put(b" dropped=");
+    put(decimal(header.dropped_records).as_slice());
+    put(b" foreign=");
+    put(decimal(header.foreign_frames).as_slice());
+    put(b" paired=");
+    match header.paired_address {
+        Some(a) => {
+            const HEX: &[u8; 16] = b"0123456789abcdef";
+            put(&[
+                b'0',
+                b'x',
+                HEX[usize::from(a >> 4)],
+                HEX[usize::from(a & 15)],
+            ]);
+        }
+        None => put(b"none"),
+    }
+    put(b"\n");
     s
+}
+
+fn decimal(mut n: u32) -> heapless::Vec<u8, 10> {
+    let mut digits = [0u8; 10];
+    let mut i = digits.len();
+    loop {
+        i -= 1;
+        digits[i] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    heapless::Vec::from_slice(&digits[i..]).unwrap_or_default()
 }

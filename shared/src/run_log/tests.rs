@@ -153,15 +153,26 @@ fn readout_requests() {
         sample_period_ms: u16::MAX,
         ..header()
     };
-    let line = info_line(&h);
-    assert!(line.ends_with("paired=0x5a\n"), "{line}");
-    assert_eq!(line.len(), 100, "the longest line fits: {line}");
+    let line = std::string::String::from_utf8(info_line(&h).to_vec()).unwrap();
+    assert_eq!(
+        line,
+        "swimbot-log v1 records=4294967295 period_ms=65535 dropped=4294967295 \
+         foreign=4294967295 paired=0x5a\n"
+    );
+    assert_eq!(line.len(), 100, "the longest line fits");
     let unpaired = info_line(&Header {
+        paired_address: Some(0x0b),
+        ..header()
+    });
+    assert_eq!(
+        unpaired.as_slice(),
+        b"swimbot-log v1 records=0 period_ms=100 dropped=3 foreign=7 paired=0x0b\n"
+    );
+    let none = info_line(&Header {
         paired_address: None,
         ..header()
     });
-    assert!(unpaired.starts_with("swimbot-log v1 records=0 period_ms=100 dropped=3 foreign=7"));
-    assert!(unpaired.ends_with("paired=none\n"));
+    assert!(none.ends_with(b"paired=none\n"));
 }
 
 /// The motor at constant voltage (the rate controller would stop it for a

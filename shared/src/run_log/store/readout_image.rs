@@ -3,7 +3,7 @@
 //! as large as the USB endpoint takes.
 
 use super::{record_offset, LogFlash, StoreLayout};
-use crate::run_log::image::HEADER_LEN;
+use crate::run_log::image::{decode_header, Header, HEADER_LEN};
 use crate::run_log::record::RECORD_LEN;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,6 +40,22 @@ impl ReadoutImage {
 
     pub fn header(&self) -> &[u8; HEADER_LEN] {
         &self.header
+    }
+
+    /// The header's fields (for the `INFO` line).
+    pub fn header_fields(&self) -> Header {
+        match decode_header(&self.header) {
+            Ok((h, _)) => h,
+            // Unreachable: the header was made by `Header::to_bytes`.
+            Err(_) => Header {
+                sample_period_ms: 0,
+                record_count: self.count,
+                dropped_records: 0,
+                foreign_frames: 0,
+                paired_address: None,
+                flags: 0,
+            },
+        }
     }
 
     /// Copy the image's bytes from `pos` into `buf`; how many (0 at the end).

@@ -78,7 +78,12 @@ fn run(store: &mut LogStore, flash: &mut Flash, from: u32, n: u32) {
 
 /// The image a readout streams, in USB-sized pieces.
 fn read_out(store: &LogStore, flash: &Flash, foreign: u32) -> Vec<u8> {
-    let image = store.readout(flash, foreign, Some(0x5a));
+    let mut feeds = 0;
+    let image = store.readout(flash, foreign, Some(0x5a), &mut || feeds += 1);
+    assert!(
+        feeds >= image.len() / 16 / FEED_EVERY as usize,
+        "fed while reading {feeds}"
+    );
     let mut out = Vec::new();
     let mut buf = [0u8; 64];
     loop {
@@ -138,6 +143,7 @@ fn power_ups_keep_the_newest_log_and_erase_the_oldest() {
     assert!(s4.ready(), "a blank slot was left for it");
     assert!(s4.erase_pending(), "the oldest log is erased for the next");
     let before = read_out(&s4, &flash, 0);
+    let _ = before.len();
     assert_eq!(
         records_of(&before),
         (100..130).map(record).collect::<Vec<_>>()
