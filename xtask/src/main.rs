@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 mod background;
+mod layout;
 mod size;
 mod steps;
 
@@ -279,6 +280,7 @@ fn firmware_size(root: &Path, steps: &mut Steps) -> Result<(), String> {
         }
         None => {}
     }
+    println!("{}", layout::check(&root.join(FW_ELF))?);
     if usage.flash_bytes > FLASH_BUDGET_BYTES {
         return Err(format!(
             "firmware flash use {} B exceeds the {} B budget",

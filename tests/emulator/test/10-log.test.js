@@ -139,3 +139,49 @@ test('pairing: unpaired obeys nobody; a 1 s hold of Off in the window pairs, kep
   b.runUntil(on2.end + 300 * MS);
   assert.ok(b.dutyIn(b.nowNs - 50 * MS, b.nowNs) > 0, 'the pairing was lost at the power-up');
 });
+
+test('run log: the oldest slot is erased only with the motor off, after the pairing window', { skip: route !== 'a' && 'route (b) has no boot ROM: no flash writes' }, () => {
+  const b = boardWith('firmware');
+  const f = b.facts;
+  b.setBattery(4.0);
+  // Three power-ups with a short run each fill the three slots' headers.
+  for (let i = 0; i < 3; i++) {
+    if (i > 0) b.powerOn('power-on');
+    b.runUntil(b.nowNs + 300 * MS);
+    const on = sendOn(b, b.nowNs + GAP);
+    b.runUntil(on.end + 500 * MS);
+    sendOff(b, b.nowNs + GAP);
+    b.runUntil(b.nowNs + 100 * MS);
+  }
+  assert.equal(b.flashChip.ops.filter((o) => o.op === 'erase').length, 0, 'blank slots need no erase');
+  // The fourth power-up has no blank slot: it erases the oldest, block by
+  // block, once the window has closed and the IR has been quiet; an On in
+  // the window runs, with its records dropped until the slot is erased.
+  b.powerOn('power-on');
+  const boot = b.nowNs;
+  const on = sendOn(b, boot + 1000 * MS);
+  b.runUntil(on.end + 1000 * MS);
+  sendOff(b, b.nowNs + GAP);
+  b.runUntil(boot + (f.pairingWindowMs + 1000) * MS);
+  // Its own slot first (the oldest log), then the next oldest, to be the
+  // next power-up's blank slot; the newest log is kept for the readout.
+  const erases = b.flashChip.ops.filter((o) => o.op === 'erase');
+  const blocks = f.logSlotBytes / 65536;
+  assert.equal(erases.length, 2 * blocks, 'one erase per 64 KiB block of two slots');
+  const slotOf = (e) => Math.floor((e.offset - f.logOffset) / f.logSlotBytes);
+  const slots = [slotOf(erases[0]), slotOf(erases[blocks])];
+  assert.notEqual(slots[0], slots[1]);
+  assert.deepEqual(erases.map((e) => ((e.offset - f.logOffset) % f.logSlotBytes) / 65536), [3, 2, 1, 0, 3, 2, 1, 0], 'last block first');
+  const slot = slots.join(' then ');
+  for (const e of erases) {
+    assert.ok(e.t >= boot + f.pairingWindowMs * MS, `an erase in the pairing window at ${(e.t - boot) / MS} ms`);
+    assert.equal(b.motorAt(e.t), 0, 'an erase with the motor pin high');
+    assert.ok(b.dutyIn(e.t - 10 * MS, e.t) === 0, 'an erase within 10 ms of a PWM pulse');
+  }
+  perf('run log: fourth power-up, two oldest slots erased (4 blocks each), first erase after boot', `${((erases[0].t - boot) / MS).toFixed(0)} ms, slot ${slot}`);
+  // The run in the window was counted as dropped; the readout is then the
+  // newest earlier log, and the next power-up writes into the erased slot.
+  const log = decodeLog(readOverUsb(b, 'LOG\n', { timeoutNs: 3000 * MS }));
+  assert.equal(log.header.flags & 2, 2, 'an earlier power-up\'s log');
+  assert.ok(log.records.length > 0);
+});
