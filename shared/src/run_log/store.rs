@@ -238,6 +238,10 @@ impl LogStore {
         }
         if !self.header_written {
             self.write_header(flash);
+            if self.broken {
+                self.dropped = self.dropped.saturating_add(1);
+                return;
+            }
         }
         let in_page = self.count as usize % RECORDS_PER_PAGE;
         let at = in_page * RECORD_LEN;
@@ -279,13 +283,17 @@ impl LogStore {
         flash.program_page(offset, page);
         let mut back = [0u8; PAGE_LEN];
         flash.read(offset, &mut back);
-        if back != *page {
-            // Foreign or worn flash under the slot: what follows is lost,
-            // and said so by the dropped count.
-            self.broken = true;
-            let in_page = (self.count as usize - 1) % RECORDS_PER_PAGE + 1;
-            self.count -= in_page.min(self.count as usize) as u32;
-            self.dropped = self.dropped.saturating_add(in_page as u32);
+        if back == *page {
+            return;
+        }
+        // Foreign or worn flash under the slot: what follows is lost, and
+        // said so by the dropped count (the records of this page, if it is
+        // a page of records; none if it is the header's).
+        self.broken = true;
+        if self.count > 0 && self.header_written {
+            let in_page = (self.count - 1) % RECORDS_PER_PAGE as u32 + 1;
+            self.count -= in_page;
+            self.dropped = self.dropped.saturating_add(in_page);
         }
     }
 

@@ -19,6 +19,8 @@ struct Flash {
     bytes: Vec<u8>,
     programs: u32,
     erases: u32,
+    /// A page that does not take a program (worn out).
+    stuck_page: Option<u32>,
 }
 
 impl Flash {
@@ -27,6 +29,7 @@ impl Flash {
             bytes: std::vec![0xFF; LAYOUT.region_len() as usize],
             programs: 0,
             erases: 0,
+            stuck_page: None,
         }
     }
 }
@@ -38,11 +41,14 @@ impl LogFlash for Flash {
     }
     fn program_page(&mut self, offset: u32, page: &[u8; PAGE_LEN]) {
         assert_eq!(offset as usize % PAGE_LEN, 0);
+        self.programs += 1;
+        if self.stuck_page == Some(offset) {
+            return;
+        }
         let o = offset as usize;
         for (b, p) in self.bytes[o..o + PAGE_LEN].iter_mut().zip(page) {
             *b &= p;
         }
-        self.programs += 1;
     }
     fn erase_block(&mut self, offset: u32) {
         assert_eq!(offset % BLOCK_LEN, 0);
@@ -241,6 +247,27 @@ fn foreign_data_is_erased_or_ends_the_log() {
         "the pages before the foreign byte"
     );
     assert_eq!(log.header.dropped_records, 8);
+}
+
+#[test]
+fn a_header_page_that_does_not_program_drops_the_run() {
+    let mut flash = Flash::blank();
+    flash.stuck_page = Some(0);
+    let mut s = LogStore::open(&flash, LAYOUT, 100);
+    run(&mut s, &mut flash, 0, 20);
+    assert_eq!((s.count(), s.dropped()), (0, 20));
+    let bytes = read_out(&s, &flash, 0);
+    let log = decode(&bytes).unwrap();
+    assert_eq!(
+        (log.header.record_count, log.header.dropped_records),
+        (0, 20)
+    );
+    // A records page that does not program: its records are dropped too.
+    let mut flash = Flash::blank();
+    flash.stuck_page = Some(2 * PAGE_LEN as u32);
+    let mut s = LogStore::open(&flash, LAYOUT, 100);
+    run(&mut s, &mut flash, 0, 40);
+    assert_eq!((s.count(), s.dropped()), (16, 24));
 }
 
 #[test]
