@@ -20,7 +20,7 @@ use steps::Steps;
 /// Flash budget for the firmware image. Issue 26 asks for 32 KiB with the
 /// USB stack; that is NOT met: the image with the run log, pairing and the
 /// USB readout (usb-device + usbd-serial, about 9 kB of it) measures
-/// 37.8 kB (firmware/README.md, "Flash and RAM"). The budget here is the
+/// 37.9 kB (firmware/README.md, "Flash and RAM"). The budget here is the
 /// ceiling the image is held to until that is decided, not the issue's.
 const FLASH_BUDGET_BYTES: u64 = 40 * 1024;
 /// Static RAM budget, defmt's RTT buffer included.
