@@ -263,6 +263,42 @@ fn a_whole_ten_minute_run_at_10_hz() {
 }
 
 proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+    /// Passes at any gaps up to the wake period: while the motor runs the
+    /// records come one sample period apart at least and at most one pass
+    /// later, the first in the starting pass, the last in the stopping one.
+    #[test]
+    fn records_keep_the_period_whatever_the_pass_timing(gaps in proptest::collection::vec(1u64..=1_000, 3_000..6_000), off_at in 500usize..2_500) {
+        let control = Constant(Controller::new(board::CONTROLLER));
+        let mut m = MainLoop::with_control(MainLoopConfig::BOARD, control, false);
+        let mut rec = Recorder::new(board::LOG_PERIOD_US);
+        let counts = board::BATTERY.mv_to_counts(3_900);
+        let mut t = 0u64;
+        let mut taken = Vec::new();
+        for (i, gap) in gaps.iter().enumerate() {
+            t += gap * 100;
+            let edges = match i {
+                0 => frame(0, board::NEC_ADDRESS, board::NEC_CMD_ON),
+                i if i == off_at => frame(t as u32 - 80_000, board::NEC_ADDRESS, board::NEC_CMD_OFF),
+                _ => Vec::new(),
+            };
+            let out = m.pass(t + 80_000, edges, [], || counts);
+            if let Some(r) = rec.observe(t + 80_000, &out) {
+                taken.push((t + 80_000, r));
+            }
+        }
+        let period = u64::from(board::LOG_PERIOD_US);
+        prop_assert!(taken.len() >= 2);
+        prop_assert!(taken[0].1.events.contains(Events::STARTED));
+        let last = taken[taken.len() - 1];
+        prop_assert!(last.1.events.contains(Events::STOPPED_COMMAND));
+        for w in taken[..taken.len() - 1].windows(2) {
+            let dt = w[1].0 - w[0].0;
+            prop_assert!(dt >= period && dt <= period + 100_000, "records {} us apart", dt);
+        }
+        prop_assert!(taken.iter().all(|(at, _)| *at <= last.0), "a record after the stop");
+    }
+
     #[test]
     fn decode_is_total(bytes in proptest::collection::vec(any::<u8>(), 0..200)) {
         let _ = decode(&bytes);
