@@ -15,7 +15,7 @@ use crate::flash::LogRegion;
 use rp2040_hal::gpio::{bank0::Gpio24, FunctionSioInput, Pin, PullNone};
 use rp2040_hal::pac::{self, interrupt};
 use rp2040_hal::usb::UsbBus;
-use swimbot_shared::run_log::readout::{info_line, UNKNOWN_ANSWER};
+use swimbot_shared::run_log::readout::{info_line, Line, UNKNOWN_ANSWER};
 use swimbot_shared::run_log::store::{LogFlash, LogStore, ReadoutImage};
 use swimbot_shared::run_log::{Request, RequestReader};
 use usb_device::class_prelude::UsbBusAllocator;
@@ -29,14 +29,8 @@ pub type VbusPin = Pin<Gpio24, FunctionSioInput, PullNone>;
 /// What is being sent.
 enum Answer {
     None,
-    Image {
-        image: ReadoutImage,
-        pos: usize,
-    },
-    Text {
-        line: heapless::Vec<u8, 112>,
-        pos: usize,
-    },
+    Image { image: ReadoutImage, pos: usize },
+    Text { line: Line, pos: usize },
 }
 
 pub struct Usb {
@@ -118,7 +112,7 @@ impl Usb {
                         }
                     }
                     Request::Unknown => Answer::Text {
-                        line: heapless::Vec::from_slice(UNKNOWN_ANSWER).unwrap_or_default(),
+                        line: Line::from_bytes(UNKNOWN_ANSWER),
                         pos: 0,
                     },
                 };

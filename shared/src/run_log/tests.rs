@@ -2,7 +2,7 @@
 //! totality and its typed errors, the readout requests, and the recorder
 //! over a whole 10-minute run of the real main-loop pass.
 use super::image::{FLAG_CLOSED, MAGIC};
-use super::readout::{info_line, MAX_REQUEST};
+use super::readout::{info_line, Line, LINE_MAX, MAX_REQUEST};
 use super::record::RecordError;
 use super::*;
 use crate::battery::BatteryStatus;
@@ -173,6 +173,15 @@ fn readout_requests() {
         ..header()
     });
     assert!(none.ends_with(b"paired=none\n"));
+}
+
+#[test]
+fn an_answer_line_takes_bytes_whole_or_not_at_all() {
+    let full = Line::from_bytes(&[b'x'; LINE_MAX]);
+    assert_eq!(full.len(), LINE_MAX);
+    assert!(full.iter().all(|&b| b == b'x'));
+    assert!(Line::from_bytes(&[b'x'; LINE_MAX + 1]).is_empty());
+    assert_eq!(Line::from_bytes(b"ERR\n").as_slice(), b"ERR\n");
 }
 
 /// The motor at constant voltage (the rate controller would stop it for a
