@@ -153,17 +153,18 @@ fn IO_IRQ_BANK0() {
                 *d = d.saturating_add(1);
             }
         };
-        // The order as data and one push in a loop: a push per arm put
-        // four copies of the queue's code in the handler.
-        let order: &[Level] = match (fell, rose, now_high) {
-            (true, true, true) => &[Level::Low, Level::High],
-            (true, true, false) => &[Level::High, Level::Low],
-            (true, false, _) => &[Level::Low],
-            (false, true, _) => &[Level::High],
-            (false, false, _) => &[],
-        };
-        for &level in order {
-            push(level);
+        match (fell, rose, now_high) {
+            (true, true, true) => {
+                push(Level::Low);
+                push(Level::High);
+            }
+            (true, true, false) => {
+                push(Level::High);
+                push(Level::Low);
+            }
+            (true, false, _) => push(Level::Low),
+            (false, true, _) => push(Level::High),
+            (false, false, _) => {}
         }
     });
 }

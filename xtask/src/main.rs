@@ -19,10 +19,10 @@ use steps::Steps;
 
 /// Flash budget for the firmware image. Issue 26 asks for 32 KiB with the
 /// USB stack; that is NOT met: the image with the run log, pairing and the
-/// USB readout (usb-device + usbd-serial, about 9 kB of it) measures
-/// 37.9 kB (firmware/README.md, "Flash and RAM"). The budget here is the
-/// ceiling the image is held to until that is decided, not the issue's.
-const FLASH_BUDGET_BYTES: u64 = 40 * 1024;
+/// USB readout measures 36 492 B (firmware/README.md, "Flash and RAM",
+/// says where the bytes go). The budget here is the smallest round ceiling
+/// the image meets, held until that is decided, not the issue's.
+const FLASH_BUDGET_BYTES: u64 = 36 * 1024;
 /// Static RAM budget, defmt's RTT buffer included.
 const RAM_BUDGET_BYTES: u64 = 8 * 1024;
 const FW_ELF: &str = "target/thumbv6m-none-eabi/fw/firmware";
