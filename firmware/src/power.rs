@@ -7,7 +7,8 @@
 //! tick), IO and pads (the IR edge interrupt, pin levels), the SRAM (a
 //! debug probe may read the RTT buffer while the core sleeps), and the bus,
 //! clock, reset and power controllers themselves. The ADC, USB, UART, SPI,
-//! I2C, PIO, DMA, RTC, ROM, XIP and the rest are gated.
+//! I2C, PIO, DMA, RTC, ROM, XIP and the rest are gated; the USB
+//! controller's clocks only while no USB host is connected (`usb_awake`).
 //!
 //! DORMANT stops the crystal and every clock; only a GPIO edge restarts
 //! them. Before it: motor off (the caller's condition), the system clock
@@ -83,6 +84,7 @@ pub struct Power {
     pll_usb: Option<PhaseLockedLoop<Locked, PLL_USB>>,
     /// Handed over once every peripheral is out of reset (`keep_resets`).
     resets: Option<RESETS>,
+    usb_awake: bool,
 }
 
 impl Power {
@@ -115,7 +117,21 @@ impl Power {
             pll_sys: Some(pll_sys),
             pll_usb: Some(pll_usb),
             resets: None,
+            usb_awake: false,
         }
+    }
+
+    /// Keep the USB controller's clocks running in sleep (while USB is
+    /// connected: it answers the host between passes), or gate them again.
+    pub fn usb_awake(&mut self, awake: bool) {
+        if awake == self.usb_awake {
+            return;
+        }
+        let mut gates = sleep_clock_gates();
+        gates.set_sys_usbctrl(awake);
+        gates.set_usb_usbctrl(awake);
+        self.clocks.configure_sleep_enable(gates);
+        self.usb_awake = awake;
     }
 
     /// The reset controller, needed to restart the PLLs after DORMANT.

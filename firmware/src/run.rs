@@ -6,6 +6,13 @@
 //! level, LED mode, and the rate once a second while running),
 //! so a probe log tells the whole story of a run.
 //!
+//! Around the pass: the paired remote read from its flash sector at boot
+//! and a new pairing stored; the run log's recorder fed every pass and its
+//! records appended to the flash slot (a page programmed every 16 records,
+//! 1.6 s, and when the motor stops); one flash erase per pass when the
+//! pass allows it (motor off); VBUS read before the pass (USB connected =
+//! motor held off) and the readout port served after it.
+//!
 //! Between passes the core sleeps until an IR edge or the 1 kHz wake-up
 //! alarm (`sleep`): a pass every 1 ms plus the pass's own few microseconds.
 //! Timing comes from the 1 MHz timer, so a late pass only delays, never
@@ -14,15 +21,19 @@
 
 use crate::battery_adc::BatterySense;
 use crate::board;
+use crate::flash::LogRegion;
 use crate::ir;
 use crate::motor::Motor;
+use crate::pairing::{self, PairingStore};
 use crate::power::Power;
 use crate::sleep;
+use crate::usb::Usb;
 use embedded_hal::digital::OutputPin;
 use rp2040_hal::gpio::{bank0::Gpio12, bank0::Gpio25, FunctionSioOutput, Pin, PullDown};
 use rp2040_hal::watchdog::ScratchRegister;
 use rp2040_hal::{Timer, Watchdog};
-use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop};
+use swimbot_shared::run_log::{Events, LogStore, Recorder};
+use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop, PassOutput};
 
 const _: () = assert!(board::LED_GPIO == 25, "the typed LED pin is GPIO25");
 const _: () = assert!(
@@ -33,22 +44,28 @@ const _: () = assert!(
 pub type LedPin = Pin<Gpio25, FunctionSioOutput, PullDown>;
 pub type HallPowerPin = Pin<Gpio12, FunctionSioOutput, PullDown>;
 
-const SCRATCH: [ScratchRegister; 4] = [
-    ScratchRegister::Scratch0,
-    ScratchRegister::Scratch1,
-    ScratchRegister::Scratch2,
-    ScratchRegister::Scratch3,
-];
+// The four registers named one by one, not mapped over an array of
+// `ScratchRegister`s: through `map`/`zip` the HAL's eight-way match was
+// kept in the image (about 0.3 kB more flash).
 
 /// The cut-off latch remembered in SCRATCH0-3 (cleared by power-on).
 pub fn remembered_cutoff(watchdog: &Watchdog) -> bool {
-    reset_memory::cutoff_latched(SCRATCH.map(|r| watchdog.read_scratch(r)))
+    use ScratchRegister::{Scratch0, Scratch1, Scratch2, Scratch3};
+    reset_memory::cutoff_latched([
+        watchdog.read_scratch(Scratch0),
+        watchdog.read_scratch(Scratch1),
+        watchdog.read_scratch(Scratch2),
+        watchdog.read_scratch(Scratch3),
+    ])
 }
 
 fn remember_cutoff(watchdog: &mut Watchdog, latched: bool) {
-    for (r, word) in SCRATCH.into_iter().zip(reset_memory::encode(latched)) {
-        watchdog.write_scratch(r, word);
-    }
+    use ScratchRegister::{Scratch0, Scratch1, Scratch2, Scratch3};
+    let [w0, w1, w2, w3] = reset_memory::encode(latched);
+    watchdog.write_scratch(Scratch0, w0);
+    watchdog.write_scratch(Scratch1, w1);
+    watchdog.write_scratch(Scratch2, w2);
+    watchdog.write_scratch(Scratch3, w3);
 }
 
 pub struct Robot {
@@ -58,6 +75,63 @@ pub struct Robot {
     pub hall_power: HallPowerPin,
     pub timer: Timer,
     pub power: Power,
+    pub usb: Usb,
+}
+
+/// The run log and the pairing on their way to flash.
+struct Keeping {
+    recorder: Recorder,
+    store: LogStore,
+    pairing: PairingStore,
+}
+
+impl Keeping {
+    // `open` and `after_pass` are kept out of the main loop's body: about
+    // 1 kB less flash with `serve` (the fw profile inlines everything).
+    #[inline(never)]
+    fn open(watchdog: &mut Watchdog) -> Self {
+        let period_ms = (board::LOG_PERIOD_US / 1_000) as u16;
+        let store = LogStore::open(&LogRegion::new(watchdog), board::LOG_LAYOUT, period_ms);
+        defmt::info!(
+            "run log: slot ready {}, erase pending {}",
+            store.ready(),
+            store.erase_pending()
+        );
+        Self {
+            recorder: Recorder::new(board::LOG_PERIOD_US),
+            store,
+            pairing: PairingStore::new(),
+        }
+    }
+
+    /// After a pass: store a new pairing, record, and erase if allowed.
+    #[inline(never)]
+    fn after_pass(&mut self, now_us: u64, out: &PassOutput, watchdog: &mut Watchdog) {
+        if let Some(address) = out.newly_paired {
+            self.pairing.save(address);
+            defmt::info!("paired with the remote at address {=u8:#04x}", address);
+        }
+        if let Some(record) = self.recorder.observe(now_us, out) {
+            let closing = !self.recorder.recording();
+            let dropped = self.store.dropped();
+            self.store
+                .append(&mut LogRegion::new(watchdog), &record, closing);
+            if self.store.dropped() != dropped {
+                defmt::warn!("run log: record dropped ({} so far)", self.store.dropped());
+            }
+        }
+        if !out.may_erase_flash {
+            return;
+        }
+        if self.pairing.erase_pending() {
+            if !self.pairing.erase_step(watchdog) {
+                defmt::error!("pairing: not kept in flash (kept until power-off)");
+            }
+        } else if self.store.erase_pending() {
+            self.store.erase_step(&mut LogRegion::new(watchdog));
+            defmt::info!("run log: a block erased");
+        }
+    }
 }
 
 impl Robot {
@@ -67,12 +141,22 @@ impl Robot {
             defmt::warn!("battery: cut-off remembered from before the reset");
         }
         let mut main_loop = MainLoop::new(cutoff);
+        let paired = pairing::stored();
+        main_loop.set_paired(paired);
+        match paired {
+            Some(a) => defmt::info!("remote: address {=u8:#04x}", a),
+            None => defmt::warn!("remote: none paired (hold Off for 1 s within 5 s of power-up)"),
+        }
+        let mut keeping = Keeping::open(watchdog);
         let mut level = BatteryLevel::Fault;
         let mut led_mode = LedMode::Off;
         let mut next_rate_log_us = 0;
         let mut foreign = 0;
         loop {
             let now_us = self.timer.get_counter().ticks();
+            let usb = self.usb.connected();
+            main_loop.set_usb_connected(usb);
+            self.power.usb_awake(usb);
             let (motor, battery) = (&self.motor, &mut self.battery);
             let out = main_loop.pass(now_us, ir::drain(), ir::drain_hall(), || {
                 battery.read(motor.timing())
@@ -82,7 +166,16 @@ impl Robot {
             if let Some(latched) = out.latch_changed {
                 remember_cutoff(watchdog, latched);
             }
-            log(&out, &mut level, &mut led_mode);
+            if log(&out, &mut level, &mut led_mode) {
+                keeping.recorder.note(Events::EDGES_DROPPED);
+            }
+            keeping.after_pass(now_us, &out, watchdog);
+            if usb {
+                let region = LogRegion::new(watchdog);
+                let store = &keeping.store;
+                self.usb
+                    .serve(store, &region, out.foreign_frames, out.paired);
+            }
             if out.foreign_frames != foreign {
                 foreign = out.foreign_frames;
                 defmt::warn!("ir: another remote's frame ignored ({} so far)", foreign);
@@ -114,7 +207,8 @@ impl Robot {
     }
 }
 
-fn log(out: &swimbot_shared::PassOutput, level: &mut BatteryLevel, led_mode: &mut LedMode) {
+/// Log the pass's news; true if an interrupt queue dropped edges.
+fn log(out: &PassOutput, level: &mut BatteryLevel, led_mode: &mut LedMode) -> bool {
     if let Some(c) = out.command {
         defmt::info!("ir: {}", c);
     }
@@ -159,6 +253,7 @@ fn log(out: &swimbot_shared::PassOutput, level: &mut BatteryLevel, led_mode: &mu
         *led_mode = out.led;
         defmt::info!("led: {}", out.led);
     }
+    dropped > 0 || hall_dropped > 0
 }
 
 /// `fault-test` images only: the emulator writes `SWIMBOT_FAULT_TEST`

@@ -8,8 +8,10 @@
 use crate::battery::BatteryConfig;
 use crate::command::KeyMap;
 use crate::controller::ControllerConfig;
+use crate::pairing::PairingConfig;
 use crate::pwm;
 use crate::rate::{HallConfig, RateConfig};
+use crate::run_log::store::{StoreLayout, BLOCK_LEN};
 use crate::set_point::SetPointKeys;
 
 /// Crystal on the board (Raspberry Pi Pico compatible).
@@ -67,6 +69,11 @@ pub const NEC_ADDRESS: u8 = 0x00;
 pub const NEC_CMD_ON: u8 = 0x45;
 pub const NEC_CMD_OFF: u8 = 0x47;
 
+/// Pairing (`pairing`): within 5 s of power-up, hold Off (CH+) for 1 s.
+/// The key map's address above is the host simulation's remote; the
+/// robot obeys the address kept in its pairing sector.
+pub const PAIRING: PairingConfig = PairingConfig::hold(NEC_CMD_OFF);
+
 pub const KEYS: KeyMap = KeyMap {
     address: NEC_ADDRESS,
     on: NEC_CMD_ON,
@@ -90,6 +97,42 @@ pub const DEFAULT_RATE_MHZ: u32 = 1_000;
 /// Battery sampling period: 50 Hz, five times the minimum rate, so
 /// the 8-sample average spans 160 ms, short against the 1 s cut-off debounce.
 pub const BATTERY_SAMPLE_PERIOD_US: u64 = 20_000;
+
+/// Run log: one record every 100 ms (10 Hz, the minimum) while
+/// the motor may run: 6001 records of 16 bytes for a 10-minute run
+/// (`run_log`).
+pub const LOG_PERIOD_US: u32 = 100_000;
+
+/// Flash: 2 MiB (W25Q16JV on Pico-compatible boards). `memory.x` gives
+/// the first 1 MiB to boot2 and code (32 KiB budget) and reserves the rest:
+/// the run log's slots from 1 MiB, the pairing sector at the very top.
+/// Offsets from the start of flash, as the boot ROM's flash functions
+/// take them; keep `memory.x`'s RUNLOG and PAIRING regions equal
+/// (`cargo xtask size` checks the linked image against these).
+pub const FLASH_BYTES: u32 = 2 * 1024 * 1024;
+pub const LOG_FLASH_OFFSET: u32 = 1024 * 1024;
+/// Three 256 KiB slots (`run_log::store`): 16 368 records each, 27 min of
+/// running at 10 Hz per power-up; a 10-minute run is 6001 records, 96 kB.
+pub const LOG_LAYOUT: StoreLayout = StoreLayout {
+    slots: 3,
+    slot_len: 256 * 1024,
+};
+pub const PAIRING_FLASH_OFFSET: u32 = FLASH_BYTES - 4_096;
+const _: () = assert!(LOG_FLASH_OFFSET + LOG_LAYOUT.region_len() <= PAIRING_FLASH_OFFSET);
+const fn whole_blocks(n: u32) -> bool {
+    n / BLOCK_LEN * BLOCK_LEN == n
+}
+const _: () = assert!(whole_blocks(LOG_LAYOUT.slot_len) && whole_blocks(LOG_FLASH_OFFSET));
+
+/// USB VBUS sense: the Pico's GPIO24 reads VBUS through a divider (high
+/// while a USB cable powers the board). USB connected = the motor off.
+pub const VBUS_SENSE_GPIO: u8 = 24;
+/// USB IDs of the readout port: pid.codes' shared CDC-ACM pair
+/// (0x16C0/0x27DD, the one `usbd-serial`'s examples use), enough for a
+/// lab's serial port; the host finds the port by the product string.
+pub const USB_VID: u16 = 0x16c0;
+pub const USB_PID: u16 = 0x27dd;
+pub const USB_PRODUCT: &str = "swimbot run log";
 
 /// Longest sleep between main-loop passes: a pass runs at least this often
 /// (1 kHz) plus the pass's own few microseconds.
@@ -152,6 +195,14 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
         (tag(b"KP5 "), SET_POINT_KEYS.presets[4].0 as u32),
         (tag(b"KUP "), SET_POINT_KEYS.faster as u32),
         (tag(b"KDN "), SET_POINT_KEYS.slower as u32),
+        (tag(b"LOGA"), LOG_FLASH_OFFSET),
+        (tag(b"LOGS"), LOG_LAYOUT.slot_len),
+        (tag(b"LOGN"), LOG_LAYOUT.slots as u32),
+        (tag(b"LOGP"), LOG_PERIOD_US / 1_000),
+        (tag(b"PAIR"), PAIRING_FLASH_OFFSET),
+        (tag(b"PWIN"), (PAIRING.window_us / 1_000) as u32),
+        (tag(b"PHLD"), (PAIRING.hold_us / 1_000) as u32),
+        (tag(b"VBUS"), VBUS_SENSE_GPIO as u32),
     ];
     let mut out = [0u32; 2 + 2 * EXPORT_PAIRS];
     out[0] = tag(b"SWBD");
@@ -164,7 +215,7 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
     }
     out
 };
-pub const EXPORT_PAIRS: usize = 32;
+pub const EXPORT_PAIRS: usize = 40;
 
 #[cfg(test)]
 mod tests {

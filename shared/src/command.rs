@@ -52,12 +52,26 @@ impl KeyMap {
     }
 }
 
+/// What a receiver edge completed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RemoteEvent {
+    /// A frame from the paired remote: its command code.
+    Key(u8),
+    /// A frame from another remote (ignored, counted).
+    Foreign { address: u8, command: u8 },
+    /// A repeat frame (a key held): never a key press.
+    Repeat,
+}
+
 /// NEC decoder plus key map: receiver edges in, commands out. Repeat frames
-/// and frames from other remotes never produce a command.
+/// and frames from other remotes never produce a command. The remote obeyed
+/// is the paired one (`pairing`): the key map's address until
+/// [`Remote::set_paired`] says otherwise; unpaired, none.
 #[derive(Clone, Debug)]
 pub struct Remote {
     decoder: NecDecoder,
     keys: KeyMap,
+    paired: Option<u8>,
     foreign_frames: u32,
 }
 
@@ -66,6 +80,7 @@ impl Remote {
         Self {
             decoder: NecDecoder::new(AddressFilter::ANY),
             keys,
+            paired: Some(keys.address),
             foreign_frames: 0,
         }
     }
@@ -78,14 +93,34 @@ impl Remote {
     /// The command code of a complete frame from our remote; repeat
     /// frames and other addresses (counted) give nothing.
     pub fn edge_code(&mut self, level: Level, t_us: u32) -> Option<u8> {
-        match self.decoder.edge(level, t_us)? {
-            NecEvent::Frame { address, command } if address == self.keys.address => Some(command),
-            NecEvent::Frame { .. } => {
-                self.foreign_frames = self.foreign_frames.saturating_add(1);
-                None
-            }
-            NecEvent::Repeat => None,
+        match self.edge_event(level, t_us)? {
+            RemoteEvent::Key(code) => Some(code),
+            RemoteEvent::Foreign { .. } | RemoteEvent::Repeat => None,
         }
+    }
+
+    /// What the edge completed, if anything; frames from other remotes
+    /// (every frame while unpaired) are counted.
+    pub fn edge_event(&mut self, level: Level, t_us: u32) -> Option<RemoteEvent> {
+        Some(match self.decoder.edge(level, t_us)? {
+            NecEvent::Frame { address, command } if Some(address) == self.paired => {
+                RemoteEvent::Key(command)
+            }
+            NecEvent::Frame { address, command } => {
+                self.foreign_frames = self.foreign_frames.saturating_add(1);
+                RemoteEvent::Foreign { address, command }
+            }
+            NecEvent::Repeat => RemoteEvent::Repeat,
+        })
+    }
+
+    /// Obey `address` from now on (`None`: no remote).
+    pub fn set_paired(&mut self, address: Option<u8>) {
+        self.paired = address;
+    }
+
+    pub fn paired(&self) -> Option<u8> {
+        self.paired
     }
 
     pub fn keys(&self) -> &KeyMap {
@@ -144,6 +179,36 @@ mod tests {
             }
         });
         assert_eq!(got, [Some(Command::On), None, Some(Command::Off)]);
+    }
+
+    #[test]
+    fn unpaired_obeys_nobody_and_pairing_moves_the_address() {
+        let mut r = Remote::new(KEYS);
+        r.set_paired(None);
+        let mut got = None;
+        let t = for_each_edge(0, &frame_pulses_us(0x00, 0x45), |l, t| {
+            got = got.or(r.edge(l, t));
+        });
+        assert_eq!((got, r.foreign_frames()), (None, 1));
+        r.set_paired(Some(0x5a));
+        let mut events = [None; 2];
+        let t = for_each_edge(t + 50_000, &frame_pulses_us(0x5a, 0x45), |l, t| {
+            events[0] = events[0].or(r.edge_event(l, t));
+        });
+        for_each_edge(t + 50_000, &frame_pulses_us(0x00, 0x45), |l, t| {
+            events[1] = events[1].or(r.edge_event(l, t));
+        });
+        assert_eq!(
+            events,
+            [
+                Some(RemoteEvent::Key(0x45)),
+                Some(RemoteEvent::Foreign {
+                    address: 0,
+                    command: 0x45
+                })
+            ]
+        );
+        assert_eq!(r.foreign_frames(), 2);
     }
 
     proptest! {

@@ -8,7 +8,11 @@
 //! - Running: steady on;
 //! - LowBattery: two 100 ms blips every second;
 //! - Fault: fast 5 Hz blinking (a broken battery reading, or a rate-sensor
-//!   fault that stopped the motor, shown until the next On).
+//!   fault that stopped the motor, shown until the next On);
+//! - Pairing: 1 Hz, half lit (the pairing window after power-up is open;
+//!   it stops when a remote is paired);
+//! - Unpaired: a 500 ms flash every 2 s (no remote is obeyed: On does
+//!   nothing until a remote is paired).
 
 use crate::battery::{BatteryLevel, BatteryStatus};
 use crate::controller::MotorState;
@@ -20,6 +24,8 @@ pub enum LedMode {
     Running,
     LowBattery,
     Fault,
+    Pairing,
+    Unpaired,
 }
 
 impl LedMode {
@@ -38,6 +44,18 @@ impl LedMode {
     }
 }
 
+impl LedMode {
+    /// The idle pattern gives way to the pairing window's, or to the
+    /// unpaired one; a fault, a low cell and a running motor outrank both.
+    pub fn with_pairing(self, window_open: bool, paired: bool) -> LedMode {
+        match self {
+            LedMode::Off if window_open => LedMode::Pairing,
+            LedMode::Off if !paired => LedMode::Unpaired,
+            mode => mode,
+        }
+    }
+}
+
 /// Is the LED lit at `now_us` in `mode`?
 pub fn is_lit(mode: LedMode, now_us: u64) -> bool {
     let ms = now_us / 1_000;
@@ -49,6 +67,8 @@ pub fn is_lit(mode: LedMode, now_us: u64) -> bool {
             phase < 100 || (200..300).contains(&phase)
         }
         LedMode::Fault => ms % 200 < 100,
+        LedMode::Pairing => ms % 1_000 < 500,
+        LedMode::Unpaired => ms % 2_000 < 500,
     }
 }
 
@@ -77,6 +97,18 @@ mod tests {
         assert_eq!(profile(LedMode::Running, t0, 2_000), (2_000, 0));
         assert_eq!(profile(LedMode::LowBattery, t0, 2_000), (400, 4));
         assert_eq!(profile(LedMode::Fault, t0, 2_000), (1_000, 10));
+        assert_eq!(profile(LedMode::Pairing, t0, 2_000), (1_000, 2));
+        assert_eq!(profile(LedMode::Unpaired, t0, 2_000), (500, 1));
+    }
+
+    #[test]
+    fn pairing_patterns_only_replace_idle() {
+        assert_eq!(LedMode::Off.with_pairing(true, true), LedMode::Pairing);
+        assert_eq!(LedMode::Off.with_pairing(false, false), LedMode::Unpaired);
+        assert_eq!(LedMode::Off.with_pairing(false, true), LedMode::Off);
+        for m in [LedMode::Running, LedMode::LowBattery, LedMode::Fault] {
+            assert_eq!(m.with_pairing(true, false), m);
+        }
     }
 
     #[test]

@@ -3,7 +3,8 @@
 //! tail-rate sensing and control, the battery monitor, the
 //! status LED patterns, the PWM carrier arithmetic, the board's constants,
 //! the one main-loop pass that the chip, the host simulation and the
-//! property tests all run, and what survives a reset.
+//! property tests all run, the run log's format and recorder, and what
+//! survives a reset.
 //!
 //! Everything here is `#![no_std]` without `alloc`, takes time as an argument
 //! instead of reading a clock, and is therefore exercised identically by the
@@ -18,16 +19,19 @@ pub mod controller;
 pub mod led;
 pub mod main_loop;
 pub mod nec;
+pub mod pairing;
 pub mod pwm;
 pub mod rate;
 pub mod reset_memory;
+pub mod run_log;
 pub mod set_point;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
-pub use command::{Command, KeyMap, Remote};
+pub use command::{Command, KeyMap, Remote, RemoteEvent};
 pub use controller::{Controller, ControllerConfig, Duty, Event, MotorState, Output, StopReason};
 pub use led::LedMode;
 pub use main_loop::{ChipControl, HallEdge, MainLoop, MainLoopConfig, MotorControl, PassOutput};
 pub use nec::{AddressFilter, Level, NecDecoder, NecEvent};
+pub use pairing::{Pairing, PairingConfig};
 pub use pwm::PwmTiming;
 pub use set_point::{SetPointKey, SetPointKeys};

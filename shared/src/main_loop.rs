@@ -15,17 +15,20 @@
 //! duty applied since the previous pass is non-zero: that is what loaded
 //! the cell during the reading.
 
-use crate::battery::{BatteryConfig, BatteryMonitor, BatteryStatus};
+use crate::battery::{BatteryConfig, BatteryMonitor};
 use crate::board;
-use crate::command::{Command, KeyMap, Remote};
+use crate::command::{Command, KeyMap, Remote, RemoteEvent};
 use crate::controller::{Duty, Event, MotorState};
 use crate::led::{self, LedMode};
 use crate::nec::Level;
-use crate::rate::{HallConfig, RateConfig, RateController, RateEstimator, RateEvent, SensorFault};
+use crate::pairing::{Pairing, PairingConfig};
+use crate::rate::{HallConfig, RateConfig, RateController, RateEstimator, RateEvent};
 use crate::set_point::SetPointKeys;
 
 mod motor_control;
+mod output;
 pub use motor_control::{ChipControl, MotorControl};
+pub use output::{PassOutput, ERASE_QUIET_US};
 
 /// One Hall edge as the interrupt queued it: the timer's low 32 bits and
 /// both latches' levels read together.
@@ -34,48 +37,6 @@ pub struct HallEdge {
     pub t_us: u32,
     pub a: bool,
     pub b: bool,
-}
-
-/// What one pass decided.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PassOutput {
-    /// Apply this duty now.
-    pub duty: Duty,
-    pub state: MotorState,
-    pub event: Option<Event>,
-    /// A sensor fault stopped the motor in this pass (log it).
-    pub fault: Option<SensorFault>,
-    /// An On arrived with no set-point: nothing started (log it).
-    pub refused_no_set_point: bool,
-    /// Drive the Hall latches' power pin: on whenever the motor may run.
-    pub hall_power: bool,
-    /// The turn-averaged rate while running (mHz), and what it is driven
-    /// towards (the soft-started, slewed set-point).
-    pub rate_mhz: Option<u32>,
-    pub reference_mhz: u32,
-    /// The command decoded in this pass (merged: Off wins).
-    pub command: Option<Command>,
-    /// A set-point key changed the set-point in this pass: the new one.
-    pub set_point_changed: Option<u32>,
-    /// Complete frames from other remotes since power-up (ignored).
-    pub foreign_frames: u32,
-    /// The battery reading taken in this pass (ADC counts), if one was due.
-    pub sample: Option<u16>,
-    pub battery: BatteryStatus,
-    pub led: LedMode,
-    pub led_lit: bool,
-    /// The cut-off latch changed in this pass: store the new value where
-    /// it survives a reset (`reset_memory`).
-    pub latch_changed: Option<bool>,
-    /// Run the next pass this soon (us) rather than after the usual wake
-    /// period: set on the pass that starts the motor, when the soft start's
-    /// reference (and with it the duty) first becomes non-zero after
-    /// `ramp_us / set-point`, so the first PWM edge does not wait a whole
-    /// wake period (the On -> PWM latency, issue 26.3).
-    pub next_pass_in_us: Option<u32>,
-    /// Motor off and no IR edge for `dormant_after_us`:
-    /// the chip may stop its clocks until the next IR edge.
-    pub may_go_dormant: bool,
 }
 
 /// What a main loop is built from. `BOARD` is the robot's board
@@ -94,6 +55,8 @@ pub struct MainLoopConfig {
     pub sample_period_us: u64,
     /// Motor off and no IR edge this long: the chip may go dormant.
     pub dormant_after_us: u64,
+    /// How the robot is paired with its remote after power-up.
+    pub pairing: PairingConfig,
 }
 
 impl MainLoopConfig {
@@ -106,6 +69,7 @@ impl MainLoopConfig {
         set_point_mhz: Some(board::DEFAULT_RATE_MHZ),
         sample_period_us: board::BATTERY_SAMPLE_PERIOD_US,
         dormant_after_us: board::DORMANT_AFTER_IDLE_US,
+        pairing: board::PAIRING,
     };
 }
 
@@ -127,6 +91,9 @@ pub struct MainLoop<C = ChipControl> {
     state: MotorState,
     latched: bool,
     last_activity_us: u64,
+    last_ir_us: Option<u64>,
+    pairing: Pairing,
+    usb_connected: bool,
 }
 
 impl MainLoop {
@@ -169,7 +136,22 @@ impl<C: MotorControl> MainLoop<C> {
             state: MotorState::Off,
             latched: cutoff_latched,
             last_activity_us: 0,
+            last_ir_us: None,
+            pairing: Pairing::new(cfg.pairing),
+            usb_connected: false,
         }
+    }
+
+    /// The remote to obey, as kept in flash (`None`: unpaired, none is).
+    /// Until this is called it is the key map's address.
+    pub fn set_paired(&mut self, address: Option<u8>) {
+        self.remote.set_paired(address);
+    }
+
+    /// USB is connected (VBUS present): from the next pass the motor is
+    /// held off, and On does nothing, until it is disconnected.
+    pub fn set_usb_connected(&mut self, connected: bool) {
+        self.usb_connected = connected;
     }
 
     /// Apply a set-point key: only the set-point changes, never the state.
@@ -220,15 +202,33 @@ impl<C: MotorControl> MainLoop<C> {
     ) -> PassOutput {
         let mut command = None;
         let mut set_point_changed = None;
+        let mut newly_paired = None;
         for (level, t_us) in edges {
             self.last_activity_us = now_us;
-            let Some(code) = self.remote.edge_code(level, t_us) else {
-                continue;
-            };
-            if let Some(c) = self.cfg.keys.lookup(self.cfg.keys.address, code) {
-                command = Some(Command::merge(command, c));
-            } else if let Some(key) = self.cfg.set_point_keys.lookup(code) {
-                set_point_changed = self.set_key(key);
+            self.last_ir_us = Some(now_us);
+            match self.remote.edge_event(level, t_us) {
+                Some(RemoteEvent::Key(code)) => {
+                    if let Some(address) = self.remote.paired() {
+                        self.pairing.frame(now_us, address, code);
+                    }
+                    // The remote checked the (paired) address.
+                    if let Some(c) = self.cfg.keys.lookup(self.cfg.keys.address, code) {
+                        command = Some(Command::merge(command, c));
+                    } else if let Some(key) = self.cfg.set_point_keys.lookup(code) {
+                        set_point_changed = self.set_key(key);
+                    }
+                }
+                Some(RemoteEvent::Foreign { address, command }) => {
+                    self.pairing.frame(now_us, address, command);
+                }
+                Some(RemoteEvent::Repeat) => {
+                    let paired = self.pairing.repeat(now_us);
+                    if paired.is_some() && paired != self.remote.paired() {
+                        self.remote.set_paired(paired);
+                        newly_paired = paired;
+                    }
+                }
+                None => {}
             }
         }
         for e in hall {
@@ -243,7 +243,13 @@ impl<C: MotorControl> MainLoop<C> {
             sample = Some(counts);
         }
         let battery = self.monitor.status();
-        let out = self.control.step(now_us, command, battery);
+        // USB connected: Off every pass (Off wins over any On).
+        let applied = if self.usb_connected {
+            Some(Command::Off)
+        } else {
+            command
+        };
+        let out = self.control.step(now_us, applied, battery);
         self.duty = out.duty;
         self.state = out.state;
         let (event, fault) = match out.event {
@@ -258,7 +264,12 @@ impl<C: MotorControl> MainLoop<C> {
         let latched = self.monitor.cutoff_latched();
         let latch_changed = (latched != self.latched).then_some(latched);
         self.latched = latched;
-        let led = LedMode::of(out.state, battery, self.control.fault().is_some());
+        let pairing_window = self.pairing.window_open(now_us);
+        let led = LedMode::of(out.state, battery, self.control.fault().is_some())
+            .with_pairing(pairing_window, self.remote.paired().is_some());
+        let quiet = self
+            .last_ir_us
+            .is_none_or(|t| now_us.saturating_sub(t) >= ERASE_QUIET_US);
         PassOutput {
             duty: out.duty,
             state: out.state,
@@ -268,6 +279,7 @@ impl<C: MotorControl> MainLoop<C> {
             hall_power: running,
             rate_mhz: running.then(|| self.control.rate_mhz()).flatten(),
             reference_mhz: out.reference_mhz,
+            set_point_mhz: self.control.set_rate(),
             command,
             set_point_changed,
             foreign_frames: self.remote.foreign_frames(),
@@ -280,11 +292,24 @@ impl<C: MotorControl> MainLoop<C> {
             led,
             led_lit: led::is_lit(led, now_us),
             latch_changed,
+            // DORMANT would stop the USB clock under a connected host.
             may_go_dormant: out.state == MotorState::Off
+                && !self.usb_connected
                 && now_us.saturating_sub(self.last_activity_us) >= self.cfg.dormant_after_us,
+            paired: self.remote.paired(),
+            newly_paired,
+            pairing_window,
+            usb_connected: self.usb_connected,
+            may_erase_flash: out.state == MotorState::Off
+                && out.duty == Duty::ZERO
+                && !pairing_window
+                && !self.usb_connected
+                && quiet,
         }
     }
 }
 
+#[cfg(test)]
+mod pairing_tests;
 #[cfg(test)]
 mod tests;

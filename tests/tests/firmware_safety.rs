@@ -17,7 +17,13 @@
 //!    monitor's `recharged_mv`, at rest) has come in;
 //! 5. the duty never exceeds full scale, is never non-zero with the Hall
 //!    latches unpowered, and after a rate-sensor fault stays zero until
-//!    the next decoded On (no Hall edge restarts the motor).
+//!    the next decoded On (no Hall edge restarts the motor);
+//! 6. while USB is connected the duty is zero from the first pass that
+//!    knows it, whatever arrives (On frames included), and a flash erase
+//!    (which stalls the chip) is never allowed while the motor can run;
+//! 7. an unpaired robot (nothing in its pairing sector) never runs until
+//!    a pass reports a remote newly paired, whatever frames arrive, holds
+//!    of any key from any address included.
 
 use proptest::prelude::*;
 use swimbot_shared::battery::AVERAGE_SAMPLES;
@@ -41,6 +47,10 @@ enum Input {
     On,
     /// Time passes without input.
     Wait(u32),
+    /// USB connected or disconnected (VBUS).
+    Usb(bool),
+    /// A key held: its frame, then this many repeat frames 108 ms apart.
+    Hold(u8, u8, u8),
 }
 
 #[derive(Debug, Clone)]
@@ -104,6 +114,16 @@ struct Firmware {
     readings: Vec<(u64, u32)>,
 }
 
+fn input_usb() -> BoxedStrategy<Input> {
+    prop_oneof![
+        6 => input(true),
+        1 => any::<bool>().prop_map(Input::Usb),
+        1 => (any::<u8>(), prop_oneof![Just(KEYS.off), Just(KEYS.on), any::<u8>()], 0u8..14)
+            .prop_map(|(a, c, n)| Input::Hold(a, c, n)),
+    ]
+    .boxed()
+}
+
 struct Step {
     t_us: u64,
     state: MotorState,
@@ -112,6 +132,9 @@ struct Step {
     command: Option<Command>,
     faulted: bool,
     hall_power: bool,
+    usb: bool,
+    may_erase: bool,
+    newly_paired: bool,
 }
 
 impl Firmware {
@@ -152,6 +175,9 @@ impl Firmware {
             command: o.command,
             faulted: o.fault.is_some(),
             hall_power: o.hall_power,
+            usb: o.usb_connected,
+            may_erase: o.may_erase_flash,
+            newly_paired: o.newly_paired.is_some(),
         });
     }
 
@@ -197,6 +223,17 @@ impl Firmware {
                 self.pass_with(&[], Some(HallEdge { t_us, a, b }), out);
             }
             Input::On => self.edges(&frame_pulses_us(KEYS.address, KEYS.on), out),
+            Input::Usb(on) => self.main_loop.set_usb_connected(on),
+            Input::Hold(address, command, repeats) => {
+                self.edges(&frame_pulses_us(address, command), out);
+                // NEC repeats come every 108 ms: a 12 ms repeat frame
+                // after about 95 ms of silence.
+                for _ in 0..repeats {
+                    let until = self.t_us + 95_000;
+                    self.idle_until(until, out);
+                    self.edges(&REPEAT_PULSES_US, out);
+                }
+            }
             Input::NotOn(ref n) => match *n {
                 NotOn::Key(c) => self.edges(&frame_pulses_us(KEYS.address, c), out),
                 NotOn::Address(a) => self.edges(&frame_pulses_us(a, KEYS.on), out),
@@ -340,6 +377,79 @@ proptest! {
             prop_assert_eq!(s.state, MotorState::Off, "running at {} us on a remembered cut-off", s.t_us);
         }
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    /// Property 6: USB holds the motor off; no erase while it can run.
+    #[test]
+    fn usb_holds_the_motor_off_and_erases_wait_for_it(
+        inputs in prop::collection::vec(input_usb(), 0..160),
+    ) {
+        let (_, steps) = run(BATTERY.mv_to_counts(3_900), &inputs);
+        for s in &steps {
+            if s.usb {
+                prop_assert_eq!((s.duty, s.state), (0, MotorState::Off), "driven with USB at {} us", s.t_us);
+            }
+            if s.may_erase {
+                prop_assert_eq!((s.duty, s.state), (0, MotorState::Off), "erase allowed while driven at {} us", s.t_us);
+            }
+        }
+    }
+
+    /// Property 7: unpaired, nothing runs before a pairing.
+    #[test]
+    fn an_unpaired_robot_runs_only_after_a_pairing(
+        inputs in prop::collection::vec(input_usb(), 0..160),
+    ) {
+        let mut fw = Firmware::new(BATTERY.mv_to_counts(3_900));
+        fw.main_loop.set_paired(None);
+        let (_, steps) = run_from(fw, &inputs);
+        for s in steps.iter().take_while(|s| !s.newly_paired) {
+            prop_assert_eq!((s.duty, s.state), (0, MotorState::Off), "unpaired and driven at {} us", s.t_us);
+        }
+    }
+}
+
+/// Properties 6 and 7 can fail: with USB off a paired On runs, and a
+/// 1.3 s hold of Off in the window pairs (then On from that remote runs).
+#[test]
+fn a_hold_pairs_and_usb_released_lets_on_run() {
+    let healthy = BATTERY.mv_to_counts(3_900);
+    let mut fw = Firmware::new(healthy);
+    fw.main_loop.set_paired(None);
+    let inputs = [
+        Input::Wait(300_000),
+        Input::Hold(0x5a, KEYS.off, 12),
+        Input::Usb(true),
+        Input::Wait(300_000),
+        Input::Usb(false),
+        Input::NotOn(NotOn::Address(0x5a)),
+        Input::Wait(100_000),
+    ];
+    let (_, steps) = run_from(fw, &inputs);
+    let paired = steps.iter().position(|s| s.newly_paired).expect("paired");
+    assert!(steps[paired..].iter().any(|s| s.duty > 0));
+    let usb_on = Firmware::new(healthy);
+    let (_, steps) = run_from(
+        usb_on,
+        &[
+            Input::Usb(true),
+            Input::Wait(300_000),
+            Input::On,
+            Input::Wait(100_000),
+        ],
+    );
+    assert!(steps.iter().all(|s| s.duty == 0));
+    let (_, steps) = run(
+        healthy,
+        &[Input::Wait(300_000), Input::On, Input::Wait(100_000)],
+    );
+    assert!(
+        steps.iter().any(|s| s.duty > 0),
+        "the same inputs without USB run"
+    );
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! The main-loop pass on the host: sampling schedule, start, cut-off
 //! latch, dormant condition, Hall edges, the stall fault and the rate keys.
 use super::*;
-use crate::battery::BatteryLevel;
+use crate::battery::{BatteryLevel, BatteryStatus};
 use crate::nec::{for_each_edge, frame_pulses_us};
 use crate::rate::SensorFault;
 

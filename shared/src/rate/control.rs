@@ -184,7 +184,11 @@ impl RateController {
     /// Select a set-point (clamped to the allowed range), or `None` to
     /// disable: the motor then stops and On starts nothing.
     pub fn set_rate_mhz(&mut self, set: Option<u32>) {
-        self.set_mhz = set.map(|f| f.clamp(self.cfg.min_rate_mhz, self.cfg.max_rate_mhz));
+        // `max`/`min`, not `clamp`: a config with min > max must not panic
+        // (the firmware would reset), and `clamp`'s panic message alone
+        // brought `u32`'s Debug formatting into the image (about 0.4 kB).
+        let (lo, hi) = (self.cfg.min_rate_mhz, self.cfg.max_rate_mhz);
+        self.set_mhz = set.map(|f| f.min(hi).max(lo));
     }
 
     pub fn set_rate(&self) -> Option<u32> {

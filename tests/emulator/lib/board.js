@@ -12,7 +12,8 @@
 // Board facts (pins, divider, reference, timings) come from the image
 // itself (lib/facts.js: the firmware's SWIMBOT_BOARD, from shared/src/board.rs).
 import { readFileSync } from 'node:fs';
-import { BasePeripheral, GPIOPinState, RP2040 } from 'rp2040js';
+import { BasePeripheral, GPIOPinState, RP2040, USBCDC } from 'rp2040js';
+import { FlashChip } from './flash.js';
 import { Cell } from './cell.js';
 import { Rotor } from './rotor.js';
 import { loadFlash, objectBytes, readElf, symbolize } from './elf.js';
@@ -66,11 +67,18 @@ export class Board {
    * @param {object} o
    * @param {string} o.elfPath firmware ELF
    * @param {string} [o.bootromPath] 16 KiB B1 bootrom image; without it, route (b): start at the vector table
+   * @param {number|null} [o.paired] the remote's NEC address in the pairing sector, as if paired
+   *   earlier (default: the board's NEC address, the tests' remote); null: a blank sector, unpaired
    */
-  constructor({ elfPath, bootromPath }) {
+  constructor({ elfPath, bootromPath, paired }) {
     this.elf = readElf(elfPath);
     this.facts = boardFacts(this.elf);
-    this.bootrom = bootromPath ? bootromWords(bootromPath) : null;
+    this.bootrom = bootromPath ? FlashChip.patchBootrom(bootromWords(bootromPath)) : null;
+    this.flashChip = new FlashChip();
+    this.flashTop = loadFlash(this.elf, this.flashChip.bytes);
+    const address = paired === undefined ? this.facts.necAddress : paired;
+    if (address !== null) this.flashChip.storePairing(this.facts.pairingOffset, address);
+    this.usb = { connected: false, rx: [], request: null, cdc: null };
     this.timeOffsetNs = 0; // simulated time before the current chip instance (resets)
     this.events = []; // external stimuli: { t, fn }, sorted by t
     this.motorEdges = []; // { t, v } with v = 0/1, absolute ns
@@ -138,7 +146,7 @@ export class Board {
     if (this.bootrom) {
       mcu.loadBootrom(this.bootrom); // resets the core: SP from the bootrom's vector table
     }
-    this.flashTop = loadFlash(this.elf, mcu.flash);
+    this.flashChip.attach(mcu, () => this.nowNs);
     if (this.bootrom) {
       // Route (a): the real B1 bootrom is mapped at 0 (ROM function table, soft
       // float/memcpy routines the HAL's intrinsics call), and execution starts
@@ -178,6 +186,8 @@ export class Board {
     this.recordMotor(mcu.gpio[f.motorGpio].value);
     mcu.gpio[f.motorGpio].addListener((state) => this.recordMotor(state));
     mcu.gpio[f.irGpio].setInputValue(this.irLevel);
+    mcu.gpio[f.vbusGpio].setInputValue(this.usb.connected);
+    if (this.usb.connected) this.attachUsbHost(mcu);
     if (this.hallLevels) {
       mcu.gpio[f.hallAGpio].setInputValue(this.hallLevels[0]);
       mcu.gpio[f.hallBGpio].setInputValue(this.hallLevels[1]);
@@ -306,6 +316,57 @@ export class Board {
     if (last && last.v === v) return;
     this.motorEdges.push({ t: this.nowNs, v });
     if (v) this.lastMotorRise = this.nowNs;
+  }
+
+  /** rp2040js's CDC host on the chip's USB controller: sends the pending request once the port is configured. */
+  attachUsbHost(mcu) {
+    const cdc = new USBCDC(mcu.usbCtrl);
+    // rp2040js's CDC host answers an OUT buffer the device arms at once,
+    // with what it has: before it has read the descriptors it drops the
+    // buffer (the device then waits for ever), and with nothing to send it
+    // completes it empty (the device re-arms: an interrupt storm). A real
+    // host sends OUT data when it has some; so does this one: an armed OUT
+    // buffer waits here until there are bytes for it.
+    const usbc = mcu.usbCtrl;
+    const cdcRead = usbc.onEndpointRead;
+    let waiting = null;
+    usbc.onEndpointRead = (ep, size) => {
+      if (ep !== 0 && (ep !== cdc.outEndpoint || cdc.txFIFO.itemCount === 0)) {
+        waiting = [ep, size];
+        return;
+      }
+      cdcRead(ep, size);
+    };
+    cdc.onDeviceConnected = () => {
+      this.usb.configuredAt = this.nowNs;
+      if (this.usb.request) for (const b of this.usb.request) cdc.sendSerialByte(b);
+      if (waiting && waiting[0] === cdc.outEndpoint) {
+        const [ep, size] = waiting;
+        waiting = null;
+        cdcRead(ep, size);
+      }
+    };
+    cdc.onSerialData = (buffer) => {
+      for (const b of buffer) this.usb.rx.push(b);
+      this.usb.lastRxAt = this.nowNs;
+    };
+    this.usb.cdc = cdc;
+    // The firmware enables its USB controller at boot, before any cable: the
+    // host's bus reset, which rp2040js's CDC host sends when the controller
+    // is enabled, comes now, as when a cable is plugged in.
+    if (mcu.usbCtrl.mainCtrl & 1) mcu.usbCtrl.resetDevice();
+  }
+
+  /** Plug USB in (VBUS high, a CDC host enumerates the port) and send `request` (a string) once it is up. */
+  connectUsb(request) {
+    this.usb = { connected: true, rx: [], request: Buffer.from(request, 'ascii'), cdc: null };
+    this.mcu.gpio[this.facts.vbusGpio].setInputValue(true);
+    this.attachUsbHost(this.mcu);
+  }
+
+  disconnectUsb() {
+    this.usb.connected = false;
+    this.mcu.gpio[this.facts.vbusGpio].setInputValue(false);
   }
 
   // ---- stimuli -------------------------------------------------------------

@@ -37,6 +37,14 @@ const NAMES = {
   'KP5 ': 'necCmdPreset5',
   'KUP ': 'necCmdFaster',
   'KDN ': 'necCmdSlower',
+  LOGA: 'logOffset',
+  LOGS: 'logSlotBytes',
+  LOGN: 'logSlots',
+  LOGP: 'logPeriodMs',
+  PAIR: 'pairingOffset',
+  PWIN: 'pairingWindowMs',
+  PHLD: 'pairingHoldMs',
+  VBUS: 'vbusGpio',
 };
 
 const tagText = (w) => String.fromCharCode((w >>> 24) & 0xff, (w >>> 16) & 0xff, (w >>> 8) & 0xff, w & 0xff);
