@@ -89,4 +89,35 @@ fn main() {
     let a = 3e-3;
     let side = 4.0 * PI * MU * a * a * 0.01;
     println!("side 4 pi mu a^2 L = {side:.5e}");
+    // Composite estimate: Couette side in the tube, one free disc face
+    // (half of 32/3 mu a^3) below, the lubrication film pi mu a^4 / (2 g)
+    // above; it ignores the flow round the rims.
+    let b = 17.5e-3;
+    let couette = side * b * b / (b * b - a * a);
+    let disc = 16.0 / 3.0 * MU * a.powi(3);
+    let film = PI * MU * a.powi(4) / (2.0 * 1e-3);
+    println!(
+        "composite: Couette side {couette:.4e} + free face {disc:.4e} + film {film:.4e} = {:.4e}",
+        couette + disc + film
+    );
+    // Jeffery (1915): a sphere spinning about the normal to a plane wall.
+    for gap in [0.1, 0.5] {
+        let stack = Stack {
+            rotor: BodyProfile::spheroid(2.0, 2.0),
+            stator: Some(BodyProfile::cylinder(10.0, 40.0, 0.0)),
+            gap_m: gap * 1e-3,
+        };
+        let al = (1.0_f64 + gap).acosh();
+        let exact: f64 = (1..200)
+            .map(|n| (al.sinh() / (n as f64 * al).sinh()).powi(3))
+            .sum();
+        for r in [8.0, 16.0] {
+            let t =
+                at(&stack, &Confinement::Free, r).rotational_drag_n_m_s / (8.0 * PI * MU * 1e-9);
+            println!(
+                "Jeffery gap {gap} a, res {r}: {t:.5} vs {exact:.5} ({:+.3} %)",
+                100.0 * (t / exact - 1.0)
+            );
+        }
+    }
 }

@@ -172,6 +172,7 @@ const SETTABLE: &[&str] = &[
     "body_length_mm",
     "coupler_diameter_mm",
     "coupler_length_mm",
+    "coupler_gap_mm",
 ];
 
 /// The canonical `'static` name of a numeric input field that can carry
@@ -204,6 +205,7 @@ pub fn set_field(case: &mut Case, field: &str, v: f64) -> bool {
         "body_length_mm" => &mut case.body_length_mm,
         "coupler_diameter_mm" => &mut case.coupler_diameter_mm,
         "coupler_length_mm" => &mut case.coupler_length_mm,
+        "coupler_gap_mm" => &mut case.coupler_gap_mm,
         _ => return false,
     };
     *slot = v;

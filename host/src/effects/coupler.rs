@@ -3,13 +3,13 @@
 //! adds axial drag to the body, estimated as an isolated prolate spheroid
 //! of its length and diameter (an upper bound: the body shields it), and
 //! rotational drag to the tail: the swirl problem of the spinning coupler
-//! with its free end face, a gap (`gap_mm`, default 1 mm) below the
-//! stationary body's seal, and the case's tube, solved by ring Stokeslets
+//! with its free end face, a gap (the case's `coupler_gap_mm`, default
+//! 1 mm) below the stationary body's seal, and the case's tube, solved by ring Stokeslets
 //! (`crate::nonlocal::axisym::spin`; 6.00e-6 N m s for the paper's robot at
 //! 3.5 Pa s, against 3.96e-6 for the side of an unbounded cylinder,
 //! `4 pi mu a² L_c`, which this replaces). No free parameter: the gap is a
-//! measured-or-assumed input, and `docs/physics.md` section 4 gives the
-//! torque from 0.5 to 2 mm (6.63 to 5.66e-6 N m s).
+//! dataset input that can carry an uncertainty, and `docs/physics.md`
+//! section 4 gives the torque from 0.5 to 2 mm (6.63 to 5.66e-6 N m s).
 //!
 //! Cost: one swirl solve of about 400 elements (0.1-0.3 s), memoised in
 //! memory and on disk (`crate::nonlocal::cache`, kind
@@ -21,7 +21,7 @@
 //! Linearized Viscous Flow* (1992), §2.4, §7.2 (swirl ring Stokeslets).
 
 use super::body_confinement_exact::profile_words;
-use super::{Effect, ParamSpec};
+use super::Effect;
 use crate::data::Case;
 use crate::nonlocal::axisym::spin::{solve_spin, Stack};
 use crate::nonlocal::axisym::{AxisymSettings, Confinement};
@@ -36,16 +36,6 @@ pub struct Coupler;
 /// Elements across the gap (or the coupler's radius): within 0.05 % of
 /// resolution 32 on the paper's robot (table in docs/physics.md, section 4).
 pub const SPIN_RESOLUTION: f64 = 4.0;
-
-static PARAMS: &[ParamSpec] = &[ParamSpec {
-    name: "gap_mm",
-    unit: "mm",
-    default: 1.0,
-    min: 0.0,
-    max: 1e3,
-    free: false,
-    doc: "axial gap between the coupler's top face and the body's seal (about 1 mm; the solver refuses below 0.05 coupler radii)",
-}];
 
 /// The coupler's axial rotational drag (N m s) in the case's tube, below
 /// the case's body at `gap_mm`.
@@ -95,9 +85,6 @@ impl Effect for Coupler {
     fn reference(&self) -> &'static str {
         "Chwang & Wu, J. Fluid Mech. 67 (1975) 787; Pozrikidis (1992) §2.4, §7.2"
     }
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
     fn applies_to(&self, case: &Case, _p: &[f64]) -> bool {
         case.coupler_length_mm > 0.0 && case.coupler_diameter_mm > 0.0
     }
@@ -114,9 +101,9 @@ impl Effect for Coupler {
             body[(0, 0)] += r.axial_n_s_per_m;
         }
     }
-    fn tail(&self, p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
-        let gap_mm = p.first().copied().unwrap_or(PARAMS[0].default);
-        tail[(3, 3)] += coupler_spin(case, gap_mm).map_err(|e| format!("coupler spin: {e}"))?;
+    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
+        tail[(3, 3)] += coupler_spin(case, case.coupler_gap_mm)
+            .map_err(|e| format!("coupler spin (coupler_gap_mm {}): {e}", case.coupler_gap_mm))?;
         Ok(())
     }
 }
@@ -129,8 +116,9 @@ mod tests {
     #[test]
     fn the_tail_gets_the_solved_spin_torque_and_a_closed_gap_is_refused() {
         let case = paper().cases[0].clone();
+        assert_eq!(case.coupler_gap_mm, 1.0);
         let mut tail = Matrix6::zeros();
-        Coupler.tail(&[1.0], &case, &mut tail).unwrap();
+        Coupler.tail(&[], &case, &mut tail).unwrap();
         let stack = Stack {
             rotor: BodyProfile::cylinder(10.0, 6.0, 0.0),
             stator: Some(case.body_profile()),
@@ -153,7 +141,9 @@ mod tests {
         // Above the side-only 4 pi mu a^2 L_c: the end faces and the seal add.
         let side = 4.0 * std::f64::consts::PI * case.viscosity_pa_s * 9e-6 * 0.01;
         assert!(tail[(3, 3)] > 1.3 * side, "{} vs {side}", tail[(3, 3)]);
-        let e = Coupler.tail(&[0.01], &case, &mut tail).unwrap_err();
+        let mut tight = case.clone();
+        tight.coupler_gap_mm = 0.01;
+        let e = Coupler.tail(&[], &tight, &mut tail).unwrap_err();
         assert!(e.contains("gap") && e.contains("singular"), "{e}");
     }
 }
