@@ -417,3 +417,22 @@ mod spin {
         assert!(e.to_string().contains("do not fit"), "{e}");
     }
 }
+
+#[test]
+fn the_coupler_gap_is_a_dataset_input_with_a_default() {
+    use swimbot::data::{paper, parse_str, to_toml, DEFAULT_COUPLER_GAP_MM};
+    assert!(paper()
+        .cases
+        .iter()
+        .all(|c| c.coupler_gap_mm == DEFAULT_COUPLER_GAP_MM));
+    let text = include_str!("../data/paper.toml").replace(
+        "coupler_length_mm = 10.0",
+        "coupler_length_mm = 10.0\ncoupler_gap_mm = 2.5",
+    );
+    let d = parse_str(&text, "gap.toml").unwrap();
+    assert!(d.cases.iter().all(|c| c.coupler_gap_mm == 2.5));
+    assert_eq!(parse_str(&to_toml(&d), "again").unwrap(), d);
+    let bad = text.replace("coupler_gap_mm = 2.5", "coupler_gap_mm = -1.0");
+    let e = parse_str(&bad, "bad.toml").unwrap_err().to_string();
+    assert!(e.contains("coupler_gap_mm"), "{e}");
+}
