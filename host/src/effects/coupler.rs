@@ -11,9 +11,16 @@
 //! dataset input that can carry an uncertainty, and `docs/physics.md`
 //! section 4 gives the torque from 0.5 to 2 mm (6.63 to 5.66e-6 N m s).
 //!
-//! Cost: one swirl solve of about 400 elements (0.1-0.3 s), memoised in
+//! The same solve gives the torque the coupler's swirl puts on the body,
+//! `S` (2.68e-6 N m s, 45 % of `R`): the off-diagonal of the grand
+//! resistance of body and coupler rotation. It is subtracted from the
+//! body's and the tail's axial rotational resistance, so the tail gains
+//! `R - S` (3.32e-6 N m s, the torque that reaches the tube wall) and the
+//! body loses `S`.
+//!
+//! Cost: one swirl solve of about 400 elements (0.2-0.4 s), memoised in
 //! memory and on disk (`crate::nonlocal::cache`, kind
-//! `coupler-spin-per-pa-s`, at 1 Pa s: Stokes torque is linear in the
+//! `coupler-swirl-per-pa-s`, at 1 Pa s: Stokes torque is linear in the
 //! viscosity).
 //!
 //! References: Chwang & Wu, J. Fluid Mech. 67 (1975) 787 (spheroid);
@@ -37,9 +44,10 @@ pub struct Coupler;
 /// resolution 32 on the paper's robot (table in docs/physics.md, section 4).
 pub const SPIN_RESOLUTION: f64 = 4.0;
 
-/// The coupler's axial rotational drag (N m s) in the case's tube, below
-/// the case's body at `gap_mm`.
-pub fn coupler_spin(case: &Case, gap_mm: f64) -> Result<f64, String> {
+/// The coupler's axial rotational drag `R` and the torque its swirl puts
+/// on the body, `S` (both N m s per rad/s of the coupler), in the case's
+/// tube, below the case's body at `gap_mm`.
+pub fn coupler_spin(case: &Case, gap_mm: f64) -> Result<(f64, f64), String> {
     let c = case.coupler();
     let mu = case.viscosity_pa_s;
     if !(mu.is_finite() && mu > 0.0) {
@@ -65,14 +73,15 @@ pub fn coupler_spin(case: &Case, gap_mm: f64) -> Result<f64, String> {
     .chain(cache::channel_words(&channel))
     .chain([s.resolution.to_bits(), s.growth.to_bits()])
     .collect();
-    let m = cache::cached_matrix("coupler-spin-per-pa-s", &key, || {
+    let m = cache::cached_matrix("coupler-swirl-per-pa-s", &key, || {
         solve_spin(&stack, &Confinement::of_channel(&channel), 0.0, 1.0, &s).map(|r| {
             let mut m = Matrix6::zeros();
             m[(3, 3)] = r.rotational_drag_n_m_s;
+            m[(0, 3)] = r.stator_torque_n_m_s;
             m
         })
     })?;
-    Ok(mu * m[(3, 3)])
+    Ok((mu * m[(3, 3)], mu * m[(0, 3)]))
 }
 
 impl Effect for Coupler {
@@ -100,10 +109,20 @@ impl Effect for Coupler {
         if let Ok(r) = BodyResistance::prolate_spheroid(&spheroid, case.viscosity_pa_s) {
             body[(0, 0)] += r.axial_n_s_per_m;
         }
+        // The cross term of the grand resistance `[[E, -S], [-S, R]]` of
+        // body and coupler rotation: the body, turning against the tail,
+        // shears the gap more, and the coupler's swirl drags it along. In
+        // either drive it enters the x-only balance as `-S` on the body's
+        // and on the tail's axial rotational resistance (docs/physics.md,
+        // section 4). A failed solve is reported by the tail stage.
+        if let Ok((_, s)) = coupler_spin(case, case.coupler_gap_mm) {
+            body[(3, 3)] -= s;
+        }
     }
     fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
-        tail[(3, 3)] += coupler_spin(case, case.coupler_gap_mm)
+        let (r, s) = coupler_spin(case, case.coupler_gap_mm)
             .map_err(|e| format!("coupler spin (coupler_gap_mm {}): {e}", case.coupler_gap_mm))?;
+        tail[(3, 3)] += r - s;
         Ok(())
     }
 }
@@ -136,11 +155,17 @@ mod tests {
             &s,
         )
         .unwrap();
-        let rel = tail[(3, 3)] / direct.rotational_drag_n_m_s - 1.0;
+        let (r, s) = (direct.rotational_drag_n_m_s, direct.stator_torque_n_m_s);
+        let rel = tail[(3, 3)] / (r - s) - 1.0;
         assert!(rel.abs() < 1e-12, "{} vs {direct:?}", tail[(3, 3)]);
-        // Above the side-only 4 pi mu a^2 L_c: the end faces and the seal add.
+        let mut body = Matrix6::zeros();
+        Coupler.body(&[], &case, &mut body);
+        assert!((body[(3, 3)] + s).abs() < 1e-12 * s, "{body}");
+        // The coupler alone is above the side-only 4 pi mu a^2 L_c (the end
+        // faces and the seal add); the grand resistance stays positive
+        // definite (S^2 < R E for the body's E in the tube, 3.2e-4 N m s).
         let side = 4.0 * std::f64::consts::PI * case.viscosity_pa_s * 9e-6 * 0.01;
-        assert!(tail[(3, 3)] > 1.3 * side, "{} vs {side}", tail[(3, 3)]);
+        assert!(r > 1.3 * side && s > 0.0 && s < r, "{r} {s} vs {side}");
         let mut tight = case.clone();
         tight.coupler_gap_mm = 0.01;
         let e = Coupler.tail(&[], &tight, &mut tail).unwrap_err();
