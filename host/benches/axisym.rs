@@ -1,10 +1,13 @@
 //! Cost of one exact body solve (`nonlocal::axisym`, criterion): the
 //! paper's body (spheroid and the three-section profile) in the paper's
 //! closed 35 x 350 mm tube and in free space, at resolutions 4, 8 (the
-//! default) and 16 elements per gap.
+//! default) and 16 elements per gap; and the coupler's spin below the
+//! profile with a 1 mm gap (`axisym::spin`) at resolutions 2, 4 (the
+//! `coupler` effect's) and 8.
 //!
 //! `cargo bench -p swimbot --bench axisym`
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use swimbot::nonlocal::axisym::spin::{solve_spin, Stack};
 use swimbot::nonlocal::axisym::{solve_body, AxisymSettings, Confinement};
 use swimbot::physics::profile::BodyProfile;
 
@@ -35,6 +38,23 @@ fn bench(c: &mut Criterion) {
                 });
             }
         }
+    }
+    group.finish();
+    let stack = Stack {
+        rotor: BodyProfile::cylinder(10.0, 6.0, 0.0),
+        stator: Some(bodies[1].1.clone()),
+        gap_m: 1e-3,
+    };
+    let mut group = c.benchmark_group("coupler_spin");
+    group.sample_size(10);
+    for res in [2.0, 4.0, 8.0] {
+        let s = AxisymSettings {
+            resolution: res,
+            ..AxisymSettings::default()
+        };
+        group.bench_with_input(BenchmarkId::new("closed", res), &s, |b, s| {
+            b.iter(|| solve_spin(&stack, &tube, 0.0, 3.5, s).unwrap())
+        });
     }
     group.finish();
 }

@@ -265,3 +265,174 @@ fn a_cylinder_with_hemispherical_ends_and_no_length_is_the_sphere() {
     // And a/R = 0.4 is Bohlin's 3.588 within 0.5 %.
     assert!(rel(c.drag_n_s_per_m / (6.0 * PI * 0.01), 3.5884).abs() < 0.005);
 }
+
+// ---- The coupler's spin: a rotor beside a stationary body (`axisym::spin`).
+
+mod spin {
+    use super::rel;
+    use std::f64::consts::PI;
+    use swimbot::nonlocal::axisym::spin::{solve_spin, SpinSolve, Stack, MIN_GAP_OVER_RADIUS};
+    use swimbot::nonlocal::axisym::{annular_formula, AxisymSettings, Confinement};
+    use swimbot::nonlocal::NonlocalError;
+    use swimbot::physics::profile::BodyProfile;
+
+    fn at(stack: &Stack, c: &Confinement, resolution: f64) -> SpinSolve {
+        let s = AxisymSettings {
+            resolution,
+            ..AxisymSettings::default()
+        };
+        solve_spin(stack, c, 0.0, 1.0, &s).expect("solve")
+    }
+
+    fn robot(gap_mm: f64) -> Stack {
+        Stack {
+            rotor: BodyProfile::cylinder(10.0, 6.0, 0.0),
+            stator: Some(BodyProfile::parse_sections("10:20,30:18,10:20", 0.0).unwrap()),
+            gap_m: gap_mm * 1e-3,
+        }
+    }
+
+    const PAPER_TUBE: Confinement = Confinement::Closed {
+        diameter_m: 0.035,
+        length_m: 0.35,
+    };
+
+    #[test]
+    fn the_coupler_torque_converges_and_balances_in_the_closed_tube() {
+        let (t2, t4, t8) = (
+            at(&robot(1.0), &PAPER_TUBE, 2.0),
+            at(&robot(1.0), &PAPER_TUBE, 4.0),
+            at(&robot(1.0), &PAPER_TUBE, 8.0),
+        );
+        let (a, b, c) = (
+            t2.rotational_drag_n_m_s,
+            t4.rotational_drag_n_m_s,
+            t8.rotational_drag_n_m_s,
+        );
+        // Monotone and contracting: each doubling changes it less.
+        assert!(a < b && b < c && (c - b) < 0.5 * (b - a), "{a} {b} {c}");
+        assert!(rel(b, c).abs() < 1e-3, "{b} vs {c}");
+        // The fluid's angular momentum is steady: rotor = stator + wall.
+        assert!(t8.torque_balance() < 1e-3, "{t8:?}");
+        assert!(t8.stator_torque_n_m_s > 0.0 && t8.wall_torque_n_m_s > 0.0);
+    }
+
+    #[test]
+    fn a_long_rotor_in_a_tube_is_couette_per_length() {
+        // Two rotor lengths remove the end effects; k = a / b = 1/2.
+        let (a, b) = (1.0, 2.0);
+        let run = |len: f64| {
+            let stack = Stack {
+                rotor: BodyProfile::cylinder(1e3 * len, 2e3 * a, 0.0),
+                stator: None,
+                gap_m: 0.0,
+            };
+            let tube = Confinement::Closed {
+                diameter_m: 2.0 * b,
+                length_m: len + 6.0 * b,
+            };
+            at(&stack, &tube, 8.0)
+        };
+        let (s1, s2) = (run(8.0), run(16.0));
+        let per_length = (s2.rotational_drag_n_m_s - s1.rotational_drag_n_m_s) / 8.0;
+        let (_, couette) = annular_formula(a, b, 1.0, 1.0, true);
+        assert!(
+            rel(per_length, couette).abs() < 0.005,
+            "{per_length} vs {couette}"
+        );
+    }
+
+    #[test]
+    fn a_spinning_sphere_alone_is_the_rotlet() {
+        let stack = Stack {
+            rotor: BodyProfile::spheroid(2e3, 2e3),
+            stator: None,
+            gap_m: 0.0,
+        };
+        let t = at(&stack, &Confinement::Free, 8.0).rotational_drag_n_m_s;
+        assert!(rel(t, 8.0 * PI).abs() < 0.006, "{t}");
+    }
+
+    /// Jeffery (1915), Proc. Lond. Math. Soc. 14, 327: a sphere of radius
+    /// `a` turning about the normal to a plane wall, centre at `h`:
+    /// `T / (8 pi mu a^3) = sum_n (sinh alpha / sinh n alpha)^3`,
+    /// `cosh alpha = h / a`.
+    fn jeffery(h_over_a: f64) -> f64 {
+        let al = h_over_a.acosh();
+        (1..200)
+            .map(|n| (al.sinh() / (n as f64 * al).sinh()).powi(3))
+            .sum()
+    }
+
+    #[test]
+    fn a_sphere_spinning_above_a_wide_stator_matches_jeffery() {
+        // The stator is a flat-faced cylinder 40 radii wide: a plane wall
+        // for the rotlet, whose swirl decays like the cube of distance.
+        for gap in [0.1, 0.5] {
+            let stack = Stack {
+                rotor: BodyProfile::spheroid(2.0, 2.0),
+                stator: Some(BodyProfile::cylinder(10.0, 40.0, 0.0)),
+                gap_m: gap * 1e-3,
+            };
+            let t = at(&stack, &Confinement::Free, 8.0).rotational_drag_n_m_s;
+            let exact = 8.0 * PI * 1e-9 * jeffery(1.0 + gap);
+            assert!(rel(t, exact).abs() < 0.005, "gap {gap} a: {t} vs {exact}");
+        }
+    }
+
+    #[test]
+    fn a_receding_stator_recovers_the_lone_rotor() {
+        let lone = Stack {
+            stator: None,
+            ..robot(1.0)
+        };
+        let free = at(&lone, &Confinement::Free, 8.0).rotational_drag_n_m_s;
+        let t: Vec<f64> = [3.0, 10.0, 100.0]
+            .iter()
+            .map(|&g| at(&robot(g), &Confinement::Free, 8.0).rotational_drag_n_m_s)
+            .collect();
+        assert!(t[0] > t[1] && t[1] > t[2], "{t:?}");
+        assert!(rel(t[2], free).abs() < 1e-4, "{t:?} vs {free}");
+        // The side alone, 4 pi mu a^2 L, misses the ends: a third more.
+        let side = 4.0 * PI * 9e-6 * 0.01;
+        assert!(free / side > 1.3 && free / side < 1.45, "{}", free / side);
+    }
+
+    #[test]
+    fn a_closing_gap_is_refused() {
+        let s = AxisymSettings::default();
+        let tight = robot(0.5 * MIN_GAP_OVER_RADIUS * 3.0);
+        let e = solve_spin(&tight, &PAPER_TUBE, 0.0, 1.0, &s).unwrap_err();
+        assert!(
+            matches!(e, NonlocalError::Geometry(ref m) if m.contains("singular")),
+            "{e}"
+        );
+        let nan = robot(f64::NAN);
+        assert!(solve_spin(&nan, &PAPER_TUBE, 0.0, 1.0, &s).is_err());
+        let wide = Stack {
+            rotor: BodyProfile::cylinder(10.0, 40.0, 0.0),
+            ..robot(1.0)
+        };
+        let e = solve_spin(&wide, &PAPER_TUBE, 0.0, 1.0, &s).unwrap_err();
+        assert!(e.to_string().contains("do not fit"), "{e}");
+    }
+}
+
+#[test]
+fn the_coupler_gap_is_a_dataset_input_with_a_default() {
+    use swimbot::data::{paper, parse_str, to_toml, DEFAULT_COUPLER_GAP_MM};
+    assert!(paper()
+        .cases
+        .iter()
+        .all(|c| c.coupler_gap_mm == DEFAULT_COUPLER_GAP_MM));
+    let text = include_str!("../data/paper.toml").replace(
+        "coupler_length_mm = 10.0",
+        "coupler_length_mm = 10.0\ncoupler_gap_mm = 2.5",
+    );
+    let d = parse_str(&text, "gap.toml").unwrap();
+    assert!(d.cases.iter().all(|c| c.coupler_gap_mm == 2.5));
+    assert_eq!(parse_str(&to_toml(&d), "again").unwrap(), d);
+    let bad = text.replace("coupler_gap_mm = 2.5", "coupler_gap_mm = -1.0");
+    let e = parse_str(&bad, "bad.toml").unwrap_err().to_string();
+    assert!(e.contains("coupler_gap_mm"), "{e}");
+}

@@ -52,6 +52,7 @@ pub const COLUMNS: &[(&str, Kind)] = &[
     ("body_length_mm", Kind::Number),
     ("coupler_diameter_mm", Kind::Number),
     ("coupler_length_mm", Kind::Number),
+    ("coupler_gap_mm", Kind::Number),
     ("body_profile", Kind::Inline),
     ("body_rounded_mm", Kind::Number),
     ("net_weight_g", Kind::Number),

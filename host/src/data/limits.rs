@@ -41,6 +41,7 @@ pub const LIMITS: &[Limit] = &[
     Limit { field: "body_length_mm", min: 1e-3, max: 1e4, unit: "mm", why: LENGTH_WHY },
     Limit { field: "coupler_diameter_mm", min: 0.0, max: 1e4, unit: "mm", why: "0 (no coupler) to 10 m" },
     Limit { field: "coupler_length_mm", min: 0.0, max: 1e4, unit: "mm", why: "0 (no coupler) to 10 m" },
+    Limit { field: "coupler_gap_mm", min: 0.0, max: 1e4, unit: "mm", why: "coupler to seal; the spin solver refuses below 0.05 coupler radii" },
     Limit {
         field: "frequency_hz",
         min: 1e-6,
@@ -313,6 +314,7 @@ pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
         ("body_length_mm", c.body_length_mm),
         ("coupler_diameter_mm", c.coupler_diameter_mm),
         ("coupler_length_mm", c.coupler_length_mm),
+        ("coupler_gap_mm", c.coupler_gap_mm),
         ("frequency_hz", c.frequency_hz),
         ("viscosity_pa_s", c.viscosity_pa_s),
         ("density_kg_m3", c.density_kg_m3),

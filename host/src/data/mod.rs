@@ -30,6 +30,10 @@ pub const STANDARD_GRAVITY_M_S2: f64 = 9.806_65;
 pub const PAPER_TOML: &str = include_str!("../../data/paper.toml");
 
 /// The paper's dataset, parsed.
+/// The coupler's gap to the seal when a dataset gives none (mm): the
+/// issue's estimate for the paper's robot.
+pub const DEFAULT_COUPLER_GAP_MM: f64 = 1.0;
+
 pub fn paper() -> Dataset {
     parse_str(PAPER_TOML, "<built-in paper data>").expect("the built-in paper data is valid")
 }
@@ -98,6 +102,9 @@ pub struct Case {
     pub body_length_mm: f64,
     pub coupler_diameter_mm: f64,
     pub coupler_length_mm: f64,
+    /// Axial gap between the coupler's top face and the body's seal (mm);
+    /// [`DEFAULT_COUPLER_GAP_MM`] if not given (the paper states none).
+    pub coupler_gap_mm: f64,
     /// The body's shape as cylindrical sections (`body_profile`), if given;
     /// see [`Case::body_profile`].
     pub body_profile: Option<BodyProfile>,

@@ -41,6 +41,7 @@ struct RawCase {
     body_length_mm: Option<f64>,
     coupler_diameter_mm: Option<f64>,
     coupler_length_mm: Option<f64>,
+    coupler_gap_mm: Option<f64>,
     /// `[[length_mm, diameter_mm], ...]`, nose first.
     body_profile: Option<Vec<[f64; 2]>>,
     body_rounded_mm: Option<f64>,
@@ -318,6 +319,12 @@ fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, D
             c.coupler_length_mm,
             s.coupler_length_mm,
             0.0,
+        )?,
+        coupler_gap_mm: r.non_negative(
+            "coupler_gap_mm",
+            c.coupler_gap_mm,
+            s.coupler_gap_mm,
+            super::DEFAULT_COUPLER_GAP_MM,
         )?,
         body_profile: None,
         net_weight_g: r.finite("net_weight_g", c.net_weight_g.or(s.net_weight_g))?,

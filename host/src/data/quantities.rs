@@ -262,6 +262,13 @@ pub const FIELDS: &[Quantity] = &[
         doc: "coupler length",
         value: |c| c.coupler_length_mm,
     },
+    Quantity {
+        id: "coupler_gap_mm",
+        name: "g_c",
+        unit: "mm",
+        doc: "gap between the coupler and the body's seal",
+        value: |c| c.coupler_gap_mm,
+    },
 ];
 
 /// Dimensionless groups of the setup fields (the oil, the channel's

@@ -174,6 +174,7 @@ const SETTABLE: &[&str] = &[
     "body_length_mm",
     "coupler_diameter_mm",
     "coupler_length_mm",
+    "coupler_gap_mm",
 ];
 
 /// Inputs that are not among the case quantities (`FIELDS`, which
@@ -248,6 +249,7 @@ pub fn set_field(case: &mut Case, field: &str, v: f64) -> bool {
         "coupler_diameter_mm" => &mut case.coupler_diameter_mm,
         "coupler_length_mm" => &mut case.coupler_length_mm,
         "net_weight_g" => &mut case.net_weight_g,
+        "coupler_gap_mm" => &mut case.coupler_gap_mm,
         _ => return false,
     };
     *slot = v;

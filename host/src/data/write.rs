@@ -38,6 +38,9 @@ pub fn to_toml(data: &Dataset) -> String {
         num(&mut out, "body_length_mm", c.body_length_mm);
         num(&mut out, "coupler_diameter_mm", c.coupler_diameter_mm);
         num(&mut out, "coupler_length_mm", c.coupler_length_mm);
+        if c.coupler_gap_mm != super::DEFAULT_COUPLER_GAP_MM {
+            num(&mut out, "coupler_gap_mm", c.coupler_gap_mm);
+        }
         if let Some(crate::physics::profile::BodyProfile::Sections {
             sections,
             rounded_mm,

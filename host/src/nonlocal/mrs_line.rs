@@ -19,7 +19,7 @@
 //! in viscous flow", Fluids 6 (2021) 335, show that `eps` must be
 //! proportional to `a` for the far field to be right; the constant above is
 //! the one for this blob.) Common practice of `eps ~ a` (Cortez, Fauci &
-//! Medovikov 2005; Rodenborn, Chen, Swinney, Zhang & Zhang, PNAS 110 (2013)
+//! Medovikov 2005; Rodenborn, Chen, Swinney, Liu & Zhang, PNAS 110 (2013)
 //! E338) would make the wire effectively thicker by `ln(1.65)` in the
 //! logarithm, i.e. a few percent more drag.
 //!

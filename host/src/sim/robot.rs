@@ -241,6 +241,7 @@ impl Robot {
             body_length_mm: v.pos("body.length_mm", bd.length_mm)?,
             coupler_diameter_mm: v.non_neg("body.coupler_diameter_mm", bd.coupler_diameter_mm)?,
             coupler_length_mm: v.non_neg("body.coupler_length_mm", bd.coupler_length_mm)?,
+            coupler_gap_mm: crate::data::DEFAULT_COUPLER_GAP_MM,
             body_profile: None,
             net_weight_g: 0.0,
             u_mm_s: None,

@@ -17,7 +17,9 @@
 //!   trapezoidal rule away from it);
 //! * [`quadrature`]: element integrals with the logarithmic singularity;
 //! * [`mesh`]: elements on the generating curves, graded to corners;
-//! * [`solve`]: assembly, dense LU (faer), drag, torque, flux diagnostic.
+//! * [`solve`]: assembly, dense LU (faer), drag, torque, flux diagnostic;
+//! * [`spin`]: a rotor spinning beside a stationary body (the coupler below
+//!   the seal): the swirl problem alone, with the torques on every surface.
 //!
 //! Confinement: free space; a closed tube (length, flat caps); an open
 //! tube (same wall, no caps: a thin pipe of that length in unbounded fluid
@@ -45,6 +47,7 @@ pub mod kernels;
 pub mod mesh;
 pub mod quadrature;
 pub mod solve;
+pub mod spin;
 
 use super::NonlocalError;
 use crate::physics::profile::BodyProfile;

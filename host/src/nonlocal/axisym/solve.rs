@@ -37,14 +37,8 @@ fn geometry_error(msg: impl Into<String>) -> NonlocalError {
     NonlocalError::Geometry(msg.into())
 }
 
-/// Check the geometry and build the mesh.
-pub fn build_mesh(
-    profile: &BodyProfile,
-    confinement: &Confinement,
-    centre_m: f64,
-    s: &AxisymSettings,
-) -> Result<Mesh, NonlocalError> {
-    profile.validate().map_err(geometry_error)?;
+/// Resolution in [1, 200] elements per gap, growth in (0, 1].
+pub(super) fn check_settings(s: &AxisymSettings) -> Result<(), NonlocalError> {
     if !(s.resolution.is_finite() && s.resolution >= 1.0 && s.resolution <= 200.0) {
         return Err(NonlocalError::Settings(format!(
             "resolution must be in [1, 200] elements per gap, got {}",
@@ -57,6 +51,18 @@ pub fn build_mesh(
             s.growth
         )));
     }
+    Ok(())
+}
+
+/// Check the geometry and build the mesh.
+pub fn build_mesh(
+    profile: &BodyProfile,
+    confinement: &Confinement,
+    centre_m: f64,
+    s: &AxisymSettings,
+) -> Result<Mesh, NonlocalError> {
+    profile.validate().map_err(geometry_error)?;
+    check_settings(s)?;
     if !centre_m.is_finite() {
         return Err(geometry_error(format!("body position {centre_m} m")));
     }
