@@ -303,7 +303,7 @@ pub fn check_id(id: &str) -> Result<(), String> {
 /// `(field, message)`.
 pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
     check_id(&c.id).map_err(|m| ("id", m))?;
-    let fields: [(&'static str, f64); 14] = [
+    let fields: [(&'static str, f64); 15] = [
         ("wavelength_mm", c.wavelength_mm),
         ("amplitude_mm", c.amplitude_mm),
         ("tail_length_mm", c.tail_length_mm),
