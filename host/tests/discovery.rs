@@ -13,7 +13,7 @@
 
 use crate::fixtures;
 
-use fixtures::truths;
+use fixtures::{drawn, truths};
 use swimbot::data::Dataset;
 use swimbot::effects::parse_effect_spec;
 use swimbot::model::Model;
@@ -258,6 +258,53 @@ fn two_missing_effects_at_once_are_found_in_steps_each_on_top_of_the_last() {
     for (l, s) in v.located.iter().zip(laws) {
         assert_eq!(l.on_top_of, s.on_top_of);
     }
+}
+
+/// No located list names the same place, feature and form twice.
+fn assert_no_repeats(v: &swimbot::workbench::diagnose::Verdict) {
+    for (i, a) in v.located.iter().enumerate() {
+        for b in &v.located[i + 1..] {
+            let same = a.place == b.place && a.feature == b.feature && a.form == b.form;
+            assert!(!same, "{} listed twice: {}", a.describe(), v.note);
+        }
+    }
+}
+
+fn drawn_data(truth: &Model, design: &Dataset, seed: u64) -> Dataset {
+    let settings = SynthSettings {
+        seed,
+        ..Default::default()
+    };
+    generate(truth, design, settings).unwrap()
+}
+
+const BODY_FEATURES: &[&str] = &["body_ratio", "body_gap_ratio", "body_over_gap"];
+
+/// Two out-of-catalogue effects at once, both drawn (constants and design:
+/// tests/fixtures/drawn.rs, seed 31). The catalogue's body-correction
+/// takes most of the body law first; backfitting re-locates each step on
+/// top of the others, so both laws end up at their places and the set
+/// reaches the floor without it.
+#[test]
+fn two_drawn_effects_at_once_are_both_placed_after_backfitting() {
+    let seed = 31;
+    let truth = Model::base()
+        .with_effect(drawn::body_law(seed))
+        .with_effect(drawn::shear_law(seed));
+    let data = drawn_data(&truth, &drawn::design(&swimbot::data::paper(), seed), seed);
+    let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
+    let v = &d.verdict;
+    let placed = |place: &str, feats: &[&str]| {
+        v.located
+            .iter()
+            .any(|l| l.place == place && l.feature.is_some_and(|f| feats.contains(&f)))
+    };
+    assert!(placed("body.D_x", BODY_FEATURES), "{}", v.note);
+    assert!(placed("tail.viscosity", &["shear_rate"]), "{}", v.note);
+    assert!(v.steps.iter().all(|s| s.kind == "located"), "{}", v.note);
+    assert!(v.steps.last().unwrap().at_noise_floor, "{}", v.note);
+    assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
+    assert_no_repeats(v);
 }
 
 /// A null never gains a step: base-only data on twenty seeds of the
