@@ -452,3 +452,35 @@ fn the_written_base_is_applied_when_the_effect_is_loaded() {
     let want = json["verdict"]["located"][0]["mare"].as_f64().unwrap();
     assert!((mare - want).abs() < 1e-6 * want, "{mare} vs {want}");
 }
+
+const WALL_FEATURES: &[&str] = &["wire_over_gap", "tail_clearance", "tail_gap_ratio"];
+
+/// Issue 23.5, on a fresh draw (seed 41, tests/fixtures/drawn.rs): a tail
+/// drag rising near the wall is located on the tail with a wall feature
+/// (on `tail.drag`, or on `tail.thrust` falling: in the axial model both
+/// change the ratio of thrust to drag), never on `drive.rate`.
+#[test]
+fn a_tail_drag_rising_near_the_wall_is_placed_on_the_tail() {
+    let seed = 41;
+    let truth = Model::base().with_effect(drawn::tail_wall_drag(seed));
+    let data = drawn_data(&truth, &drawn::design(&swimbot::data::paper(), seed), seed);
+    let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
+    let v = &d.verdict;
+    let l = v.located.first().unwrap_or_else(|| panic!("{}", v.note));
+    assert!(
+        ["tail.drag", "tail.thrust"].contains(&l.place),
+        "{}",
+        v.note
+    );
+    assert!(
+        l.feature.is_some_and(|f| WALL_FEATURES.contains(&f)),
+        "{}",
+        v.note
+    );
+    assert!(
+        v.located.iter().all(|l| l.place != "drive.rate"),
+        "{}",
+        v.note
+    );
+    assert_no_repeats(v);
+}
