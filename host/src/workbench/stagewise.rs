@@ -20,6 +20,9 @@
 //! This is forward stagewise regression over a library of terms; the
 //! charges make a null dataset gain no step.
 //!
+//! A path of two steps or more is then backfitted
+//! ([`super::stagewise_backfit`]): each step re-located on top of the others.
+//!
 //! References: T. Hastie, R. Tibshirani & J. Friedman, *The Elements of
 //! Statistical Learning*, 2nd ed. (2009), sec. 3.3.3 (forward stagewise);
 //! K. P. Burnham & D. R. Anderson (2002), ch. 2 (AICc).
