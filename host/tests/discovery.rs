@@ -13,7 +13,7 @@
 
 use crate::fixtures;
 
-use fixtures::truths;
+use fixtures::{drawn, truths};
 use swimbot::data::Dataset;
 use swimbot::effects::parse_effect_spec;
 use swimbot::model::Model;
@@ -260,6 +260,53 @@ fn two_missing_effects_at_once_are_found_in_steps_each_on_top_of_the_last() {
     }
 }
 
+/// No located list names the same place, feature and form twice.
+fn assert_no_repeats(v: &swimbot::workbench::diagnose::Verdict) {
+    for (i, a) in v.located.iter().enumerate() {
+        for b in &v.located[i + 1..] {
+            let same = a.place == b.place && a.feature == b.feature && a.form == b.form;
+            assert!(!same, "{} listed twice: {}", a.describe(), v.note);
+        }
+    }
+}
+
+fn drawn_data(truth: &Model, design: &Dataset, seed: u64) -> Dataset {
+    let settings = SynthSettings {
+        seed,
+        ..Default::default()
+    };
+    generate(truth, design, settings).unwrap()
+}
+
+const BODY_FEATURES: &[&str] = &["body_ratio", "body_gap_ratio", "body_over_gap"];
+
+/// Two out-of-catalogue effects at once, both drawn (constants and design:
+/// tests/fixtures/drawn.rs, seed 31). The catalogue's body-correction
+/// takes most of the body law first; backfitting re-locates each step on
+/// top of the others, so both laws end up at their places and the set
+/// reaches the floor without it.
+#[test]
+fn two_drawn_effects_at_once_are_both_placed_after_backfitting() {
+    let seed = 31;
+    let truth = Model::base()
+        .with_effect(drawn::body_law(seed))
+        .with_effect(drawn::shear_law(seed));
+    let data = drawn_data(&truth, &drawn::design(&swimbot::data::paper(), seed), seed);
+    let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
+    let v = &d.verdict;
+    let placed = |place: &str, feats: &[&str]| {
+        v.located
+            .iter()
+            .any(|l| l.place == place && l.feature.is_some_and(|f| feats.contains(&f)))
+    };
+    assert!(placed("body.D_x", BODY_FEATURES), "{}", v.note);
+    assert!(placed("tail.viscosity", &["shear_rate"]), "{}", v.note);
+    assert!(v.steps.iter().all(|s| s.kind == "located"), "{}", v.note);
+    assert!(v.steps.last().unwrap().at_noise_floor, "{}", v.note);
+    assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
+    assert_no_repeats(v);
+}
+
 /// A null never gains a step: base-only data on twenty seeds of the
 /// paper's design and four of the rich design.
 #[test]
@@ -404,4 +451,36 @@ fn the_written_base_is_applied_when_the_effect_is_loaded() {
     let mare = cmp["summary"]["mare"].as_f64().unwrap();
     let want = json["verdict"]["located"][0]["mare"].as_f64().unwrap();
     assert!((mare - want).abs() < 1e-6 * want, "{mare} vs {want}");
+}
+
+const WALL_FEATURES: &[&str] = &["wire_over_gap", "tail_clearance", "tail_gap_ratio"];
+
+/// Issue 23.5, on a fresh draw (seed 41, tests/fixtures/drawn.rs): a tail
+/// drag rising near the wall is located on the tail with a wall feature
+/// (on `tail.drag`, or on `tail.thrust` falling: in the axial model both
+/// change the ratio of thrust to drag), never on `drive.rate`.
+#[test]
+fn a_tail_drag_rising_near_the_wall_is_placed_on_the_tail() {
+    let seed = 41;
+    let truth = Model::base().with_effect(drawn::tail_wall_drag(seed));
+    let data = drawn_data(&truth, &drawn::design(&swimbot::data::paper(), seed), seed);
+    let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
+    let v = &d.verdict;
+    let l = v.located.first().unwrap_or_else(|| panic!("{}", v.note));
+    assert!(
+        ["tail.drag", "tail.thrust"].contains(&l.place),
+        "{}",
+        v.note
+    );
+    assert!(
+        l.feature.is_some_and(|f| WALL_FEATURES.contains(&f)),
+        "{}",
+        v.note
+    );
+    assert!(
+        v.located.iter().all(|l| l.place != "drive.rate"),
+        "{}",
+        v.note
+    );
+    assert_no_repeats(v);
 }

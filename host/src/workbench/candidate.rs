@@ -74,7 +74,11 @@ pub fn evaluate(
 
 /// Cross-validated MARE: each case alone (up to ten cases) or ten
 /// interleaved folds; each fold refitted warm from the full-data optimum.
-fn cross_validated_mare(fitted: &Model, data: &Dataset, free: &[super::fit::FreeParam]) -> f64 {
+pub(crate) fn cross_validated_mare(
+    fitted: &Model,
+    data: &Dataset,
+    free: &[super::fit::FreeParam],
+) -> f64 {
     let n = data.cases.len();
     let folds = if n <= 10 { n } else { 10 };
     let mut errs = Vec::new();

@@ -118,29 +118,18 @@ pub fn diagnose(
     let verdict = match &lone_case {
         Some(lone) => super::stagewise_verdict::lone_case_verdict(&baseline, lone),
         None => {
-            let mut v = super::verdict::verdict(
+            let evidence = super::verdict::Evidence {
                 data,
-                &baseline,
-                &ranking,
-                &pairs,
-                discovery.as_ref(),
-                remainder.as_ref(),
-                s,
-            );
+                base: &baseline,
+                ranking: &ranking,
+                pairs: &pairs,
+                discovery: discovery.as_ref(),
+                remainder: remainder.as_ref(),
+            };
+            let mut v = super::verdict::verdict(&evidence, s);
             if s.discover {
                 say("stagewise: searching again on top of each step");
-                let path = super::stagewise::stagewise(
-                    model,
-                    data,
-                    &baseline,
-                    &ranking,
-                    &pairs,
-                    discovery.as_ref(),
-                    remainder.as_ref(),
-                    &v,
-                    &floor,
-                    s,
-                )?;
+                let path = super::stagewise::stagewise(model, &evidence, &v, &floor, s)?;
                 super::stagewise_verdict::conclude(path, &mut v, &baseline);
             }
             super::stagewise_verdict::dedup_located(&mut v.located);

@@ -20,18 +20,20 @@
 //! This is forward stagewise regression over a library of terms; the
 //! charges make a null dataset gain no step.
 //!
+//! A path of two steps or more is then backfitted
+//! ([`super::stagewise_backfit`]): each step re-located on top of the others.
+//!
 //! References: T. Hastie, R. Tibshirani & J. Friedman, *The Elements of
 //! Statistical Learning*, 2nd ed. (2009), sec. 3.3.3 (forward stagewise);
 //! K. P. Burnham & D. R. Anderson (2002), ch. 2 (AICc).
 
 use super::candidate::{candidates, evaluate};
-use super::diagnosis::{
-    Baseline, Candidate, DiagnoseSettings, Remainder, Step, Verdict, VerdictKind,
-};
+use super::diagnosis::{Candidate, DiagnoseSettings, Remainder, Step, Verdict, VerdictKind};
 use super::discovery::write::exact_spec;
 use super::discovery::{aicc, discover, explained_fraction, Discovery, Located, Reference};
 use super::fit::FitError;
 use super::robust::t_deviance_of;
+use super::verdict::Evidence;
 use crate::data::Dataset;
 use crate::effects::EffectInstance;
 use crate::model::Model;
@@ -65,12 +67,12 @@ pub struct Path {
     pub added: usize,
 }
 
-struct Proposal {
-    step: Step,
-    level: Level,
-    located: Option<Located>,
+pub(super) struct Proposal {
+    pub step: Step,
+    pub level: Level,
+    pub located: Option<Located>,
     /// `2 ln M`.
-    charge: f64,
+    pub charge: f64,
 }
 
 impl Proposal {
@@ -93,13 +95,19 @@ fn on_top_of(model: &Model) -> Vec<String> {
     model.effects.iter().map(exact_spec).collect()
 }
 
-fn n_obs(data: &Dataset) -> usize {
+pub(super) fn n_obs(data: &Dataset) -> usize {
     super::noise::error_dofs(data).len()
 }
 
-type Floor<'a> = &'a (dyn Fn(usize) -> Option<f64> + Sync);
+pub(super) type Floor<'a> = &'a (dyn Fn(usize) -> Option<f64> + Sync);
 
-fn step_of(kind: &'static str, name: String, prev: &Level, level: &Level, n: usize) -> Step {
+pub(super) fn step_of(
+    kind: &'static str,
+    name: String,
+    prev: &Level,
+    level: &Level,
+    n: usize,
+) -> Step {
     Step {
         kind,
         name,
@@ -160,19 +168,18 @@ fn from_located(l: &Located, prev: &Level, data: &Dataset, charge: f64) -> Optio
     })
 }
 
-/// The same place, feature and form as a law already in the path.
-fn repeats(l: &Located, path: &[(Step, Level, Option<Located>)]) -> bool {
-    path.iter()
-        .filter_map(|p| p.2.as_ref())
+/// The same place, feature and form as a law already in the model.
+fn repeats(l: &Located, seen: &[Located]) -> bool {
+    seen.iter()
         .any(|o| o.place == l.place && o.feature == l.feature && o.form == l.form)
 }
 
 /// Every proposal on top of `prev`: the located laws and the catalogue
 /// effects not yet in the model.
-fn proposals(
+pub(super) fn proposals(
     prev: &Level,
     data: &Dataset,
-    path: &[(Step, Level, Option<Located>)],
+    seen: &[Located],
     floor: Floor,
     s: &DiagnoseSettings,
     done: Option<&Discovery>,
@@ -198,7 +205,7 @@ fn proposals(
     let mut out: Vec<Proposal> = d
         .located
         .iter()
-        .filter(|l| !repeats(l, path))
+        .filter(|l| !repeats(l, seen))
         .filter_map(|l| from_located(l, prev, data, charge))
         .collect();
     let cands = candidates(&prev.model, s.include_costly);
@@ -222,7 +229,7 @@ fn proposals(
     Ok(out)
 }
 
-fn best_taken(
+pub(super) fn best_taken(
     list: Vec<Proposal>,
     prev: &Level,
     n: usize,
@@ -235,16 +242,8 @@ fn best_taken(
 
 /// The first steps the single-step verdict already chose, or (when it found
 /// nothing at the floor) the best first step that is taken.
-#[allow(clippy::too_many_arguments)]
-fn first_steps(
-    base: &Level,
-    data: &Dataset,
-    ranking: &[Candidate],
-    pairs: &[Candidate],
-    disc: Option<&Discovery>,
-    v: &Verdict,
-    floor: Floor,
-) -> Vec<Proposal> {
+fn first_steps(base: &Level, e: &Evidence, v: &Verdict, floor: Floor) -> Vec<Proposal> {
+    let (data, ranking, pairs, disc) = (e.data, e.ranking, e.pairs, e.discovery);
     let n_cat = ranking.len().max(1) as f64;
     let mut out = Vec::new();
     match v.kind {
@@ -294,20 +293,15 @@ fn first_steps(
     out
 }
 
-/// The stagewise path for `model` on `data` (module docs).
-#[allow(clippy::too_many_arguments)]
+/// The stagewise path for `model` on the evidence's data (module docs).
 pub fn stagewise(
     model: &Model,
-    data: &Dataset,
-    base: &Baseline,
-    ranking: &[Candidate],
-    pairs: &[Candidate],
-    disc: Option<&Discovery>,
-    rem: Option<&Remainder>,
+    e: &Evidence,
     v: &Verdict,
     floor: Floor,
     s: &DiagnoseSettings,
 ) -> Result<Path, FitError> {
+    let (data, base, disc, rem) = (e.data, e.base, e.discovery, e.remainder);
     let base_level = Level {
         model: model.clone(),
         chi2: base.chi2,
@@ -319,14 +313,15 @@ pub fn stagewise(
         at_floor: base.at_noise_floor,
     };
     let mut path: Steps = Vec::new();
-    for p in first_steps(&base_level, data, ranking, pairs, disc, v, floor) {
+    for p in first_steps(&base_level, e, v, floor) {
         path.push((p.step, p.level, p.located));
     }
     let first = path.len();
     extend(&mut path, data, floor, s, rem)?;
-    let restarted = restart_from_last(model, data, &path, floor, s)?;
-    let mut added = path.len() - first;
-    if let Some(alt) = restarted {
+    let laws = disc.map_or(1, |d| d.screened);
+    let backfitted = super::stagewise_backfit::backfit(model, data, &path, floor, s, laws)?;
+    let mut added = path.len().saturating_sub(first);
+    if let Some(alt) = backfitted {
         added = added.max(1);
         path = alt;
     }
@@ -343,7 +338,7 @@ pub fn stagewise(
     Ok(Path { added, steps: path })
 }
 
-type Steps = Vec<(Step, Level, Option<Located>)>;
+pub(super) type Steps = Vec<(Step, Level, Option<Located>)>;
 
 /// Take steps on top of the path's last level while one is taken.
 fn extend(
@@ -363,66 +358,12 @@ fn extend(
         let done = rem.filter(|r| {
             path.len() == 1 && path[0].0.kind == "catalogue" && path[0].0.name == r.effect
         });
-        let list = proposals(&prev, data, path, floor, s, done.map(|r| &r.discovery))?;
+        let seen: Vec<Located> = path.iter().filter_map(|p| p.2.clone()).collect();
+        let list = proposals(&prev, data, &seen, floor, s, done.map(|r| &r.discovery))?;
         let Some(p) = best_taken(list, &prev, n, floor(0)) else {
             break;
         };
         path.push((p.step, p.level, p.located));
     }
     Ok(())
-}
-
-/// Backfitting: the first steps were chosen before the later ones were
-/// known, so a catalogue effect or a law may have absorbed part of what a
-/// later law explains. Restart from the last law found, alone on the
-/// model, and take steps on top of it by the same rules; the restarted
-/// path replaces the first when it reaches the floor with a lower AICc.
-fn restart_from_last(
-    model: &Model,
-    data: &Dataset,
-    path: &Steps,
-    floor: Floor,
-    s: &DiagnoseSettings,
-) -> Result<Option<Steps>, FitError> {
-    let (Some((_, last, Some(law))), true) = (path.last(), path.len() >= 2) else {
-        return Ok(None);
-    };
-    let n = n_obs(data);
-    let inst = law
-        .model
-        .effects
-        .last()
-        .expect("a law's model ends with it")
-        .clone();
-    let m = model.clone().with_effect(inst);
-    let c = evaluate(&m, &[model.effects.len()], data, &floor)?;
-    let mut alone = law.clone();
-    alone.params = c.params.clone();
-    alone.mare = c.mare;
-    alone.cv_mare = c.cv_mare;
-    alone.chi2 = c.chi2;
-    alone.chi2_reduced = c.chi2_reduced;
-    alone.aicc = c.aicc;
-    alone.at_noise_floor = c.at_noise_floor;
-    alone.t_deviance = t_deviance_of(&c.model, data)?;
-    alone.model = c.model;
-    let base = Level {
-        model: model.clone(),
-        chi2: f64::INFINITY,
-        k: 0,
-        mare: f64::INFINITY,
-        cv_mare: f64::INFINITY,
-        chi2_reduced: None,
-        t_deviance: f64::INFINITY,
-        at_floor: false,
-    };
-    let Some(first) = from_located(&alone, &base, data, 0.0) else {
-        return Ok(None);
-    };
-    let mut alt: Steps = vec![(first.step, first.level, first.located)];
-    extend(&mut alt, data, floor, s, None)?;
-    let end = &alt.last().expect("one step").1;
-    let key = |l: &Level| aicc(l.chi2, n, l.k).unwrap_or(f64::INFINITY);
-    let better = end.at_floor && (!last.at_floor || key(end) < key(last));
-    Ok(better.then_some(alt))
 }

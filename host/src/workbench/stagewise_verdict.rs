@@ -7,8 +7,7 @@
 use super::diagnosis::{Baseline, Verdict, VerdictKind};
 use super::discovery::Located;
 use super::stagewise::Path;
-use super::verdict::verdict_of;
-use super::verdict_text::fmt;
+use super::verdict_text::{fmt, verdict_of};
 
 /// Put the path into the verdict: its steps always; when the path goes
 /// beyond the single-step verdict (or is the first thing found), the kind,

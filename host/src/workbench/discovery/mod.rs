@@ -228,13 +228,6 @@ fn refit(
         .expect("just added")
         .values
         .clone();
-    // Rising or falling across the data, judged at the extreme cases.
-    let by_x = |a: &&crate::data::Case, b: &&crate::data::Case| c.x(a).total_cmp(&c.x(b));
-    let lo = data.cases.iter().min_by(by_x).expect("cases");
-    let hi = data.cases.iter().max_by(by_x).expect("cases");
-    let rising = c.value(&values, hi) > c.value(&values, lo);
-    let mean_value =
-        data.cases.iter().map(|k| c.value(&values, k)).sum::<f64>() / data.cases.len() as f64;
     Ok(Located {
         part: c.place.part(),
         target: c.place.target(),
@@ -251,19 +244,32 @@ fn refit(
         aicc: aicc(full.chi2, n, k),
         at_noise_floor: (reference.floor)(k).is_some_and(|f| full.chi2 <= f),
         explained_fraction: explained_fraction(reference.chi2, full.chi2, floor0),
-        interpretation: interpret::interpret_on(
-            c.place,
-            c.feature,
-            rising,
-            mean_value,
-            design_of(c, &values, data),
-        ),
+        interpretation: interpretation_of(c, &values, data),
         non_identifiable: full.non_identifiable.clone(),
         on_top_of: model.effects.iter().map(write::exact_spec).collect(),
         t_deviance: crate::workbench::robust::t_deviance_of(&full.model, data)?,
         model: full.model,
         correction: c,
     })
+}
+
+/// The reading of a law with these values on this design
+/// ([`interpret::interpret_on`]): rising or falling across the data, judged
+/// at the extreme cases of its feature.
+pub fn interpretation_of(c: &LocatedCorrection, values: &[f64], data: &Dataset) -> String {
+    let by_x = |a: &&crate::data::Case, b: &&crate::data::Case| c.x(a).total_cmp(&c.x(b));
+    let lo = data.cases.iter().min_by(by_x).expect("cases");
+    let hi = data.cases.iter().max_by(by_x).expect("cases");
+    let rising = c.value(values, hi) > c.value(values, lo);
+    let mean_value =
+        data.cases.iter().map(|k| c.value(values, k)).sum::<f64>() / data.cases.len() as f64;
+    interpret::interpret_on(
+        c.place,
+        c.feature,
+        rising,
+        mean_value,
+        design_of(c, values, data),
+    )
 }
 
 /// The channel's variation and the law's range over the cases.
