@@ -27,6 +27,7 @@ mod page;
 mod physics_tail;
 mod rate_control;
 mod report;
+mod robust;
 mod sim;
 mod tail_tube;
 mod uncertainty;

@@ -6,8 +6,28 @@ use super::output::{opt, pct, print_csv, print_json, TableJsonCsv};
 use super::CliError;
 use crate::format::{fmt_estimate, fmt_sig, with_unit};
 use crate::workbench::compare::compare;
-use crate::workbench::fit::{fit, free_params_of};
-use clap::Args;
+use crate::workbench::fit::{fit_with, free_params_of};
+use crate::workbench::robust::Likelihood;
+use clap::{Args, ValueEnum};
+
+/// What the fit minimises (workbench::robust::Likelihood).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum LikelihoodArg {
+    /// The Student-t deviance, nu = trials - 1 of each measurement: one bad
+    /// run cannot drag the estimates.
+    StudentT,
+    /// The chi-square (least squares), the nu -> infinity limit.
+    Gaussian,
+}
+
+impl From<LikelihoodArg> for Likelihood {
+    fn from(a: LikelihoodArg) -> Self {
+        match a {
+            LikelihoodArg::StudentT => Likelihood::StudentT,
+            LikelihoodArg::Gaussian => Likelihood::Gaussian,
+        }
+    }
+}
 
 #[derive(Args, Debug)]
 pub struct FitArgs {
@@ -23,6 +43,10 @@ pub struct FitArgs {
     /// calibrated model are `compare --format csv` with the same effects).
     #[arg(long, value_enum, default_value = "table")]
     pub format: TableJsonCsv,
+    /// What the fit minimises: the Student-t deviance (robust to one bad
+    /// run) or the chi-square.
+    #[arg(long, value_enum, default_value = "student-t")]
+    pub likelihood: LikelihoodArg,
 }
 
 pub fn run(a: FitArgs) -> Result<(), CliError> {
@@ -85,7 +109,15 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
             n_obs
         )));
     }
-    let result = fit(&model, &data, only.as_deref(), &free, true).map_err(CliError::input)?;
+    let result = fit_with(
+        &model,
+        &data,
+        only.as_deref(),
+        &free,
+        true,
+        a.likelihood.into(),
+    )
+    .map_err(CliError::input)?;
     let all = compare(&result.model, &data, free.len())
         .map_err(super::model_args::in_data(&a.data.data))?;
     super::output::check_finite("fit", &result)?;
@@ -130,10 +162,17 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
             "  warning: the optimiser did not report convergence; treat the estimates with care"
         );
     }
+    println!("minimised: the {} deviance", result.likelihood);
     println!(
         "chi-square on the calibration cases: {}",
         fmt_sig(result.chi2, 5)
     );
+    if let Some(d) = result.t_deviance {
+        println!(
+            "Student-t deviance on the calibration cases (minimised): {}",
+            fmt_sig(d, 5)
+        );
+    }
     println!(
         "\nerror on all cases with the calibrated model ({}):",
         all.model

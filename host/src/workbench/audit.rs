@@ -18,9 +18,10 @@
 //! 3. **Influence and outliers** ([`super::audit_influence`]): which single
 //!    case drives the best-supported effect or its fitted value; which case
 //!    no candidate fitted on the others can predict; and a case that stands
-//!    alone under the model ([`super::robust`]: the others at the noise
-//!    floor without it, its residual beyond the Student-t threshold), judged
-//!    in measurement standard errors as `diagnose` judges it.
+//!    alone under the model ([`super::robust`]: its residual beyond the
+//!    one-bad-run limit of [`super::outlier`], set at a false-alarm rate of
+//!    1 % per dataset, and the others at the noise floor without it),
+//!    judged in measurement standard errors as `diagnose` judges it.
 //!
 //! Checks 2 and 3 use the measurements with the input uncertainty combined
 //! ([`super::propagate::with_input_uncertainty`]), so that a residual the
@@ -117,7 +118,7 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
             let note = if also {
                 ""
             } else {
-                " (in measurement standard errors; with the inputs' uncertainty combined it is within reach of the model)"
+                " (judged in measurement standard errors; with the inputs' uncertainty combined it is not beyond the limit)"
             };
             flags.push(Flag {
                 case: l.case.clone(),

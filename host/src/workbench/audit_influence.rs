@@ -20,9 +20,10 @@
 //! **Outliers**: a case is an outlier when some candidate fitted without it
 //! reaches the noise floor on the other cases (chi-square below the 95 %
 //! quantile a perfect model shows, [`super::noise`]) and every such
-//! candidate misses the case by more than the two-sided Student-t quantile
-//! at a family-wise 1 % (Bonferroni over all quantities) in combined
-//! standard errors: the others agree with a model, this case with none.
+//! candidate misses the case by more than the limit of the one-bad-run
+//! test ([`super::outlier::limit`], its own Student-t degrees of freedom,
+//! a false-alarm rate of 1 % per dataset) in combined standard errors: the
+//! others agree with a model, this case with none.
 //! When no candidate fits the others, the case cannot be called an outlier
 //! (the model family itself fails) and nothing is flagged for it.
 //!
@@ -84,7 +85,7 @@ struct NoiseFloors {
 
 impl NoiseFloors {
     /// For every case left out and every `k` of `ks`.
-    fn new(data: &Dataset, ks: &[usize], level: f64) -> NoiseFloors {
+    fn new(data: &Dataset, ks: &[usize], n_all: usize) -> NoiseFloors {
         let all = error_dofs(data);
         let keys: HashSet<(DofHistogram, usize)> = data
             .cases
@@ -115,7 +116,13 @@ impl NoiseFloors {
             .collect();
         let limits = trials
             .into_par_iter()
-            .map(|t| (t, crate::stats::student_t_quantile(level, t)))
+            .map(|t| {
+                let nu = f64::from(t.max(2) - 1);
+                (
+                    t,
+                    super::outlier::limit(nu, n_all, super::outlier::FALSE_ALARM),
+                )
+            })
             .collect();
         NoiseFloors { floors, limits }
     }
@@ -253,11 +260,22 @@ pub fn influence_with(
         .collect();
     ks.sort_unstable();
     ks.dedup();
-    let floors = NoiseFloors::new(data, &ks, outlier_level(n_all));
+    let floors = NoiseFloors::new(data, &ks, n_all);
     let all_dofs = error_dofs(data);
     for (i, list) in loo.iter().enumerate() {
         let case = &data.cases[i];
-        let c_i = conclusion(list);
+        let mut c_i = conclusion(list);
+        // A changed conclusion from the one-step approximation is checked
+        // by exact refits before a warning claims it: "clearly best
+        // without this case" must hold by the same criterion on the data
+        // without it.
+        let changed = match &concl {
+            None => c_i.is_some(),
+            Some(x) => c_i.as_ref() != Some(x),
+        };
+        if changed && !exact_loo(method, data) {
+            c_i = exact_conclusion(&fulls, &full, data, i);
+        }
         without_list.push((case.id.clone(), c_i.clone()));
         if let (None, Some(y)) = (&concl, &c_i) {
             flags.push(Flag {
@@ -324,10 +342,38 @@ pub fn influence_with(
     )
 }
 
-/// The two-sided level of the outlier limit: a family-wise 1 %, Bonferroni
-/// over all `n_all` quantities.
-fn outlier_level(n_all: usize) -> f64 {
-    1.0 - 0.01 / n_all.max(1) as f64
+fn exact_loo(method: LooMethod, data: &Dataset) -> bool {
+    match method {
+        LooMethod::Exact => true,
+        LooMethod::OneStep => false,
+        LooMethod::Auto => data.cases.len() <= super::audit_loo::EXACT_MAX_CASES,
+    }
+}
+
+/// The conclusion without case `i`, every candidate refitted exactly from
+/// its full-data fit.
+fn exact_conclusion(
+    fulls: &[FullFit],
+    full: &[Scored],
+    data: &Dataset,
+    i: usize,
+) -> Option<String> {
+    let mut sub = data.clone();
+    sub.cases.remove(i);
+    let n = n_obs(&sub);
+    let list: Vec<Scored> = fulls
+        .par_iter()
+        .zip(full)
+        .filter_map(|(f, s)| {
+            let fit = fit(&f.fit.model, &sub, None, &f.free, false).ok()?;
+            Some(Scored {
+                name: s.name.clone(),
+                aicc: aicc(fit.chi2, n, fit.estimates.len()),
+                fit,
+            })
+        })
+        .collect();
+    conclusion(&list)
 }
 
 /// The outlier check of one case against the candidates fitted without it.

@@ -68,11 +68,8 @@ pub fn diagnose(
         at_noise_floor: floor0.is_some_and(|f| cmp.summary.chi2 <= f),
         t_deviance: super::robust::t_deviance_of(model, data)?,
     };
-    let lone_case = if baseline.at_noise_floor {
-        None
-    } else {
-        super::robust::lone_case(model, data, s.level)?
-    };
+    // Also at the floor: a run beyond the one-bad-run limit is named.
+    let lone_case = super::robust::lone_case(model, data, s.level)?;
     let trends = trends(data, &cmp);
     let base_len = model.effects.len();
     say("fitting the catalogue's effects");

@@ -1,19 +1,30 @@
-//! Weighted least-squares calibration of effect parameters against
-//! measurements: minimise `chi² = sum ((pred - obs) / SE)²` over the free
-//! parameters of the chosen effects, within their bounds.
+//! Calibration of effect parameters against measurements: minimise a
+//! deviance of the normalised residuals `z = (pred - obs) / SE` over the
+//! free parameters of the chosen effects, within their bounds. The
+//! deviance is the [`Likelihood`]'s: the chi-square `sum z²` (Gaussian,
+//! [`fit`]) or the Student-t deviance `sum (nu + 1) ln(1 + z²/nu)`
+//! ([`super::robust`], [`fit_with`]), which one bad run cannot drag.
 //!
-//! The solver is the `levenberg-marquardt` crate (MINPACK's algorithm). It
+//! The solver is the `levenberg-marquardt` crate (MINPACK's algorithm),
+//! given the signed square roots of each residual's deviance (their squares
+//! sum to the deviance, so least squares on them minimises it directly). It
 //! is unconstrained, so each bounded parameter is mapped through a logistic
 //! `p = lo + (hi - lo) / (1 + e^-u)`; the fit runs in `u`. Several starts
 //! (the default, and points across the range) guard against local minima.
-//! The covariance `s² (J^T J)^-1` uses the Jacobian in the physical
-//! parameters, with `s² = max(1, chi²_red)` so that an underfitting model
-//! does not claim precise parameters.
+//! The covariance is `s² (J^T W J)^-1`, `J` the Jacobian of `z` in the
+//! physical parameters, `W` the Fisher information of each residual (1
+//! Gaussian, `(nu + 1)/(nu + 3)` Student-t), and `s²` the larger of the
+//! deviance over its expectation for a perfect model and `chi²_red`, at
+//! least 1, so that an underfitting model does not claim precise
+//! parameters.
 //!
-//! Reference: J. J. Moré, "The Levenberg-Marquardt algorithm:
-//! implementation and theory", Lecture Notes in Math. 630 (1978) 105.
+//! References: J. J. Moré, "The Levenberg-Marquardt algorithm:
+//! implementation and theory", Lecture Notes in Math. 630 (1978) 105;
+//! K. L. Lange, R. J. A. Little & J. M. G. Taylor, J. Am. Stat. Assoc. 84
+//! (1989) 881 (the t likelihood and its information).
 
-use super::compare::case_residuals;
+use super::compare::{case_residuals, Quantity};
+use super::robust::Likelihood;
 use crate::data::{Case, Dataset};
 use crate::model::{Model, ModelError};
 use crate::stats::Residual;
@@ -59,7 +70,13 @@ pub struct Estimate {
 #[derive(Debug, Clone, Serialize)]
 pub struct FitResult {
     pub estimates: Vec<Estimate>,
+    /// The chi-square at the optimum (whatever was minimised).
     pub chi2: f64,
+    /// What was minimised ([`Likelihood::label`]).
+    pub likelihood: String,
+    /// The minimised deviance when it is not the chi-square (the Student-t
+    /// deviance); `None` for a Gaussian fit.
+    pub t_deviance: Option<f64>,
     /// Correlation matrix of the estimates (row-major), when defined.
     pub correlation: Option<Vec<Vec<f64>>>,
     /// Pairs of parameters that the data cannot separate (|r| > 0.95), or
@@ -86,9 +103,10 @@ struct Problem<'a> {
     free: &'a [FreeParam],
     cases: &'a [&'a Case],
     u: DVector<f64>,
+    likelihood: Likelihood,
 }
 
-fn bounds(model: &Model, f: FreeParam) -> (f64, f64) {
+pub(super) fn bounds(model: &Model, f: FreeParam) -> (f64, f64) {
     let spec = model.effects[f.effect].effect.params()[f.param];
     (spec.min, spec.max)
 }
@@ -112,9 +130,35 @@ pub fn residuals(model: &Model, cases: &[&Case]) -> Result<Vec<Residual>, ModelE
     Ok(out)
 }
 
-fn normalised(model: &Model, cases: &[&Case]) -> Option<DVector<f64>> {
+/// Each residual in standard errors with the trials behind its SE.
+pub(super) fn rows(model: &Model, cases: &[&Case]) -> Result<Vec<(f64, u32)>, ModelError> {
+    let mut out = Vec::with_capacity(2 * cases.len());
+    for c in cases {
+        let p = model.predict(c)?;
+        out.extend(case_residuals(c, &p).into_iter().map(|(q, r)| {
+            let m = match q {
+                Quantity::U => c.u_mm_s,
+                Quantity::Omega => c.omega_body_hz,
+            };
+            (r.normalised(), m.map_or(2, |m| m.trials))
+        }));
+    }
+    Ok(out)
+}
+
+pub(super) fn normalised(model: &Model, cases: &[&Case]) -> Option<DVector<f64>> {
     let r = residuals(model, cases).ok()?;
     let v = DVector::from_iterator(r.len(), r.iter().map(Residual::normalised));
+    v.iter().all(|x| x.is_finite()).then_some(v)
+}
+
+/// The pseudo-residuals whose squares sum to the deviance.
+fn scored(model: &Model, cases: &[&Case], lik: Likelihood) -> Option<DVector<f64>> {
+    if lik == Likelihood::Gaussian {
+        return normalised(model, cases);
+    }
+    let r = rows(model, cases).ok()?;
+    let v = DVector::from_iterator(r.len(), r.iter().map(|&(z, t)| lik.pseudo_residual(z, t)));
     v.iter().all(|x| x.is_finite()).then_some(v)
 }
 
@@ -142,11 +186,11 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     }
 
     fn residuals(&self) -> Option<DVector<f64>> {
-        normalised(&self.model, self.cases)
+        scored(&self.model, self.cases, self.likelihood)
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
-        let r0 = normalised(&self.model, self.cases)?;
+        let r0 = scored(&self.model, self.cases, self.likelihood)?;
         let mut j = DMatrix::zeros(r0.len(), self.u.len());
         for i in 0..self.u.len() {
             // Central differences in u; the model is smooth in its parameters.
@@ -156,13 +200,14 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
                 free: self.free,
                 cases: self.cases,
                 u: self.u.clone(),
+                likelihood: self.likelihood,
             };
             probe.u[i] += h;
             probe.apply();
-            let rp = normalised(&probe.model, self.cases)?;
+            let rp = scored(&probe.model, self.cases, self.likelihood)?;
             probe.u[i] -= 2.0 * h;
             probe.apply();
-            let rm = normalised(&probe.model, self.cases)?;
+            let rm = scored(&probe.model, self.cases, self.likelihood)?;
             j.set_column(i, &((rp - rm) / (2.0 * h)));
         }
         // The solver must never see a non-finite Jacobian (it would carry
@@ -201,13 +246,26 @@ fn starts(model: &Model, free: &[FreeParam]) -> Vec<DVector<f64>> {
 }
 
 /// Fit `free` parameters of `model` to the measured cases of `data` (or the
-/// subset `only`); `multi_start` tries several starts.
+/// subset `only`) by least squares (the Gaussian likelihood); `multi_start`
+/// tries several starts.
 pub fn fit(
     model: &Model,
     data: &Dataset,
     only: Option<&[usize]>,
     free: &[FreeParam],
     multi_start: bool,
+) -> Result<FitResult, FitError> {
+    fit_with(model, data, only, free, multi_start, Likelihood::Gaussian)
+}
+
+/// [`fit`] minimising the deviance of `likelihood`.
+pub fn fit_with(
+    model: &Model,
+    data: &Dataset,
+    only: Option<&[usize]>,
+    free: &[FreeParam],
+    multi_start: bool,
+    likelihood: Likelihood,
 ) -> Result<FitResult, FitError> {
     let cases: Vec<&Case> = match only {
         Some(idx) => idx.iter().map(|&i| &data.cases[i]).collect(),
@@ -221,8 +279,13 @@ pub fn fit(
         return Err(FitError::NoData);
     }
     if free.is_empty() {
-        let chi2 = chi2_of(model, &cases)?;
-        return Ok(finish(model.clone(), free, &cases, chi2, true));
+        return Ok(super::fit_uncertainty::finish(
+            model.clone(),
+            free,
+            &cases,
+            likelihood,
+            true,
+        )?);
     }
     let mut best: Option<(Model, f64, bool)> = None;
     let all_starts = starts(model, free);
@@ -237,154 +300,30 @@ pub fn fit(
             free,
             cases: &cases,
             u: u0.clone(),
+            likelihood,
         };
         problem.apply();
         let (solved, report) = LevenbergMarquardt::new()
             .with_patience(200)
             .minimize(problem);
-        let chi2 = match chi2_of(&solved.model, &cases) {
+        let objective = match deviance_of(&solved.model, &cases, likelihood) {
             Ok(c) if c.is_finite() => c,
             _ => continue,
         };
-        if best.as_ref().is_none_or(|b| chi2 < b.1) {
-            best = Some((solved.model, chi2, report.termination.was_successful()));
+        if best.as_ref().is_none_or(|b| objective < b.1) {
+            best = Some((solved.model, objective, report.termination.was_successful()));
         }
     }
-    let (m, chi2, ok) = best.ok_or(FitError::NoFiniteStart)?;
-    Ok(finish(m, free, &cases, chi2, ok))
+    let (m, _, ok) = best.ok_or(FitError::NoFiniteStart)?;
+    Ok(super::fit_uncertainty::finish(
+        m, free, &cases, likelihood, ok,
+    )?)
 }
 
-fn chi2_of(model: &Model, cases: &[&Case]) -> Result<f64, ModelError> {
-    Ok(residuals(model, cases)?
+/// The deviance of `likelihood` (the chi-square for the Gaussian).
+fn deviance_of(model: &Model, cases: &[&Case], lik: Likelihood) -> Result<f64, ModelError> {
+    Ok(rows(model, cases)?
         .iter()
-        .map(|r| r.normalised().powi(2))
+        .map(|&(z, t)| lik.deviance_one(z, t))
         .sum())
-}
-
-/// Uncertainties, correlations and identifiability at the optimum.
-fn finish(
-    model: Model,
-    free: &[FreeParam],
-    cases: &[&Case],
-    chi2: f64,
-    converged: bool,
-) -> FitResult {
-    let n = cases
-        .iter()
-        .map(|c| c.u_mm_s.is_some() as usize + c.omega_body_hz.is_some() as usize)
-        .sum::<usize>();
-    let k = free.len();
-    let jac = if k == 0 {
-        None
-    } else {
-        physical_jacobian(&model, free, cases)
-    };
-    let s2 = if n > k {
-        (chi2 / (n - k) as f64).max(1.0)
-    } else {
-        1.0
-    };
-    let cov = jac.as_ref().and_then(|j| {
-        let jtj = j.transpose() * j;
-        // nalgebra's SVD panics ("Singular value was NaN") on non-finite
-        // input; J^T J overflows when a confidence interval is tiny.
-        if jtj.iter().any(|x| !x.is_finite()) {
-            return None;
-        }
-        let svd = jtj.clone().svd(false, false);
-        let (max, min) = (svd.singular_values.max(), svd.singular_values.min());
-        (min > 1e-12 * max && max > 0.0)
-            .then(|| jtj.try_inverse())
-            .flatten()
-            .map(|inv| inv * s2)
-    });
-    let mut non_identifiable = Vec::new();
-    let label = |f: &FreeParam| {
-        let e = &model.effects[f.effect];
-        format!("{}.{}", e.name(), e.effect.params()[f.param].name)
-    };
-    let correlation = cov
-        .as_ref()
-        .map(|c| {
-            (0..k)
-                .map(|i| {
-                    (0..k)
-                        .map(|j| c[(i, j)] / (c[(i, i)] * c[(j, j)]).sqrt())
-                        .collect::<Vec<f64>>()
-                })
-                .collect::<Vec<_>>()
-        })
-        // A non-finite correlation would reach JSON as `null`: drop it, and
-        // the parameters are reported as not identifiable below.
-        .filter(|r| r.iter().flatten().all(|x| x.is_finite()));
-    if let Some(r) = &correlation {
-        for i in 0..k {
-            for j in 0..i {
-                if r[i][j].abs() > 0.95 {
-                    non_identifiable.push(format!(
-                        "{} and {} (r = {:+.3})",
-                        label(&free[i]),
-                        label(&free[j]),
-                        r[i][j]
-                    ));
-                }
-            }
-        }
-    } else if k > 0 {
-        non_identifiable.push(format!(
-            "{}: the data do not constrain them (singular J^T J)",
-            free.iter().map(label).collect::<Vec<_>>().join(", ")
-        ));
-    }
-    let t95 = 1.96;
-    let estimates = free
-        .iter()
-        .enumerate()
-        .map(|(i, f)| {
-            let e = &model.effects[f.effect];
-            let spec = e.effect.params()[f.param];
-            let v = e.values[f.param];
-            let span = spec.max - spec.min;
-            Estimate {
-                effect: e.name().to_string(),
-                name: spec.name.to_string(),
-                unit: spec.unit.to_string(),
-                value: v,
-                ci95: cov
-                    .as_ref()
-                    .map(|c| t95 * c[(i, i)].sqrt())
-                    .filter(|x| x.is_finite()),
-                at_bound: (v - spec.min).abs() < 1e-6 * span || (spec.max - v).abs() < 1e-6 * span,
-            }
-        })
-        .collect();
-    FitResult {
-        estimates,
-        chi2,
-        correlation,
-        non_identifiable,
-        converged,
-        model,
-    }
-}
-
-/// Jacobian of the normalised residuals in the physical parameters.
-fn physical_jacobian(model: &Model, free: &[FreeParam], cases: &[&Case]) -> Option<DMatrix<f64>> {
-    let r0 = normalised(model, cases)?;
-    let mut j = DMatrix::zeros(r0.len(), free.len());
-    for (i, f) in free.iter().enumerate() {
-        let (lo, hi) = bounds(model, *f);
-        let v = model.effects[f.effect].values[f.param];
-        let h = 1e-6 * (hi - lo).max(v.abs());
-        let shifted = |x: f64| {
-            let mut m = model.clone();
-            m.effects[f.effect].values[f.param] = x;
-            normalised(&m, cases)
-        };
-        // One-sided at a bound, central inside.
-        let (a, b) = ((v - h).max(lo), (v + h).min(hi));
-        let col = (shifted(b)? - shifted(a)?) / (b - a);
-        j.set_column(i, &col);
-    }
-    j.iter().all(|x| x.is_finite()).then_some(j)
 }
