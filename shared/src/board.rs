@@ -91,6 +91,11 @@ pub const DEFAULT_RATE_MHZ: u32 = 1_000;
 /// the 8-sample average spans 160 ms, short against the 1 s cut-off debounce.
 pub const BATTERY_SAMPLE_PERIOD_US: u64 = 20_000;
 
+/// Run log: one record every 100 ms (10 Hz, the minimum) while
+/// the motor may run: 6001 records of 16 bytes for a 10-minute run
+/// (`run_log`).
+pub const LOG_PERIOD_US: u32 = 100_000;
+
 /// Longest sleep between main-loop passes: a pass runs at least this often
 /// (1 kHz) plus the pass's own few microseconds.
 pub const WAKE_PERIOD_US: u32 = 1_000;

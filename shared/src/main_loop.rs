@@ -53,6 +53,8 @@ pub struct PassOutput {
     /// towards (the soft-started, slewed set-point).
     pub rate_mhz: Option<u32>,
     pub reference_mhz: u32,
+    /// The selected set-point (mHz), if any (the run log's).
+    pub set_point_mhz: Option<u32>,
     /// The command decoded in this pass (merged: Off wins).
     pub command: Option<Command>,
     /// A set-point key changed the set-point in this pass: the new one.
@@ -268,6 +270,7 @@ impl<C: MotorControl> MainLoop<C> {
             hall_power: running,
             rate_mhz: running.then(|| self.control.rate_mhz()).flatten(),
             reference_mhz: out.reference_mhz,
+            set_point_mhz: self.control.set_rate(),
             command,
             set_point_changed,
             foreign_frames: self.remote.foreign_frames(),
