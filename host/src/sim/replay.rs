@@ -1,0 +1,56 @@
+//! A run log and a simulation, both ways: the log's set-points and remote
+//! commands as a simulation's schedule and script (`swimbot sim
+//! --set-points-from LOG`, to predict the logged run with the model's tail
+//! load), and a simulated run's records as a log image (`--write-log`),
+//! written by the firmware's own recorder and encoder, which `swimbot log`
+//! reads like the robot's.
+
+use super::rate::RateRun;
+use super::script::{Item, Script, Send};
+use crate::runlog::Trace;
+use swimbot_shared::run_log::{encode, Header, Record, HEADER_LEN, RECORD_LEN};
+use swimbot_shared::KeyMap;
+
+/// The logged run as a simulation's script and set-point schedule. The
+/// log holds the times the robot decoded On and Off; the script sends each
+/// frame that much earlier, so the simulated robot decodes it at the same
+/// time. Other stops (low battery, run-time limit, a fault) are the
+/// simulation's own to reach or not.
+pub fn replay(trace: &Trace, keys: &KeyMap) -> Result<(Script, RateRun), String> {
+    let commands = trace.commands();
+    if !commands.iter().any(|c| c.1) {
+        return Err("the log holds no On command: there is no run to replay".into());
+    }
+    let set_points = trace.set_points();
+    if set_points.is_empty() {
+        return Err("the log holds no set-point: the motor never ran rate-controlled".into());
+    }
+    // The frame's length: from its first edge to its last, after which
+    // the pass decodes it.
+    let on = Script::on_at_zero();
+    let frame_us = on.edges(keys).last().map_or(0, |e| e.1);
+    let items = commands
+        .iter()
+        .map(|&(t_s, is_on)| Item {
+            at_us: ((t_s * 1e6).round() as u64).saturating_sub(frame_us),
+            send: if is_on { Send::On } else { Send::Off },
+        })
+        .collect();
+    Ok((Script { items }, RateRun::new(set_points)))
+}
+
+/// The log image of simulated records (closed, unpaired, nothing dropped).
+pub fn log_image(records: &[Record]) -> Result<Vec<u8>, String> {
+    let header = Header {
+        sample_period_ms: (swimbot_shared::board::LOG_PERIOD_US / 1_000) as u16,
+        record_count: 0,
+        dropped_records: 0,
+        foreign_frames: 0,
+        paired_address: None,
+        flags: swimbot_shared::run_log::image::FLAG_CLOSED,
+    };
+    let mut out = vec![0u8; HEADER_LEN + RECORD_LEN * records.len()];
+    let n = encode(&header, records, &mut out).map_err(|e| format!("{e:?}"))?;
+    out.truncate(n);
+    Ok(out)
+}
