@@ -31,35 +31,72 @@ const MARKED: [&str; 16] = [
 /// At most this many event labels (a key held down repeats).
 const MAX_MARKS: usize = 40;
 
-/// `(t_s, words)` of the events worth marking.
+/// `(t_s, words)` of the events worth marking. A new set-point is marked
+/// too: the robot's keys flag it, a log written by `swimbot sim`
+/// (set-points from a schedule) does not.
 pub fn marks(points: &[LogPoint]) -> Vec<(f64, String)> {
+    let mut before = None;
     points
         .iter()
         .filter_map(|p| {
-            let w: Vec<&str> = p
+            let mut w: Vec<String> = p
                 .events
                 .iter()
-                .copied()
                 .filter(|e| MARKED.contains(e))
+                .map(|e| e.to_string())
                 .collect();
+            if let (Some(f), Some(b)) = (p.set_hz, before) {
+                if f != b {
+                    w.push(format!("set {f} Hz"));
+                }
+            }
+            before = p.set_hz.or(before);
             (!w.is_empty()).then(|| (p.t_s, w.join(", ")))
         })
         .take(MAX_MARKS)
         .collect()
 }
 
-/// A line through the points where `f` has a value.
+/// Lines through the points where `f` has a value, broken where it has
+/// none and across gaps in the log (the robot records only while the motor
+/// may run: a line across an Off would show values nobody measured). Only
+/// the first piece carries the legend label.
 pub fn curve(
     label: &str,
     color: plotters::style::RGBColor,
     points: &[LogPoint],
     f: &dyn Fn(&LogPoint) -> Option<f64>,
-) -> Series {
-    let pts = points
-        .iter()
-        .filter_map(|p| f(p).filter(|y| y.is_finite()).map(|y| (p.t_s, y, 0.0)))
-        .collect();
-    Series::curve(label, color, pts)
+) -> Vec<Series> {
+    let gap_s = 2.5 * sample_period_s(points);
+    let mut pieces: Vec<Vec<(f64, f64, f64)>> = Vec::new();
+    let mut last_t = f64::NEG_INFINITY;
+    let mut open = false;
+    for p in points {
+        match f(p).filter(|y| y.is_finite()) {
+            Some(y) => {
+                if !open || p.t_s - last_t > gap_s {
+                    pieces.push(Vec::new());
+                }
+                if let Some(piece) = pieces.last_mut() {
+                    piece.push((p.t_s, y, 0.0));
+                }
+                (open, last_t) = (true, p.t_s);
+            }
+            None => open = false,
+        }
+    }
+    pieces
+        .into_iter()
+        .enumerate()
+        .map(|(k, pts)| Series::curve(if k == 0 { label } else { "" }, color, pts))
+        .collect()
+}
+
+/// The log's usual spacing: the median interval between records.
+fn sample_period_s(points: &[LogPoint]) -> f64 {
+    let mut d: Vec<f64> = points.windows(2).map(|w| w[1].t_s - w[0].t_s).collect();
+    d.sort_by(f64::total_cmp);
+    d.get(d.len() / 2).copied().unwrap_or(0.1).max(1e-3)
 }
 
 /// The rate panel's series: set-point and band, measured rate, windows,
@@ -68,15 +105,14 @@ pub fn rate_series(trace: &Trace, windows: &[SteadyWindow], label: &str) -> Vec<
     let [c0, _, c2, c3, c4, ..] = PALETTE;
     let pts = &trace.points;
     let band = format!("set-point +-{} %", 100.0 * STEADY_BAND);
-    let mut out = vec![
-        curve("set-point", c3, pts, &|p| p.set_hz).dashed(),
-        curve(&band, c2, pts, &|p| {
-            p.set_hz.map(|f| f * (1.0 + STEADY_BAND))
-        })
-        .dashed(),
-        curve("", c2, pts, &|p| p.set_hz.map(|f| f * (1.0 - STEADY_BAND))).dashed(),
-        curve(label, c0, pts, &|p| p.rate_hz),
-    ];
+    let dashed = |v: Vec<Series>| v.into_iter().map(Series::dashed);
+    let upper = |p: &LogPoint| p.set_hz.map(|f| f * (1.0 + STEADY_BAND));
+    let lower = |p: &LogPoint| p.set_hz.map(|f| f * (1.0 - STEADY_BAND));
+    let mut out: Vec<Series> = dashed(curve("set-point", c3, pts, &|p| p.set_hz))
+        .chain(dashed(curve(&band, c2, pts, &upper)))
+        .chain(dashed(curve("", c2, pts, &lower)))
+        .chain(curve(label, c0, pts, &|p| p.rate_hz))
+        .collect();
     for (k, w) in windows.iter().enumerate() {
         let name = if k == 0 { "steady window (mean)" } else { "" };
         out.push(Series::curve(
@@ -114,11 +150,11 @@ pub fn svg(trace: &Trace, windows: &[SteadyWindow], title: &str) -> Result<Strin
         ),
         (
             panel("duty", ""),
-            vec![curve("PWM duty", c0, pts, &|p| Some(p.duty))],
+            curve("PWM duty", c0, pts, &|p| Some(p.duty)),
         ),
         (
-            panel("cell (V)", "time since power-up (s)"),
-            vec![curve("cell, loaded", c0, pts, &|p| p.cell_v)],
+            panel("cell, loaded (V)", "time since power-up (s)"),
+            curve("battery monitor", c0, pts, &|p| p.cell_v),
         ),
     ];
     stack(title, &panels)

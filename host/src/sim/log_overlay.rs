@@ -10,7 +10,7 @@
 //! load shows in the duty each needed; and in the first start, where the
 //! loop is still learning the line, the rates differ by the load.
 
-use crate::report::plots::{stack, Chart, PALETTE};
+use crate::report::plots::{stack, Chart, Series, PALETTE};
 use crate::runlog::figure::curve;
 use crate::runlog::{LogPoint, SteadyWindow, Trace};
 
@@ -111,25 +111,28 @@ pub fn overlay_svg(
     let panels = vec![
         (
             rate_panel,
-            vec![
-                curve("set-point (log)", c3, pts, &|p| p.set_hz).dashed(),
-                curve("log: measured", c0, pts, &|p| p.rate_hz),
-                curve("sim: measured", c1, spts, &|p| p.rate_hz),
-            ],
+            curve("set-point (log)", c3, pts, &|p| p.set_hz)
+                .into_iter()
+                .map(Series::dashed)
+                .chain(curve("log: measured", c0, pts, &|p| p.rate_hz))
+                .chain(curve("sim: measured", c1, spts, &|p| p.rate_hz))
+                .collect(),
         ),
         (
             panel("duty", ""),
-            vec![
+            [
                 curve("log", c0, pts, &|p| Some(p.duty)),
                 curve("sim", c1, spts, &|p| Some(p.duty)),
-            ],
+            ]
+            .concat(),
         ),
         (
             panel("cell, loaded (V)", "time since power-up (s)"),
-            vec![
+            [
                 curve("log", c0, pts, &|p| p.cell_v),
                 curve("sim", c1, spts, &|p| p.cell_v),
-            ],
+            ]
+            .concat(),
         ),
     ];
     stack(
