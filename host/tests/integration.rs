@@ -27,6 +27,7 @@ mod page;
 mod physics_tail;
 mod rate_control;
 mod report;
+mod run_log;
 mod sim;
 mod tail_tube;
 mod uncertainty;
