@@ -180,3 +180,74 @@ pub fn describe(e: &DecodeError) -> String {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ports_and_files_are_told_apart_by_name() {
+        for port in ["/dev/ttyACM0", "COM3", "/dev/cu.usbmodem1101", "/dev/null"] {
+            assert!(matches!(Source::of(port), Source::Port(_)), "{port}");
+        }
+        for file in ["run.swlog", "COM", "COMX", "logs/COM3.bin"] {
+            assert!(matches!(Source::of(file), Source::File(_)), "{file}");
+        }
+    }
+
+    #[test]
+    fn an_absent_port_is_an_error_naming_it() {
+        let e = read_source(&Source::Port("/dev/ttyACM-none".into())).unwrap_err();
+        assert_eq!(e.source_name, "/dev/ttyACM-none");
+        assert!(e.message.contains("cannot open"), "{e}");
+    }
+}
+
+/// The port's path end to end against a pseudo-terminal standing in for
+/// the robot's CDC port: the request goes out, the image comes back whole.
+#[cfg(all(test, unix))]
+mod port_tests {
+    use super::*;
+    use serialport::SerialPort;
+
+    #[test]
+    fn the_log_request_is_answered_through_a_pseudo_terminal() {
+        let (mut robot, host) = serialport::TTYPort::pair().expect("a pseudo-terminal");
+        let name = host.name().expect("the host side's name");
+        // Held open without the port's lock (a pty whose last slave closes
+        // hangs up), so that `read_source` opens it by name as a user would.
+        let keep = std::fs::File::open(&name).unwrap();
+        drop(host);
+        let image = crate::sim::replay::log_image(&[swimbot_shared::run_log::Record {
+            t_ms: 1_000,
+            set_point_mhz: Some(800),
+            rate_mhz: Some(799),
+            duty_per_10k: 3_000,
+            cell_mv: 3_900,
+            events: swimbot_shared::run_log::Events::ON,
+            fault: None,
+            foreign_frames: 0,
+        }])
+        .unwrap();
+        let answer = image.clone();
+        let (done, host_done) = std::sync::mpsc::channel::<()>();
+        let served = std::thread::spawn(move || {
+            robot.set_timeout(Duration::from_secs(5)).unwrap();
+            let mut req = [0u8; 4];
+            robot.read_exact(&mut req).unwrap();
+            robot.write_all(&answer).unwrap();
+            robot.flush().unwrap();
+            // Held until the host has read: a closed pty hangs up first.
+            let _ = host_done.recv_timeout(Duration::from_secs(30));
+            req
+        });
+        let got = read_source(&Source::Port(name));
+        done.send(()).unwrap();
+        assert_eq!(&served.join().unwrap(), b"LOG\n");
+        let (log, bytes) = got.expect("the log");
+        assert_eq!(bytes, image);
+        assert_eq!(log.records.len(), 1);
+        assert_eq!(log.records[0].rate_mhz, Some(799));
+        drop(keep);
+    }
+}

@@ -91,3 +91,56 @@ pub fn dataset_toml(base: &Case, pooled: &[Pooled], source: &str) -> String {
     }
     head + "\n" + &to_toml(&data)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::runlog::steady::SteadyWindow;
+
+    fn window(set: f64, turns: Vec<f64>) -> SteadyWindow {
+        let (mean_hz, ci_hz) = crate::stats::mean_and_ci(&turns, CONFIDENCE);
+        SteadyWindow {
+            from_s: 0.0,
+            to_s: 10.0,
+            set_hz: set,
+            turn_means_hz: turns,
+            mean_hz,
+            ci_hz,
+            mean_duty: 0.3,
+            mean_cell_v: None,
+        }
+    }
+
+    #[test]
+    fn the_video_uncertainty_gives_way_to_the_logs_standard_error() {
+        let paper = crate::data::paper();
+        let base = &paper.cases[2];
+        assert!(
+            base.inputs.standard(base, "frequency_hz") > 0.01,
+            "the paper's 2 %"
+        );
+        let w = [window(0.8, vec![0.79, 0.80, 0.81, 0.80])];
+        let pooled = super::super::steady::pool(&w);
+        let cases = cases(base, &pooled);
+        let c = &cases[0];
+        assert_eq!(c.id, format!("{}@0.800Hz", base.id));
+        assert!((c.frequency_hz - 0.8).abs() < 1e-12);
+        // sd 0.00816 over 4 turns: standard error 0.00408.
+        let u = c.inputs.standard(c, "frequency_hz");
+        assert!((u - 0.008165 / 2.0).abs() < 1e-5, "{u}");
+        assert_eq!(c.wavelength_mm, base.wavelength_mm);
+        assert!(c.u_mm_s.is_none() && c.omega_body_hz.is_none());
+        // What is written parses back to the same numbers.
+        let text = dataset_toml(base, &pooled, "test");
+        let back = crate::data::parse_str(&text, "trials.toml").unwrap();
+        assert_eq!(back.cases[0].frequency_hz, c.frequency_hz);
+        assert!(
+            (back.cases[0]
+                .inputs
+                .standard(&back.cases[0], "frequency_hz")
+                - u)
+                .abs()
+                < 1e-15
+        );
+    }
+}

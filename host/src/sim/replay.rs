@@ -54,3 +54,75 @@ pub fn log_image(records: &[Record]) -> Result<Vec<u8>, String> {
     out.truncate(n);
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::runlog::LogPoint;
+    use crate::sim::{default_robot, simulate_with, Options};
+    use swimbot_shared::Event;
+
+    fn point(t_s: f64, set: f64, events: Vec<&'static str>) -> LogPoint {
+        LogPoint {
+            t_s,
+            set_hz: Some(set),
+            rate_hz: None,
+            duty: 0.3,
+            cell_v: Some(3.9),
+            events,
+        }
+    }
+
+    #[test]
+    fn the_replayed_robot_decodes_the_commands_when_the_logged_one_did() {
+        let trace = Trace {
+            points: vec![
+                point(1.0, 0.8, vec!["On", "started"]),
+                point(1.1, 0.8, vec![]),
+                point(2.0, 1.2, vec![]),
+                point(3.0, 1.2, vec!["Off", "stopped (Off)"]),
+            ],
+            dropped_records: 0,
+            sample_period_s: 0.1,
+        };
+        let robot = default_robot();
+        let (script, run) = replay(&trace, &robot.keys).unwrap();
+        assert_eq!(run.set_points, vec![(0, 0.8), (2_000_000, 1.2)]);
+        let opts = Options {
+            tail: 2,
+            max_time_s: 4.0,
+            stop_at_top: false,
+            ..Options::default()
+        };
+        let o = simulate_with(&robot, &script, &opts, Some(&run)).unwrap();
+        let started = o.events.iter().find(|e| e.1 == Event::Started).unwrap().0;
+        let stopped = o
+            .events
+            .iter()
+            .find(|e| matches!(e.1, Event::Stopped(_)))
+            .unwrap()
+            .0;
+        // One 1 ms pass of slack: the frame's last edge, then the pass.
+        assert!((started - 1.0).abs() <= 0.0015, "{started}");
+        assert!((stopped - 3.0).abs() <= 0.0015, "{stopped}");
+    }
+
+    #[test]
+    fn a_log_without_a_run_cannot_be_replayed() {
+        let trace = Trace {
+            points: vec![point(1.0, 0.8, vec![])],
+            dropped_records: 0,
+            sample_period_s: 0.1,
+        };
+        let e = replay(&trace, &default_robot().keys).unwrap_err();
+        assert!(e.contains("no On"), "{e}");
+    }
+
+    #[test]
+    fn the_log_band_is_the_step_responses_band() {
+        assert_eq!(
+            crate::runlog::STEADY_BAND,
+            super::super::step_response::SETTLE_BAND
+        );
+    }
+}
