@@ -6,7 +6,7 @@
 use super::model_args::{load_data, ModelArgs};
 use super::CliError;
 use crate::physics::solve::Dofs;
-use crate::runlog::{read_source, RunLog, Source, Trace};
+use crate::runlog::{read_source, Source, Trace};
 use crate::sim::{
     self, calibrate, log_overlay, output, rate_figure, replay, Options, RateRun, Robot, Script,
     SimError,
@@ -263,15 +263,8 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
     }
     let mut notes = Vec::new();
     if let Some((log, _, _)) = &replayed {
-        let sim_trace = sim_log_trace(&outcome);
-        let windows = crate::runlog::steady_windows(log);
-        let (steady, all) = log_overlay::compare(log, &windows, &sim_trace);
-        notes = vec![
-            log_overlay::describe("in the log's steady windows", &steady),
-            log_overlay::describe("every record with both rates", &all),
-        ];
-        let svg = log_overlay::overlay_svg(log, &sim_trace, &outcome.tail_id, &notes)
-            .map_err(|e| CliError::failure(format!("drawing the overlay: {e}")))?;
+        let svg;
+        (svg, notes) = overlay(log, &outcome)?;
         files.push((
             args.output.join("log-vs-sim.svg"),
             provenance.into_svg(&svg).into_bytes(),
@@ -319,18 +312,16 @@ fn replayed_log(src: &str, robot: &Robot) -> Result<(Trace, Script, RateRun), Cl
     Ok((trace, script, run))
 }
 
-/// The simulated run as the robot would log it.
-fn sim_log_trace(o: &sim::Outcome) -> Trace {
-    let header = swimbot_shared::run_log::Header {
-        sample_period_ms: (swimbot_shared::board::LOG_PERIOD_US / 1_000) as u16,
-        record_count: o.log_records.len() as u32,
-        dropped_records: 0,
-        foreign_frames: 0,
-        paired_address: None,
-        flags: 0,
-    };
-    Trace::of(&RunLog {
-        header,
-        records: o.log_records.clone(),
-    })
+/// The logged run and its simulation overlaid, and their differences.
+fn overlay(log: &Trace, outcome: &sim::Outcome) -> Result<(String, Vec<String>), CliError> {
+    let sim_trace = replay::log_trace(&outcome.log_records);
+    let windows = crate::runlog::steady_windows(log);
+    let (steady, all) = log_overlay::compare(log, &windows, &sim_trace);
+    let notes = vec![
+        log_overlay::describe("in the log's steady windows", &steady),
+        log_overlay::describe("every record with both rates", &all),
+    ];
+    let svg = log_overlay::overlay_svg(log, &sim_trace, &outcome.tail_id, &notes)
+        .map_err(|e| CliError::failure(format!("drawing the overlay: {e}")))?;
+    Ok((svg, notes))
 }

@@ -7,7 +7,7 @@
 
 use super::rate::RateRun;
 use super::script::{Item, Script, Send};
-use crate::runlog::Trace;
+use crate::runlog::{RunLog, Trace};
 use swimbot_shared::run_log::{encode, Header, Record, HEADER_LEN, RECORD_LEN};
 use swimbot_shared::KeyMap;
 
@@ -39,16 +39,30 @@ pub fn replay(trace: &Trace, keys: &KeyMap) -> Result<(Script, RateRun), String>
     Ok((Script { items }, RateRun::new(set_points)))
 }
 
-/// The log image of simulated records (closed, unpaired, nothing dropped).
-pub fn log_image(records: &[Record]) -> Result<Vec<u8>, String> {
-    let header = Header {
+/// The header of a simulated log: the board's period, closed, unpaired,
+/// nothing dropped, no foreign remote.
+fn header(records: &[Record]) -> Header {
+    Header {
         sample_period_ms: (swimbot_shared::board::LOG_PERIOD_US / 1_000) as u16,
-        record_count: 0,
+        record_count: u32::try_from(records.len()).unwrap_or(u32::MAX),
         dropped_records: 0,
         foreign_frames: 0,
         paired_address: None,
         flags: swimbot_shared::run_log::image::FLAG_CLOSED,
-    };
+    }
+}
+
+/// A simulated run as the robot would log it.
+pub fn log_trace(records: &[Record]) -> Trace {
+    Trace::of(&RunLog {
+        header: header(records),
+        records: records.to_vec(),
+    })
+}
+
+/// The log image of simulated records.
+pub fn log_image(records: &[Record]) -> Result<Vec<u8>, String> {
+    let header = header(records);
     let mut out = vec![0u8; HEADER_LEN + RECORD_LEN * records.len()];
     let n = encode(&header, records, &mut out).map_err(|e| format!("{e:?}"))?;
     out.truncate(n);
