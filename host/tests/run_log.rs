@@ -125,3 +125,51 @@ fn bad_logs_are_input_errors_naming_the_file() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("none.swlog"), "{}", stderr(&o));
 }
+
+/// The log's steady rate against the simulated motor's true rate over the
+/// same windows, on a tail and noise draw nothing was tuned to: the
+/// interval written covers the truth.
+#[test]
+fn the_logged_rate_and_its_interval_cover_the_true_rate() {
+    use swimbot::robot::hall::SensorNoise;
+    use swimbot::sim::{default_robot, replay, simulate_with, Options, RateRun, Script};
+    let mut robot = default_robot();
+    let t = &mut robot.tails[0];
+    (t.id, t.wavelength_mm, t.amplitude_mm, t.length_mm) = ("fresh".into(), 11.0, 3.5, 100.0);
+    t.observed_f_hz = None;
+    let mut run = RateRun::new(vec![(0, 0.7), (20_000_000, 1.1)]);
+    run.noise = SensorNoise {
+        pitch_error_deg: 3.0,
+        seed: 4_242,
+        ..SensorNoise::TYPICAL
+    };
+    let opts = Options {
+        tail: 0,
+        max_time_s: 40.0,
+        stop_at_top: false,
+        ..Options::default()
+    };
+    let o = simulate_with(&robot, &Script::on_at_zero(), &opts, Some(&run)).unwrap();
+    let windows = swimbot::runlog::steady_windows(&replay::log_trace(&o.log_records));
+    assert_eq!(windows.len(), 2, "{windows:?}");
+    for w in &windows {
+        // The first turn mean covers the turn before the window's start.
+        let from = w.from_s - 1.0 / w.set_hz;
+        let truth: Vec<f64> = o
+            .rate_trace
+            .iter()
+            .filter(|p| p.t_s > from && p.t_s <= w.to_s)
+            .map(|p| p.motor_rate_hz)
+            .collect();
+        let true_mean = truth.iter().sum::<f64>() / truth.len() as f64;
+        eprintln!(
+            "{:.1}-{:.1} s: log {:.5} +- {:.5} Hz, true {:.5} Hz",
+            w.from_s, w.to_s, w.mean_hz, w.ci_hz, true_mean
+        );
+        assert!(
+            (w.mean_hz - true_mean).abs() <= w.ci_hz,
+            "{w:?}: {true_mean}"
+        );
+        assert!(w.ci_hz < 0.01 * w.set_hz, "{w:?}");
+    }
+}
