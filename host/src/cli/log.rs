@@ -6,7 +6,7 @@
 
 use super::model_args::load_data;
 use super::CliError;
-use crate::runlog::steady::{pool, Pooled, CONFIDENCE, MIN_TURNS};
+use crate::runlog::steady::{pool, show_rate, Pooled, CONFIDENCE, MIN_TURNS};
 use crate::runlog::{figure, read_source, steady_windows, trials, Source, SteadyWindow, Trace};
 use clap::Args;
 use std::fmt::Write as _;
@@ -150,12 +150,11 @@ fn summary(
     for w in windows {
         let _ = writeln!(
             s,
-            "  {:>7.1}-{:<7.1} s  set {:.3} Hz  rate {:.4} +- {:.4} Hz ({} turns)  duty {:.1} %",
+            "  {:>7.1}-{:<7.1} s  set {:.3} Hz  rate {} ({} turns)  duty {:.1} %",
             w.from_s,
             w.to_s,
             w.set_hz,
-            w.mean_hz,
-            w.ci_hz,
+            show_rate(w.mean_hz, w.ci_hz),
             w.turn_means_hz.len(),
             100.0 * w.mean_duty
         );
@@ -163,10 +162,9 @@ fn summary(
     for p in pooled {
         let _ = writeln!(
             s,
-            "set-point {:.3} Hz: {:.4} +- {:.4} Hz over {} turns in {} window(s)",
+            "set-point {:.3} Hz: {} over {} turns in {} window(s)",
             p.set_hz,
-            p.mean_hz,
-            p.ci_hz,
+            show_rate(p.mean_hz, p.ci_hz),
             p.turns,
             p.windows.len()
         );

@@ -147,6 +147,21 @@ pub fn pool(windows: &[SteadyWindow]) -> Vec<Pooled<'_>> {
         .collect()
 }
 
+/// `mean +- ci Hz`: the interval to two significant figures and the mean
+/// to the interval's last digit (at least 0.1 mHz), so a small interval
+/// never reads as a zero one.
+pub fn show_rate(mean_hz: f64, ci_hz: f64) -> String {
+    let decimals = if ci_hz > 0.0 && ci_hz.is_finite() {
+        (1 - ci_hz.log10().floor() as i32).clamp(4, 9) as usize
+    } else {
+        4
+    };
+    format!(
+        "{mean_hz:.decimals$} +- {} Hz",
+        crate::format::fmt_sig(ci_hz, 2)
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

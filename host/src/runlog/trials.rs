@@ -11,7 +11,7 @@
 //! converted to the lab frame once the body's counter-rotation is measured
 //! (`f_lab = f_motor - omega_body`), as the paper's f is.
 
-use super::steady::{Pooled, CONFIDENCE};
+use super::steady::{show_rate, Pooled, CONFIDENCE};
 use crate::data::uncertainty::Uncertainty;
 use crate::data::{to_toml, Case, Dataset};
 use crate::stats::student_t_quantile;
@@ -64,11 +64,10 @@ pub fn dataset_toml(base: &Case, pooled: &[Pooled], source: &str) -> String {
     for p in pooled {
         let _ = writeln!(
             head,
-            "#\n# case {}: set-point {} Hz, {:.4} Hz +- {:.4} Hz ({} % CI, {} turns, {} window(s))",
+            "#\n# case {}: set-point {} Hz, {} ({} % CI, {} turns, {} window(s))",
             case_id(&base.id, p.set_hz),
             p.set_hz,
-            p.mean_hz,
-            p.ci_hz,
+            show_rate(p.mean_hz, p.ci_hz),
             100.0 * CONFIDENCE,
             p.turns,
             p.windows.len()
@@ -76,12 +75,11 @@ pub fn dataset_toml(base: &Case, pooled: &[Pooled], source: &str) -> String {
         for (k, w) in p.windows.iter().enumerate() {
             let _ = writeln!(
                 head,
-                "#   trial {}: {:.1}-{:.1} s, {:.4} +- {:.4} Hz over {} turns, duty {:.1} %{}",
+                "#   trial {}: {:.1}-{:.1} s, {} over {} turns, duty {:.1} %{}",
                 k + 1,
                 w.from_s,
                 w.to_s,
-                w.mean_hz,
-                w.ci_hz,
+                show_rate(w.mean_hz, w.ci_hz),
                 w.turn_means_hz.len(),
                 100.0 * w.mean_duty,
                 w.mean_cell_v
