@@ -82,10 +82,7 @@ impl LearnedLine {
                 u32::from(cfg.line.intercept_mv).min(at.mv)
             };
         }
-        let rise = i64::from(at.mv) - i64::from(self.intercept_mv);
-        let g = rise * 1_000 * ONE
-            / (i64::from(at.rate_mhz) * i64::from(cfg.line.slope_mv_per_hz)).max(1);
-        self.set_gain(cfg, g);
+        self.through(cfg, at);
     }
 
     /// The line through two points (`a` the earlier, lower one), if they
@@ -101,10 +98,16 @@ impl LearnedLine {
         self.intercept_mv = intercept as u32;
         self.intercept_known = true;
         // The slope through `b` with the clamped intercept.
-        let g = (i64::from(b.mv) - intercept) * 1_000 * ONE
-            / (i64::from(b.rate_mhz) * i64::from(cfg.line.slope_mv_per_hz)).max(1);
-        self.set_gain(cfg, g);
+        self.through(cfg, b);
         true
+    }
+
+    /// `g` for the line through `at` with the intercept in use.
+    fn through(&mut self, cfg: &RateConfig, at: LinePoint) {
+        let rise = i64::from(at.mv) - i64::from(self.intercept_mv);
+        let g = rise * 1_000 * ONE
+            / (i64::from(at.rate_mhz) * i64::from(cfg.line.slope_mv_per_hz)).max(1);
+        self.set_gain(cfg, g);
     }
 
     /// The PI's integral action on `g`: `g <- g (1 + k_i e steps / E)`.
