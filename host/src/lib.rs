@@ -15,6 +15,7 @@ pub mod progress;
 pub mod provenance;
 pub mod report;
 pub mod robot;
+pub mod runlog;
 pub mod sim;
 pub mod stats;
 pub mod workbench;

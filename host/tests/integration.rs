@@ -28,6 +28,7 @@ mod physics_tail;
 mod rate_control;
 mod report;
 mod robust;
+mod run_log;
 mod sim;
 mod tail_tube;
 mod uncertainty;

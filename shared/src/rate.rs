@@ -23,6 +23,7 @@
 
 pub mod control;
 pub mod hall;
+pub mod line;
 #[cfg(test)]
 mod props;
 

@@ -14,6 +14,7 @@ mod finite;
 mod fit;
 mod helix;
 mod help_lint;
+mod log;
 mod model_args;
 mod output;
 mod output_guard;
@@ -70,6 +71,8 @@ pub enum Command {
     Body(body::BodyArgs),
     /// A dataset from CSV to TOML or back, losslessly (docs/data-format.md).
     Convert(convert::ConvertArgs),
+    /// The robot's run log (file or USB port): steady windows, a dataset's trials, the trace figure.
+    Log(log::LogArgs),
 }
 
 /// Run a parsed command line. A run that fails (or is interrupted by
@@ -106,5 +109,6 @@ fn dispatch(cli: Cli) -> Result<(), CliError> {
         Command::Sim(a) => sim::run(a),
         Command::Body(a) => body::run(a),
         Command::Convert(a) => convert::run(a),
+        Command::Log(a) => log::run(a),
     }
 }

@@ -6,7 +6,11 @@
 use super::model_args::{load_data, ModelArgs};
 use super::CliError;
 use crate::physics::solve::Dofs;
-use crate::sim::{self, calibrate, output, rate_figure, Options, RateRun, Robot, Script, SimError};
+use crate::runlog::{read_source, Source, Trace};
+use crate::sim::{
+    self, calibrate, log_overlay, output, rate_figure, replay, Options, RateRun, Robot, Script,
+    SimError,
+};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -46,6 +50,12 @@ pub struct SimArgs {
     /// Hold the motor's rate (tail relative to body, Hz) at set-points: 0.8, or 0.6@0s,0.9@20s; also writes rate.csv and rate.svg (the step responses) [default: none, the fixed motor voltage of the robot file].
     #[arg(long, value_name = "HZ[@TIME],...")]
     pub rate_hz: Option<String>,
+    /// Replay a run log's set-points and On/Off (a saved image or the robot's port) and predict its trace with the model's tail load; also writes log-vs-sim.svg, the two overlaid, and prints their difference [default: none, --script and --rate-hz].
+    #[arg(long, value_name = "LOG", conflicts_with_all = ["rate_hz", "script", "script_file"])]
+    pub set_points_from: Option<String>,
+    /// Also write the run's log image, taken by the firmware's own recorder (what `swimbot log` reads) [default: none].
+    #[arg(long, value_name = "FILE")]
+    pub write_log: Option<PathBuf>,
     /// Keep going past the channel's top (the height then exceeds the channel).
     #[arg(long)]
     pub no_stop_at_top: bool,
@@ -179,7 +189,12 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         return Ok(());
     }
     let tail = tail_index(&robot, &args.tail)?;
+    let replayed = match &args.set_points_from {
+        Some(src) => Some(replayed_log(src, &robot)?),
+        None => None,
+    };
     let script = match (&args.script, &args.script_file) {
+        _ if replayed.is_some() => replayed.as_ref().map(|r| r.1.clone()).unwrap_or_default(),
         (Some(s), _) => Script::parse(s).map_err(SimError::from)?,
         (None, Some(p)) => {
             let text = std::fs::read_to_string(p).map_err(|e| {
@@ -197,14 +212,26 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
     }
     check_times(&args)?;
     super::output::check_output_dir(&args.output)?;
+    if let Some(p) = &args.write_log {
+        super::output::check_output_file(p)?;
+    }
+    // A replay ends with the log (a second after its last record) unless
+    // the simulated robot stops first.
+    let max_time_s = replayed.as_ref().map_or(args.max_time_s, |(log, _, _)| {
+        let end = log.points.last().map_or(0.0, |p| p.t_s) + 1.0;
+        args.max_time_s.min(end)
+    });
     let opts = Options {
         tail,
-        max_time_s: args.max_time_s,
+        max_time_s,
         sample_every_s: args.sample_every_s,
         stop_at_top: !args.no_stop_at_top,
         ..Options::default()
     };
-    let rate = rate_run(&args)?;
+    let rate = match &replayed {
+        Some(r) => Some(r.2.clone()),
+        None => rate_run(&args)?,
+    };
     let outcome = sim::simulate_with(&robot, &script, &opts, rate.as_ref())?;
     check_finite(&outcome)?;
     // Every file is produced in memory first and renamed into place
@@ -234,8 +261,24 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
             provenance.into_svg(&rate_svg).into_bytes(),
         ));
     }
+    let mut notes = Vec::new();
+    if let Some((log, _, _)) = &replayed {
+        let svg;
+        (svg, notes) = overlay(log, &outcome)?;
+        files.push((
+            args.output.join("log-vs-sim.svg"),
+            provenance.into_svg(&svg).into_bytes(),
+        ));
+    }
+    if let Some(p) = &args.write_log {
+        let image = replay::log_image(&outcome.log_records).map_err(CliError::failure)?;
+        files.push((p.clone(), image));
+    }
     super::output::write_all_atomically(&files)?;
     print!("{}", output::summary(&robot, &outcome));
+    for n in &notes {
+        println!("log vs sim, {n}");
+    }
     if rate.is_some() {
         print!("{}", output::rate_summary(&outcome));
     }
@@ -254,4 +297,31 @@ fn rate_run(args: &SimArgs) -> Result<Option<RateRun>, CliError> {
     run.check()
         .map_err(|e| CliError::input(format!("--rate-hz: {e}")))?;
     Ok(Some(run))
+}
+
+/// A run log's trace, and its commands and set-points as a script and a
+/// schedule for the board's controller.
+fn replayed_log(src: &str, robot: &Robot) -> Result<(Trace, Script, RateRun), CliError> {
+    let source = Source::of(src);
+    let (log, _) = read_source(&source).map_err(CliError::input)?;
+    let trace = Trace::of(&log);
+    let (script, run) = replay::replay(&trace, &robot.keys)
+        .map_err(|e| CliError::input(format!("{}: {e}", source.name())))?;
+    run.check()
+        .map_err(|e| CliError::input(format!("--set-points-from {}: {e}", source.name())))?;
+    Ok((trace, script, run))
+}
+
+/// The logged run and its simulation overlaid, and their differences.
+fn overlay(log: &Trace, outcome: &sim::Outcome) -> Result<(String, Vec<String>), CliError> {
+    let sim_trace = replay::log_trace(&outcome.log_records);
+    let windows = crate::runlog::steady_windows(log);
+    let (steady, all) = log_overlay::compare(log, &windows, &sim_trace);
+    let notes = vec![
+        log_overlay::describe("in the log's steady windows", &steady),
+        log_overlay::describe("every record with both rates", &all),
+    ];
+    let svg = log_overlay::overlay_svg(log, &sim_trace, &outcome.tail_id, &notes)
+        .map_err(|e| CliError::failure(format!("drawing the overlay: {e}")))?;
+    Ok((svg, notes))
 }

@@ -42,6 +42,7 @@ use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use std::f64::consts::TAU;
 use swimbot_shared::rate::{RateEvent, SensorFault};
+use swimbot_shared::run_log::Recorder;
 use swimbot_shared::{
     Controller, Event, MainLoop, MainLoopConfig, MotorControl, MotorState as State, StopReason,
 };
@@ -157,6 +158,8 @@ pub fn simulate_with(
     let mut last_stop_s = f64::NEG_INFINITY;
     let mut ticks = 0u64;
     let mut battery_readings = Vec::new();
+    let mut recorder = Recorder::new(swimbot_shared::board::LOG_PERIOD_US);
+    let mut log_records = Vec::new();
     let sample_now =
         |t_us: u64, duty: f64, v: (f64, f64), i_s: f64, s: &MotorState, h: f64, q: f64, state| {
             let vel = hydro.velocity(s.speed_rad_s);
@@ -206,6 +209,7 @@ pub fn simulate_with(
             }
         };
         let out = main_loop.pass(t_us, tick_edges, hall_queue.drain(..), read_adc);
+        log_records.extend(recorder.observe(t_us, &out));
         let t_s = t_us as f64 * 1e-6;
         if let Some(f) = out.fault {
             rate_faults.push((t_s, RateEvent::Fault(f)));
@@ -348,6 +352,7 @@ pub fn simulate_with(
         rate_faults,
         rate_trace,
         battery_readings,
+        log_records,
     })
 }
 

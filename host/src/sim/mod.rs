@@ -12,6 +12,7 @@ pub mod drive;
 pub mod dynamics;
 pub mod figure;
 pub mod hydro;
+pub mod log_overlay;
 pub mod outcome;
 pub mod output;
 #[cfg(test)]
@@ -19,6 +20,7 @@ mod pass_tests;
 pub mod rate;
 pub mod rate_figure;
 mod raw;
+pub mod replay;
 pub mod robot;
 mod robot_limits;
 pub mod script;

@@ -101,4 +101,7 @@ pub struct Outcome {
     pub rate_faults: Vec<(f64, RateEvent)>,
     /// Every battery reading the pass took: its time (us) and ADC counts.
     pub battery_readings: Vec<(u64, u16)>,
+    /// The run log the robot would keep: the firmware's own recorder
+    /// (`swimbot_shared::run_log::Recorder`) fed every pass.
+    pub log_records: Vec<swimbot_shared::run_log::Record>,
 }

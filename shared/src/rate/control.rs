@@ -43,6 +43,7 @@
 //! voltages in mV, `g` and the gains in units of 1/65536.
 
 use super::hall::{RateEstimator, SensorFault};
+use super::line::{LearnedLine, LinePoint};
 use crate::battery::BatteryStatus;
 use crate::command::Command;
 use crate::controller::{Controller, ControllerConfig, Duty, Event, MotorState};
@@ -62,7 +63,13 @@ pub struct MotorLine {
 pub struct RateConfig {
     /// On/off, soft-start length, duty clamp and run-time limit.
     pub motor: ControllerConfig,
+    /// The nominal line: the first start's voltage (from below: the
+    /// lightest load's slope) and the intercept until one is measured.
     pub line: MotorLine,
+    /// The highest plausible intercept (mV): what the first identification
+    /// assumes while the intercept is unknown, so that it lands below the
+    /// set-point (`rate::line`).
+    pub intercept_max_mv: u16,
     /// Proportional gain on the relative error, 1/65536 units (< 65536).
     pub kp_q16: u32,
     /// Integral gain per turn, 1/65536 units (<= 65536).
@@ -96,6 +103,7 @@ impl RateConfig {
             intercept_mv: 175,
             slope_mv_per_hz: 700,
         },
+        intercept_max_mv: 300,
         kp_q16: 1 << 15,
         ki_per_turn_q16: 1 << 16,
         gain_min_q16: 1 << 14,
@@ -142,7 +150,11 @@ pub struct RateController {
     cfg: RateConfig,
     set_mhz: Option<u32>,
     ref_mhz: u32,
-    gain_q16: u32,
+    line: LearnedLine,
+    /// The voltage asked at the last step, and the first identification's
+    /// point while a secant is pending.
+    held_mv: u32,
+    first_point: Option<LinePoint>,
     /// When the reference last changed (timer low word) and when the run began.
     ref_changed_us: u32,
     started_us: u64,
@@ -150,8 +162,11 @@ pub struct RateController {
     edges_seen: u32,
     /// The soft start's ramp is in progress (or ended at the last step).
     ramping: bool,
-    /// Identification stages done since the reference last changed (0-2).
+    /// Identification stages done since the reference last changed (0-2,
+    /// 0-3 while the intercept is unknown).
     identified: u8,
+    /// Stages to do for this reference: 3 while the intercept is unknown.
+    stages: u8,
     rel_err_q16: i64,
     saturated_high: bool,
     fault: Option<SensorFault>,
@@ -164,13 +179,16 @@ impl RateController {
             cfg,
             set_mhz: None,
             ref_mhz: 0,
-            gain_q16: 1 << 16,
+            line: LearnedLine::new(&cfg),
+            held_mv: 0,
+            first_point: None,
             ref_changed_us: 0,
             started_us: 0,
             last_us: 0,
             edges_seen: 0,
             ramping: false,
             identified: 0,
+            stages: 3,
             rel_err_q16: 0,
             saturated_high: false,
             fault: None,
@@ -197,7 +215,12 @@ impl RateController {
 
     /// The learned line factor `g` (1/65536 units).
     pub fn gain_q16(&self) -> u32 {
-        self.gain_q16
+        self.line.gain_q16
+    }
+
+    /// The motor line's intercept in use (mV), and whether it was measured.
+    pub fn intercept_mv(&self) -> (u32, bool) {
+        (self.line.intercept_mv, self.line.intercept_known)
     }
 
     /// The last sensor fault that stopped the motor (cleared by the next On).
@@ -316,6 +339,7 @@ impl RateController {
         if self.ref_mhz != before || state == MotorState::Ramping {
             self.ref_changed_us = now_us as u32;
             self.identified = 0;
+            self.stages = if self.line.intercept_known { 2 } else { 3 };
         }
     }
 
@@ -334,27 +358,20 @@ impl RateController {
             return;
         }
         let edges = rate.config().edges_per_turn();
-        let due = match self.identified {
-            0 => usize::from(r.intervals) * 4 >= edges,
-            1 => r.whole_turn,
+        let quarter = usize::from(r.intervals) * 4 >= edges;
+        // While the intercept is unknown: a quarter turn on the pessimistic
+        // line, a quarter turn for the secant, then a whole turn.
+        let stages = self.stages;
+        let due = match (self.identified, stages) {
+            (0, _) | (1, 3) => quarter,
+            (1, 2) | (2, 3) => r.whole_turn,
             _ => false,
         };
-        let g = i64::from(self.gain_q16);
-        let (lo, hi) = (
-            i64::from(self.cfg.gain_min_q16),
-            i64::from(self.cfg.gain_max_q16.max(self.cfg.gain_min_q16)),
-        );
         if due {
-            // The plant is static: one clean window at a constant voltage
-            // gives the line's slope, s_true / s_nom = g f_ref / f.
-            let g_new = g * i64::from(self.ref_mhz) / i64::from(r.rate_mhz);
-            self.gain_q16 = u32::try_from(g_new.clamp(lo, hi)).unwrap_or(self.cfg.gain_max_q16);
-            self.identified += 1;
-            self.ref_changed_us = now_us as u32;
-            self.rel_err_q16 = 0;
+            self.identify(now_us, r.rate_mhz, stages);
             return;
         }
-        if self.identified < 2 || !r.whole_turn {
+        if self.identified < stages || !r.whole_turn {
             return;
         }
         let reference = i64::from(self.ref_mhz);
@@ -365,26 +382,39 @@ impl RateController {
             return;
         }
         let steps = i64::from(new_edges.min(32));
-        let dg = g * i64::from(self.cfg.ki_per_turn_q16) / ONE * e / ONE * steps / edges as i64;
-        self.gain_q16 = u32::try_from((g + dg).clamp(lo, hi)).unwrap_or(self.cfg.gain_max_q16);
+        self.line.integrate(&self.cfg, e, steps, edges as i64);
+    }
+
+    /// One identification stage on a clean window at the held voltage: the
+    /// plant is static, so the window is a point of the motor line.
+    fn identify(&mut self, now_us: u64, rate_mhz: u32, stages: u8) {
+        let at = LinePoint {
+            mv: self.held_mv,
+            rate_mhz,
+        };
+        match (self.identified, self.first_point.take()) {
+            (0, _) if stages == 3 => {
+                self.line.one_point(&self.cfg, at, self.ref_mhz);
+                self.first_point = Some(at);
+            }
+            (1, Some(a)) => {
+                if !self.line.secant(&self.cfg, a, at) {
+                    self.line.one_point(&self.cfg, at, self.ref_mhz);
+                }
+            }
+            _ => self.line.one_point(&self.cfg, at, self.ref_mhz),
+        }
+        self.identified += 1;
+        self.ref_changed_us = now_us as u32;
+        self.rel_err_q16 = 0;
     }
 
     /// Motor voltage from the line, the learned factor and the P term, as a
     /// duty of the measured cell voltage.
     fn duty(&mut self, battery: BatteryStatus) -> Duty {
-        let line = self.cfg.line;
         let p = ONE + i64::from(self.cfg.kp_q16) * self.rel_err_q16 / ONE;
-        let slope_part = i64::from(line.slope_mv_per_hz) * i64::from(self.ref_mhz) / 1_000
-            * i64::from(self.gain_q16)
-            / ONE
-            * p.max(0)
-            / ONE;
-        let mv = if self.ref_mhz == 0 {
-            0
-        } else {
-            i64::from(line.intercept_mv) + slope_part
-        };
-        let mv = u32::try_from(mv.max(0)).unwrap_or(u32::MAX);
+        let mv = self.line.voltage_mv(&self.cfg, self.ref_mhz, p);
+        self.held_mv = mv;
         let raw = Duty::from_ratio(mv, u32::from(battery.mv));
         let duty = raw.min(self.cfg.motor.max_duty);
         self.saturated_high = raw >= self.cfg.motor.max_duty && mv > 0;

@@ -50,17 +50,23 @@ fn any_input() -> impl Strategy<Value = Input> {
 }
 
 fn any_config() -> impl Strategy<Value = RateConfig> {
-    (0u32..=1 << 17, 0u32..=1 << 17, 0u32..=100, 0u32..1_000_000).prop_map(
-        |(kp, ki, max_pct, ramp_us)| {
+    (
+        0u32..=1 << 17,
+        0u32..=1 << 17,
+        0u32..=100,
+        0u32..1_000_000,
+        any::<u16>(),
+    )
+        .prop_map(|(kp, ki, max_pct, ramp_us, intercept_max_mv)| {
             let mut c = RateConfig::DEFAULT;
+            c.intercept_max_mv = intercept_max_mv;
             c.kp_q16 = kp;
             c.ki_per_turn_q16 = ki;
             c.motor.max_duty = Duty::percent(max_pct);
             c.motor.ramp_us = ramp_us;
             c.motor.max_run_us = 60_000_000;
             c
-        },
-    )
+        })
 }
 
 proptest! {
@@ -212,4 +218,31 @@ fn set_point_gates_the_start_and_the_ramp_shapes_it() {
     ctl.set_rate_mhz(None);
     let o = ctl.step(run_from + 200_000, None, OK, &mut est);
     assert_eq!((o.duty, o.state), (Duty::ZERO, MotorState::Off));
+}
+
+proptest! {
+    /// The learned line from any points: no panic, `g` within its bounds,
+    /// the intercept never above the plausible maximum nor above a point's
+    /// voltage.
+    #[test]
+    fn the_learned_line_stays_in_bounds(
+        intercept_max_mv in any::<u16>(),
+        points in proptest::collection::vec((0u32..=20_000, 0u32..=65_535, 0u32..=2_000), 1..6),
+    ) {
+        let cfg = RateConfig { intercept_max_mv, ..RateConfig::DEFAULT };
+        let mut line = line::LearnedLine::new(&cfg);
+        let mut last: Option<line::LinePoint> = None;
+        for (mv, rate_mhz, ref_mhz) in points {
+            let at = line::LinePoint { mv, rate_mhz };
+            match last {
+                Some(a) if line.secant(&cfg, a, at) => {
+                    prop_assert!(line.intercept_mv <= u32::from(intercept_max_mv).min(a.mv));
+                }
+                _ => line.one_point(&cfg, at, ref_mhz),
+            }
+            prop_assert!((cfg.gain_min_q16..=cfg.gain_max_q16).contains(&line.gain_q16));
+            let _ = line.voltage_mv(&cfg, ref_mhz, 1 << 16);
+            last = Some(at);
+        }
+    }
 }

@@ -1,0 +1,28 @@
+//! The robot's run log on the host (issue 26, item 4): the log image the
+//! firmware keeps in flash and hands out over USB (`swimbot_shared::run_log`,
+//! whose module doc has the byte layout), read from a saved file or the
+//! robot's port ([`read`]), turned into a time series ([`trace`]), cut into
+//! steady windows ([`steady`]: set-point constant, rate settled), and those
+//! into a dataset's cases and trials ([`trials`], `docs/data-format.md`),
+//! with the trace figure ([`figure`]).
+//!
+//! What the log measures is the motor's rate, the tail relative to the
+//! body, as the Hall ring on the coupler sees it; the lab-frame tail rate
+//! the paper counts on video is that minus the body's counter-rotation,
+//! which the log cannot know, nor the swimming speed: those stay the lab's
+//! to measure. `docs/run-log.md` is the user's guide.
+//!
+//! References: the paper (`shared/seed/in-channel-vertical-swimming.md`,
+//! section IV, the limitation on f); the batch-means estimate of the
+//! variance of a mean from correlated samples: G. S. Fishman, *Discrete-Event
+//! Simulation*, Springer 2001, section 6.6.
+
+pub mod figure;
+pub mod read;
+pub mod steady;
+pub mod trace;
+pub mod trials;
+
+pub use read::{read_source, LogError, RunLog, Source};
+pub use steady::{steady_windows, SteadyWindow, STEADY_BAND};
+pub use trace::{LogPoint, Trace};
