@@ -34,6 +34,9 @@ impl Effect for NonlocalTail {
     fn order(&self) -> u8 {
         0
     }
+    fn replaces_tail(&self) -> bool {
+        true
+    }
     fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
         *tail = nonlocal_tail(
             &case.helix(),

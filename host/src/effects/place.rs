@@ -110,6 +110,15 @@ impl Place {
         Place::ALL.into_iter().find(|p| p.name() == name)
     }
 
+    /// The local drag coefficients of resistive-force theory, which only a
+    /// local tail has (see [`super::tail_compat`]).
+    pub fn is_local_drag(self) -> bool {
+        matches!(
+            self,
+            Place::TailTangential | Place::TailNormal | Place::TailViscosity
+        )
+    }
+
     /// Loads are added (value in mN or µN m); everything else is a multiplier.
     pub fn is_additive(self) -> bool {
         matches!(self, Place::LoadForce | Place::LoadTorque)
