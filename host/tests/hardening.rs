@@ -482,3 +482,40 @@ fn long_sweeps_and_audits_are_refused_over_the_budget() {
     let o = crate::common::swimbot(&["audit", "--max-seconds", "-3"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// A catalogue effect that would change nothing with the tail model asked
+/// for is refused through the binary, naming the effect, why and what to
+/// use (issue 27: only user effects were refused before); the same effect
+/// with local RFT runs.
+#[test]
+fn effects_that_a_non_local_tail_would_ignore_are_refused_by_name() {
+    let refusals: [(&[&str], &[&str]); 3] = [
+        (
+            &["--effect", "tail-confinement", "--tail-model", "sbt"],
+            &[
+                "`tail-confinement`",
+                "--tail-model sbt",
+                "tail-confinement-stokeslets",
+            ],
+        ),
+        (
+            &["--effect", "nonlocal-tail", "--effect", "tail-confinement"],
+            &["`tail-confinement`", "`nonlocal-tail` replaces"],
+        ),
+        (
+            &["--preset", "physics", "--tail-model", "stokeslets"],
+            &["`tail-confinement-stokeslets`", "would be ignored"],
+        ),
+    ];
+    for (args, needles) in refusals {
+        let o = crate::common::swimbot(&[&["compare", "--no-report"][..], args].concat());
+        let err = crate::common::stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(o.stdout.is_empty(), "{args:?}");
+        for n in needles {
+            assert!(err.contains(n), "{args:?}: `{n}` not in {err}");
+        }
+    }
+    let o = crate::common::swimbot(&["compare", "--no-report", "--effect", "tail-confinement"]);
+    assert!(o.status.success(), "{}", crate::common::stderr(&o));
+}

@@ -28,6 +28,7 @@ mod physics_tail;
 mod rate_control;
 mod report;
 mod sim;
+mod tail_compat;
 mod tail_tube;
 mod uncertainty;
 mod user_effects;
