@@ -519,3 +519,79 @@ fn effects_that_a_non_local_tail_would_ignore_are_refused_by_name() {
     let o = crate::common::swimbot(&["compare", "--no-report", "--effect", "tail-confinement"]);
     assert!(o.status.success(), "{}", crate::common::stderr(&o));
 }
+
+/// Peak resident memory of one run of the binary (its own, from the
+/// kernel's accounting of the reaped child), bytes; its stdout.
+#[cfg(target_os = "linux")]
+fn peak_rss_of(args: &[&str]) -> (u64, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("stdout");
+    let child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(args)
+        .current_dir(dir.path())
+        .stdout(std::fs::File::create(&out).unwrap())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let pid = child.id() as libc::pid_t;
+    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
+    // SAFETY: a pid of our own unreaped child; status and usage are ours.
+    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(r, pid);
+    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0);
+    // ru_maxrss is in KiB on Linux.
+    (
+        usage.ru_maxrss as u64 * 1024,
+        std::fs::read_to_string(out).unwrap(),
+    )
+}
+
+/// The tube solver's memory estimate (issue 27.3, printed as `peak_bytes`)
+/// against the peak the kernel measured for the whole process, less the
+/// same command's peak without the tube: an estimate under the measured
+/// growth would let a solve exceed its budget, one far above it would
+/// refuse what fits.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_tube_memory_estimate_holds_against_the_binarys_measured_peak() {
+    let helix = [
+        "helix",
+        "--wavelength-mm",
+        "16",
+        "--amplitude-mm",
+        "4.5",
+        "--tail-length-mm",
+        "93",
+        "--format",
+        "json",
+    ];
+    let (free, _) = peak_rss_of(&helix);
+    let tube = [
+        &helix[..],
+        &["--channel-diameter-mm", "35", "--wall-spacing-mm", "4"],
+    ]
+    .concat();
+    let (peak, json) = peak_rss_of(&tube);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let estimate = find_number(&v, "peak_bytes").expect("peak_bytes in the output");
+    let grown = peak.saturating_sub(free) as f64;
+    println!(
+        "estimated {:.1} MB, measured {:.1} MB over {:.1} MB without the tube",
+        estimate / 1e6,
+        grown / 1e6,
+        free as f64 / 1e6
+    );
+    assert!(grown <= estimate, "{grown} > {estimate}");
+    assert!(grown >= 0.6 * estimate, "{grown} << {estimate}");
+}
+
+fn find_number(v: &serde_json::Value, key: &str) -> Option<f64> {
+    match v {
+        serde_json::Value::Object(m) => m
+            .get(key)
+            .and_then(|x| x.as_f64())
+            .or_else(|| m.values().find_map(|x| find_number(x, key))),
+        serde_json::Value::Array(a) => a.iter().find_map(|x| find_number(x, key)),
+        _ => None,
+    }
+}
