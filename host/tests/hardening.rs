@@ -522,7 +522,10 @@ fn effects_that_a_non_local_tail_would_ignore_are_refused_by_name() {
 
 /// Peak resident memory of one run of the binary (its own, from the
 /// kernel's accounting of the reaped child), bytes; its stdout.
+// The child is reaped by `wait4` (which also returns its rusage), not by
+// `Child::wait`, which clippy cannot see.
 #[cfg(target_os = "linux")]
+#[allow(clippy::zombie_processes)]
 fn peak_rss_of(args: &[&str]) -> (u64, String) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("stdout");
