@@ -598,3 +598,62 @@ fn find_number(v: &serde_json::Value, key: &str) -> Option<f64> {
         _ => None,
     }
 }
+
+/// `diagnose --write-effect` step after step (issue 27): each step loads
+/// the earlier files and their laws and writes the next. A law found at a
+/// place an earlier step already used was written under the earlier law's
+/// name, so the files clashed when loaded together and its `base` named
+/// itself (the earlier law silently dropped). Now every name is new, and
+/// the last law loads with all the files, its whole base in the model.
+#[test]
+fn diagnose_steps_write_effects_that_load_together() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut names: Vec<String> = Vec::new();
+    let mut files: Vec<String> = Vec::new();
+    for step in 1..=4 {
+        let out = format!("e{step}.toml");
+        let mut args = vec!["diagnose", "--no-pairs", "--write-effect", &out];
+        for f in &files {
+            args.extend(["--effect-file", f]);
+        }
+        if let Some(last) = names.last() {
+            args.extend(["--effect", last]);
+        }
+        let o = swimbot_in(d, &args);
+        assert!(o.status.success(), "step {step}: {}", text(&o.stderr));
+        let Ok(written) = std::fs::read_to_string(d.join(&out)) else {
+            break; // nothing more was located
+        };
+        let name = written
+            .lines()
+            .find_map(|l| l.strip_prefix("name = \""))
+            .and_then(|l| l.strip_suffix('"'))
+            .unwrap()
+            .to_string();
+        assert!(
+            !names.contains(&name),
+            "step {step} reused `{name}`: {names:?}"
+        );
+        names.push(name);
+        files.push(out);
+    }
+    println!("laws written: {names:?}");
+    assert!(names.len() >= 2, "{names:?}");
+    let mut args = vec!["compare", "--no-report"];
+    for f in &files {
+        args.extend(["--effect-file", f]);
+    }
+    let last = names.last().unwrap();
+    args.extend(["--effect", last]);
+    let o = swimbot_in(d, &args);
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    for earlier in &names[..names.len() - 1] {
+        assert!(
+            err.contains("added it to the model") && text(&o.stdout).contains(earlier.as_str()),
+            "{earlier} not in the model: {}",
+            text(&o.stdout)
+        );
+    }
+}
