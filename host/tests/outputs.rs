@@ -312,3 +312,47 @@ fn private_character_devices_are_written_through_and_stay_devices() {
     assert_eq!(left, ["data.toml", "full", "null"], "files left behind");
     assert_eq!(std::fs::read_to_string(d.join("data.toml")).unwrap(), paper);
 }
+
+/// A report re-run into its own folder removes the figures and tables the
+/// previous run's manifest lists, and nothing else: a user's files in
+/// `figures/` and `tables/` stay (the whole folders were deleted before),
+/// and a manifest entry pointing out of them (`../`) removes nothing.
+#[test]
+fn a_report_rerun_removes_only_what_its_manifest_lists() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let report = || run_in(d, &["report", "-q", "--no-physics", "-o", "rep"]);
+    let o = report();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rep = d.join("rep");
+    std::fs::write(rep.join("tables/mine.txt"), "notes").unwrap();
+    std::fs::write(rep.join("figures/drawing.svg"), "<svg/>").unwrap();
+    std::fs::write(rep.join("tables/stale.csv"), "old").unwrap();
+    std::fs::write(d.join("victim.txt"), "keep").unwrap();
+    let manifest = std::fs::read_to_string(rep.join("manifest.json")).unwrap();
+    let manifest = manifest.replacen(
+        "\"files\": [",
+        "\"files\": [{\"file\": \"tables/stale.csv\"}, {\"file\": \"tables/../../victim.txt\"}, {\"file\": \"../victim.txt\"},",
+        1,
+    );
+    std::fs::write(rep.join("manifest.json"), manifest).unwrap();
+    let o = report();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        rep.join("tables/mine.txt").exists(),
+        "a user's table was deleted"
+    );
+    assert!(
+        rep.join("figures/drawing.svg").exists(),
+        "a user's figure was deleted"
+    );
+    assert!(
+        !rep.join("tables/stale.csv").exists(),
+        "a stale table stayed"
+    );
+    assert_eq!(
+        std::fs::read_to_string(d.join("victim.txt")).unwrap(),
+        "keep"
+    );
+    assert!(rep.join("index.html").exists());
+}
