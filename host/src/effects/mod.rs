@@ -138,6 +138,12 @@ pub trait Effect: Send + Sync {
     fn replaces_tail(&self) -> bool {
         false
     }
+    /// Whether [`Effect::body`] replaces the body's axial resistances by
+    /// its own (a confined-body law or solve): two such effects cannot
+    /// both act ([`tail_compat`]).
+    fn replaces_body(&self) -> bool {
+        false
+    }
     fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
     /// Errors (e.g. a failed non-local solve) stop the prediction with a message.
     fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) -> Result<(), String> {

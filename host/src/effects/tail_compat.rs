@@ -21,7 +21,10 @@
 //!    non-local tail of either kind: it would change nothing;
 //! 2. an effect that replaces the tail matrix with a non-local
 //!    `--tail-model`: the tail model would be ignored;
-//! 3. two effects that replace the tail matrix: only the last would act.
+//! 3. two effects that replace the tail matrix: only the last would act;
+//!    likewise two that replace the body's axial resistances
+//!    ([`Effect::replaces_body`]: `body-confinement`,
+//!    `body-confinement-exact`, the latter in `--preset physics`).
 //!
 //! Every other catalogue effect acts at the tail matrix (`coupler`), the
 //! body matrix or the force balance, which every tail model has.
@@ -80,6 +83,16 @@ pub fn conflict(effect: &dyn Effect, others: &[&dyn Effect], tail: TailModel) ->
                  give one of the two{}",
                 r.name(),
                 INSTEAD
+            ));
+        }
+    }
+    if effect.replaces_body() {
+        if let Some(r) = others.iter().find(|o| o.replaces_body()) {
+            return Some(format!(
+                "effects `{}` and `{}` both replace the body's axial resistances: only the one \
+                 applied last would act; give one of them",
+                effect.name(),
+                r.name()
             ));
         }
     }
@@ -162,6 +175,14 @@ mod tests {
         assert!(check(TailModel::Local, &[nl, tube])
             .unwrap_err()
             .contains("both replace"));
+    }
+
+    #[test]
+    fn two_body_replacing_effects_are_refused() {
+        let (approx, exact) = (e("body-confinement"), e("body-confinement-exact"));
+        assert!(check(TailModel::Local, &[approx]).is_ok());
+        let err = check(TailModel::Local, &[exact, approx]).unwrap_err();
+        assert!(err.contains("both replace the body"), "{err}");
     }
 
     #[test]
