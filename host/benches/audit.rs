@@ -37,5 +37,16 @@ fn audit_at_scale(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, audit_at_scale);
+/// One prediction of the plain model on a paper case: the unit in which
+/// the audit's time estimate prices the work around each prediction
+/// (`cli/audit.rs`: audit time over counted predictions, in these units).
+fn plain_prediction(c: &mut Criterion) {
+    let model = swimbot::model::Model::base();
+    let case = swimbot::data::paper().cases[0].clone();
+    c.bench_function("plain prediction, paper tail 1", |b| {
+        b.iter(|| model.predict(black_box(&case)).unwrap())
+    });
+}
+
+criterion_group!(benches, plain_prediction, audit_at_scale);
 criterion_main!(benches);

@@ -260,3 +260,31 @@ fn local_drag_places_are_refused_with_a_non_local_tail() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+/// The position property above, through the binary on the inputs that
+/// panicked (an escape then a wide character) or misplaced the error (a
+/// multi-line string): exit 2, and the line and column of the `$` in the
+/// raw file, counted by hand here.
+#[test]
+fn formula_error_positions_through_the_binary() {
+    let dir = tempfile::tempdir().unwrap();
+    // The places line is line 14 of `effect_file`; `"tail.c_n" = ` is 13
+    // characters, so the value opens at column 14.
+    let cases = [
+        ("escape", "\"\\t\u{3000}$\"", 14, 18),
+        ("multi", "\"\"\"\nk *\n  2 $ 1\"\"\"", 16, 5),
+        ("literal", "'k\u{3000}\u{3000} + $'", 14, 21),
+    ];
+    for (name, value, line, column) in cases {
+        let path = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&path, effect_file(value)).unwrap();
+        let o = swimbot(&["effects", "--effect-file", path.to_str().unwrap()]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        let at = format!("{name}.toml, line {line}, column {column}");
+        assert!(
+            err.contains(&at) && err.contains("`$`"),
+            "{name}: `{at}` not in {err}"
+        );
+    }
+}

@@ -482,3 +482,192 @@ fn long_sweeps_and_audits_are_refused_over_the_budget() {
     let o = crate::common::swimbot(&["audit", "--max-seconds", "-3"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// A catalogue effect that would change nothing with the tail model asked
+/// for is refused through the binary, naming the effect, why and what to
+/// use (issue 27: only user effects were refused before); the same effect
+/// with local RFT runs.
+#[test]
+fn effects_that_a_non_local_tail_would_ignore_are_refused_by_name() {
+    let refusals: [(&[&str], &[&str]); 4] = [
+        (
+            &["--preset", "physics", "--effect", "body-confinement"],
+            &[
+                "`body-confinement`",
+                "`body-confinement-exact`",
+                "both replace the body",
+            ],
+        ),
+        (
+            &["--effect", "tail-confinement", "--tail-model", "sbt"],
+            &[
+                "`tail-confinement`",
+                "--tail-model sbt",
+                "tail-confinement-stokeslets",
+            ],
+        ),
+        (
+            &["--effect", "nonlocal-tail", "--effect", "tail-confinement"],
+            &["`tail-confinement`", "`nonlocal-tail` replaces"],
+        ),
+        (
+            &["--preset", "physics", "--tail-model", "stokeslets"],
+            &["`tail-confinement-stokeslets`", "would be ignored"],
+        ),
+    ];
+    for (args, needles) in refusals {
+        let o = crate::common::swimbot(&[&["compare", "--no-report"][..], args].concat());
+        let err = crate::common::stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(o.stdout.is_empty(), "{args:?}");
+        for n in needles {
+            assert!(err.contains(n), "{args:?}: `{n}` not in {err}");
+        }
+    }
+    let o = crate::common::swimbot(&["compare", "--no-report", "--effect", "tail-confinement"]);
+    assert!(o.status.success(), "{}", crate::common::stderr(&o));
+}
+
+/// Peak resident memory of one run of the binary (its own, from the
+/// kernel's accounting of the reaped child), bytes; its stdout.
+// The child is reaped by `wait4` (which also returns its rusage), not by
+// `Child::wait`, which clippy cannot see.
+#[cfg(target_os = "linux")]
+#[allow(clippy::zombie_processes)]
+fn peak_rss_of(args: &[&str]) -> (u64, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("stdout");
+    let child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(args)
+        .current_dir(dir.path())
+        // A fresh solver cache: a matrix cached by another run would be
+        // read, not solved, and its memory never used.
+        .env("SWIMBOT_CACHE_DIR", dir.path().join("cache"))
+        .stdout(std::fs::File::create(&out).unwrap())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let pid = child.id() as libc::pid_t;
+    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
+    // SAFETY: a pid of our own unreaped child; status and usage are ours.
+    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(r, pid);
+    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0);
+    // ru_maxrss is in KiB on Linux.
+    (
+        usage.ru_maxrss as u64 * 1024,
+        std::fs::read_to_string(out).unwrap(),
+    )
+}
+
+/// The tube solver's memory estimate (issue 27.3, printed as `peak_bytes`)
+/// against the peak the kernel measured for the whole process, less the
+/// same command's peak without the tube: an estimate under the measured
+/// growth would let a solve exceed its budget, one far above it would
+/// refuse what fits.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_tube_memory_estimate_holds_against_the_binarys_measured_peak() {
+    let helix = [
+        "helix",
+        "--wavelength-mm",
+        "16",
+        "--amplitude-mm",
+        "4.5",
+        "--tail-length-mm",
+        "93",
+        "--format",
+        "json",
+    ];
+    let (free, _) = peak_rss_of(&helix);
+    let tube = [
+        &helix[..],
+        &["--channel-diameter-mm", "35", "--wall-spacing-mm", "4"],
+    ]
+    .concat();
+    let (peak, json) = peak_rss_of(&tube);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let estimate = find_number(&v, "peak_bytes").expect("peak_bytes in the output");
+    let grown = peak.saturating_sub(free) as f64;
+    println!(
+        "estimated {:.1} MB, measured {:.1} MB over {:.1} MB without the tube",
+        estimate / 1e6,
+        grown / 1e6,
+        free as f64 / 1e6
+    );
+    assert!(grown <= estimate, "{grown} > {estimate}");
+    assert!(
+        grown >= 0.6 * estimate,
+        "{grown} << {estimate} (peak {peak}, without the tube {free})"
+    );
+}
+
+fn find_number(v: &serde_json::Value, key: &str) -> Option<f64> {
+    match v {
+        serde_json::Value::Object(m) => m
+            .get(key)
+            .and_then(|x| x.as_f64())
+            .or_else(|| m.values().find_map(|x| find_number(x, key))),
+        serde_json::Value::Array(a) => a.iter().find_map(|x| find_number(x, key)),
+        _ => None,
+    }
+}
+
+/// `diagnose --write-effect` step after step (issue 27): each step loads
+/// the earlier files and their laws and writes the next. A law found at a
+/// place an earlier step already used was written under the earlier law's
+/// name, so the files clashed when loaded together and its `base` named
+/// itself (the earlier law silently dropped). Now every name is new, and
+/// the last law loads with all the files, its whole base in the model.
+#[test]
+fn diagnose_steps_write_effects_that_load_together() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut names: Vec<String> = Vec::new();
+    let mut files: Vec<String> = Vec::new();
+    for step in 1..=4 {
+        let out = format!("e{step}.toml");
+        let mut args = vec!["diagnose", "--no-pairs", "--write-effect", &out];
+        for f in &files {
+            args.extend(["--effect-file", f]);
+        }
+        if let Some(last) = names.last() {
+            args.extend(["--effect", last]);
+        }
+        let o = swimbot_in(d, &args);
+        assert!(o.status.success(), "step {step}: {}", text(&o.stderr));
+        let Ok(written) = std::fs::read_to_string(d.join(&out)) else {
+            break; // nothing more was located
+        };
+        let name = written
+            .lines()
+            .find_map(|l| l.strip_prefix("name = \""))
+            .and_then(|l| l.strip_suffix('"'))
+            .unwrap()
+            .to_string();
+        assert!(
+            !names.contains(&name),
+            "step {step} reused `{name}`: {names:?}"
+        );
+        names.push(name);
+        files.push(out);
+    }
+    println!("laws written: {names:?}");
+    assert!(names.len() >= 2, "{names:?}");
+    let mut args = vec!["compare", "--no-report"];
+    for f in &files {
+        args.extend(["--effect-file", f]);
+    }
+    let last = names.last().unwrap();
+    args.extend(["--effect", last]);
+    let o = swimbot_in(d, &args);
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    for earlier in &names[..names.len() - 1] {
+        assert!(
+            err.contains("added it to the model") && text(&o.stdout).contains(earlier.as_str()),
+            "{earlier} not in the model: {}",
+            text(&o.stdout)
+        );
+    }
+}

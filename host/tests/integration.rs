@@ -30,6 +30,7 @@ mod report;
 mod robust;
 mod run_log;
 mod sim;
+mod tail_compat;
 mod tail_tube;
 mod uncertainty;
 mod user_effects;

@@ -237,3 +237,122 @@ fn the_asked_for_file_is_written_before_a_closed_stdout_ends_the_run() {
     });
     assert!(text.contains("[[effect]]"), "{text}");
 }
+
+/// A private character device (a null and a full device made with mknod
+/// in the temporary folder; root only, as the destroyed `/dev/null` of
+/// issue 27.2 was): every kind of output names it, it stays a character
+/// device, and the full one is exit 2 with nothing else left behind.
+#[test]
+fn private_character_devices_are_written_through_and_stay_devices() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let made = |name: &str, minor: &str| {
+        Command::new("mknod")
+            .args([d.join(name).to_str().unwrap(), "c", "1", minor])
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if !(made("null", "3") && made("full", "7")) {
+        println!("mknod refused (not root, or no CAP_MKNOD): private devices not tested here");
+        return;
+    }
+    let paper = swimbot::data::to_toml(&swimbot::data::paper());
+    std::fs::write(d.join("data.toml"), &paper).unwrap();
+    let runs: [&[&str]; 4] = [
+        &[
+            "sweep",
+            "--wavelength-mm",
+            "10:20:5",
+            "--amplitude-mm",
+            "2",
+            "--tail-length-mm",
+            "100",
+            "-o",
+            "DEV",
+        ],
+        &["synth", "--truth", "paper", "-o", "DEV"],
+        &["convert", "data.toml", "-o", "DEV"],
+        &[
+            "diagnose",
+            "--data",
+            "data.toml",
+            "--no-pairs",
+            "--write-effect",
+            "DEV",
+        ],
+    ];
+    use std::os::unix::fs::FileTypeExt;
+    for args in runs {
+        for (dev, ok) in [("null", true), ("full", false)] {
+            let args: Vec<&str> = args
+                .iter()
+                .map(|a| if *a == "DEV" { dev } else { a })
+                .collect();
+            let o = run_in(d, &args);
+            let err = stderr(&o);
+            if ok {
+                assert!(o.status.success(), "{args:?}: {err}");
+            } else {
+                assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+                assert!(
+                    err.contains("No space left") && err.contains(dev),
+                    "{args:?}: {err}"
+                );
+            }
+            let t = std::fs::symlink_metadata(d.join(dev)).unwrap().file_type();
+            assert!(t.is_char_device(), "{args:?}: {dev} was replaced");
+        }
+    }
+    let mut left: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["data.toml", "full", "null"], "files left behind");
+    assert_eq!(std::fs::read_to_string(d.join("data.toml")).unwrap(), paper);
+}
+
+/// A report re-run into its own folder removes the figures and tables the
+/// previous run's manifest lists, and nothing else: a user's files in
+/// `figures/` and `tables/` stay (the whole folders were deleted before),
+/// and a manifest entry pointing out of them (`../`) removes nothing.
+#[test]
+fn a_report_rerun_removes_only_what_its_manifest_lists() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let report = || run_in(d, &["report", "-q", "--no-physics", "-o", "rep"]);
+    let o = report();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rep = d.join("rep");
+    std::fs::write(rep.join("tables/mine.txt"), "notes").unwrap();
+    std::fs::write(rep.join("figures/drawing.svg"), "<svg/>").unwrap();
+    std::fs::write(rep.join("tables/stale.csv"), "old").unwrap();
+    std::fs::write(d.join("victim.txt"), "keep").unwrap();
+    let manifest = std::fs::read_to_string(rep.join("manifest.json")).unwrap();
+    let manifest = manifest.replacen(
+        "\"files\": [",
+        "\"files\": [{\"file\": \"tables/stale.csv\"}, {\"file\": \"tables/../../victim.txt\"}, {\"file\": \"../victim.txt\"},",
+        1,
+    );
+    std::fs::write(rep.join("manifest.json"), manifest).unwrap();
+    let o = report();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        rep.join("tables/mine.txt").exists(),
+        "a user's table was deleted"
+    );
+    assert!(
+        rep.join("figures/drawing.svg").exists(),
+        "a user's figure was deleted"
+    );
+    assert!(
+        !rep.join("tables/stale.csv").exists(),
+        "a stale table stayed"
+    );
+    assert_eq!(
+        std::fs::read_to_string(d.join("victim.txt")).unwrap(),
+        "keep"
+    );
+    assert!(rep.join("index.html").exists());
+}

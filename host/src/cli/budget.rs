@@ -28,8 +28,12 @@ pub fn seconds_per_call(calls: usize, mut f: impl FnMut(usize)) -> f64 {
     start.elapsed().as_secs_f64() / done as f64
 }
 
-/// `1 h 20 min`, `3 min 10 s`, `12 s`.
+/// `1 h 20 min`, `3 min 10 s`, `12 s`, `0.4 s`.
 pub fn duration(seconds: f64) -> String {
+    // Under 10 s a tenth still means something ("about 0 s" did not).
+    if seconds < 9.95 {
+        return format!("{:.1} s", seconds.max(0.0));
+    }
     let s = seconds.round().max(0.0) as u64;
     match s {
         0..=59 => format!("{s} s"),
@@ -76,6 +80,8 @@ mod tests {
     #[test]
     fn durations_read_as_a_person_says_them() {
         assert_eq!(duration(12.4), "12 s");
+        assert_eq!(duration(0.04), "0.0 s");
+        assert_eq!(duration(3.26), "3.3 s");
         assert_eq!(duration(190.0), "3 min 10 s");
         assert_eq!(duration(8.0 * 3600.0 + 60.0), "8 h 1 min");
         assert_eq!(check("x", 100.0, Some(10.0)).unwrap_err().exit_code(), 2);

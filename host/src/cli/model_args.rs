@@ -168,9 +168,7 @@ impl ModelArgs {
             DofsArg::Axial => Dofs::AXIAL,
             DofsArg::All => Dofs::ALL,
         };
-        if !matches!(self.tail_model, TailModelArg::Rft) {
-            refuse_local_drag_places(&model, self.tail_model.name())?;
-        }
+        model.check_tail_compat().map_err(CliError::input)?;
         Ok(model)
     }
 }
@@ -222,33 +220,6 @@ fn source(file: &str) -> String {
     } else {
         format!(" (from {file})")
     }
-}
-
-/// The non-local tail models solve the Stokes flow of the whole wire and
-/// have no local drag coefficients, so a user effect at `tail.c_t`,
-/// `tail.c_n` or `tail.viscosity` would change nothing, silently: refused.
-fn refuse_local_drag_places(model: &Model, tail_model: &str) -> Result<(), CliError> {
-    use crate::effects::place::Place;
-    for user in crate::effects::user_effects() {
-        if !model.effects.iter().any(|e| e.name() == user.spec().name) {
-            continue;
-        }
-        if let Some((place, _)) = user.spec().places.iter().find(|(p, _)| {
-            matches!(
-                p,
-                Place::TailTangential | Place::TailNormal | Place::TailViscosity
-            )
-        }) {
-            return Err(CliError::input(format!(
-                "--tail-model {tail_model}: effect `{}` ({}) acts at `{place}`, a local drag coefficient of resistive-force theory, \
-                 which the non-local tail models do not have (it would change nothing); use --tail-model rft, \
-                 or state the effect at `tail.drag`, `tail.thrust` or `tail.torque`",
-                user.spec().name,
-                user.source()
-            )));
-        }
-    }
-    Ok(())
 }
 
 /// `--data F`, shared by the subcommands that read measurements.

@@ -62,6 +62,9 @@ impl Effect for BodyConfinement {
     fn order(&self) -> u8 {
         0
     }
+    fn replaces_body(&self) -> bool {
+        true
+    }
     fn body(&self, _p: &[f64], case: &Case, body: &mut Matrix6<f64>) {
         body[(0, 0)] = axial_translation(case);
         body[(3, 3)] = axial_rotation(case);

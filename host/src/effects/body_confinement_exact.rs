@@ -117,6 +117,9 @@ impl Effect for BodyConfinementExact {
     fn order(&self) -> u8 {
         0
     }
+    fn replaces_body(&self) -> bool {
+        true
+    }
     fn body(&self, _p: &[f64], case: &Case, body: &mut Matrix6<f64>) {
         match body_in_tube(case) {
             Ok((drag, torque)) => {

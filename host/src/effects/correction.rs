@@ -253,6 +253,9 @@ impl Effect for LocatedCorrection {
     fn params(&self) -> &'static [ParamSpec] {
         self.params
     }
+    fn acts_on_local_drag(&self) -> bool {
+        self.place.is_local_drag()
+    }
     fn local_drag(&self, p: &[f64], case: &Case, drag: &mut LocalDrag) {
         self.place.apply_local_drag(self.value(p, case), drag);
     }

@@ -238,6 +238,10 @@ impl Effect for FormulaEffect {
         Ok(())
     }
 
+    fn acts_on_local_drag(&self) -> bool {
+        self.spec.places.iter().any(|(p, _)| p.is_local_drag())
+    }
+
     fn local_drag(&self, p: &[f64], case: &Case, drag: &mut LocalDrag) {
         self.apply(Stage::LocalDrag, p, case, |pl, m| {
             pl.apply_local_drag(m, drag)

@@ -34,6 +34,7 @@ mod nonlocal_tail;
 pub mod place;
 mod registry;
 mod spec;
+pub mod tail_compat;
 mod tail_confinement;
 mod toml_position;
 mod tube_tail;
@@ -125,6 +126,23 @@ pub trait Effect: Send + Sync {
     /// NaN prediction.
     fn check(&self, _p: &[f64], _case: &Case) -> Result<(), String> {
         Ok(())
+    }
+    /// Whether the effect acts on the tail's local drag coefficients
+    /// ([`Effect::local_drag`]), which only local RFT has: with a
+    /// non-local tail it would change nothing ([`tail_compat`]).
+    fn acts_on_local_drag(&self) -> bool {
+        false
+    }
+    /// Whether [`Effect::tail`] replaces the tail matrix by a non-local
+    /// solve of its own, deciding the tail's hydrodynamics ([`tail_compat`]).
+    fn replaces_tail(&self) -> bool {
+        false
+    }
+    /// Whether [`Effect::body`] replaces the body's axial resistances by
+    /// its own (a confined-body law or solve): two such effects cannot
+    /// both act ([`tail_compat`]).
+    fn replaces_body(&self) -> bool {
+        false
     }
     fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
     /// Errors (e.g. a failed non-local solve) stop the prediction with a message.

@@ -3,8 +3,9 @@
 //! RFT tail matrix by the regularized-Stokeslet one (Cortez blob, 12
 //! segments per turn, converged to 1 % on the axial entries), i.e. it adds
 //! the difference between the non-local and the local tail. No free
-//! parameter. Local-drag effects (tail-confinement) do not act on it; the
-//! matrix is taken at the helix's reference phase.
+//! parameter. Local-drag effects (tail-confinement) would not act on it and
+//! are refused with it ([`super::tail_compat`]); the matrix is taken at the
+//! helix's reference phase.
 //!
 //! References: R. Cortez, L. Fauci & A. Medovikov, Phys. Fluids 17 (2005)
 //! 031504; B. Rodenborn, C.-H. Chen, H. L. Swinney, B. Liu & H. P. Zhang,
@@ -33,6 +34,9 @@ impl Effect for NonlocalTail {
     }
     fn order(&self) -> u8 {
         0
+    }
+    fn replaces_tail(&self) -> bool {
+        true
     }
     fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
         *tail = nonlocal_tail(

@@ -19,9 +19,10 @@
 //! | `load.torque` | force balance | adds an axial torque on the body, µN m, + about +x |
 //! | `drive.rate` | force balance | the tail's rate: `omega_true = m omega_recorded` |
 //!
-//! The local-drag places act only on local RFT; with a non-local tail model
-//! (`--tail-model sbt|stokeslets`) they change nothing, and the tail-matrix
-//! places should be used instead.
+//! The local-drag places act only on local RFT; with a non-local tail
+//! (`--tail-model sbt|stokeslets`, or an effect that replaces the tail
+//! matrix) they would change nothing and are refused
+//! ([`super::tail_compat`]): the tail-matrix places act there instead.
 
 use crate::physics::coefficients::LocalDrag;
 use crate::physics::solve::ForceBalance;
@@ -108,6 +109,15 @@ impl Place {
     /// Look a place up by [`Place::name`].
     pub fn from_name(name: &str) -> Option<Place> {
         Place::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// The local drag coefficients of resistive-force theory, which only a
+    /// local tail has (see [`super::tail_compat`]).
+    pub fn is_local_drag(self) -> bool {
+        matches!(
+            self,
+            Place::TailTangential | Place::TailNormal | Place::TailViscosity
+        )
     }
 
     /// Loads are added (value in mN or µN m); everything else is a multiplier.

@@ -60,6 +60,9 @@ impl Effect for TailConfinement {
     fn params(&self) -> &'static [ParamSpec] {
         PARAMS
     }
+    fn acts_on_local_drag(&self) -> bool {
+        true
+    }
     fn local_drag(&self, p: &[f64], case: &Case, drag: &mut LocalDrag) {
         let (ft, fn_) = factors(case, p[0]);
         drag.tangential *= ft;

@@ -94,6 +94,9 @@ impl Effect for TubeTail {
     fn order(&self) -> u8 {
         0
     }
+    fn replaces_tail(&self) -> bool {
+        true
+    }
     fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
         *tail = tail_in_tube(case)?;
         Ok(())

@@ -12,13 +12,28 @@ pub mod time_domain;
 pub use presets::{preset, PRESETS};
 
 use crate::data::Case;
-use crate::effects::EffectInstance;
+use crate::effects::tail_compat::{self, TailModel};
+use crate::effects::{Effect, EffectInstance};
 use crate::physics::body::{BodyError, BodyResistance};
 use crate::physics::coefficients::{CoefficientError, CoefficientSet};
 use crate::physics::solve::{Dofs, ForceBalance, SolveError};
 use crate::physics::tail;
 use nalgebra::{Matrix6, Vector6};
+use std::cell::Cell;
 use std::f64::consts::PI;
+
+thread_local! {
+    /// Force balances assembled on this thread (every prediction assembles
+    /// one): what the audit's time estimate counts, and is tested against
+    /// on a thread pool of its own (per thread, so that other work in the
+    /// process does not count).
+    static FORCE_BALANCES: Cell<u64> = const { Cell::new(0) };
+}
+
+/// How many force balances (eq. 11) this thread has assembled so far.
+pub fn force_balances_on_this_thread() -> u64 {
+    FORCE_BALANCES.with(Cell::get)
+}
 
 /// How eq. 3 is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -110,6 +125,29 @@ impl Model {
         let mut parts = vec![self.coefficients.to_string()];
         parts.extend(self.effects.iter().map(EffectInstance::spec));
         parts.join(" + ")
+    }
+
+    /// What computes the tail matrix before the effects act.
+    pub fn tail_model(&self) -> TailModel {
+        match self.tail_method {
+            TailMethod::Exact | TailMethod::Quadrature { .. } => TailModel::Local,
+            TailMethod::Stokeslets { .. } => TailModel::NonLocal("stokeslets"),
+            TailMethod::SlenderBody { .. } => TailModel::NonLocal("sbt"),
+        }
+    }
+
+    /// Refuses effects that would change nothing with this model's tail
+    /// (a local drag effect with a non-local tail, ...): [`tail_compat`].
+    pub fn check_tail_compat(&self) -> Result<(), String> {
+        let effects: Vec<&dyn Effect> = self.effects.iter().map(|e| e.effect).collect();
+        tail_compat::check(self.tail_model(), &effects)
+    }
+
+    /// Whether `effect`, added to this model, would act with its tail: the
+    /// candidates `diagnose` and `audit` add are filtered by it.
+    pub fn can_take(&self, effect: &dyn Effect) -> bool {
+        let effects: Vec<&dyn Effect> = self.effects.iter().map(|e| e.effect).collect();
+        tail_compat::conflict(effect, &effects, self.tail_model()).is_none()
     }
 
     /// The effects acting on `case`, replacing ones first (see [`crate::effects::Effect::order`]).
@@ -236,6 +274,7 @@ impl Model {
         case: &Case,
         phase_rad: f64,
     ) -> Result<ForceBalance, ModelError> {
+        FORCE_BALANCES.with(|n| n.set(n.get() + 1));
         // One check serves every stage of this prediction.
         self.check_effects(case)?;
         let tail = self.tail_matrix_checked(case, phase_rad)?;

@@ -262,14 +262,44 @@ pub fn write(dir: &Path, command: &str, page: &str) -> Result<PathBuf, String> {
         (serde_json::to_string_pretty(&manifest).expect("serialisable") + "\n").into_bytes(),
     ));
     files.push(("index.html".into(), page.into_bytes()));
-    // a page rewritten with fewer figures leaves no stale ones behind
-    for sub in ["figures", "tables"] {
-        let _ = std::fs::remove_dir_all(dir.join(sub));
+    // a page rewritten with fewer figures leaves no stale ones behind; only
+    // the files the previous run's manifest lists go (removing the whole
+    // folders deleted whatever else a user had put in them)
+    for rel in previous_files(dir) {
+        let _ = std::fs::remove_file(dir.join(rel));
     }
     for (rel, bytes) in &files {
         write_file(&dir.join(rel), bytes)?;
     }
     Ok(dir.join("index.html"))
+}
+
+/// The figures and tables an earlier run's `manifest.json` in `dir` lists,
+/// as `figures/NAME` or `tables/NAME` (anything else a manifest may say,
+/// such as `../x`, is not ours to remove).
+fn previous_files(dir: &Path) -> Vec<String> {
+    let Ok(text) = std::fs::read_to_string(dir.join("manifest.json")) else {
+        return Vec::new();
+    };
+    let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return Vec::new();
+    };
+    let files = v.get("files").and_then(|f| f.as_array());
+    files
+        .into_iter()
+        .flatten()
+        .filter_map(|e| e.get("file")?.as_str())
+        .filter(|rel| {
+            rel.split_once('/').is_some_and(|(sub, name)| {
+                ["figures", "tables"].contains(&sub)
+                    && !name.is_empty()
+                    && !name.contains('/')
+                    && !name.contains('\\')
+                    && !name.starts_with('.')
+            })
+        })
+        .map(str::to_string)
+        .collect()
 }
 
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {

@@ -169,6 +169,7 @@ fn candidate_models(model: &Model) -> Vec<(String, Model)> {
         .iter()
         .filter(|e| e.candidate() && !e.costly())
         .filter(|e| !model.effects.iter().any(|m| m.name() == e.name()))
+        .filter(|e| model.can_take(**e))
     {
         out.push((
             e.name().to_string(),

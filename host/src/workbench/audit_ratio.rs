@@ -56,6 +56,7 @@ pub fn family(model: &Model, samples: usize, seed: u64) -> (Vec<String>, Vec<Mod
         .copied()
         .filter(|e| e.candidate() && !e.costly())
         .filter(|e| !model.effects.iter().any(|m| m.name() == e.name()))
+        .filter(|e| model.can_take(*e))
         .collect();
     let dims: Vec<(usize, usize)> = effects
         .iter()

@@ -23,6 +23,7 @@ pub fn candidates(model: &Model, include_costly: bool) -> Vec<&'static dyn Effec
         .into_iter()
         .filter(|e| e.candidate() && (include_costly || !e.costly()))
         .filter(|e| !model.effects.iter().any(|m| m.name() == e.name()))
+        .filter(|e| model.can_take(*e))
         .collect()
 }
 

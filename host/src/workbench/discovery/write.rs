@@ -41,15 +41,26 @@ pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
     let mut header =
         String::from("# Corrections located by `swimbot diagnose`, in the order found:\n");
     for (i, l) in steps.iter().enumerate() {
-        let mut name = effect_name(l);
-        let same = names.iter().filter(|(_, n)| n.starts_with(&name)).count();
-        if same > 0 {
-            name = format!("{name}-{}", same + 1);
-        }
         // The model it was fitted on top of, machine-readable: every effect
         // beneath it at full precision, in order.
         let mut beneath = l.model.clone();
         beneath.effects.pop();
+        // A name used beneath (a law loaded from an earlier step's file) or
+        // by any known effect would clash when both files are loaded, and
+        // the base would name the new law itself (its own base then lost,
+        // silently): the next free `-2`, `-3`, ...
+        let stem = effect_name(l);
+        let taken = |n: &str| {
+            names.iter().any(|(_, w)| w == n)
+                || beneath.effects.iter().any(|e| e.name() == n)
+                || crate::effects::by_name(n).is_some()
+        };
+        let mut name = stem.clone();
+        let mut k = 1;
+        while taken(&name) {
+            k += 1;
+            name = format!("{stem}-{k}");
+        }
         let base = beneath
             .effects
             .iter()
