@@ -528,36 +528,28 @@ fn effects_that_a_non_local_tail_would_ignore_are_refused_by_name() {
     assert!(o.status.success(), "{}", crate::common::stderr(&o));
 }
 
-/// Peak resident memory of one run of the binary (its own, from the
-/// kernel's accounting of the reaped child), bytes; its stdout.
-// The child is reaped by `wait4` (which also returns its rusage), not by
-// `Child::wait`, which clippy cannot see.
+/// Peak resident memory of one `helix --format json` run of the binary,
+/// as the process read its own high-water mark (`process_peak_rss_bytes`),
+/// bytes; and its JSON. The kernel's accounting of a reaped child cannot
+/// serve: its `ru_maxrss` keeps the test process's own high-water mark from
+/// before the exec, so both runs read the same (a failure seen in CI).
 #[cfg(target_os = "linux")]
-#[allow(clippy::zombie_processes)]
-fn peak_rss_of(args: &[&str]) -> (u64, String) {
+fn peak_rss_of(args: &[&str]) -> (u64, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("stdout");
-    let child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let o = Command::new(env!("CARGO_BIN_EXE_swimbot"))
         .args(args)
         .current_dir(dir.path())
         // A fresh solver cache: a matrix cached by another run would be
         // read, not solved, and its memory never used.
         .env("SWIMBOT_CACHE_DIR", dir.path().join("cache"))
-        .stdout(std::fs::File::create(&out).unwrap())
-        .stderr(std::process::Stdio::null())
-        .spawn()
+        .output()
         .unwrap();
-    let pid = child.id() as libc::pid_t;
-    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
-    // SAFETY: a pid of our own unreaped child; status and usage are ours.
-    let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    assert_eq!(r, pid);
-    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0);
-    // ru_maxrss is in KiB on Linux.
-    (
-        usage.ru_maxrss as u64 * 1024,
-        std::fs::read_to_string(out).unwrap(),
-    )
+    assert!(o.status.success(), "{}", crate::common::stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let peak = v["process_peak_rss_bytes"]
+        .as_u64()
+        .expect("process_peak_rss_bytes in the output");
+    (peak, v)
 }
 
 /// The tube solver's memory estimate (issue 27.3, printed as `peak_bytes`)
@@ -585,8 +577,7 @@ fn the_tube_memory_estimate_holds_against_the_binarys_measured_peak() {
         &["--channel-diameter-mm", "35", "--wall-spacing-mm", "4"],
     ]
     .concat();
-    let (peak, json) = peak_rss_of(&tube);
-    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let (peak, v) = peak_rss_of(&tube);
     let estimate = find_number(&v, "peak_bytes").expect("peak_bytes in the output");
     let grown = peak.saturating_sub(free) as f64;
     println!(

@@ -132,6 +132,20 @@ struct HelixOut {
     c_n_pa_s: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     tube: Option<TubeOut>,
+    /// This process's own high-water resident memory (bytes), to set
+    /// against the tube's estimated `peak_bytes`; `null` where the system
+    /// does not say (it is read from Linux's `/proc/self/status`).
+    process_peak_rss_bytes: Option<u64>,
+}
+
+/// The process's resident-memory high-water mark, `VmHWM` (KiB) in
+/// `/proc/self/status`. A parent's `wait4` cannot measure it: the child's
+/// `ru_maxrss` keeps the parent's high-water mark from before the exec.
+fn process_peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }
 
 #[derive(serde::Serialize)]
@@ -352,6 +366,7 @@ fn print(
         c_t_pa_s: drag.tangential,
         c_n_pa_s: drag.normal,
         tube,
+        process_peak_rss_bytes: process_peak_rss_bytes(),
     };
     super::output::check_finite("resistance matrix", &out)?;
     match a.format {
