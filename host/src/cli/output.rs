@@ -183,8 +183,7 @@ impl AtomicFile {
         match check_output_file(dest)? {
             Target::Replace(path) => {
                 let tmp = temp_sibling(&path);
-                let file = std::fs::File::create(&tmp).map_err(|e| cannot_write(dest, &e))?;
-                guard::add_temp(&tmp);
+                let file = guard::create_temp(&tmp).map_err(|e| cannot_write(dest, &e))?;
                 Ok(AtomicFile {
                     dest: path,
                     tmp: Some(tmp),

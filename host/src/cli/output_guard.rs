@@ -141,8 +141,14 @@ fn pending() -> std::sync::MutexGuard<'static, Pending> {
     PENDING.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-pub fn add_temp(p: &Path) {
-    pending().temps.push(p.to_path_buf());
+/// Creates the temporary file `p` and registers it, both under the lock
+/// that [`clean_up`] takes: a signal that arrives between the two would
+/// otherwise leave the file behind (seen once in a loaded test run).
+pub fn create_temp(p: &Path) -> std::io::Result<std::fs::File> {
+    let mut pending = pending();
+    let file = std::fs::File::create(p)?;
+    pending.temps.push(p.to_path_buf());
+    Ok(file)
 }
 
 pub fn forget_temp(p: &Path) {
