@@ -43,9 +43,11 @@ pub struct FitArgs {
     /// calibrated model are `compare --format csv` with the same effects).
     #[arg(long, value_enum, default_value = "table")]
     pub format: TableJsonCsv,
-    /// What the fit minimises: the Student-t deviance (robust to one bad
-    /// run) or the chi-square.
-    #[arg(long, value_enum, default_value = "student-t")]
+    /// What the fit minimises: the chi-square (least squares, what
+    /// `diagnose`, `compare` and the page fit) or the Student-t deviance
+    /// (robust to one bad run where the model otherwise meets the data; on
+    /// data it misses everywhere the t treats most cases as outliers).
+    #[arg(long, value_enum, default_value = "gaussian")]
     pub likelihood: LikelihoodArg,
 }
 
