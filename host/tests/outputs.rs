@@ -456,3 +456,21 @@ fn a_report_refuses_to_overwrite_an_input_in_its_bundle() {
         before
     );
 }
+
+/// A closed stderr (a note printed after the work, `report`'s "wrote ...")
+/// is exit 2, never a panic (exit 101) nor a death by SIGPIPE.
+#[cfg(unix)]
+#[test]
+fn a_closed_stderr_is_exit_2_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(["report", "--no-physics", "-o", "rep"])
+        .current_dir(dir.path())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stderr.take());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(2), "{status:?}");
+}

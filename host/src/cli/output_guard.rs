@@ -229,8 +229,8 @@ pub fn install_signal_cleanup() {}
 /// Rust's `println!` panics when stdout cannot be written (a full disk,
 /// `> /dev/full`); turn that one panic into the CLI's exit 2 with a
 /// message, after the clean-up, or, when the reader closed the pipe, into
-/// a quiet end ([`end_on_closed_stdout`]). Every other panic keeps the
-/// default report.
+/// a quiet end ([`end_on_closed_stdout`]); `eprintln!`'s on stderr into
+/// exit 2. Every other panic keeps the default report.
 pub fn install_stdout_failure_exit() {
     let default = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
@@ -246,6 +246,12 @@ pub fn install_stdout_failure_exit() {
             }
             clean_up();
             eprintln!("swimbot: error: cannot write to standard output: {why}");
+            std::process::exit(2);
+        }
+        // A note on a closed stderr (`2>&1 | head`): the run cannot say
+        // what it did, so it fails (exit 2) rather than panic (exit 101).
+        if msg.starts_with("failed printing to stderr: ") {
+            clean_up();
             std::process::exit(2);
         }
         default(info);
