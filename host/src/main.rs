@@ -5,29 +5,17 @@ use std::process::ExitCode;
 use swimbot::cli::{run, Cli};
 
 fn main() -> ExitCode {
-    end_quietly_on_a_closed_pipe();
+    // A reader that stops early (`| head`) is handled in the CLI
+    // (`cli::output_guard::end_on_closed_stdout`): exit 0, as ripgrep does.
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("swimbot: error: {e}");
+            // Not `eprintln!`: it panics when stderr is a closed pipe, and
+            // the exit code must still say why the run failed.
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "swimbot: error: {e}");
             ExitCode::from(e.exit_code())
         }
-    }
-}
-
-/// `swimbot compare --format json | head` must end quietly when `head` stops
-/// reading, as `cat` does. Rust ignores SIGPIPE before `main`, so a write to
-/// the closed pipe becomes an error, and `println!` panics on it; with the
-/// default action restored the kernel ends the process instead. Stable Rust
-/// has no switch for this (`-Zon-broken-pipe=kill` is nightly-only), and
-/// turning every one of the CLI's prints into a fallible write would only
-/// rebuild what the default action already does.
-fn end_quietly_on_a_closed_pipe() {
-    #[cfg(unix)]
-    // SAFETY: first thing in `main`, before any other thread exists, and
-    // SIG_DFL is a valid action for SIGPIPE.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }

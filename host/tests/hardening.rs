@@ -662,3 +662,60 @@ fn diagnose_steps_write_effects_that_load_together() {
         );
     }
 }
+
+/// `sim --rate-hz`: two set-points at one time (the later silently won),
+/// a set-point the run never reaches (after `--max-time-s`), and a huge or
+/// tiny rate (printed with hundreds of digits) are refused with exit 2,
+/// naming the flag and the entries; a bare time is seconds, as said.
+#[test]
+fn rate_schedules_that_cannot_be_run_as_written_are_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let cases: &[(&str, &[&str])] = &[
+        ("0.8,0.9", &["--rate-hz", "`0.8`", "`0.9`", "both at 0 s"]),
+        ("0.6@0s,0.9@0s", &["--rate-hz", "`0.6@0s`", "`0.9@0s`"]),
+        (
+            "0.6@0,0.9@20,0.7@20000ms",
+            &["`0.9@20`", "`0.7@20000ms`", "20 s"],
+        ),
+        (
+            "0.6@0s,0.9@30s",
+            &["--rate-hz", "0.9 Hz at 30 s", "--max-time-s 10"],
+        ),
+        ("1e300", &["--rate-hz", "1e300 Hz", "outside"]),
+        ("1e-300", &["--rate-hz", "1e-300 Hz", "outside"]),
+        ("0.8@soon", &["seconds (a bare number)"]),
+    ];
+    for (schedule, needles) in cases {
+        let o = swimbot_in(
+            p,
+            &[
+                "sim",
+                "-q",
+                "--max-time-s",
+                "10",
+                "-o",
+                "s",
+                "--rate-hz",
+                schedule,
+            ],
+        );
+        refused(&o, needles);
+        assert!(text(&o.stderr).len() < 400, "{}", text(&o.stderr));
+    }
+    // A bare time runs, as the message says: seconds.
+    let o = swimbot_in(
+        p,
+        &[
+            "sim",
+            "-q",
+            "--max-time-s",
+            "2",
+            "-o",
+            "s",
+            "--rate-hz",
+            "0.6@0,0.9@1",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+}

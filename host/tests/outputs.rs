@@ -213,7 +213,7 @@ fn sigint_and_sigterm_leave_no_temporary_file_and_no_new_folder() {
 
 /// `diagnose --write-effect F | head -n 3`: the file the user asked for is
 /// written before stdout is touched, so a reader that closed the pipe at
-/// once (the process then ends by SIGPIPE at its first line) still leaves F.
+/// once (the process then ends quietly at its first line) still leaves F.
 #[cfg(unix)]
 #[test]
 fn the_asked_for_file_is_written_before_a_closed_stdout_ends_the_run() {
@@ -355,4 +355,122 @@ fn a_report_rerun_removes_only_what_its_manifest_lists() {
         "keep"
     );
     assert!(rep.join("index.html").exists());
+}
+
+/// Every way a command prints (`println!`, the CSV writer, `compare`'s CSV,
+/// the final flush) ends with exit 0 and nothing on stderr when the reader
+/// is gone before the first line, as `sweep | head` does (`cli.rs`); it
+/// used to be a death by SIGPIPE, met only by commands printing more than a
+/// pipe buffer holds.
+#[cfg(unix)]
+#[test]
+fn a_closed_stdout_ends_every_kind_of_printing_with_exit_0() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        &["compare", "--no-report"][..],
+        &["compare", "--no-report", "--format", "csv"],
+        &["diagnose", "--format", "csv"],
+        &["effects"],
+        &SMALL_SWEEP,
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+            .args(args)
+            .arg("--quiet")
+            .current_dir(dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {:?}", out.status);
+        assert!(out.stderr.is_empty(), "{args:?}: {}", stderr(&out));
+    }
+}
+
+/// A dataset kept in the report's folder under a name the bundle writes
+/// (`tables/paper-1.csv`) is an input: the report refuses it (exit 2)
+/// before writing or removing any file, fresh or over its own earlier page.
+#[test]
+fn a_report_refuses_to_overwrite_an_input_in_its_bundle() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let data = swimbot::data::paper();
+    std::fs::create_dir_all(d.join("rep/tables")).unwrap();
+    let input = d.join("rep/tables/paper-1.csv");
+    std::fs::write(d.join("paper.toml"), swimbot::data::to_toml(&data)).unwrap();
+    let o = run_in(
+        d,
+        &[
+            "convert",
+            "-q",
+            "paper.toml",
+            "-o",
+            "rep/tables/paper-1.csv",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = std::fs::read(&input).unwrap();
+    let report = || {
+        run_in(
+            d,
+            &[
+                "report",
+                "-q",
+                "--no-physics",
+                "-o",
+                "rep",
+                "--data",
+                "rep/tables/paper-1.csv",
+            ],
+        )
+    };
+    let o = report();
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("paper-1.csv") && stderr(&o).contains("is also an input"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    assert!(!d.join("rep/index.html").exists(), "a page was written");
+    // Over an earlier page whose manifest lists that table (to be removed).
+    let o = run_in(d, &["report", "-q", "--no-physics", "-o", "rep2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::copy(&input, d.join("rep2/tables/paper-1.csv")).unwrap();
+    let o = run_in(
+        d,
+        &[
+            "report",
+            "-q",
+            "--no-physics",
+            "-o",
+            "rep2",
+            "--data",
+            "rep2/tables/paper-1.csv",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read(d.join("rep2/tables/paper-1.csv")).unwrap(),
+        before
+    );
+}
+
+/// A closed stderr (a note printed after the work, `report`'s "wrote ...")
+/// is exit 2, never a panic (exit 101) nor a death by SIGPIPE.
+#[cfg(unix)]
+#[test]
+fn a_closed_stderr_is_exit_2_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(["report", "--no-physics", "-o", "rep"])
+        .current_dir(dir.path())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stderr.take());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(2), "{status:?}");
 }

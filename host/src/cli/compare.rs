@@ -103,7 +103,14 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         None
     } else {
         Some(
-            crate::report::write_report(&args.output, &path, &data, None).map_err(|e| {
+            crate::report::write_report(
+                &args.output,
+                &path,
+                &data,
+                None,
+                &super::output::not_an_input,
+            )
+            .map_err(|e| {
                 CliError::input(format!(
                     "writing the report to {}: {e}",
                     args.output.display()
@@ -288,11 +295,11 @@ fn print_csv(c: &Comparison) -> Result<(), CliError> {
     let header: Vec<String> = header.split(',').map(csv_column).collect();
     use std::io::Write;
     let mut out = std::io::stdout().lock();
-    out.write_all(comments.as_bytes())
+    let done = out
+        .write_all(comments.as_bytes())
         .and_then(|()| writeln!(out, "{}", header.join(",")))
-        .and_then(|()| out.write_all(rows.as_bytes()))
-        // a full disk or a closed device is the user's to fix: exit 2
-        .map_err(|e| CliError::input(format!("cannot write the CSV to standard output: {e}")))
+        .and_then(|()| out.write_all(rows.as_bytes()));
+    super::output_guard::stdout_written(done, "the CSV")
 }
 
 /// `omega_pred_hz` -> `omega_body_counter_pred_hz`, and so on.

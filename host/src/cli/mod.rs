@@ -84,9 +84,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     output_guard::install_stdout_failure_exit();
     let done = dispatch(cli).and_then(|()| {
         use std::io::Write;
-        std::io::stdout()
-            .flush()
-            .map_err(|e| CliError::input(format!("cannot write to standard output: {e}")))
+        output_guard::stdout_written(std::io::stdout().flush(), "the output")
     });
     match &done {
         Ok(()) => output_guard::keep_new_dirs(),

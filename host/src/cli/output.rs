@@ -57,10 +57,7 @@ pub fn print_csv<T: serde::Serialize>(rows: &[T]) -> Result<(), CliError> {
         write_csv_rows(rows, &mut bytes)?;
     }
     use std::io::Write;
-    std::io::stdout()
-        .lock()
-        .write_all(&bytes)
-        .map_err(|e| CliError::input(format!("cannot write the CSV to standard output: {e}")))
+    guard::stdout_written(std::io::stdout().lock().write_all(&bytes), "the CSV")
 }
 
 /// The help of every `--format`.
@@ -281,6 +278,13 @@ pub fn check_output_dir(dir: &Path) -> Result<(), CliError> {
         ))
     })?;
     probe(&temp_sibling(&dir.join("probe")), dir)
+}
+
+/// The report bundle's guard ([`crate::report::Guard`]): refuses a file
+/// of the bundle that is one of the command's inputs
+/// ([`guard::refuse_if_unnamed_input`]), e.g. `--data out/tables/paper-1.csv`.
+pub fn not_an_input(path: &Path) -> Result<(), String> {
+    guard::refuse_if_unnamed_input(path).map_err(|e| e.to_string())
 }
 
 /// Checks, before any work, that `path` can be written: what kind of file

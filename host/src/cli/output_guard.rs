@@ -90,6 +90,17 @@ pub fn resolve(path: &Path) -> Result<Target, CliError> {
 /// Refuses `path` when it is, by device and inode, another file named on
 /// the command line (an input). A path that does not exist yet is no input.
 pub fn refuse_if_input(path: &Path) -> Result<(), CliError> {
+    // The output itself is named once; a second name is an input.
+    refuse_if_named(path, 2)
+}
+
+/// [`refuse_if_input`] for an output the command line does not name (a
+/// file of the report's bundle, named by the folder): any name is an input.
+pub fn refuse_if_unnamed_input(path: &Path) -> Result<(), CliError> {
+    refuse_if_named(path, 1)
+}
+
+fn refuse_if_named(path: &Path, inputs_from: usize) -> Result<(), CliError> {
     let Some(id) = identity(path) else {
         return Ok(());
     };
@@ -104,8 +115,7 @@ pub fn refuse_if_input(path: &Path) -> Result<(), CliError> {
         .flatten()
         .filter(|a| identity(Path::new(a)) == Some(id))
         .count();
-    // The output itself is named once; a second name is an input.
-    if named >= 2 {
+    if named >= inputs_from {
         return Err(CliError::input(format!(
             "output {}: is also an input of this command (the same file); writing it would destroy the input: name another output",
             path.display()
@@ -218,7 +228,9 @@ pub fn install_signal_cleanup() {}
 
 /// Rust's `println!` panics when stdout cannot be written (a full disk,
 /// `> /dev/full`); turn that one panic into the CLI's exit 2 with a
-/// message, after the clean-up. Every other panic keeps the default report.
+/// message, after the clean-up, or, when the reader closed the pipe, into
+/// a quiet end ([`end_on_closed_stdout`]); `eprintln!`'s on stderr into
+/// exit 2. Every other panic keeps the default report.
 pub fn install_stdout_failure_exit() {
     let default = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
@@ -229,10 +241,57 @@ pub fn install_stdout_failure_exit() {
             .or_else(|| info.payload().downcast_ref::<&str>().copied())
             .unwrap_or("");
         if let Some(why) = msg.strip_prefix("failed printing to stdout: ") {
+            if is_broken_pipe(why) {
+                end_on_closed_stdout();
+            }
             clean_up();
             eprintln!("swimbot: error: cannot write to standard output: {why}");
             std::process::exit(2);
         }
+        // A note on a closed stderr (`2>&1 | head`): the run cannot say
+        // what it did, so it fails (exit 2) rather than panic (exit 101).
+        if msg.starts_with("failed printing to stderr: ") {
+            clean_up();
+            std::process::exit(2);
+        }
         default(info);
     }));
+}
+
+/// The result of a write to stdout: a reader that stopped early (`| head`)
+/// ends the run quietly with exit 0 ([`end_on_closed_stdout`]); any other
+/// failure (a full disk, a closed device) is the user's to fix: exit 2.
+pub fn stdout_written(done: std::io::Result<()>, what: &str) -> Result<(), CliError> {
+    done.map_err(|e| stdout_error(e, what))
+}
+
+/// [`stdout_written`]'s error: ends the run quietly on a closed pipe.
+pub fn stdout_error(e: std::io::Error, what: &str) -> CliError {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        end_on_closed_stdout();
+    }
+    CliError::input(format!("cannot write {what} to standard output: {e}"))
+}
+
+/// `println!`'s panic message after its prefix, e.g. "Broken pipe (os error 32)".
+#[cfg(unix)]
+fn is_broken_pipe(why: &str) -> bool {
+    why.starts_with(&std::io::Error::from_raw_os_error(libc::EPIPE).to_string())
+}
+
+#[cfg(not(unix))]
+fn is_broken_pipe(_: &str) -> bool {
+    false
+}
+
+/// The reader of stdout is gone (`swimbot sweep | head`): end as ripgrep
+/// does, exit 0 and no message, for every command alike. The process
+/// ignores SIGPIPE (Rust's default), so a closed pipe is a write error
+/// rather than a death by signal that only the commands with more output
+/// than a pipe buffer met (exit 141 in a shell, a failure under
+/// `set -o pipefail`). Files already renamed into place stay; a temporary
+/// file or an empty new folder does not.
+pub fn end_on_closed_stdout() -> ! {
+    clean_up();
+    std::process::exit(0)
 }

@@ -96,6 +96,7 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
             zero_param,
             audit: Some(&audited),
         },
+        &super::output::not_an_input,
     )
     .map_err(|e| CliError::input(format!("writing the report to {}: {e}", a.output.display())))?;
     println!("{}", path.display());

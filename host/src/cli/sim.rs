@@ -295,6 +295,7 @@ fn rate_run(args: &SimArgs) -> Result<Option<RateRun>, CliError> {
     let points = RateRun::parse_schedule(text).map_err(CliError::input)?;
     let run = RateRun::new(points);
     run.check()
+        .and_then(|()| run.check_reached(args.max_time_s))
         .map_err(|e| CliError::input(format!("--rate-hz: {e}")))?;
     Ok(Some(run))
 }

@@ -297,10 +297,13 @@ fn write_csv(
         None => Box::new(std::io::stdout().lock()),
     };
     let mut w = std::io::BufWriter::with_capacity(1 << 20, sink);
-    // A write that fails (a full disk, a closed device) is the user's to fix: exit 2.
+    // A write that fails (a full disk, a closed device) is the user's to
+    // fix: exit 2; a reader of stdout that stopped early ends the run quietly.
     let to = out.map_or("standard output".to_string(), |p| p.display().to_string());
-    let fail =
-        |e: std::io::Error| CliError::input(format!("cannot write the sweep CSV to {to}: {e}"));
+    let fail = |e: std::io::Error| match out {
+        None => super::output_guard::stdout_error(e, "the sweep CSV"),
+        Some(_) => CliError::input(format!("cannot write the sweep CSV to {to}: {e}")),
+    };
     let provenance = crate::provenance::Provenance::capture().comment_block();
     w.write_all(provenance.as_bytes()).map_err(fail)?;
     writeln!(

@@ -232,9 +232,14 @@ fn table_json(rows: &[Vec<String>]) -> String {
     serde_json::to_string_pretty(&objects).expect("strings serialise") + "\n"
 }
 
+/// What may not be written or removed: `guard` refuses a path (the CLI's
+/// check that an output is none of the command's input files).
+pub type Guard<'a> = &'a dyn Fn(&Path) -> Result<(), String>;
+
 /// Write `page` and its bundle into `dir` (each file through a temporary
-/// file and a rename); returns the page's path.
-pub fn write(dir: &Path, command: &str, page: &str) -> Result<PathBuf, String> {
+/// file and a rename); returns the page's path. Every file it would write
+/// or remove passes `guard` first, before any is touched.
+pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<PathBuf, String> {
     check_dir(dir, command)?;
     let provenance = crate::provenance::Provenance::capture();
     let page = provenance.into_html(page);
@@ -265,7 +270,11 @@ pub fn write(dir: &Path, command: &str, page: &str) -> Result<PathBuf, String> {
     // a page rewritten with fewer figures leaves no stale ones behind; only
     // the files the previous run's manifest lists go (removing the whole
     // folders deleted whatever else a user had put in them)
-    for rel in previous_files(dir) {
+    let previous = previous_files(dir);
+    for rel in previous.iter().chain(files.iter().map(|f| &f.0)) {
+        guard(&dir.join(rel))?;
+    }
+    for rel in previous {
         let _ = std::fs::remove_file(dir.join(rel));
     }
     for (rel, bytes) in &files {
@@ -355,7 +364,7 @@ mod tests {
     #[test]
     fn a_folder_another_command_wrote_is_refused() {
         let dir = tempfile::tempdir().unwrap();
-        write(dir.path(), "report", PAGE).unwrap();
+        write(dir.path(), "report", PAGE, &|_| Ok(())).unwrap();
         assert!(check_dir(dir.path(), "report").is_ok());
         let e = check_dir(dir.path(), "compare").unwrap_err();
         assert!(e.contains("swimbot report") && e.contains("-o"), "{e}");

@@ -5,6 +5,7 @@
 //! user's path, [`crate::workbench::path`]); it does not compute.
 
 mod bundle;
+pub use bundle::Guard;
 mod curve;
 mod fails;
 mod figure4;
@@ -36,9 +37,10 @@ pub fn check_bundle_dir(dir: &std::path::Path, command: &str) -> Result<(), Stri
 pub fn write_story(
     dir: &std::path::Path,
     input: &StoryInput,
+    guard: bundle::Guard,
 ) -> Result<std::path::PathBuf, String> {
     let page = story::page(input).map_err(|e| e.to_string())?;
-    bundle::write(dir, input.command, &page)
+    bundle::write(dir, input.command, &page, guard)
 }
 
 /// Write the story page for the model at the end of `path` on `data`
@@ -50,6 +52,7 @@ pub fn write_report(
     path: &crate::workbench::path::Path,
     data: &crate::data::Dataset,
     diagnosis: Option<&crate::workbench::diagnose::Diagnosis>,
+    guard: bundle::Guard,
 ) -> Result<std::path::PathBuf, String> {
     write_story(
         dir,
@@ -64,5 +67,6 @@ pub fn write_report(
             ),
             audit: None,
         },
+        guard,
     )
 }

@@ -11,6 +11,7 @@
 //! fixed fraction per tail in the model (printed by `sim`).
 
 use super::script::parse_time_us;
+use crate::data::limits::show;
 use crate::robot::hall::{Failure, HallRing, SensorNoise};
 use swimbot_shared::rate::{HallConfig, RateConfig, RateEvent, RateOutput, SensorFault};
 use swimbot_shared::{BatteryStatus, ChipControl, Command, Controller, HallEdge, MotorControl};
@@ -40,13 +41,18 @@ impl RateRun {
         }
     }
 
-    /// `0.8` (from the start) or `0.6@0s,0.9@20s,...` (times as in scripts).
+    /// `0.8` (from the start) or `0.6@0s,0.9@20s,...` (times as in scripts;
+    /// a bare number is seconds). Two set-points at one time are refused:
+    /// one of them would silently never apply.
     pub fn parse_schedule(text: &str) -> Result<Vec<(u64, f64)>, String> {
-        let mut out = Vec::new();
+        let mut out: Vec<(u64, f64, &str)> = Vec::new();
         for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let (hz, at) = item.split_once('@').unwrap_or((item, "0"));
             let at_us = parse_time_us(at.trim()).ok_or_else(|| {
-                format!("rate set-point `{item}`: the time must be a non-negative number with ms, s or min")
+                format!(
+                    "rate set-point `{item}`: the time must be a non-negative number of seconds \
+                     (a bare number) or with ms, s or min, e.g. 0.8@20, 0.8@500ms, 0.8@2min"
+                )
             })?;
             let hz: f64 = hz.trim().parse().map_err(|_| {
                 format!("rate set-point `{item}`: expected a rate in Hz, e.g. 0.8 or 0.8@10s")
@@ -56,13 +62,41 @@ impl RateRun {
                     "rate set-point `{item}`: the rate must be a positive number of Hz"
                 ));
             }
-            out.push((at_us, hz));
+            out.push((at_us, hz, item));
         }
         if out.is_empty() {
             return Err("--rate-hz is empty: give a rate, e.g. 0.8".into());
         }
         out.sort_by_key(|p| p.0);
-        Ok(out)
+        if let Some(w) = out.windows(2).find(|w| w[0].0 == w[1].0) {
+            return Err(format!(
+                "--rate-hz: set-points `{}` and `{}` are both at {} s (a set-point without @ is at 0 s): \
+                 give each its own time, e.g. 0.6@0s,0.9@20s",
+                w[0].2,
+                w[1].2,
+                show(w[0].0 as f64 * 1e-6)
+            ));
+        }
+        Ok(out.into_iter().map(|(t, hz, _)| (t, hz)).collect())
+    }
+
+    /// Refuses a set-point at or after the run's end (`max_time_s`): the
+    /// controller would never be given it, and the run would not show it.
+    pub fn check_reached(&self, max_time_s: f64) -> Result<(), String> {
+        match self
+            .set_points
+            .iter()
+            .find(|p| p.0 as f64 * 1e-6 >= max_time_s)
+        {
+            Some(p) => Err(format!(
+                "rate set-point {} Hz at {} s is not before the run's end (--max-time-s {}): \
+                 it would never be reached; give a longer --max-time-s or an earlier time",
+                show(p.1),
+                show(p.0 as f64 * 1e-6),
+                show(max_time_s)
+            )),
+            None => Ok(()),
+        }
     }
 
     /// The set-point in force at `t_us` (Hz).
@@ -84,7 +118,7 @@ impl RateRun {
         {
             Some(p) => Err(format!(
                 "rate set-point {} Hz is outside the controller's range {}..={} Hz",
-                p.1,
+                show(p.1),
                 f64::from(lo) / 1e3,
                 f64::from(hi) / 1e3
             )),
@@ -243,5 +277,33 @@ mod tests {
         assert_eq!(run.set_hz_at(5_000_000), Some(0.9));
         assert!(run.check().is_ok());
         assert!(RateRun::new(vec![(0, 5.0)]).check().is_err());
+    }
+
+    #[test]
+    fn equal_times_and_set_points_past_the_end_are_refused() {
+        for (bad, a, b) in [
+            ("0.8,0.9", "0.8", "0.9"),
+            ("0.6@20s, 0.9@20000ms", "0.6@20s", "0.9@20000ms"),
+        ] {
+            let e = RateRun::parse_schedule(bad).unwrap_err();
+            assert!(
+                e.contains(&format!("`{a}`")) && e.contains(&format!("`{b}`")),
+                "{e}"
+            );
+        }
+        // A bare time is seconds, as the message says.
+        assert_eq!(
+            RateRun::parse_schedule("0.6@0,0.9@20"),
+            Ok(vec![(0, 0.6), (20_000_000, 0.9)])
+        );
+        let run = RateRun::new(vec![(0, 0.6), (20_000_000, 0.9)]);
+        assert!(run.check_reached(20.001).is_ok());
+        let e = run.check_reached(20.0).unwrap_err();
+        assert!(
+            e.contains("0.9 Hz at 20 s") && e.contains("--max-time-s 20"),
+            "{e}"
+        );
+        let e = RateRun::new(vec![(0, 1e300)]).check().unwrap_err();
+        assert!(e.contains("1e300 Hz") && e.len() < 200, "{e}");
     }
 }

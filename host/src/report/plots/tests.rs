@@ -289,6 +289,7 @@ fn every_figure_of_the_report_page_is_clear_and_readable() {
         &crate::workbench::path::user_path(&crate::model::Model::base(), 0, &data).unwrap(),
         &data,
         None,
+        &|_| Ok(()),
     )
     .unwrap();
     let page = std::fs::read_to_string(path).unwrap();
