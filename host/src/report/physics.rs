@@ -140,7 +140,7 @@ pub fn section(
         h.push_str(
             "<p>U in mm/s, Ω<sub>b</sub> in Hz. ± 2u: twice the prediction's standard \
              uncertainty from the dataset's stated input uncertainties (geometry, rate, \
-             viscosity, the body's section lengths, the trim); combined σ: the error in \
+             viscosity, the body's section lengths, the trim, the coupler's gap); combined σ: the error in \
              standard deviations of measurement and inputs in quadrature.</p>",
         );
     }
