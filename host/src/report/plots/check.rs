@@ -164,7 +164,16 @@ fn text_boxes(body: &str, inherited: Option<f64>) -> Result<Vec<(String, Rect)>,
         let tag = &t[..open_end];
         let inner = &t[open_end + 1..t.find("</text>").ok_or("a <text> without its end")?];
         let bad = || format!("unreadable text element: {tag}");
-        let (x, y) = (attr(tag, "x"), attr(tag, "y"));
+        // `transform="translate(x,y) rotate(-90)"` places it without x, y.
+        let moved = attr_str(tag, "transform")
+            .and_then(|t| t.strip_prefix("translate("))
+            .and_then(|t| t.split_once(')'))
+            .and_then(|(xy, _)| xy.split_once(','))
+            .and_then(|(x, y)| Some((x.trim().parse().ok()?, y.trim().parse().ok()?)));
+        let (x, y) = match moved {
+            Some((x, y)) => (Some(x), Some(y)),
+            None => (attr(tag, "x"), attr(tag, "y")),
+        };
         let size = attr(tag, "font-size").or(inherited);
         let (x, y, size) = (
             x.ok_or_else(bad)?,
