@@ -407,3 +407,27 @@ fn dodged_markers_and_bars_stand_apart_at_one_x() {
     assert!(2.0 * shift > 6.0 + 1.0, "bars' caps meet: {d:?}");
     legend_clear(&svg).unwrap();
 }
+
+#[test]
+fn a_point_whose_bar_reaches_below_zero_stays_on_a_log_axis() {
+    let pts = vec![(0.2, 0.05, 0.13), (0.6, 0.5, 0.01), (0.3, 0.3, 0.0)];
+    let svg = Chart::new("", "x", "y")
+        .log_x()
+        .log_y()
+        .render(&[Series::measured("", C, pts)])
+        .unwrap();
+    let cys: Vec<f64> = svg
+        .match_indices("<circle cx=\"")
+        .map(|(i, _)| {
+            let s = &svg[i..];
+            let s = &s[s.find(" cy=\"").unwrap() + 5..];
+            s[..s.find('"').unwrap()].parse().unwrap()
+        })
+        .collect();
+    // the plot's bottom: the default 380 px height less the space below it
+    let h = 380.0 - 46.0;
+    assert!(
+        cys.iter().all(|y| *y <= h + 0.1),
+        "a marker under the axis: {cys:?}"
+    );
+}
