@@ -379,7 +379,8 @@ fn a_lab_s_four_groups_and_second_tube_shape_the_page() {
         assert_eq!(f.matches("<svg").count(), 8, "{fig}");
     }
     // narrower panels, yet no text of Fig. 4 runs into another and its
-    // legend covers no data
+    // legend covers no data (Fig. 4 only: in this lab's residual plot the
+    // labels of tail-5 and tail-6 still overlap, a known open glitch)
     for e in std::fs::read_dir(d.join("c/figures")).unwrap() {
         let path = e.unwrap().path();
         if !path.to_string_lossy().contains("fig4") {
