@@ -378,6 +378,19 @@ fn a_lab_s_four_groups_and_second_tube_shape_the_page() {
         assert!(f.contains("--cols:4"), "{fig}: four columns");
         assert_eq!(f.matches("<svg").count(), 8, "{fig}");
     }
+    // narrower panels, yet no text of Fig. 4 runs into another and its
+    // legend covers no data (Fig. 4 only: in this lab's residual plot the
+    // labels of tail-5 and tail-6 still overlap, a known open glitch)
+    for e in std::fs::read_dir(d.join("c/figures")).unwrap() {
+        let path = e.unwrap().path();
+        if !path.to_string_lossy().contains("fig4") {
+            continue;
+        }
+        let svg = std::fs::read_to_string(&path).unwrap();
+        swimbot::report::plots::text_clear(&svg)
+            .and_then(|()| swimbot::report::plots::legend_clear(&svg))
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    }
     // the lab's title and each case's tube
     assert!(page.contains("<h1>swimbot: models against the measurements of “my-lab”</h1>"));
     let question = section(&page, "question");

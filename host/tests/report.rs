@@ -58,6 +58,18 @@ fn the_default_report_tells_the_story_with_six_fig4_panels_and_the_noise_floor()
         assert!(fig4.contains(panel), "panel {panel}");
     }
     assert!(fig4.contains("Gray-Hancock") && fig4.contains("Lighthill"));
+    // the two models' markers side by side at each case, as the caption says
+    assert!(fig4.contains("side by side"), "the caption names the shift");
+    // every figure as a reader sees it: no text runs into another (tick
+    // labels, subscripted axis titles, labels, legends), no legend on data
+    let figures = dir.path().join("swimbot-out/report/figures");
+    for e in std::fs::read_dir(&figures).unwrap() {
+        let path = e.unwrap().path();
+        let svg = std::fs::read_to_string(&path).unwrap();
+        swimbot::report::plots::text_clear(&svg)
+            .and_then(|()| swimbot::report::plots::legend_clear(&svg))
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    }
     // the path with the noise floor drawn as a line
     let path = figure(&page, "path-chart");
     assert!(path.contains("class=\"noise-floor\""), "noise-floor line");

@@ -4,7 +4,9 @@
 //! for each model drawn, its markers at the measured cases (± 2u where the
 //! comparison carries input bands) and its curve through them
 //! ([`super::curve`]). One legend, on panel (a); the captions say that
-//! error bars smaller than a marker are hidden by it.
+//! error bars smaller than a marker are hidden by it, and that the models'
+//! markers are drawn side by side ([`dodge`]) so that their bars at one
+//! case stay apart.
 
 use super::curve::model_curve;
 use super::plots::{Chart, Series};
@@ -70,6 +72,30 @@ pub fn panel_width(groups: usize) -> u32 {
     ((ROW_PX - GAP_PX * (g - 1)) / g).clamp(240, 390)
 }
 
+/// How far apart (fraction of the plot's width) the markers of models at
+/// the same case are drawn: 2 % is about 6 px on a 390 px panel, enough
+/// for two bars and their caps to stand apart, small against the spacing
+/// of the cases.
+pub const DODGE: f64 = 0.02;
+
+/// The x shift of model `k`'s markers: the measurement stays at its x, the
+/// models alternate left and right of it (-1, +1, -2, +2 ... x [`DODGE`]),
+/// the same in every panel, each model's curve with its markers so that it
+/// still passes through them.
+pub fn dodge(k: usize) -> f64 {
+    let step = (k / 2 + 1) as f64 * DODGE;
+    if k.is_multiple_of(2) {
+        -step
+    } else {
+        step
+    }
+}
+
+/// [`DODGE`] in per cent as the captions print it.
+pub fn dodge_percent() -> String {
+    crate::format::fmt_sig(100.0 * DODGE, 2)
+}
+
 /// One panel: `omega` selects `Omega_b/omega`, else `U/U_wave`; `legend`
 /// for the one panel that carries the figure's legend.
 fn panel(
@@ -103,7 +129,7 @@ fn panel(
         MEASURED,
         measured,
     )];
-    for l in layers {
+    for (k, l) in layers.iter().enumerate() {
         let markers: Vec<(f64, f64, f64)> = cases
             .iter()
             .filter_map(|c| {
@@ -129,9 +155,9 @@ fn panel(
             Vec::new()
         };
         if !curve.is_empty() {
-            series.push(Series::curve(String::new(), l.color, curve));
+            series.push(Series::curve(String::new(), l.color, curve).dodged(dodge(k)));
         }
-        series.push(Series::model(l.label.clone(), l.color, markers));
+        series.push(Series::model(l.label.clone(), l.color, markers).dodged(dodge(k)));
     }
     let y = if omega {
         "Omega_b / omega"
@@ -244,5 +270,18 @@ mod tests {
         let span = 3.818 - 3.733;
         assert!(lo > 3.70 && hi < 3.86, "{lo}-{hi}");
         assert!(hi - lo < 2.0 * span);
+    }
+
+    #[test]
+    fn models_alternate_left_and_right_each_at_its_own_x() {
+        assert_eq!(dodge(0), -DODGE);
+        assert_eq!(dodge(1), DODGE);
+        let shifts: Vec<f64> = (0..6).map(dodge).collect();
+        for (i, a) in shifts.iter().enumerate() {
+            assert!(*a != 0.0, "a model on the measurement's x");
+            for b in &shifts[i + 1..] {
+                assert!((a - b).abs() >= DODGE - 1e-12, "{shifts:?}");
+            }
+        }
     }
 }

@@ -205,6 +205,7 @@ impl PaperModels {
         ];
         let charts = figure4(data, &layers);
         let ci = super::intro::confidence(data);
+        let dodge = super::figure4::dodge_percent();
         let last_u = (b'a' + groups as u8 - 1) as char;
         let first_w = (b'a' + groups as u8) as char;
         let last_w = (b'a' + 2 * groups as u8 - 1) as char;
@@ -224,7 +225,10 @@ impl PaperModels {
                  inputs (chord length, tail rate, the observed speed its back-flow reads) \
                  interpolated linearly in N<sub>λ</sub> between neighbouring cases, so each line \
                  passes through its markers; a group of one case has markers only. An error bar \
-                 smaller than its marker is hidden by it."
+                 smaller than its marker is hidden by it. The models sit side by side, each \
+             shifted with its bars and line by {dodge} % of the panel's width left or right of \
+             the case's N<sub>λ</sub> in turn, so that bars at one case do not hide each other; \
+             the measurements stay at their N<sub>λ</sub>."
             ),
         ));
         h.push_str(&gap_sentence("Gray-Hancock", &self.gh));

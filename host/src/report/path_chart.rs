@@ -93,6 +93,21 @@ fn value(s: &Step, m: Metric) -> Option<f64> {
     .filter(|v| v.is_finite() && *v > 0.0)
 }
 
+/// A point's value text as lines with their offsets from its baseline: one
+/// line when it fits `room_px` (bold 11 px), else the word and the value on
+/// two, stacked upwards or downwards, so that neighbouring values at one
+/// height do not run into each other.
+fn value_lines(text: &str, room_px: f64, upwards: bool) -> Vec<(String, f64)> {
+    let fits = 1.1 * super::plots::text_width(text, 11.0) <= room_px;
+    match text.split_once(": ") {
+        Some((word, value)) if !fits => {
+            let (first, second) = if upwards { (-13.0, 0.0) } else { (0.0, 13.0) };
+            vec![(format!("{word}:"), first), (value.to_string(), second)]
+        }
+        _ => vec![(text.to_string(), 0.0)],
+    }
+}
+
 /// A label broken into lines of about `chars` characters, at spaces.
 fn wrap(label: &str, chars: usize) -> Vec<String> {
     let mut lines: Vec<String> = vec![String::new()];
@@ -269,12 +284,26 @@ pub fn chart(
         } else {
             (x, y + 16.0, "middle")
         };
-        let _ = write!(
-            s,
-            "<text x=\"{tx:.1}\" y=\"{ty:.1}\" text-anchor=\"{anchor}\" font-weight=\"600\" fill=\"{color}\">{}{}</text>",
+        let text = format!(
+            "{}{}",
             word.map(|w| format!("{w}: ")).unwrap_or_default(),
-            esc(&show(v))
+            show(v)
         );
+        // centred: the step's slot; left of the point: the half slot
+        // between it and the previous step's centred label
+        let (room, upwards) = if anchor == "end" {
+            (0.5 * slot - 12.0, true)
+        } else {
+            (slot - 8.0, above)
+        };
+        for (line, dy) in value_lines(&text, room, upwards) {
+            let _ = write!(
+                s,
+                "<text x=\"{tx:.1}\" y=\"{:.1}\" text-anchor=\"{anchor}\" font-weight=\"600\" fill=\"{color}\">{}</text>",
+                ty + dy,
+                esc(&line)
+            );
+        }
         prev = Some((i, v));
     }
     s.push_str("</svg>");

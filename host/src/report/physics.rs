@@ -175,9 +175,13 @@ pub fn section(
              CI), the paper's Gray-Hancock model (black, markers and curve) and <code>{}</code> \
              (green markers at the measured cases, ± 2u where its input bands were computed; no \
              curve: each point between the cases would need its own solve of the tail in the \
-             tube). An error bar smaller than its marker is hidden by it.",
+             tube). An error bar smaller than its marker is hidden by it. The models sit side by side, each \
+             shifted with its bars and line by {dodge} % of the panel's width left or right of \
+             the case's N<sub>λ</sub> in turn, so that bars at one case do not hide each other; \
+             the measurements stay at their N<sub>λ</sub>.",
             super::intro::confidence(data),
-            escape(name)
+            escape(name),
+            dodge = super::figure4::dodge_percent(),
         ),
     ));
     Ok(h)

@@ -355,7 +355,10 @@ fn fig4(data: &Dataset, path: &Path) -> String {
              N<sub>λ</sub>, one panel per amplitude group; hollow markers: the step's model at \
              each case (with ± 2u bars where the dataset states input uncertainties); lines: the \
              same model between the cases of a group (none for a group of one case); an error \
-             bar smaller than its marker is hidden by it.",
+             bar smaller than its marker is hidden by it. The models sit side by side, each \
+             shifted with its bars and line by {dodge} % of the panel's width left or right of \
+             the case's N<sub>λ</sub> in turn, so that bars at one case do not hide each other; \
+             the measurements stay at their N<sub>λ</sub>.",
             super::intro::confidence(data),
             path.steps
                 .iter()
@@ -367,7 +370,8 @@ fn fig4(data: &Dataset, path: &Path) -> String {
                     pct(s.summary().mare)
                 ))
                 .collect::<Vec<_>>()
-                .join(", ")
+                .join(", "),
+            dodge = super::figure4::dodge_percent(),
         ),
     )
 }

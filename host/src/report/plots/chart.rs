@@ -200,8 +200,11 @@ pub(super) fn axes(c: &Chart, series: &[Series]) -> (Axis, Axis) {
             } else {
                 (p.2, s.x_err.get(i).copied().unwrap_or(0.0))
             };
-            xs.extend([p.0 - ex, p.0 + ex]);
-            ys.extend([p.1 - ey, p.1 + ey]);
+            // The point itself too: on a log axis a bar reaching below
+            // zero is dropped, and the point went with it (a lab's tail-6
+            // at 0.05 ± 0.13 mm/s was drawn under the parity plot's axis).
+            xs.extend([p.0 - ex, p.0, p.0 + ex]);
+            ys.extend([p.1 - ey, p.1, p.1 + ey]);
         }
     }
     ys.extend(c.references.iter().map(|r| r.y));

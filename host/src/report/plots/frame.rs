@@ -1,10 +1,12 @@
 //! The frame of a plot: title, axes with ticks and tick labels, light grid
 //! lines and the axis titles, placed so no text collides (tick labels,
-//! then the axis title below them; y tick labels sized to their text).
+//! then the axis title below them; y tick labels sized to their text, the
+//! y title beside them by its whole height, subscripts included;
+//! [`super::text_clear`] checks it).
 
 use super::geom::Rect;
 use super::svg::{Anchor, Stroke, Svg};
-use super::svg_text::width;
+use super::svg_text::{extent, width};
 use plotters::style::RGBColor;
 
 pub const TICK_FONT_PX: f64 = 11.0;
@@ -22,13 +24,27 @@ pub fn top_px(title: &str) -> f64 {
 pub const BOTTOM_PX: f64 = 46.0;
 pub const RIGHT_PX: f64 = 20.0;
 
-/// Width left of the plot for y tick labels and the y-axis title.
+/// Gap between the plot's left edge and the right end of a y tick label.
+const TICK_GAP_PX: f64 = 7.0;
+/// Air between the y tick labels and the y title, and left of the title.
+const TITLE_AIR_PX: f64 = 4.0;
+
+/// Width left of the plot for y tick labels and the y-axis title: the
+/// labels, then the rotated title's whole height (its subscripts included,
+/// which hang towards the labels) with air on both sides.
 pub fn left_px(y_labels: &[String]) -> f64 {
     let w = y_labels
         .iter()
         .map(|l| width(l, TICK_FONT_PX))
         .fold(0.0, f64::max);
-    w + 34.0
+    let (above, below) = extent(AXIS_FONT_PX, true);
+    w + TICK_GAP_PX + 2.0 * TITLE_AIR_PX + above + below
+}
+
+/// The y title's baseline x: its far side (ascent) `TITLE_AIR_PX` inside
+/// the panel's left edge, so the subscripts keep clear of the labels.
+fn y_title_x(plot_x0: f64, left: f64) -> f64 {
+    plot_x0 - left + TITLE_AIR_PX + extent(AXIS_FONT_PX, true).0
 }
 
 /// Ticks in pixels along an axis: (position, label); empty label: minor.
@@ -86,7 +102,7 @@ impl Frame<'_> {
             svg.line((plot.x0 - len, *y), (plot.x0, *y), axis);
             if !l.is_empty() {
                 svg.text(
-                    (plot.x0 - 7.0, *y + 4.0),
+                    (plot.x0 - TICK_GAP_PX, *y + 4.0),
                     l,
                     TICK_FONT_PX,
                     Anchor::End,
@@ -108,7 +124,7 @@ impl Frame<'_> {
         if !self.y_desc.is_empty() {
             svg.text(
                 (
-                    plot.x0 - self.left_of_plot + 17.0,
+                    y_title_x(plot.x0, self.left_of_plot),
                     0.5 * (plot.y0 + plot.y1),
                 ),
                 self.y_desc,

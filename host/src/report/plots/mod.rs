@@ -31,10 +31,10 @@ mod tests;
 
 pub use bars::{steps, Bars};
 pub use chart::{stack, Chart};
-pub use check::legend_clear;
+pub use check::{legend_clear, text_clear};
 pub use legend::Glyph;
 pub use series::Series;
-pub use svg_text::{notation, unit};
+pub use svg_text::{notation, unit, width as text_width};
 pub use ticks::Axis;
 
 use plotters::style::RGBColor;

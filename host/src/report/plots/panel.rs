@@ -63,7 +63,12 @@ fn geometry<'a>(c: &Chart, series: &'a [Series], map: &Map) -> Geometry<'a> {
     }
     for s in series {
         if s.line {
-            let pts: Vec<(f64, f64)> = s.points.iter().filter_map(|p| map.px(p.0, p.1)).collect();
+            let dx = s.dodge * map.plot.width();
+            let pts: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .filter_map(|p| map.px(p.0, p.1).map(|(x, y)| (x + dx, y)))
+                .collect();
             curves.push((
                 pts,
                 Stroke {
@@ -76,8 +81,10 @@ fn geometry<'a>(c: &Chart, series: &'a [Series], map: &Map) -> Geometry<'a> {
         // Points whose bars the marker hides, by bar direction.
         let mut small: [Vec<String>; 2] = [Vec::new(), Vec::new()];
         let mut with_bars = [0usize; 2];
+        let dx = s.dodge * map.plot.width();
+        let px = |x: f64, y: f64| map.px(x, y).map(|(a, b)| (a + dx, b));
         for (i, p) in s.points.iter().enumerate() {
-            let Some(at) = map.px(p.0, p.1) else { continue };
+            let Some(at) = px(p.0, p.1) else { continue };
             markers.push((at.0, at.1, s));
             let name = || {
                 s.labels
@@ -87,7 +94,7 @@ fn geometry<'a>(c: &Chart, series: &'a [Series], map: &Map) -> Geometry<'a> {
                     .unwrap_or_else(|| format!("point {}", i + 1))
             };
             if p.2 > 0.0 {
-                if let (Some(a), Some(b)) = (map.px(p.0, p.1 - p.2), map.px(p.0, p.1 + p.2)) {
+                if let (Some(a), Some(b)) = (px(p.0, p.1 - p.2), px(p.0, p.1 + p.2)) {
                     bars.push((a, b, s.color));
                     with_bars[1] += 1;
                     if 0.5 * span(a.1, b.1) < MARKER_R + 1.0 {
@@ -97,7 +104,7 @@ fn geometry<'a>(c: &Chart, series: &'a [Series], map: &Map) -> Geometry<'a> {
             }
             let ex = s.x_err.get(i).copied().unwrap_or(0.0);
             if ex > 0.0 {
-                if let (Some(a), Some(b)) = (map.px(p.0 - ex, p.1), map.px(p.0 + ex, p.1)) {
+                if let (Some(a), Some(b)) = (px(p.0 - ex, p.1), px(p.0 + ex, p.1)) {
                     bars.push((a, b, s.color));
                     with_bars[0] += 1;
                     if 0.5 * span(a.0, b.0) < MARKER_R + 1.0 {
@@ -201,7 +208,11 @@ pub fn draw_panel(
     let mut labels: Vec<Label> = Vec::new();
     for s in series.iter().filter(|s| !s.line) {
         for (p, text) in s.points.iter().zip(&s.labels) {
-            let Some(at) = map.px(p.0, p.1).filter(|_| !text.is_empty()) else {
+            let Some(at) = map
+                .px(p.0, p.1)
+                .map(|(x, y)| (x + s.dodge * plot.width(), y))
+                .filter(|_| !text.is_empty())
+            else {
                 continue;
             };
             let l = place_label(MARKER_R, text, at, plot, &shapes, &labels);

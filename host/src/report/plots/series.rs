@@ -23,6 +23,10 @@ pub struct Series {
     pub x_err: Vec<f64>,
     /// Dashed line (with `line`).
     pub dashed: bool,
+    /// Markers, bars or line drawn this fraction of the plot's width to
+    /// the right of their x (negative: left), so models at the same x can
+    /// be told apart; 0: at their x.
+    pub dodge: f64,
 }
 
 impl Series {
@@ -36,6 +40,7 @@ impl Series {
             labels: Vec::new(),
             x_err: Vec::new(),
             dashed: false,
+            dodge: 0.0,
         }
     }
 
@@ -79,6 +84,13 @@ impl Series {
     /// A dashed line (reference values, alternative models).
     pub fn dashed(mut self) -> Self {
         self.dashed = true;
+        self
+    }
+
+    /// Markers, bars or line shifted by `fraction` of the plot's width in x
+    /// (the caption must say so: the x read off is then off by it).
+    pub fn dodged(mut self, fraction: f64) -> Self {
+        self.dodge = fraction;
         self
     }
 

@@ -302,6 +302,7 @@ fn every_figure_of_the_report_page_is_clear_and_readable() {
     let mut residual_titles = Vec::new();
     for svg in &svgs {
         legend_clear(svg).unwrap_or_else(|e| panic!("{e}\n{svg}"));
+        text_clear(svg).unwrap_or_else(|e| panic!("{e}\n{svg}"));
         let t = texts(svg);
         for s in &t {
             assert!(!is_integer_with_point_zero(s), "tick label {s}");
@@ -336,4 +337,98 @@ fn every_figure_of_the_report_page_is_clear_and_readable() {
         );
         assert!(t.contains(&"measured 95 % CI".to_string()), "{t:?}");
     }
+}
+
+#[test]
+fn the_text_checker_catches_a_subscript_running_into_a_tick_label() {
+    // Fig. 4 (e) before the fix: the rotated title's baseline 6 px left of
+    // the tick label "0.15"; its subscript hangs 7 px towards it.
+    let tick = "<text x=\"100\" y=\"100\" font-size=\"11\" text-anchor=\"end\">0.15</text>";
+    let title = |x: f64| {
+        format!(
+            "<text x=\"{x}\" y=\"100\" font-size=\"12\" text-anchor=\"middle\" \
+             transform=\"rotate(-90 {x} 100)\">Ω<tspan baseline-shift=\"sub\" \
+             font-size=\"75%\">b</tspan> / ω</text>"
+        )
+    };
+    let svg = |x: f64| {
+        format!(
+            "<svg width=\"200\" height=\"200\">{tick}\n{}</svg>",
+            title(x)
+        )
+    };
+    let err = text_clear(&svg(69.4)).unwrap_err();
+    assert!(err.contains("0.15") && err.contains("Ω_b / ω"), "{err}");
+    // Without the subscript the same spot is clear; moved left, so is it.
+    assert!(text_clear(&svg(69.4).replace(
+        "<tspan baseline-shift=\"sub\" font-size=\"75%\">b</tspan>",
+        ""
+    ))
+    .is_ok());
+    text_clear(&svg(64.0)).unwrap();
+    // Text leaving the drawing.
+    assert!(text_clear(&svg(64.0).replace("x=\"100\"", "x=\"10\"")).is_err());
+}
+
+#[test]
+fn y_titles_with_subscripts_clear_wide_tick_labels() {
+    for (y_desc, lo) in [
+        ("Omega_b / omega", 0.1),
+        ("U / U_wave", 1234.5),
+        ("f", 0.001),
+    ] {
+        let pts = vec![(5.0, lo, 0.0), (5.8, 2.0 * lo, 0.0)];
+        let svg = Chart::new("(e) B_o/R_body = 0.45", "N_lambda", y_desc)
+            .size(390, 330)
+            .render(&[Series::measured("m", C, pts)])
+            .unwrap();
+        text_clear(&svg).unwrap_or_else(|e| panic!("{e}\n{svg}"));
+    }
+}
+
+#[test]
+fn dodged_markers_and_bars_stand_apart_at_one_x() {
+    let at = |svg: &str| -> Vec<f64> {
+        svg.match_indices("<circle cx=\"")
+            .map(|(i, _)| {
+                let s = &svg[i + 12..];
+                s[..s.find('"').unwrap()].parse().unwrap()
+            })
+            .collect()
+    };
+    let one = |d: f64| Series::model("", C, vec![(1.0, 1.0, 0.5), (2.0, 1.5, 0.5)]).dodged(d);
+    let plain = chart("", "x", "y", &[one(0.0)], false).unwrap();
+    let svg = chart("", "x", "y", &[one(-0.02), one(0.02)], false).unwrap();
+    let (p, d) = (at(&plain), at(&svg));
+    // the same plot: the same shift at every point, left and right
+    let shift = d[2] - p[0];
+    assert!((p[0] - d[0] - shift).abs() < 0.11, "{p:?} {d:?}");
+    assert!((d[3] - p[1] - shift).abs() < 0.11, "{p:?} {d:?}");
+    // the two bars' caps (3 px either side) stand apart
+    assert!(2.0 * shift > 6.0 + 1.0, "bars' caps meet: {d:?}");
+    legend_clear(&svg).unwrap();
+}
+
+#[test]
+fn a_point_whose_bar_reaches_below_zero_stays_on_a_log_axis() {
+    let pts = vec![(0.2, 0.05, 0.13), (0.6, 0.5, 0.01), (0.3, 0.3, 0.0)];
+    let svg = Chart::new("", "x", "y")
+        .log_x()
+        .log_y()
+        .render(&[Series::measured("", C, pts)])
+        .unwrap();
+    let cys: Vec<f64> = svg
+        .match_indices("<circle cx=\"")
+        .map(|(i, _)| {
+            let s = &svg[i..];
+            let s = &s[s.find(" cy=\"").unwrap() + 5..];
+            s[..s.find('"').unwrap()].parse().unwrap()
+        })
+        .collect();
+    // the plot's bottom: the default 380 px height less the space below it
+    let h = 380.0 - 46.0;
+    assert!(
+        cys.iter().all(|y| *y <= h + 0.1),
+        "a marker under the axis: {cys:?}"
+    );
 }
