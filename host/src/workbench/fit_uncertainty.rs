@@ -51,12 +51,14 @@ pub(super) fn finish(
         n,
         rows.iter().map(|r| lik.fisher_information_one(r.1).sqrt()),
     );
-    let cov = jac.as_ref().and_then(|j| {
+    let info = jac.as_ref().map(|j| {
         let mut wj = j.clone();
         for (mut row, w) in wj.row_iter_mut().zip(root_w.iter()) {
             row *= *w;
         }
-        let jtj = wj.transpose() * &wj;
+        wj.transpose() * &wj
+    });
+    let cov = info.as_ref().and_then(|jtj| {
         // nalgebra's SVD panics ("Singular value was NaN") on non-finite
         // input; J^T J overflows when a confidence interval is tiny.
         if jtj.iter().any(|x| !x.is_finite()) {
@@ -65,7 +67,7 @@ pub(super) fn finish(
         let svd = jtj.clone().svd(false, false);
         let (max, min) = (svd.singular_values.max(), svd.singular_values.min());
         (min > 1e-12 * max && max > 0.0)
-            .then(|| jtj.try_inverse())
+            .then(|| jtj.clone().try_inverse())
             .flatten()
             .map(|inv| inv * s2)
     });
@@ -102,10 +104,27 @@ pub(super) fn finish(
             }
         }
     } else if k > 0 {
-        non_identifiable.push(format!(
-            "{}: the data do not constrain them (singular J^T J)",
-            free.iter().map(label).collect::<Vec<_>>().join(", ")
-        ));
+        let combos = info
+            .as_ref()
+            .map(unconstrained_directions)
+            .unwrap_or_default();
+        if combos.is_empty() {
+            non_identifiable.push(format!(
+                "{}: the data do not constrain them (singular J^T J)",
+                free.iter().map(label).collect::<Vec<_>>().join(", ")
+            ));
+        }
+        for combo in combos {
+            let names: Vec<String> = combo
+                .iter()
+                .map(|&(i, c)| format!("{}{}", if c < 0.0 { "-" } else { "+" }, label(&free[i])))
+                .collect();
+            non_identifiable.push(format!(
+                "{}: the data leave this combination of them free (a null direction of \
+                 J^T J, in relative steps): fix one of them",
+                names.join(" ")
+            ));
+        }
     }
     let t95 = 1.96;
     let estimates = free
@@ -141,6 +160,51 @@ pub(super) fn finish(
     })
 }
 
+/// The parameter combinations the data leave free: the eigenvectors of
+/// the column-scaled `J^T W J` whose eigenvalue is below 1e-10 of the
+/// largest, each as the parameters it moves by more than a fifth (index
+/// and signed component). Scaling each column to unit norm makes the
+/// components relative steps, so parameters of different units compare;
+/// a parameter no residual depends on is its own direction.
+fn unconstrained_directions(jtj: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
+    let k = jtj.nrows();
+    if jtj.iter().any(|x| !x.is_finite()) {
+        return Vec::new();
+    }
+    let d: Vec<f64> = (0..k).map(|i| jtj[(i, i)].sqrt()).collect();
+    let mut out: Vec<Vec<(usize, f64)>> = (0..k)
+        .filter(|&i| d[i] == 0.0)
+        .map(|i| vec![(i, 1.0)])
+        .collect();
+    let live: Vec<usize> = (0..k).filter(|&i| d[i] > 0.0).collect();
+    if live.len() < 2 {
+        return out;
+    }
+    let scaled = DMatrix::from_fn(live.len(), live.len(), |a, b| {
+        jtj[(live[a], live[b])] / (d[live[a]] * d[live[b]])
+    });
+    let eig = scaled.symmetric_eigen();
+    let max = eig.eigenvalues.max();
+    for (j, &lambda) in eig.eigenvalues.iter().enumerate() {
+        if lambda < 1e-10 * max {
+            let v = eig.eigenvectors.column(j);
+            // A sign convention so the same direction reads the same.
+            let lead = v
+                .iter()
+                .copied()
+                .fold(0.0_f64, |m, x| if x.abs() > m.abs() { x } else { m });
+            let combo: Vec<(usize, f64)> = v
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.abs() > 0.2)
+                .map(|(a, &c)| (live[a], c * lead.signum()))
+                .collect();
+            out.push(combo);
+        }
+    }
+    out
+}
+
 /// Jacobian of the normalised residuals in the physical parameters.
 pub(super) fn physical_jacobian(
     model: &Model,
@@ -164,4 +228,40 @@ pub(super) fn physical_jacobian(
         j.set_column(i, &col);
     }
     j.iter().all(|x| x.is_finite()).then_some(j)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unconstrained_directions;
+    use nalgebra::DMatrix;
+
+    /// Two parameters that act only through their ratio (column 1 is twice
+    /// column 0), one that acts on its own, one that acts on nothing.
+    #[test]
+    fn the_free_combination_names_exactly_the_degenerate_parameters() {
+        let j = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                1.0, 2.0, 0.3, 0.0, //
+                -0.5, -1.0, 1.0, 0.0, //
+                2.0, 4.0, -0.7, 0.0, //
+                0.1, 0.2, 0.2, 0.0,
+            ],
+        );
+        let dirs = unconstrained_directions(&(j.transpose() * &j));
+        assert_eq!(dirs.len(), 2, "{dirs:?}");
+        assert!(dirs.contains(&vec![(3, 1.0)]), "{dirs:?}");
+        let pair = dirs.iter().find(|d| d.len() == 2).expect("the pair");
+        assert_eq!((pair[0].0, pair[1].0), (0, 1));
+        // Equal relative steps of opposite sign keep the product fixed.
+        assert!((pair[0].1 + pair[1].1).abs() < 1e-9, "{pair:?}");
+        assert!((pair[0].1.abs() - 0.5_f64.sqrt()).abs() < 1e-9, "{pair:?}");
+    }
+
+    #[test]
+    fn a_well_posed_fit_has_no_free_combination() {
+        let j = DMatrix::from_row_slice(3, 2, &[1.0, 0.0, 0.5, 1.0, -1.0, 2.0]);
+        assert!(unconstrained_directions(&(j.transpose() * &j)).is_empty());
+    }
 }
