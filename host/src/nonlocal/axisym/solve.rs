@@ -38,6 +38,38 @@ fn geometry_error(msg: impl Into<String>) -> NonlocalError {
 }
 
 /// Resolution in [1, 200] elements per gap, growth in (0, 1].
+/// The tube's wall in the meridian plane, from `lo` to `hi` at `radius`,
+/// with its end caps when `closed`, and its two rims as corners refined to
+/// half the element size `h0` (shared by the body solve and the coupler's
+/// spin solve).
+pub(super) fn tube_wall(
+    lo: f64,
+    hi: f64,
+    radius: f64,
+    closed: bool,
+    h0: f64,
+    corners: &mut Vec<([f64; 2], f64)>,
+    wall_pieces: &mut Vec<Piece>,
+) {
+    for x in [lo, hi] {
+        corners.push(([x, radius], 0.5 * h0));
+    }
+    wall_pieces.push(Piece::Line {
+        a: [lo, radius],
+        b: [hi, radius],
+    });
+    if closed {
+        wall_pieces.push(Piece::Line {
+            a: [hi, radius],
+            b: [hi, 0.0],
+        });
+        wall_pieces.push(Piece::Line {
+            a: [lo, 0.0],
+            b: [lo, radius],
+        });
+    }
+}
+
 pub(super) fn check_settings(s: &AxisymSettings) -> Result<(), NonlocalError> {
     if !(s.resolution.is_finite() && s.resolution >= 1.0 && s.resolution <= 200.0) {
         return Err(NonlocalError::Settings(format!(
@@ -109,23 +141,7 @@ pub fn build_mesh(
         let (lo, hi) = (-0.5 * length, 0.5 * length);
         // The tube's rims: the open pipe's free edge has a singular
         // traction; a closed tube's concave corner is mild but cheap to refine.
-        for x in [lo, hi] {
-            corners.push(([x, radius], 0.5 * h0));
-        }
-        wall_pieces.push(Piece::Line {
-            a: [lo, radius],
-            b: [hi, radius],
-        });
-        if closed {
-            wall_pieces.push(Piece::Line {
-                a: [hi, radius],
-                b: [hi, 0.0],
-            });
-            wall_pieces.push(Piece::Line {
-                a: [lo, 0.0],
-                b: [lo, radius],
-            });
-        }
+        tube_wall(lo, hi, radius, closed, h0, &mut corners, &mut wall_pieces);
     }
     let sizing = Sizing {
         h0,

@@ -33,7 +33,7 @@ use super::mesh::{discretize, Element, Part, Sizing};
 use super::quadrature::{over_element, over_own_element};
 use super::{AxisymSettings, Confinement};
 use crate::nonlocal::{linalg, NonlocalError};
-use crate::physics::profile::{BodyProfile, Piece};
+use crate::physics::profile::BodyProfile;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -232,23 +232,7 @@ fn build(
         }
         h0 = h0.min((radius - a_max) / s.resolution);
         h_max = if closed { 0.5 * radius } else { 0.25 * radius };
-        for x in [lo, hi] {
-            corners.push(([x, radius], 0.5 * h0));
-        }
-        wall_pieces.push(Piece::Line {
-            a: [lo, radius],
-            b: [hi, radius],
-        });
-        if closed {
-            wall_pieces.push(Piece::Line {
-                a: [hi, radius],
-                b: [hi, 0.0],
-            });
-            wall_pieces.push(Piece::Line {
-                a: [lo, 0.0],
-                b: [lo, radius],
-            });
-        }
+        super::solve::tube_wall(lo, hi, radius, closed, h0, &mut corners, &mut wall_pieces);
     }
     let rotor = stack.rotor.meridian(rotor_centre);
     let stator = stack.stator.as_ref().map(|st| st.meridian(centre_m));
