@@ -23,6 +23,7 @@ const IO_IRQ_BANK0 = 13;
 const EXC_IO_IRQ_BANK0 = 16 + IO_IRQ_BANK0;
 const WATCHDOG_BASE = 0x40058000;
 const CLOCKS_BASE = 0x40008000;
+const TIMER_BASE = 0x40054000;
 const IO_BANK0_BASE = 0x40014000;
 const XOSC_BASE = 0x40024000;
 const SLEEP_EN0 = 0xa8; // CLOCKS
@@ -96,6 +97,9 @@ export class Board {
     this.rateTrace = []; // { t, hz, v } one per rotor step
     this.hallLevels = [true, true];
     this.hallEdgeCount = 0;
+    this.hallEdgeTimes = []; // absolute ns of every latch transition
+    /** CPU cycles added to every IO_IRQ_BANK0 handler run (a longer handler, for the timing-margin scenarios). */
+    this.irqExtraCycles = 0;
     this.powerOn('power-on');
     this.at(ROTOR_STEP_NS, () => this.stepRotor());
   }
@@ -121,6 +125,7 @@ export class Board {
       if (this.hallLevels[i] === level) continue;
       this.hallLevels[i] = level;
       this.hallEdgeCount++;
+      this.hallEdgeTimes.push(this.nowNs);
       this.mcu.gpio[gpio].setInputValue(level);
     }
   }
@@ -440,6 +445,11 @@ export class Board {
         this.powerOn('watchdog');
         return this.runChipUntil(tAbs);
       }
+      if (core.waiting && wakePending(core)) {
+        // rp2040js enters WFI even with an interrupt already pending (it only
+        // looks when one is raised); the Cortex-M0+ does not sleep then.
+        core.waiting = false;
+      }
       if (core.waiting) {
         // Sleeping (WFI/WFE): jump to the next peripheral alarm, or to the end.
         const left = end - clock.nanos;
@@ -458,6 +468,8 @@ export class Board {
         if (!this.inIrq) {
           this.inIrq = true;
           this.irqCycles = 0;
+          // A longer handler, emulated: its extra cycles pass before the first instruction.
+          if (this.irqExtraCycles) clock.tick((this.irqExtraCycles * 1e9) / mcu.clkSys);
         }
         this.irqCycles += cycles;
         if (after !== EXC_IO_IRQ_BANK0) {
@@ -561,6 +573,12 @@ export class Board {
     return this.mcu.pwm.channels[0];
   }
 
+  /** Absolute time (ns) the TIMER's alarm 0 (the sleep's wake-up) is armed for, or null. */
+  get wakeAlarmNs() {
+    const alarm = this.mcu.findPeripheral(TIMER_BASE).alarms[0];
+    return alarm.armed ? this.timeOffsetNs + alarm.targetMicros * US : null;
+  }
+
   get watchdog() {
     return this.mcu.findPeripheral(WATCHDOG_BASE);
   }
@@ -604,6 +622,23 @@ class VregAndChipReset extends BasePeripheral {
     else if (offset === 8) this.regs[2] &= ~(value & (1 << 24));
     else super.writeUint32(offset, value);
   }
+}
+
+/**
+ * Would a pending interrupt wake WFI? On the Cortex-M0+ (ARMv6-M ARM, B1.5.19)
+ * any enabled interrupt that would preempt the current priority if PRIMASK
+ * were clear wakes it, also one that was already pending when WFI ran: so
+ * an alarm that fires between the sleep's arming (PRIMASK set) and its WFI
+ * does not put the core to sleep for ever. rp2040js checks only when an
+ * interrupt is raised, and before this a pass that ended on its alarm's tick
+ * slept until the watchdog reset the chip (the 9-keys failure of session 4).
+ */
+function wakePending(core) {
+  const set = core.pendingInterrupts & core.enabledInterrupts;
+  if (!set) return false;
+  const running = core.exceptionPriority(core.IPSR);
+  for (let p = 0; p < running; p++) if (set & core.interruptPriorities[p]) return true;
+  return false;
 }
 
 function bootromWords(path) {
