@@ -70,12 +70,20 @@ export class Board {
    * @param {string} [o.bootromPath] 16 KiB B1 bootrom image; without it, route (b): start at the vector table
    * @param {number|null} [o.paired] the remote's NEC address in the pairing sector, as if paired
    *   earlier (default: the board's NEC address, the tests' remote); null: a blank sector, unpaired
+   * @param {object} [o.flashTiming] how long flash operations stall the core (lib/flash.js's
+   *   FLASH_TIMING: typical by default, worst, none)
    */
-  constructor({ elfPath, bootromPath, paired }) {
+  constructor({ elfPath, bootromPath, paired, flashTiming }) {
     this.elf = readElf(elfPath);
     this.facts = boardFacts(this.elf);
     this.bootrom = bootromPath ? FlashChip.patchBootrom(bootromWords(bootromPath)) : null;
-    this.flashChip = new FlashChip();
+    this.flashChip = new FlashChip(flashTiming);
+    this.stallEndNs = 0; // the core waits for the flash chip until then (absolute ns)
+    this.stalls = []; // { from, to } absolute ns, one per flash operation
+    this.flashChip.onStall = (ns) => {
+      this.stallEndNs = this.nowNs + ns;
+      this.stalls.push({ from: this.nowNs, to: this.stallEndNs });
+    };
     this.flashTop = loadFlash(this.elf, this.flashChip.bytes);
     const address = paired === undefined ? this.facts.necAddress : paired;
     if (address !== null) this.flashChip.storePairing(this.facts.pairingOffset, address);
@@ -215,6 +223,7 @@ export class Board {
     };
     this.inIrq = false;
     this.irqCycles = 0;
+    this.stallEndNs = 0; // a reset ends the wait (the flash chip's own busy time is not modelled past it)
   }
 
   /**
@@ -444,6 +453,13 @@ export class Board {
         this.watchdogFired = false;
         this.powerOn('watchdog');
         return this.runChipUntil(tAbs);
+      }
+      if (this.stallEndNs > this.nowNs) {
+        // The ROM waits for the flash chip: no instruction runs and no
+        // interrupt is taken (the firmware masked them; an edge stays
+        // latched), while the timer, PWM and watchdog run on.
+        clock.tick(Math.min(this.stallEndNs, tAbs) - this.nowNs);
+        continue;
       }
       if (core.waiting && wakePending(core)) {
         // rp2040js enters WFI even with an interrupt already pending (it only

@@ -4,10 +4,24 @@
 // program or an erase through the ROM would do nothing; the board patches
 // the entries of the ROM's flash functions with BKPT instructions and does
 // here what the ROM would do on the chip: erase fills 0xFF, program ANDs
-// the data in (bits only go 1 -> 0), and every call returns at once to its
-// caller. What is not emulated: the time an operation stalls the chip
-// (0.4-3 ms per page, 45-400 ms per sector, 150-2000 ms per 64 KiB block
-// on a W25Q16JV) and the XIP cache (rp2040js reads flash directly).
+// the data in (bits only go 1 -> 0). Each operation then stalls the core
+// for as long as the flash chip is busy (`FLASH_TIMING`; the board holds
+// the core, and so every interrupt, for that long, while the timer, PWM
+// and watchdog run on), and returns to its caller. Not emulated: the XIP
+// cache (rp2040js reads flash directly).
+//
+// W25Q16JV datasheet (Winbond, rev. H), AC characteristics: page program
+// tPP 0.4 ms typical, 3 ms max; sector erase (4 KiB) tSE 45 / 400 ms; block
+// erase (64 KiB) tBE2 150 / 2000 ms.
+export const FLASH_TIMING = {
+  typical: { pageProgramNs: 0.4e6, sectorEraseNs: 45e6, blockEraseNs: 150e6 },
+  worst: { pageProgramNs: 3e6, sectorEraseNs: 400e6, blockEraseNs: 2000e6 },
+  /** The stall not emulated at all (before the stall model; for comparisons). */
+  none: { pageProgramNs: 0, sectorEraseNs: 0, blockEraseNs: 0 },
+};
+const PAGE = 256;
+const SECTOR = 4096;
+const BLOCK = 65536;
 const FLASH_BYTES = 2 * 1024 * 1024;
 // ROM header: 16-bit pointers to the function table (0x14) and its lookup (0x18).
 const ROM_FUNC_TABLE = 0x14;
@@ -17,9 +31,31 @@ const BKPT_BASE = 0xa0;
 const code = (s) => s.charCodeAt(0) | (s.charCodeAt(1) << 8);
 
 export class FlashChip {
-  constructor() {
+  /** @param {object} [timing] one of FLASH_TIMING (default: typical), or { pageProgramNs, sectorEraseNs, blockEraseNs } */
+  constructor(timing = FLASH_TIMING.typical) {
     this.bytes = new Uint8Array(FLASH_BYTES).fill(0xff); // a blank chip
-    this.ops = []; // { t, op: 'erase'|'program', offset, len }
+    this.timing = timing;
+    this.ops = []; // { t, op: 'erase'|'program', offset, len, stallNs, masked }
+    /** Called with the stall (ns) of each operation; the board holds the core that long. */
+    this.onStall = () => {};
+  }
+
+  /**
+   * How long the chip is busy: the ROM's flash_range_erase erases 64 KiB
+   * blocks where the range allows and 4 KiB sectors elsewhere (the firmware
+   * passes block size 65536 and command 0xd8); flash_range_program writes
+   * page by page.
+   */
+  stallNs(op, offset, len) {
+    const t = this.timing;
+    if (op === 'program') return Math.ceil(len / PAGE) * t.pageProgramNs;
+    let ns = 0;
+    for (let a = offset; a < offset + len; ) {
+      const block = a % BLOCK === 0 && a + BLOCK <= offset + len;
+      ns += block ? t.blockEraseNs : t.sectorEraseNs;
+      a += block ? BLOCK : SECTOR;
+    }
+    return ns;
   }
 
   /** The address of each ROM flash function in `bootrom` (Uint32Array words). */
@@ -54,6 +90,14 @@ export class FlashChip {
       const r = mcu.core.registers;
       if (f === 'RE') this.erase(nowNs(), r[0], r[1]);
       if (f === 'RP') this.program(nowNs(), r[0], r[1], r[2]);
+      if (f === 'RE' || f === 'RP') {
+        const op = this.ops[this.ops.length - 1];
+        // On the chip an interrupt taken now would fetch its handler from a
+        // flash that is busy: the firmware must have masked them.
+        op.masked = mcu.core.PM;
+        op.stallNs = this.stallNs(op.op, op.offset, op.len);
+        if (op.stallNs > 0) this.onStall(op.stallNs);
+      }
       mcu.core.PC = mcu.core.LR & ~1; // return to the caller
     };
   }

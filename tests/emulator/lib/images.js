@@ -18,8 +18,8 @@ export function manifest() {
   }
 }
 
-/** A board booting the named image (`firmware` or `firmware-fault-test`). */
-export function boardWith(image = 'firmware') {
+/** A board booting the named image (`firmware` or `firmware-fault-test`); `opts` as Board's (paired, flashTiming). */
+export function boardWith(image = 'firmware', opts = {}) {
   const m = manifest();
-  return new Board({ elfPath: m.images[image], bootromPath: m.bootrom || undefined });
+  return new Board({ elfPath: m.images[image], bootromPath: m.bootrom || undefined, ...opts });
 }

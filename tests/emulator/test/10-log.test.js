@@ -162,11 +162,12 @@ test('run log: the oldest slot is erased only with the motor off, after the pair
   const on = sendOn(b, boot + 1000 * MS);
   b.runUntil(on.end + 1000 * MS);
   sendOff(b, b.nowNs + GAP);
-  b.runUntil(boot + (f.pairingWindowMs + 1000) * MS);
+  const blocks = f.logSlotBytes / 65536;
+  // Each block erase stalls the chip (lib/flash.js: 150 ms typical).
+  b.runUntil(boot + (f.pairingWindowMs + 1000) * MS + 2 * blocks * b.flashChip.timing.blockEraseNs);
   // Its own slot first (the oldest log), then the next oldest, to be the
   // next power-up's blank slot; the newest log is kept for the readout.
   const erases = b.flashChip.ops.filter((o) => o.op === 'erase');
-  const blocks = f.logSlotBytes / 65536;
   assert.equal(erases.length, 2 * blocks, 'one erase per 64 KiB block of two slots');
   const slotOf = (e) => Math.floor((e.offset - f.logOffset) / f.logSlotBytes);
   const slots = [slotOf(erases[0]), slotOf(erases[blocks])];
@@ -177,7 +178,10 @@ test('run log: the oldest slot is erased only with the motor off, after the pair
     assert.ok(e.t >= boot + f.pairingWindowMs * MS, `an erase in the pairing window at ${(e.t - boot) / MS} ms`);
     assert.equal(b.motorAt(e.t), 0, 'an erase with the motor pin high');
     assert.ok(b.dutyIn(e.t - 10 * MS, e.t) === 0, 'an erase within 10 ms of a PWM pulse');
+    assert.ok(e.masked, 'an erase with interrupts enabled');
   }
+  // The watchdog, lengthened for each erase, did not reset the chip in its stall.
+  assert.equal(b.resets.filter((r) => r.t > boot).length, 0, `resets: ${b.resets.map((r) => r.reason).join(', ')}`);
   perf('run log: fourth power-up, two oldest slots erased (4 blocks each), first erase after boot', `${((erases[0].t - boot) / MS).toFixed(0)} ms, slot ${slot}`);
   // The run in the window was counted as dropped; the readout is then the
   // newest earlier log, and the next power-up writes into the erased slot.
