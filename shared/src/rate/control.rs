@@ -49,6 +49,9 @@ use crate::command::Command;
 use crate::controller::{Controller, ControllerConfig, Duty, Event, MotorState};
 
 const ONE: i64 = 1 << 16;
+/// How far after the pass's clock a Hall edge's timestamp may be and still
+/// count as just seen (`sensor_fault`).
+const EDGE_AHEAD_MAX_US: u32 = 100_000;
 
 /// The motor voltage against the steady rate, `V = intercept + slope f`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -309,9 +312,19 @@ impl RateController {
             .started_us
             .saturating_add(u64::from(self.cfg.motor.ramp_us));
         let since_ramp = now_us.saturating_sub(ramp_end);
-        let since_edge = rate
-            .last_edge_us()
-            .map_or(u64::MAX, |t| u64::from((now_us as u32).wrapping_sub(t)));
+        // An edge stamped after `now_us` (its interrupt came between the
+        // pass's timer read and the queue's drain, or in a flash stall) is
+        // fresh, where the wrapped difference would call it 71 minutes old:
+        // a stall. Up to 100 ms ahead counts as fresh; an edge really 71.6
+        // minutes old reads as fresh for those 100 ms only.
+        let since_edge = rate.last_edge_us().map_or(u64::MAX, |t| {
+            let ahead_us = t.wrapping_sub(now_us as u32);
+            if ahead_us <= EDGE_AHEAD_MAX_US {
+                0
+            } else {
+                u64::from((now_us as u32).wrapping_sub(t))
+            }
+        });
         let quiet_from = since_ramp.min(since_edge);
         (quiet_from > u64::from(self.cfg.stall_us)).then_some(SensorFault::Stalled)
     }

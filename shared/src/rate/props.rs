@@ -183,6 +183,46 @@ fn no_edges_while_driven_is_a_stall() {
     assert_eq!(ctl.step(limit + 2, None, OK, &mut est).duty, Duty::ZERO);
 }
 
+/// An edge whose timestamp is later than the pass's clock (it arrived
+/// after the firmware read the timer and before it drained the Hall queue)
+/// is a fresh edge, not one 71 minutes old: no stall fault. The emulator's
+/// run-log scenario stopped the motor this way, 7.4 s into a run at 1 Hz.
+#[test]
+fn an_edge_newer_than_the_pass_clock_is_no_stall() {
+    let cfg = RateConfig::DEFAULT;
+    let mut ctl = RateController::new(cfg);
+    let mut est = RateEstimator::new(HallConfig::RING_8_POLE);
+    ctl.set_rate_mhz(Some(1_000));
+    ctl.step(0, Some(Command::On), OK, &mut est);
+    // At 1 Hz (16 edges a turn) past the soft start and the stall time.
+    let (mut t_us, mut k) = (0u64, 0u32);
+    while t_us < u64::from(cfg.motor.ramp_us + cfg.stall_us) + 1_000_000 {
+        t_us += 62_500;
+        k += 1;
+        let (a, b) = levels(k);
+        est.edge(t_us as u32, a, b);
+        let o = ctl.step(t_us + 300, None, OK, &mut est);
+        assert_ne!(
+            o.state,
+            MotorState::Off,
+            "stopped at {t_us} us: {:?}",
+            o.event
+        );
+    }
+    let (a, b) = levels(k + 1);
+    est.edge((t_us + 62_520) as u32, a, b);
+    let o = ctl.step(t_us + 62_500, None, OK, &mut est);
+    assert_eq!((o.event, o.state), (None, MotorState::Running));
+    // Silence from that edge on is still a stall, after the stall time.
+    let last = t_us + 62_520 + u64::from(cfg.stall_us);
+    assert_eq!(
+        ctl.step(last, None, OK, &mut est).state,
+        MotorState::Running
+    );
+    let o = ctl.step(last + 1, None, OK, &mut est);
+    assert_eq!(o.event, Some(RateEvent::Fault(SensorFault::Stalled)));
+}
+
 /// On without a set-point starts nothing; the soft start ramps the
 /// reference; removing the set-point stops the motor.
 #[test]
