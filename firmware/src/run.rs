@@ -32,7 +32,7 @@ use embedded_hal::digital::OutputPin;
 use rp2040_hal::gpio::{bank0::Gpio12, bank0::Gpio25, FunctionSioOutput, Pin, PullDown};
 use rp2040_hal::watchdog::ScratchRegister;
 use rp2040_hal::{Timer, Watchdog};
-use swimbot_shared::run_log::{Events, LogStore, Recorder};
+use swimbot_shared::run_log::{Events, LogStore, Record, Recorder};
 use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop, PassOutput};
 
 const _: () = assert!(board::LED_GPIO == 25, "the typed LED pin is GPIO25");
@@ -83,6 +83,9 @@ struct Keeping {
     recorder: Recorder,
     store: LogStore,
     pairing: PairingStore,
+    /// The record of the pass that started the motor, and whether it closes
+    /// the run: appended in the next pass (see `after_pass`).
+    held: Option<(Record, bool)>,
 }
 
 impl Keeping {
@@ -101,6 +104,17 @@ impl Keeping {
             recorder: Recorder::new(board::LOG_PERIOD_US),
             store,
             pairing: PairingStore::new(),
+            held: None,
+        }
+    }
+
+    #[inline(never)]
+    fn append(&mut self, watchdog: &mut Watchdog, record: &Record, closing: bool) {
+        let dropped = self.store.dropped();
+        self.store
+            .append(&mut LogRegion::new(watchdog), record, closing);
+        if self.store.dropped() != dropped {
+            defmt::warn!("run log: record dropped ({} so far)", self.store.dropped());
         }
     }
 
@@ -111,14 +125,23 @@ impl Keeping {
             self.pairing.save(address);
             defmt::info!("paired with the remote at address {=u8:#04x}", address);
         }
-        if let Some(record) = self.recorder.observe(now_us, out) {
-            let closing = !self.recorder.recording();
-            let dropped = self.store.dropped();
-            self.store
-                .append(&mut LogRegion::new(watchdog), &record, closing);
-            if self.store.dropped() != dropped {
-                defmt::warn!("run log: record dropped ({} so far)", self.store.dropped());
-            }
+        let new = self.recorder.observe(now_us, out);
+        let new = new.map(|r| (r, !self.recorder.recording()));
+        // The pass that starts the motor asks for the pass that gives the
+        // first PWM pulse; a page program now (the slot's header, at a
+        // power-up's first run) would hold that pass back by its stall, 0.4 ms
+        // typical and 3 ms at worst with interrupts masked (emulator: On ->
+        // first pulse 0.86 / 3.46 ms instead of 0.46 ms). Its record waits
+        // one pass.
+        if out.next_pass_in_us.is_some() && self.held.is_none() {
+            self.held = new;
+            return;
+        }
+        if let Some((record, closing)) = self.held.take() {
+            self.append(watchdog, &record, closing);
+        }
+        if let Some((record, closing)) = new {
+            self.append(watchdog, &record, closing);
         }
         if !out.may_erase_flash {
             return;

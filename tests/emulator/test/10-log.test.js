@@ -63,7 +63,7 @@ test('run log: a run with foreign key spam and a sagging cell, read out over USB
     assert.ok(dt >= f.logPeriodMs && dt <= f.logPeriodMs + 2, `records ${i - 1}-${i} ${dt} ms apart`);
   }
   assert.ok(records[n - 1].tMs - records[n - 2].tMs <= f.logPeriodMs);
-  assert.ok(Math.abs(records[n - 1].tMs - off.end / MS) <= 2, 'the closing record is the Off pass');
+  assert.ok(Math.abs(records[n - 1].tMs - off.end / MS) <= 2, `the closing record is the Off pass (${records.slice(0, 2).concat(records.slice(-3)).map((r) => r.tMs).join(', ')} ms; Off at ${(off.end / MS).toFixed(1)} ms)`);
   assert.ok(records[0].events & EVENTS.STARTED && records[0].events & EVENTS.ON);
   assert.equal(records[0].foreign, 3, 'the frames while idle are in the first record');
   assert.equal(records.reduce((s, r) => s + r.foreign, 0), foreign);
