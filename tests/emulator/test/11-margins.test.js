@@ -8,6 +8,9 @@
 // not), so nothing fed the watchdog. lib/board.js now wakes WFI on a pending
 // interrupt. This scenario pins the race down on purpose, then repeats the
 // step down with longer IR handlers and goes on to the lowest set-point.
+// Last, the stall fault's own race: a Hall edge stamped after the pass's
+// timer read read as 71 minutes old (rate::control; that did stop the
+// motor, in the run-log scenario, once the firmware's timing moved).
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS, US } from '../lib/board.js';
@@ -78,3 +81,29 @@ for (const extra of [15]) {
     assert.ok(longestGapNs > 0 && longestGapNs < stallNs / 2, `a ${(longestGapNs / MS).toFixed(0)} ms gap`);
   });
 }
+
+test('a Hall edge just after a pass has read the timer is a fresh edge, not a stall', () => {
+  const b = boardWith('firmware');
+  const f = b.facts;
+  b.setBattery(3.9);
+  b.runUntil(20 * MS);
+  const on = sendOn(b, b.nowNs + GAP);
+  // Past the soft start and the stall time: from here a wrapped edge age is a stall.
+  b.runUntil(on.end + 250 * MS + f.stallMs * MS + 500 * MS);
+  // The rotor's own edges stop; this test places each next quadrature edge
+  // itself, 0-40 us after a wake-up alarm (1 us steps, one edge every
+  // ~100 ms: 0.6 Hz), where a pass reads the timer and then drains the queue.
+  b.rotor.stalled = true;
+  const gray = [[false, false], [false, true], [true, true], [true, false]];
+  let k = gray.findIndex(([a, c]) => a === b.hallLevels[0] && c === b.hallLevels[1]);
+  for (let d = 0; d <= 40 * US; d += 1 * US) {
+    b.runFor(100 * MS);
+    while (!(b.mcu.core.waiting && b.wakeAlarmNs - b.nowNs > 5 * US)) b.runFor(1 * US);
+    k = (k + 1) % 4;
+    const [a, c] = gray[k];
+    b.at(b.wakeAlarmNs + d, () => b.setHall(a, c));
+    b.runUntil(b.wakeAlarmNs + d + 2 * MS);
+    assert.ok(b.dutyIn(b.nowNs - 1 * MS, b.nowNs) > 0, `the motor stopped with an edge ${d / US} us after the alarm`);
+  }
+  assert.deepEqual(b.resets.map((r) => r.reason), ['power-on']);
+});
