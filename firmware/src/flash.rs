@@ -1,7 +1,8 @@
 //! Flash program and erase through the boot ROM: the run log's slots and
 //! the pairing sector (offsets in `board`, regions in `memory.x`). While
 //! the ROM talks to the flash chip no code or data can be fetched from it
-//! (XIP is off), so each operation runs from RAM with interrupts masked:
+//! (XIP is off), so each operation runs from RAM with every interrupt masked
+//! but the IR/Hall edge interrupt, whose handler and vector are in RAM:
 //! a page program stalls the chip for up to 3 ms (W25Q16JV: 0.4 ms
 //! typical), a 64 KiB block erase for up to 2 s (150 ms typical), a 4 KiB
 //! sector erase up to 400 ms (45 ms typical). The PWM keeps running in
@@ -61,10 +62,49 @@ fn rom_op(offset: u32, erase_len: u32, data: Option<&[u8; PAGE_LEN]>) {
         Some(d) => (d.as_ptr(), PAGE_LEN as u32),
         None => (core::ptr::null(), erase_len),
     };
-    // SAFETY: interrupts are masked, this core is the only one running and
-    // no DMA reads flash, so nothing fetches from flash until XIP is back;
-    // `ram_op` runs from RAM and calls only the ROM.
-    cortex_m::interrupt::free(|_| unsafe { ram_op(offset, ptr, len, &f) });
+    // SAFETY: only the IR/Hall interrupt is unmasked, and it and its vector
+    // are in RAM (`ir.rs`, `RAM_VECTORS`); this core is the only one running
+    // and no DMA reads flash, so nothing fetches from flash until XIP is
+    // back; `ram_op` runs from RAM and calls only the ROM.
+    with_only_ir_interrupt(|| unsafe { ram_op(offset, ptr, len, &f) });
+}
+
+/// The vector table while the flash is busy: a RAM copy of the one in flash
+/// (VTOR needs 256-byte alignment for the RP2040's 16 + 32 entries).
+#[cfg(not(feature = "emulator"))]
+#[repr(C, align(256))]
+struct Vectors([u32; 48]);
+
+#[cfg(not(feature = "emulator"))]
+static mut RAM_VECTORS: Vectors = Vectors([0; 48]);
+
+/// Run `op` with every interrupt masked at the NVIC but the IR/Hall one,
+/// whose handler runs from RAM, and the vector table in RAM: so edges are
+/// still timestamped and queued while the flash is busy (a key pressed
+/// during an erase is no longer lost).
+#[cfg(not(feature = "emulator"))]
+fn with_only_ir_interrupt(op: impl FnOnce()) {
+    use cortex_m::peripheral::{NVIC, SCB};
+    cortex_m::interrupt::free(|_| {
+        // SAFETY: interrupts are masked while the NVIC and VTOR change; the
+        // copy is of the live table, whose IO_IRQ_BANK0 entry is the RAM handler.
+        unsafe {
+            let (nvic, scb) = (&*NVIC::PTR, &*SCB::PTR);
+            let vtor = scb.vtor.read();
+            let table = &mut *core::ptr::addr_of_mut!(RAM_VECTORS);
+            for (i, v) in table.0.iter_mut().enumerate() {
+                *v = core::ptr::read_volatile((vtor as *const u32).add(i));
+            }
+            let enabled = nvic.iser[0].read();
+            nvic.icer[0].write(!(1 << rp2040_hal::pac::Interrupt::IO_IRQ_BANK0 as u32));
+            scb.vtor.write(table as *const Vectors as u32);
+            cortex_m::interrupt::enable();
+            op();
+            cortex_m::interrupt::disable();
+            scb.vtor.write(vtor);
+            nvic.iser[0].write(enabled);
+        }
+    });
 }
 
 #[cfg(feature = "emulator")]

@@ -88,7 +88,7 @@ fn main() -> ! {
         pins.gpio13.into_pull_up_input(),
         pins.gpio14.into_pull_up_input(),
     );
-    ir::start(pins.gpio15.into_pull_up_input(), hall, timer);
+    ir::start(pins.gpio15.into_pull_up_input(), hall);
     sleep::start(&mut timer);
     // SAFETY: a second handle on CLOCKS only to take the USB clock's
     // token, which `UsbBus` keeps and never uses to change a clock; the

@@ -37,6 +37,8 @@ const FLASH_BASE = 0x10000000;
 const VREG_AND_CHIP_RESET_BASE = 0x40064000;
 
 export const MS = 1e6; // nanoseconds
+/** The one interrupt the firmware leaves live while the flash is busy (its handler and vector in RAM). */
+export const IRQ_LIVE_IN_FLASH_OPS = 1 << IO_IRQ_BANK0;
 export const US = 1e3;
 const ROTOR_STEP_NS = 1e6;
 
@@ -224,6 +226,7 @@ export class Board {
     this.inIrq = false;
     this.irqCycles = 0;
     this.stallEndNs = 0; // a reset ends the wait (the flash chip's own busy time is not modelled past it)
+    this.flashFetchesInStall = this.flashFetchesInStall || 0; // instructions fetched from flash while it was busy
   }
 
   /**
@@ -454,12 +457,18 @@ export class Board {
         this.powerOn('watchdog');
         return this.runChipUntil(tAbs);
       }
-      if (this.stallEndNs > this.nowNs) {
-        // The ROM waits for the flash chip: no instruction runs and no
-        // interrupt is taken (the firmware masked them; an edge stays
-        // latched), while the timer, PWM and watchdog run on.
+      if (this.stallEndNs > this.nowNs && core.IPSR === 0 && !takesInterrupt(core)) {
+        // The ROM waits for the flash chip: the thread runs no instruction,
+        // while the timer, PWM and watchdog run on. An interrupt the
+        // firmware left unmasked is taken (below), as on the chip, where the
+        // ROM's wait loop is interrupted; masked, an edge stays latched.
         clock.tick(Math.min(this.stallEndNs, tAbs) - this.nowNs);
         continue;
+      }
+      if (this.stallEndNs > this.nowNs && core.IPSR === 0) core.interruptsUpdated = true; // enter it now
+      if (this.stallEndNs > this.nowNs && core.PC >= FLASH_BASE && core.PC < FLASH_BASE + 0x1000000) {
+        // On the chip this fetch fails: XIP is off while the flash is busy.
+        this.flashFetchesInStall++;
       }
       if (core.waiting && wakePending(core)) {
         // rp2040js enters WFI even with an interrupt already pending (it only
@@ -589,6 +598,19 @@ export class Board {
     return this.mcu.pwm.channels[0];
   }
 
+  /**
+   * What in the flash operations so far would fetch from the busy flash on
+   * the chip: an operation with an interrupt other than IO_IRQ_BANK0 live,
+   * or an instruction fetched from flash during a stall. Empty when safe.
+   */
+  flashStallViolations() {
+    const bad = this.flashChip.ops
+      .filter((o) => o.liveIrqs & ~IRQ_LIVE_IN_FLASH_OPS)
+      .map((o) => `${o.op} at ${(o.t / MS).toFixed(1)} ms with IRQs 0x${o.liveIrqs.toString(16)} live`);
+    if (this.flashFetchesInStall) bad.push(`${this.flashFetchesInStall} instructions fetched from flash during a stall`);
+    return bad;
+  }
+
   /** Absolute time (ns) the TIMER's alarm 0 (the sleep's wake-up) is armed for, or null. */
   get wakeAlarmNs() {
     const alarm = this.mcu.findPeripheral(TIMER_BASE).alarms[0];
@@ -655,6 +677,11 @@ function wakePending(core) {
   const running = core.exceptionPriority(core.IPSR);
   for (let p = 0; p < running; p++) if (set & core.interruptPriorities[p]) return true;
   return false;
+}
+
+/** Would the core take an interrupt now (enabled, pending, PRIMASK clear, above the running priority)? */
+function takesInterrupt(core) {
+  return !core.PM && wakePending(core);
 }
 
 function bootromWords(path) {

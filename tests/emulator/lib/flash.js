@@ -6,8 +6,9 @@
 // here what the ROM would do on the chip: erase fills 0xFF, program ANDs
 // the data in (bits only go 1 -> 0). Each operation then stalls the core
 // for as long as the flash chip is busy (`FLASH_TIMING`; the board holds
-// the core, and so every interrupt, for that long, while the timer, PWM
-// and watchdog run on), and returns to its caller. Not emulated: the XIP
+// the thread for that long, takes the interrupts the firmware left
+// unmasked, and runs the timer, PWM and watchdog on), and returns to its
+// caller. Not emulated: the XIP
 // cache (rp2040js reads flash directly).
 //
 // W25Q16JV datasheet (Winbond, rev. H), AC characteristics: page program
@@ -35,7 +36,7 @@ export class FlashChip {
   constructor(timing = FLASH_TIMING.typical) {
     this.bytes = new Uint8Array(FLASH_BYTES).fill(0xff); // a blank chip
     this.timing = timing;
-    this.ops = []; // { t, op: 'erase'|'program', offset, len, stallNs, masked }
+    this.ops = []; // { t, op: 'erase'|'program', offset, len, stallNs, liveIrqs }
     /** Called with the stall (ns) of each operation; the board holds the core that long. */
     this.onStall = () => {};
   }
@@ -92,9 +93,11 @@ export class FlashChip {
       if (f === 'RP') this.program(nowNs(), r[0], r[1], r[2]);
       if (f === 'RE' || f === 'RP') {
         const op = this.ops[this.ops.length - 1];
-        // On the chip an interrupt taken now would fetch its handler from a
-        // flash that is busy: the firmware must have masked them.
-        op.masked = mcu.core.PM;
+        // The interrupts that can be taken while the flash is busy (a
+        // bitmask of NVIC lines; 0 with PRIMASK set). On the chip each must
+        // have its vector and handler in RAM: the board counts every
+        // instruction fetched from flash during a stall (flashFetchesInStall).
+        op.liveIrqs = mcu.core.PM ? 0 : mcu.core.enabledInterrupts >>> 0;
         op.stallNs = this.stallNs(op.op, op.offset, op.len);
         if (op.stallNs > 0) this.onStall(op.stallNs);
       }
