@@ -25,6 +25,7 @@ pub mod rate;
 pub mod reset_memory;
 pub mod run_log;
 pub mod set_point;
+pub mod usb_cdc;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
 pub use command::{Command, KeyMap, Remote, RemoteEvent};
