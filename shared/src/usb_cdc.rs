@@ -16,6 +16,7 @@
 
 pub mod control;
 pub mod descriptors;
+pub mod pipe;
 
 #[cfg(test)]
 mod tests;

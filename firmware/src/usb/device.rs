@@ -1,8 +1,9 @@
 //! The RP2040's USB controller as the one CDC-ACM device of the readout,
-//! on its registers (RP2040 datasheet, 4.1): endpoint 0 answers control
-//! requests as `swimbot_shared::usb_cdc::control` decides, with the
-//! descriptors of `swimbot_shared::usb_cdc::descriptors`; bulk OUT 1
-//! brings the host's bytes, bulk IN 2 takes ours, a packet at a time.
+//! on its registers (RP2040 datasheet, 4.1): endpoint 0 hands the
+//! controller the packets `swimbot_shared::usb_cdc::pipe::ControlPipe`
+//! decides (host-tested: requests, descriptors, data toggles, packet
+//! split); bulk OUT 1 brings the host's bytes, bulk IN 2 takes ours, a
+//! packet at a time.
 //!
 //! Hand-written instead of usb-device + usbd-serial + rp2040-hal's
 //! `UsbBus` only for the flash budget (issue 26: 32 KiB). Measured with
@@ -12,10 +13,9 @@
 //! module the image is 28 988 B and serving the port, the log's readout
 //! included, 4.9 kB (firmware/README.md, "Flash and RAM").
 //!
-//! Single-buffered endpoints with the buffers at fixed DPRAM offsets; data
-//! toggles kept here (DATA1 for every control stage after SETUP, DATA0 for
-//! the bulk endpoints after SET_CONFIGURATION, a bus reset or a cleared
-//! halt). The controller raises its interrupt for a SETUP, a bus reset and
+//! Single-buffered endpoints with the buffers at fixed DPRAM offsets; the
+//! bulk endpoints' data toggles kept here (DATA0 after SET_CONFIGURATION or
+//! a cleared halt). The controller raises its interrupt for a SETUP, a bus reset and
 //! each finished buffer; `poll` serves all three and clears them, so the
 //! interrupt never stays pending.
 //!
@@ -26,10 +26,8 @@
 //! same way in C).
 
 use rp2040_hal::pac::{RESETS, USBCTRL_DPRAM, USBCTRL_REGS};
-use swimbot_shared::usb_cdc::control::{
-    data_stage, decide, Action, Reply, Setup, DEFAULT_LINE_CODING,
-};
 use swimbot_shared::usb_cdc::descriptors::MAX_PACKET;
+use swimbot_shared::usb_cdc::pipe::{ControlPipe, Effect, Packet, Step};
 
 /// DPRAM's bus address: SETUP packet at 0, control words to 0x100, data.
 const DPRAM: usize = 0x5010_0000;
@@ -61,33 +59,17 @@ const EP_INTERRUPT: u32 = 3 << 26;
 const EP0_IN_DONE: u32 = 1 << 0;
 const EP0_OUT_DONE: u32 = 1 << 1;
 
-/// Where endpoint 0 is in a control transfer.
-#[derive(Clone, Copy)]
-enum Ep0 {
-    Idle,
-    /// IN data stage: `rest` still to go, then a zero-length packet if
-    /// `zlp`, then the host's status.
-    Sending {
-        rest: &'static [u8],
-        zlp: bool,
-    },
-    /// A zero-length IN status is out; then take this address, if any.
-    Status {
-        address: Option<u8>,
-    },
-    /// Waiting for SET_LINE_CODING's 7 bytes.
-    LineCoding,
+pub struct CdcDevice {
+    hw: Controller,
+    pipe: ControlPipe,
 }
 
-pub struct CdcDevice {
+/// The registers, and the bulk endpoints' next data PIDs.
+struct Controller {
     regs: USBCTRL_REGS,
     dpram: USBCTRL_DPRAM,
-    ep0: Ep0,
-    ep0_data1: bool,
     out_data1: bool,
     in_data1: bool,
-    configured: bool,
-    line_coding: [u8; 7],
 }
 
 impl CdcDevice {
@@ -131,14 +113,13 @@ impl CdcDevice {
         }
         regs.sie_ctrl().modify(|_, w| w.pullup_en().set_bit());
         Self {
-            regs,
-            dpram,
-            ep0: Ep0::Idle,
-            ep0_data1: true,
-            out_data1: false,
-            in_data1: false,
-            configured: false,
-            line_coding: DEFAULT_LINE_CODING,
+            hw: Controller {
+                regs,
+                dpram,
+                out_data1: false,
+                in_data1: false,
+            },
+            pipe: ControlPipe::new(),
         }
     }
 
@@ -146,171 +127,109 @@ impl CdcDevice {
     /// first (they belong to the transfer a new SETUP would replace), then
     /// a SETUP, then a bus reset.
     pub fn poll(&mut self) {
-        let ints = self.regs.ints().read();
+        let hw = &mut self.hw;
+        let ints = hw.regs.ints().read();
         if ints.buff_status().bit_is_set() {
-            let done = self.regs.buff_status().read().bits();
+            let done = hw.regs.buff_status().read().bits();
             // SAFETY: write-1-to-clear of the bits just read.
-            self.regs.buff_status().write(|w| unsafe { w.bits(done) });
+            hw.regs.buff_status().write(|w| unsafe { w.bits(done) });
             if done & EP0_IN_DONE != 0 {
-                self.ep0_in_done();
+                hw.apply(self.pipe.in_done());
             }
             if done & EP0_OUT_DONE != 0 {
-                self.ep0_out_done();
+                let mut data = [0u8; 7];
+                let n = hw.received(EP0_OUT, EP0_BUF, &mut data);
+                hw.apply(self.pipe.out_done(&data[..n]));
             }
         }
         if ints.setup_req().bit_is_set() {
-            self.regs
+            hw.regs
                 .sie_status()
                 .write(|w| w.setup_rec().clear_bit_by_one());
-            self.setup();
+            let low = hw.dpram.setup_packet_low().read().bits().to_le_bytes();
+            let high = hw.dpram.setup_packet_high().read().bits().to_le_bytes();
+            let [a, b, c, d] = low;
+            let [e, f, g, h] = high;
+            // A STALL left from the last request goes (the controller
+            // disarmed it for this SETUP).
+            hw.set_buffer_control(EP0_OUT, 0);
+            hw.apply(self.pipe.setup([a, b, c, d, e, f, g, h]));
         }
         if ints.bus_reset().bit_is_set() {
-            self.regs
+            hw.regs
                 .sie_status()
                 .write(|w| w.bus_reset().clear_bit_by_one());
-            self.regs.addr_endp().write(|w| unsafe { w.bits(0) });
-            self.configure(false);
-            self.ep0 = Ep0::Idle;
+            // SAFETY: address 0, the default after a reset.
+            hw.regs.addr_endp().write(|w| unsafe { w.bits(0) });
+            hw.configure(false);
+            self.pipe.reset();
         }
     }
 
     /// One packet from the host into `buf`, if one has come (0 otherwise).
     pub fn read(&mut self, buf: &mut [u8; MAX_PACKET]) -> usize {
-        let control = self.buffer_control(DATA_OUT);
-        if !self.configured || control & (FULL | AVAILABLE) != FULL {
+        let control = self.hw.buffer_control(DATA_OUT);
+        if !self.pipe.configured() || control & (FULL | AVAILABLE) != FULL {
             return 0;
         }
-        let n = ((control & LEN_MASK) as usize).min(MAX_PACKET);
-        copy_from_dpram(OUT_BUF, &mut buf[..n]);
-        self.arm_out();
+        let n = self.hw.received(DATA_OUT, OUT_BUF, buf);
+        self.hw.arm_out();
         n
     }
 
     /// Send `data` (at most 64 bytes; empty = a zero-length packet) if the
     /// IN endpoint is free; false while the host has not taken the last one.
     pub fn write(&mut self, data: &[u8]) -> bool {
-        if !self.configured || self.buffer_control(DATA_IN) & AVAILABLE != 0 {
+        let hw = &mut self.hw;
+        if !self.pipe.configured() || hw.buffer_control(DATA_IN) & AVAILABLE != 0 {
             return false;
         }
         let len = copy_to_dpram(IN_BUF, data);
-        let pid = toggle(&mut self.in_data1);
-        self.start(DATA_IN, len | FULL | pid);
+        let pid = toggle(&mut hw.in_data1);
+        hw.start(DATA_IN, len | FULL | pid);
         true
     }
+}
 
-    fn setup(&mut self) {
-        let low = self.dpram.setup_packet_low().read().bits().to_le_bytes();
-        let high = self.dpram.setup_packet_high().read().bits().to_le_bytes();
-        let setup = Setup::parse([
-            low[0], low[1], low[2], low[3], high[0], high[1], high[2], high[3],
-        ]);
-        // Every stage after SETUP starts on DATA1; a STALL left from the
-        // last request goes (the controller disarmed it for this SETUP).
-        self.ep0_data1 = true;
-        self.set_buffer_control(EP0_OUT, 0);
-        self.ep0 = Ep0::Idle;
-        let data: &'static [u8] = match decide(&setup, self.configured) {
-            Action::Send(Reply::Static(data)) => data,
-            Action::Send(Reply::LineCoding) => {
-                let (len, _) = data_stage(self.line_coding.len(), setup.length);
-                let coding = self.line_coding;
-                self.send_ep0(&coding[..len]);
-                self.ep0 = Ep0::Sending {
-                    rest: &[],
-                    zlp: false,
-                };
-                return;
+impl Controller {
+    /// Carry out the control pipe's step.
+    fn apply(&mut self, step: Step) {
+        match step.packet {
+            Packet::None => {}
+            Packet::In { data, data1 } => {
+                let len = copy_to_dpram(EP0_BUF, data);
+                self.start(EP0_IN, len | FULL | if data1 { DATA1 } else { 0 });
             }
-            Action::SetAddress(address) => return self.status_in(Some(address)),
-            Action::SetConfiguration(on) => {
-                self.configure(on);
-                return self.status_in(None);
-            }
-            Action::ClearHalt(endpoint) => {
-                self.clear_halt(endpoint);
-                return self.status_in(None);
-            }
-            Action::Ack => return self.status_in(None),
-            Action::ReceiveLineCoding => {
-                self.ep0 = Ep0::LineCoding;
-                return self.start(EP0_OUT, MAX_PACKET as u32 | DATA1);
-            }
-            Action::Stall => return self.stall_ep0(),
-        };
-        // The first packet goes even if empty (a request for 0 bytes gets
-        // its zero-length packet).
-        let (len, zlp) = data_stage(data.len(), setup.length);
-        self.send_chunk(&data[..len], zlp);
-    }
-
-    /// Send up to a packet of `rest`; the remainder (and a zero-length
-    /// packet if `zlp`) after the host takes it.
-    fn send_chunk(&mut self, rest: &'static [u8], zlp: bool) {
-        let (now, later) = rest.split_at(rest.len().min(MAX_PACKET));
-        self.send_ep0(now);
-        self.ep0 = Ep0::Sending { rest: later, zlp };
-    }
-
-    /// The last IN packet on endpoint 0 was taken: the next one, the
-    /// status OUT, or the address.
-    fn ep0_in_done(&mut self) {
-        match self.ep0 {
-            Ep0::Sending { rest, zlp } if !rest.is_empty() => self.send_chunk(rest, zlp),
-            Ep0::Sending { zlp: true, .. } => self.send_chunk(&[], false),
-            Ep0::Sending { .. } => {
-                // The host's zero-length status (DATA1).
-                self.start(EP0_OUT, DATA1);
-                self.ep0 = Ep0::Idle;
-            }
-            Ep0::Status {
-                address: Some(address),
-            } => {
-                // SAFETY: a 7-bit address from the decoder.
+            Packet::Out => self.start(EP0_OUT, MAX_PACKET as u32 | DATA1),
+            Packet::Stall => {
+                // Both directions answer STALL until the next SETUP (the
+                // controller clears EP_STALL_ARM when one comes).
                 self.regs
-                    .addr_endp()
-                    .write(|w| unsafe { w.address().bits(address) });
-                self.ep0 = Ep0::Idle;
+                    .ep_stall_arm()
+                    .write(|w| w.ep0_in().set_bit().ep0_out().set_bit());
+                self.set_buffer_control(EP0_IN, STALL);
+                self.set_buffer_control(EP0_OUT, STALL);
             }
-            _ => self.ep0 = Ep0::Idle,
         }
-    }
-
-    /// An OUT packet on endpoint 0: SET_LINE_CODING's data (then the
-    /// status), or the status of an IN transfer (nothing to do).
-    fn ep0_out_done(&mut self) {
-        if let Ep0::LineCoding = self.ep0 {
-            let len = (self.buffer_control(EP0_OUT) & LEN_MASK) as usize;
-            let n = len.min(self.line_coding.len());
-            copy_from_dpram(EP0_BUF, &mut self.line_coding[..n]);
-            self.status_in(None);
+        match step.effect {
+            Effect::None => {}
+            // SAFETY: a 7-bit address from the decoder.
+            Effect::Address(address) => self
+                .regs
+                .addr_endp()
+                .write(|w| unsafe { w.address().bits(address) }),
+            Effect::Configured(on) => self.configure(on),
+            Effect::ClearHalt(endpoint) if endpoint & 0x80 != 0 => self.in_data1 = false,
+            Effect::ClearHalt(_) => {
+                self.out_data1 = false;
+                self.arm_out();
+            }
         }
-    }
-
-    fn status_in(&mut self, address: Option<u8>) {
-        self.send_ep0(&[]);
-        self.ep0 = Ep0::Status { address };
-    }
-
-    fn send_ep0(&mut self, data: &[u8]) {
-        let len = copy_to_dpram(EP0_BUF, data);
-        let pid = toggle(&mut self.ep0_data1);
-        self.start(EP0_IN, len | FULL | pid);
-    }
-
-    /// Both directions of endpoint 0 answer STALL until the next SETUP
-    /// (the controller clears EP_STALL_ARM when one comes).
-    fn stall_ep0(&mut self) {
-        self.regs
-            .ep_stall_arm()
-            .write(|w| w.ep0_in().set_bit().ep0_out().set_bit());
-        self.set_buffer_control(EP0_IN, STALL);
-        self.set_buffer_control(EP0_OUT, STALL);
     }
 
     /// Configured: the bulk endpoints from DATA0, OUT armed. Not
     /// configured (SET_CONFIGURATION 0, bus reset): both idle.
     fn configure(&mut self, on: bool) {
-        self.configured = on;
         self.in_data1 = false;
         self.out_data1 = false;
         self.set_buffer_control(DATA_IN, 0);
@@ -320,18 +239,17 @@ impl CdcDevice {
         }
     }
 
-    fn clear_halt(&mut self, endpoint: u8) {
-        if endpoint & 0x80 != 0 {
-            self.in_data1 = false;
-        } else if self.configured {
-            self.out_data1 = false;
-            self.arm_out();
-        }
-    }
-
     fn arm_out(&mut self) {
         let pid = toggle(&mut self.out_data1);
         self.start(DATA_OUT, MAX_PACKET as u32 | pid);
+    }
+
+    /// The bytes of the OUT buffer `index` at `offset`, at most `out.len()`.
+    fn received(&self, index: usize, offset: u16, out: &mut [u8]) -> usize {
+        let len = (self.buffer_control(index) & LEN_MASK) as usize;
+        let n = len.min(out.len());
+        copy_from_dpram(offset, &mut out[..n]);
+        n
     }
 
     /// Hand a buffer to the controller: the control word first, AVAILABLE
