@@ -1,7 +1,8 @@
 //! The run log's USB serial port as data and decisions, free of the USB
 //! controller: the fixed descriptors of a one-configuration CDC-ACM device
-//! ([`descriptors`]) and what the device does with each control request
-//! ([`control`]). The firmware's `usb` module drives the RP2040's USB
+//! ([`descriptors`]), what the device does with each control request
+//! ([`control`]) and endpoint 0's control transfers packet by packet
+//! ([`pipe`]). The firmware's `usb` module drives the RP2040's USB
 //! controller with them; here they are tested on the host.
 //!
 //! Why not usb-device: on the robot, usb-device with usbd-serial's
