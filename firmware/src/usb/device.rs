@@ -10,7 +10,7 @@
 //! `cargo fw && cargo xtask size`: that stack made the image 37 136 B, over
 //! the budget, and serving the port cost 10.7 kB of it (usb-device and
 //! usbd-serial 4 972 B of symbols, the HAL's `UsbBus` 808 B); with this
-//! module the image is 28 988 B and serving the port, the log's readout
+//! module the image is 28 996 B and serving the port, the log's readout
 //! included, 4.9 kB (firmware/README.md, "Flash and RAM").
 //!
 //! Single-buffered endpoints with the buffers at fixed DPRAM offsets; the

@@ -95,15 +95,16 @@ const ENDPOINT_HALT: u16 = 0;
 pub fn decide(setup: &Setup, configured: bool) -> Action {
     let into_device = setup.request_type & DEVICE_TO_HOST == 0;
     match setup.request_type & TYPE_MASK {
-        TYPE_STANDARD if into_device => standard_out(setup),
+        TYPE_STANDARD if into_device => standard_out(setup, configured),
         TYPE_STANDARD => standard_in(setup, configured),
         TYPE_CLASS => class(setup, into_device),
         _ => Action::Stall,
     }
 }
 
-/// Standard requests without a data stage.
-fn standard_out(setup: &Setup) -> Action {
+/// Standard requests without a data stage. The data endpoints exist only
+/// in the configured state (USB 2.0, 9.4.1).
+fn standard_out(setup: &Setup, configured: bool) -> Action {
     if setup.length != 0 {
         return Action::Stall;
     }
@@ -113,9 +114,10 @@ fn standard_out(setup: &Setup) -> Action {
         SET_CONFIGURATION if setup.value == u16::from(descriptors::CONFIGURATION) => {
             Action::SetConfiguration(true)
         }
-        SET_INTERFACE if setup.value == 0 && setup.index <= 1 => Action::Ack,
+        SET_INTERFACE if configured && setup.value == 0 && setup.index <= 1 => Action::Ack,
         CLEAR_FEATURE
-            if setup.request_type == RECIPIENT_ENDPOINT
+            if configured
+                && setup.request_type == RECIPIENT_ENDPOINT
                 && setup.value == ENDPOINT_HALT
                 && is_data_endpoint(setup.index) =>
         {

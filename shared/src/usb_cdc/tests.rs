@@ -181,6 +181,11 @@ fn clear_halt_only_for_the_data_endpoints_and_the_rest_stalls() {
     );
     assert_eq!(decide(&setup(0x02, 1, 0, 0x83, 0), true), Action::Stall);
     assert_eq!(
+        decide(&setup(0x02, 1, 0, 0x82, 0), false),
+        Action::Stall,
+        "not configured: no data endpoints yet"
+    );
+    assert_eq!(
         decide(&setup(0x00, 1, 1, 0, 0), true),
         Action::Stall,
         "remote wake-up"
