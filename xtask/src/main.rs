@@ -18,7 +18,7 @@ use background::Background;
 use steps::Steps;
 
 /// Flash budget for the firmware image: issue 26's 32 KiB with the USB
-/// readout, the run log, pairing and the rate controller (measured 28 996 B
+/// readout, the run log, pairing and the rate controller (measured 28 940 B
 /// with the port's own CDC-ACM device; firmware/README.md, "Flash and RAM").
 const FLASH_BUDGET_BYTES: u64 = 32 * 1024;
 /// Static RAM budget, defmt's RTT buffer included.

@@ -10,14 +10,14 @@
 //! `cargo fw && cargo xtask size`: that stack made the image 37 136 B, over
 //! the budget, and serving the port cost 10.7 kB of it (usb-device and
 //! usbd-serial 4 972 B of symbols, the HAL's `UsbBus` 808 B); with this
-//! module the image is 28 996 B and serving the port, the log's readout
-//! included, 4.9 kB (firmware/README.md, "Flash and RAM").
+//! module the image is 28 940 B and serving the port, the log's readout
+//! included, 4 888 B (firmware/README.md, "Flash and RAM").
 //!
 //! Single-buffered endpoints with the buffers at fixed DPRAM offsets; the
 //! bulk endpoints' data toggles kept here (DATA0 after SET_CONFIGURATION or
-//! a cleared halt). The controller raises its interrupt for a SETUP, a bus reset and
-//! each finished buffer; `poll` serves all three and clears them, so the
-//! interrupt never stays pending.
+//! a cleared halt). The controller raises its interrupt for a SETUP, a bus
+//! reset and each finished buffer; `poll` serves all three and clears them,
+//! so the interrupt never stays pending.
 //!
 //! References: RP2040 datasheet 4.1.2 (DPRAM layout, buffer control,
 //! "AVAILABLE" set 3 USB clocks after the rest of the register); USB 2.0
@@ -123,12 +123,23 @@ impl CdcDevice {
         }
     }
 
-    /// Serve what the controller reports: finished buffers on endpoint 0
-    /// first (they belong to the transfer a new SETUP would replace), then
-    /// a SETUP, then a bus reset.
+    /// Serve what the controller reports in the order it can happen: a bus
+    /// reset (it ends everything before it), finished buffers (they belong
+    /// to the transfer a new SETUP would replace), a SETUP.
     pub fn poll(&mut self) {
         let hw = &mut self.hw;
         let ints = hw.regs.ints().read();
+        if ints.bus_reset().bit_is_set() {
+            hw.regs
+                .sie_status()
+                .write(|w| w.bus_reset().clear_bit_by_one());
+            // SAFETY: write-1-to-clear of every buffer's status.
+            hw.regs.buff_status().write(|w| unsafe { w.bits(!0) });
+            // SAFETY: address 0, the default after a reset.
+            hw.regs.addr_endp().write(|w| unsafe { w.bits(0) });
+            hw.configure(false);
+            self.pipe.reset();
+        }
         if ints.buff_status().bit_is_set() {
             let done = hw.regs.buff_status().read().bits();
             // SAFETY: write-1-to-clear of the bits just read.
@@ -154,15 +165,6 @@ impl CdcDevice {
             // disarmed it for this SETUP).
             hw.set_buffer_control(EP0_OUT, 0);
             hw.apply(self.pipe.setup([a, b, c, d, e, f, g, h]));
-        }
-        if ints.bus_reset().bit_is_set() {
-            hw.regs
-                .sie_status()
-                .write(|w| w.bus_reset().clear_bit_by_one());
-            // SAFETY: address 0, the default after a reset.
-            hw.regs.addr_endp().write(|w| unsafe { w.bits(0) });
-            hw.configure(false);
-            self.pipe.reset();
         }
     }
 
@@ -253,7 +255,7 @@ impl Controller {
     }
 
     /// Hand a buffer to the controller: the control word first, AVAILABLE
-    /// only after 3 USB clocks (datasheet 4.1.2.5.1; 12 system clocks as
+    /// only after 3 USB clocks (datasheet 4.1.2.5, buffer control; 12 system clocks as
     /// rp2040-hal waits).
     fn start(&mut self, index: usize, control: u32) {
         self.set_buffer_control(index, control);
