@@ -90,18 +90,12 @@ fn main() -> ! {
     );
     ir::start(pins.gpio15.into_pull_up_input(), hall);
     sleep::start(&mut timer);
-    // SAFETY: a second handle on CLOCKS only to take the USB clock's
-    // token, which `UsbBus` keeps and never uses to change a clock; the
-    // clock tree is `power`'s (the token cannot be cloned out of it).
-    let usb_clock = hal::clocks::ClocksManager::new(unsafe { pac::CLOCKS::steal() }).usb_clock;
-    let usb_bus = hal::usb::UsbBus::new(
+    let usb = usb::Usb::new(
         p.USBCTRL_REGS,
         p.USBCTRL_DPRAM,
-        usb_clock,
-        true,
         &mut p.RESETS,
+        pins.gpio24.into_floating_input(),
     );
-    let usb = usb::Usb::new(usb_bus, pins.gpio24.into_floating_input());
 
     power.keep_resets(p.RESETS);
     watchdog.start((board::WATCHDOG_MS * 1_000).micros());

@@ -1,5 +1,6 @@
 //! Power: which clocks run while the core sleeps between passes, and the
-//! DORMANT state after a long idle (or a cut-off), woken by the IR pin.
+//! DORMANT state after a long idle (or a cut-off), woken by the IR pin or
+//! by a USB cable (VBUS).
 //!
 //! Between passes (WFI with SLEEPDEEP set, so the clock gates below apply)
 //! only what a sleeping robot needs keeps its clock: the PWM (the motor's
@@ -19,12 +20,26 @@
 //! so the PWM divider and every timing stay valid. The 1 MHz timer stops
 //! during DORMANT (its tick comes from the crystal): time simply resumes.
 //!
-//! The wake-up edge is the IR receiver's first falling edge (a frame's
-//! leader burst). The IR interrupt also latches it, but on the chip its
-//! timestamp is taken only once the clocks run again (crystal start-up,
-//! about 1 ms, and PLL lock): the leader reads short by that much, within
-//! the decoder's 9 ms +-25 % window. Should the first frame be lost on a
-//! given board, the next press works.
+//! Two wake-ups (the IO bank's DORMANT_WAKE_INTE, RP2040 datasheet 2.19.3
+//! and 2.19.6: the same raw events as the GPIO interrupts, pin levels and
+//! latched edges):
+//! - VBUS high on GPIO24: a cable plugged in to read the log. The pass
+//!   that follows sees VBUS, holds the motor off and serves the port,
+//!   which the host then enumerates (it waits at least 100 ms after the
+//!   connect before its bus reset, USB 2.0 7.1.7.3; the wake takes the
+//!   crystal's start-up and the PLLs' lock, about 1 ms). A level, not the
+//!   rising edge: a cable plugged in between the pass's VBUS read and the
+//!   DORMANT write wakes the chip at once instead of being missed, and no
+//!   edge latched by an earlier plug-in (INTR keeps it until cleared) can
+//!   wake it again and again. Unplugged, the level is low: no wake-up; a
+//!   blip shorter than a pass wakes it once, and the next pass, seeing no
+//!   VBUS, goes DORMANT again.
+//! - The IR receiver's first falling edge (a frame's leader burst). The IR
+//!   interrupt also latches it, but on the chip its timestamp is taken
+//!   only once the clocks run again (crystal start-up, about 1 ms, and PLL
+//!   lock): the leader reads short by that much, within the decoder's
+//!   9 ms +-25 % window. Should the first frame be lost on a given board,
+//!   the next press works.
 //!
 //! Expected current (sources, not measured on this board): a Raspberry Pi
 //! Pico board measured from USB by the MicroPython developers (commit
@@ -71,9 +86,28 @@ pub fn sleep_clock_gates() -> ClockGate {
     g
 }
 
-/// GPIO15's EDGE_LOW bit in DORMANT_WAKE_INTE1 (4 bits per pin from GPIO8).
-const IR_WAKE_REG: usize = board::IR_GPIO as usize / 8;
-const IR_WAKE_EDGE_LOW: u32 = 1 << ((board::IR_GPIO as u32 % 8) * 4 + 2);
+/// A DORMANT wake-up source: one event bit of a pin's 4-bit field in
+/// DORMANT_WAKE_INTE0-3 and INTR0-3 (8 pins a register; bit 0 level low,
+/// 1 level high, 2 edge low, 3 edge high).
+#[derive(Clone, Copy)]
+struct WakeEvent {
+    reg: usize,
+    bit: u32,
+}
+
+impl WakeEvent {
+    const fn new(gpio: u8, event: u32) -> Self {
+        Self {
+            reg: gpio as usize / 8,
+            bit: 1 << ((gpio as u32 % 8) * 4 + event),
+        }
+    }
+}
+
+const LEVEL_HIGH: u32 = 1;
+const EDGE_LOW: u32 = 2;
+const IR_WAKE: WakeEvent = WakeEvent::new(board::IR_GPIO, EDGE_LOW);
+const VBUS_WAKE: WakeEvent = WakeEvent::new(board::VBUS_SENSE_GPIO, LEVEL_HIGH);
 
 /// The clock tree and what it is built from, kept so that DORMANT can take
 /// it down and put it back.
@@ -139,8 +173,11 @@ impl Power {
         self.resets = Some(resets);
     }
 
-    /// Go DORMANT until the IR pin falls; return with the boot's clock tree
-    /// running again. `false` (nothing done) if the tree is not complete.
+    /// Go DORMANT until the IR pin falls or VBUS is present (the name is
+    /// the IR-only one's, as `run.rs` calls it); return with the boot's
+    /// clock tree running again. The next pass handles the cause as any
+    /// pass does: the IR edge is queued by its interrupt, VBUS is read.
+    /// `false` (nothing done) if the tree is not complete.
     pub fn dormant_until_ir(&mut self) -> bool {
         if self.resets.is_none() {
             return false;
@@ -161,9 +198,9 @@ impl Power {
         self.clocks.rtc_clock.disable();
         let pll_sys = pll_sys.disable();
         let pll_usb = pll_usb.disable();
-        set_ir_wake(true);
+        set_wake(true);
         // SAFETY: the system clock runs from the crystal and both PLLs are
-        // stopped (`dormant`'s precondition); the IR pin's wake is enabled.
+        // stopped (`dormant`'s precondition); the wake-ups are enabled.
         let unstable = unsafe { xosc.dormant() };
         let token = loop {
             if let Ok(token) = unstable.await_stabilization() {
@@ -171,8 +208,9 @@ impl Power {
             }
         };
         let xosc = unstable.get_stable(token);
-        set_ir_wake(false);
-        self.restore(xosc, pll_sys, pll_usb)
+        set_wake(false);
+        self.restore(xosc, pll_sys, pll_usb);
+        true
     }
 
     fn restore(
@@ -180,7 +218,7 @@ impl Power {
         xosc: CrystalOscillator<Stable>,
         pll_sys: PhaseLockedLoop<Disabled, PLL_SYS>,
         pll_usb: PhaseLockedLoop<Disabled, PLL_USB>,
-    ) -> bool {
+    ) {
         // A PLL that does not relock leaves the chip on the crystal, motor
         // off: a panic here resets it through `safety`, the safe outcome.
         let Some(resets) = self.resets.as_mut() else {
@@ -198,20 +236,23 @@ impl Power {
         self.xosc = Some(xosc);
         self.pll_sys = Some(pll_sys);
         self.pll_usb = Some(pll_usb);
-        true
     }
 }
 
-fn set_ir_wake(enabled: bool) {
-    // SAFETY: atomic set/clear of GPIO15's own bit; nothing else uses the
-    // dormant wake registers.
+fn set_wake(enabled: bool) {
+    set_wake_event(IR_WAKE, enabled);
+    set_wake_event(VBUS_WAKE, enabled);
+}
+
+fn set_wake_event(e: WakeEvent, enabled: bool) {
+    // SAFETY: atomic set/clear of the event's own bit; nothing else uses
+    // the dormant wake registers.
     let io = unsafe { &*pac::IO_BANK0::ptr() };
-    let reg = io.dormant_wake_inte(IR_WAKE_REG);
-    reg.modify(|r, w| unsafe {
+    io.dormant_wake_inte(e.reg).modify(|r, w| unsafe {
         w.bits(if enabled {
-            r.bits() | IR_WAKE_EDGE_LOW
+            r.bits() | e.bit
         } else {
-            r.bits() & !IR_WAKE_EDGE_LOW
+            r.bits() & !e.bit
         })
     });
 }

@@ -1,5 +1,5 @@
-//! The run log's readout over USB: a CDC-ACM serial port (usb-device and
-//! usbd-serial on rp2040-hal's USB bus) that answers the requests of
+//! The run log's readout over USB: a CDC-ACM serial port ([`device`], on
+//! the USB controller's registers) that answers the requests of
 //! `swimbot_shared::run_log` (`LOG`: the log image; `INFO`: one line).
 //!
 //! VBUS is sensed on GPIO24 (the Pico's divider from the USB connector).
@@ -13,14 +13,14 @@
 use crate::board;
 use crate::flash::LogRegion;
 use rp2040_hal::gpio::{bank0::Gpio24, FunctionSioInput, Pin, PullNone};
-use rp2040_hal::pac::{self, interrupt};
-use rp2040_hal::usb::UsbBus;
+use rp2040_hal::pac::{self, interrupt, RESETS, USBCTRL_DPRAM, USBCTRL_REGS};
 use swimbot_shared::run_log::readout::{info_line, Line, UNKNOWN_ANSWER};
 use swimbot_shared::run_log::store::{LogFlash, LogStore, ReadoutImage};
 use swimbot_shared::run_log::{Request, RequestReader};
-use usb_device::class_prelude::UsbBusAllocator;
-use usb_device::device::{StringDescriptors, UsbDevice, UsbDeviceBuilder, UsbVidPid};
-use usbd_serial::CdcAcmClass;
+
+mod device;
+
+use device::CdcDevice;
 
 const _: () = assert!(board::VBUS_SENSE_GPIO == 24, "the typed pin is GPIO24");
 
@@ -35,8 +35,7 @@ enum Answer {
 
 pub struct Usb {
     vbus: VbusPin,
-    device: UsbDevice<'static, UsbBus>,
-    serial: CdcAcmClass<'static, UsbBus>,
+    device: CdcDevice,
     /// The last packet sent was a full one: end the answer with a
     /// zero-length packet.
     zlp_due: bool,
@@ -45,31 +44,17 @@ pub struct Usb {
 }
 
 impl Usb {
-    pub fn new(bus: UsbBus, vbus: VbusPin) -> Self {
-        let alloc: &'static UsbBusAllocator<UsbBus> =
-            cortex_m::singleton!(: UsbBusAllocator<UsbBus> = UsbBusAllocator::new(bus))
-                .expect("the USB bus is set up once");
-        // The class without usbd-serial's SerialPort buffers: answers go
-        // out a packet at a time straight from flash (and the buffers'
-        // code cost about 1.5 kB of flash).
-        let serial = CdcAcmClass::new(alloc, 64);
-        let strings = StringDescriptors::default()
-            .manufacturer("swimbot")
-            .product(board::USB_PRODUCT)
-            .serial_number("1");
-        let device = UsbDeviceBuilder::new(alloc, UsbVidPid(board::USB_VID, board::USB_PID))
-            .strings(&[strings])
-            .expect("one language")
-            // 64-byte control packets (usb-device's default is 8): fewer
-            // transactions, and what rp2040js's CDC host expects.
-            .max_packet_size_0(64)
-            .expect("64 is a valid size")
-            .device_class(usbd_serial::USB_CLASS_CDC)
-            .build();
+    /// The controller reset and on the bus (pulled up); served from the
+    /// first pass with VBUS present.
+    pub fn new(
+        regs: USBCTRL_REGS,
+        dpram: USBCTRL_DPRAM,
+        resets: &mut RESETS,
+        vbus: VbusPin,
+    ) -> Self {
         Self {
             vbus,
-            device,
-            serial,
+            device: CdcDevice::new(regs, dpram, resets),
             reader: RequestReader::new(),
             answer: Answer::None,
             zlp_due: false,
@@ -88,9 +73,10 @@ impl Usb {
     #[inline(never)]
     pub fn serve(&mut self, store: &LogStore, flash: &LogRegion, foreign: u32, paired: Option<u8>) {
         let mut feed = || flash.feed();
-        self.device.poll(&mut [&mut self.serial]);
+        self.device.poll();
         let mut buf = [0u8; 64];
-        while let Ok(n) = self.serial.read_packet(&mut buf) {
+        loop {
+            let n = self.device.read(&mut buf);
             if n == 0 {
                 break;
             }
@@ -130,7 +116,7 @@ impl Usb {
         {
             let n = match &self.answer {
                 Answer::None if self.zlp_due => {
-                    if self.serial.write_packet(&[]).is_ok() {
+                    if self.device.write(&[]) {
                         self.zlp_due = false;
                     }
                     return;
@@ -148,12 +134,12 @@ impl Usb {
                 self.answer = Answer::None;
                 return;
             }
-            let Ok(sent) = self.serial.write_packet(&chunk[..n]) else {
+            if !self.device.write(&chunk[..n]) {
                 return; // the host has not taken the last packet yet
-            };
-            self.zlp_due = sent == chunk.len();
+            }
+            self.zlp_due = n == chunk.len();
             match &mut self.answer {
-                Answer::Image { pos, .. } | Answer::Text { pos, .. } => *pos += sent,
+                Answer::Image { pos, .. } | Answer::Text { pos, .. } => *pos += n,
                 Answer::None => {}
             }
         }

@@ -3,8 +3,9 @@
 //! tail-rate sensing and control, the battery monitor, the
 //! status LED patterns, the PWM carrier arithmetic, the board's constants,
 //! the one main-loop pass that the chip, the host simulation and the
-//! property tests all run, the run log's format and recorder, and what
-//! survives a reset.
+//! property tests all run, the run log's format and recorder, the USB
+//! readout port's descriptors and control transfers, and what survives a
+//! reset.
 //!
 //! Everything here is `#![no_std]` without `alloc`, takes time as an argument
 //! instead of reading a clock, and is therefore exercised identically by the
@@ -25,6 +26,7 @@ pub mod rate;
 pub mod reset_memory;
 pub mod run_log;
 pub mod set_point;
+pub mod usb_cdc;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
 pub use command::{Command, KeyMap, Remote, RemoteEvent};

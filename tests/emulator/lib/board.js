@@ -233,9 +233,11 @@ export class Board {
    * rp2040js ignores the sleep clock gates (CLOCKS SLEEP_EN0/1), SCR.SLEEPDEEP
    * and the GPIO dormant-wake enables, and runs on through an XOSC DORMANT
    * write. The board keeps those registers, and models DORMANT: from the
-   * write on the chip is frozen (no clock, no timer, no watchdog) until a
-   * falling edge on a pin whose dormant wake is enabled; then the crystal is
-   * stable again at once (its ~1 ms start-up is not modelled).
+   * write on the chip is frozen (no clock, no timer, no watchdog) while no
+   * raw GPIO interrupt (INTR: a pin's levels and its latched edges) has its
+   * DORMANT_WAKE_INTE bit set, as the IO bank's dormant-wake line works (a
+   * stale latched edge wakes it at once); then the crystal is stable again
+   * at once (its ~1 ms start-up is not modelled).
    */
   modelPowerRegisters(mcu) {
     this.dormant = false;
@@ -270,6 +272,7 @@ export class Board {
     const intrOffset = INTR0 + 4 * irReg;
     const intsOffset = PROC0_INTS0 + 4 * irReg;
     const ioRead = io.readUint32.bind(io);
+    this.ioRawRead = ioRead; // INTR without the IR accounting below
     wrap(
       io,
       (o) => {
@@ -315,9 +318,9 @@ export class Board {
     );
   }
 
-  /** Is a falling edge on `gpio` enabled as a dormant wake-up? */
-  dormantWakeOnFall(gpio) {
-    return !!(this.dormantWake[gpio >> 3] & (1 << ((gpio & 7) * 4 + 2)));
+  /** Is the IO bank's dormant wake asserted (a raw interrupt whose DORMANT_WAKE_INTE bit is set)? */
+  dormantWakePending() {
+    return this.dormantWake.some((enabled, i) => (this.ioRawRead(INTR0 + 4 * i) & enabled) !== 0);
   }
 
   wakeFromDormant() {
@@ -399,7 +402,6 @@ export class Board {
     if (level === this.irLevel) return;
     this.irLevel = level;
     this.irEdgeTimes.push(this.nowNs);
-    if (this.dormant && !level && this.dormantWakeOnFall(this.facts.irGpio)) this.wakeFromDormant();
     this.mcu.gpio[this.facts.irGpio].setInputValue(level);
   }
 
@@ -446,6 +448,7 @@ export class Board {
     const core = mcu.core;
     const end = tAbs - this.timeOffsetNs;
     while (clock.nanos < end) {
+      if (this.dormant && this.dormantWakePending()) this.wakeFromDormant();
       if (this.dormant) {
         // Frozen until an event (the runUntil loop applies it) wakes it.
         this.timeOffsetNs += end - clock.nanos;
