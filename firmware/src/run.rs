@@ -10,8 +10,9 @@
 //! and a new pairing stored; the run log's recorder fed every pass and its
 //! records appended to the flash slot (a page programmed every 16 records,
 //! 1.6 s, and when the motor stops); one flash erase per pass when the
-//! pass allows it (motor off); VBUS read before the pass (USB connected =
-//! motor held off) and the readout port served after it.
+//! pass allows it (motor off), the pass told of a pending erase so that
+//! DORMANT waits for the whole sequence; VBUS read before the pass (USB
+//! connected = motor held off) and the readout port served after it.
 //!
 //! Between passes the core sleeps until an IR edge or the 1 kHz wake-up
 //! alarm (`sleep`): a pass every 1 ms plus the pass's own few microseconds.
@@ -108,6 +109,12 @@ impl Keeping {
         }
     }
 
+    /// A log block or the pairing sector is still to be erased: no DORMANT
+    /// until it is (`MainLoop::set_erase_pending`).
+    fn erase_pending(&self) -> bool {
+        self.pairing.erase_pending() || self.store.erase_pending()
+    }
+
     #[inline(never)]
     fn append(&mut self, watchdog: &mut Watchdog, record: &Record, closing: bool) {
         let dropped = self.store.dropped();
@@ -179,6 +186,7 @@ impl Robot {
             let now_us = self.timer.get_counter().ticks();
             let usb = self.usb.connected();
             main_loop.set_usb_connected(usb);
+            main_loop.set_erase_pending(keeping.erase_pending());
             self.power.usb_awake(usb);
             let (motor, battery) = (&self.motor, &mut self.battery);
             let out = main_loop.pass(now_us, ir::drain(), ir::drain_hall(), || {

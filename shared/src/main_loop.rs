@@ -94,6 +94,7 @@ pub struct MainLoop<C = ChipControl> {
     last_ir_us: Option<u64>,
     pairing: Pairing,
     usb_connected: bool,
+    erase_pending: bool,
 }
 
 impl MainLoop {
@@ -139,6 +140,7 @@ impl<C: MotorControl> MainLoop<C> {
             last_ir_us: None,
             pairing: Pairing::new(cfg.pairing),
             usb_connected: false,
+            erase_pending: false,
         }
     }
 
@@ -152,6 +154,17 @@ impl<C: MotorControl> MainLoop<C> {
     /// held off, and On does nothing, until it is disconnected.
     pub fn set_usb_connected(&mut self, connected: bool) {
         self.usb_connected = connected;
+    }
+
+    /// A flash erase is pending (the run log's slots, the pairing sector):
+    /// from the next pass the chip does not go dormant until it is done.
+    /// A pass that would otherwise go dormant (motor off, no USB, no IR
+    /// edge for the idle time) allows an erase too once the pairing window
+    /// has closed, so the sequence goes on, one erase a pass, and the pass
+    /// after its last one may go dormant. An IR edge still stops it (not
+    /// quiet), and a pass later it may resume.
+    pub fn set_erase_pending(&mut self, pending: bool) {
+        self.erase_pending = pending;
     }
 
     /// Apply a set-point key: only the set-point changes, never the state.
@@ -292,9 +305,12 @@ impl<C: MotorControl> MainLoop<C> {
             led,
             led_lit: led::is_lit(led, now_us),
             latch_changed,
-            // DORMANT would stop the USB clock under a connected host.
+            // DORMANT would stop the USB clock under a connected host, and
+            // leave an erase half done for a later wake-up (or, if the cell
+            // is disconnected first, for the next power-up's first run).
             may_go_dormant: out.state == MotorState::Off
                 && !self.usb_connected
+                && !self.erase_pending
                 && now_us.saturating_sub(self.last_activity_us) >= self.cfg.dormant_after_us,
             paired: self.remote.paired(),
             newly_paired,
@@ -309,6 +325,8 @@ impl<C: MotorControl> MainLoop<C> {
     }
 }
 
+#[cfg(test)]
+mod erase_tests;
 #[cfg(test)]
 mod pairing_tests;
 #[cfg(test)]

@@ -53,9 +53,10 @@ pub struct PassOutput {
     /// `ramp_us / set-point`, so the first PWM edge does not wait a whole
     /// wake period (the On -> PWM latency, issue 26.3).
     pub next_pass_in_us: Option<u32>,
-    /// Motor off, USB not connected and no IR edge for
+    /// Motor off, USB not connected, no flash erase pending
+    /// (`MainLoop::set_erase_pending`) and no IR edge for
     /// `dormant_after_us`: the chip may stop its clocks until the next IR
-    /// edge.
+    /// edge (or VBUS).
     pub may_go_dormant: bool,
     /// The remote obeyed (`None`: unpaired, no remote is).
     pub paired: Option<u8>,
