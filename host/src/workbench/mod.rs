@@ -13,6 +13,8 @@ pub mod discovery;
 pub mod features;
 pub mod fit;
 pub mod fit_uncertainty;
+pub mod input_covariance;
+pub mod input_covariance_text;
 pub mod noise;
 pub mod outlier;
 pub mod path;

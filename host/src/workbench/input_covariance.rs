@@ -1,0 +1,320 @@
+//! The covariance of the predictions across cases and quantities from the
+//! inputs' uncertainties, and the chi-square of model against measurement
+//! with it (generalised least squares, Aitken 1935).
+//!
+//! Each uncertain input is one independent source of error. Its load on a
+//! predicted quantity `y_a` is the signed sensitivity times its standard
+//! uncertainty, `j_a = (dy_a/dx) u_x` (the linear band's contributions,
+//! [`super::propagate`]). Stacking the loads as the columns of `J`, the
+//! inputs' covariance of the predictions is `C_in = J J^T` (GUM eq. 13 for
+//! uncorrelated sources). Which rows a column reaches is the input's scope
+//! ([`crate::data::uncertainty::scope_of`]):
+//! - a per-case input (the tail's own geometry and rate) is one column per
+//!   case, reaching that case's U and Omega_b only;
+//! - a shared input (tube, oil, body, trim, coupler) is one column for
+//!   every case that records the same value and the same uncertainty: one
+//!   physical object, one error, the same in each of those cases. Cases
+//!   with another value (a second oil, another tube) are another object
+//!   with an independent error.
+//!
+//! The measurements are independent between quantities and cases (each
+//! mean is over its own trials; a correlation between a case's U and
+//! Omega_b from shared trials is not recorded by the data, so it is not
+//! assumed): `C_meas = diag(s_m^2)`. With `r = observed - predicted`,
+//! `chi2 = r^T (C_meas + C_in)^-1 r` (a Cholesky solve), on `n - k`
+//! degrees of freedom (`k` the model's free parameters), and its p-value
+//! `P(chi2(n - k) >= chi2)`. The covariance is treated as known (type-B
+//! inputs and measured standard errors alike), so the reference
+//! distribution is chi-square, not the Student-t mixture a few trials
+//! would give each quantity.
+//!
+//! The independent chi-square the comparison used before,
+//! `sum r_a^2 / C_aa`, keeps only the diagonal: its mean is the same `n`
+//! but its spread is wider than chi-square's when inputs are shared, so
+//! its p-value is wrong in either direction.
+//!
+//! The pull of a shared input ([`Pull`]): what the data want its error to
+//! be, in units of its declared uncertainty, with every other input at its
+//! declared uncertainty. Writing `r = j delta + e`, `e ~ N(0, C - j j^T)`,
+//! the generalised-least-squares estimate is (Sherman-Morrison on
+//! `(C - j j^T)^-1`) `delta = (j^T C^-1 r) / (j^T C^-1 j)` with standard
+//! deviation `sqrt(1 / (j^T C^-1 j) - 1)`. It is reported, never applied:
+//! an input is never chosen because the error falls.
+//!
+//! References: A. C. Aitken, Proc. R. Soc. Edinburgh 55 (1935) 42-48
+//! (generalised least squares); JCGM 100:2008 (GUM) 5.2 and eq. 13
+//! (correlated inputs); G. Cowan, *Statistical Data Analysis* (1998),
+//! section 7.6 (chi-square with correlated errors).
+
+use super::compare::Quantity;
+use super::propagate::Band;
+use crate::data::uncertainty::{field_value, scope_of, Scope};
+use crate::data::Dataset;
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+/// One measured quantity: a row of the residual vector.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub case: String,
+    pub quantity: Quantity,
+    /// Observed minus predicted.
+    pub residual: f64,
+    /// The measured mean's standard error.
+    pub sd_measured: f64,
+}
+
+/// One independent source of error: an input of one case, or a shared
+/// input over the cases that share it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Source {
+    /// The input's name (with its value when cases record several).
+    pub name: String,
+    pub scope: Scope,
+    /// The declared standard uncertainty, in the input's unit.
+    pub standard: f64,
+    /// `(row, load)`: the row's change for a one-sigma error of the input.
+    pub loads: Vec<(usize, f64)>,
+    /// How many cases the source reaches.
+    pub cases: usize,
+}
+
+/// What the data want of a shared input (module docs).
+#[derive(Debug, Clone, Serialize)]
+pub struct Pull {
+    pub input: String,
+    /// How many cases share it.
+    pub cases: usize,
+    /// The declared standard uncertainty, in the input's unit.
+    pub standard: f64,
+    /// The estimated error in declared standard uncertainties, and its
+    /// standard deviation in the same unit.
+    pub pull_sigmas: f64,
+    pub pull_sd_sigmas: f64,
+    /// The same estimate in the input's unit (`pull_sigmas * standard`).
+    pub shift: f64,
+}
+
+/// A pull is shown in words when the data pin the input to within this
+/// many declared uncertainties (its standard deviation in
+/// [`Pull::pull_sd_sigmas`]); the rest are barely informed by the data.
+pub const SHOWN_PULL_SD: f64 = 3.0;
+
+impl Pull {
+    /// Shared by several cases and pinned by the data ([`SHOWN_PULL_SD`]).
+    pub fn informative(&self) -> bool {
+        self.cases > 1 && self.pull_sd_sigmas <= SHOWN_PULL_SD
+    }
+}
+
+/// The chi-square with the inputs' covariance (module docs).
+#[derive(Debug, Clone, Serialize)]
+pub struct CorrelatedChi2 {
+    pub chi2: f64,
+    pub n: usize,
+    pub free_params: usize,
+    /// `n - k`; `None` when not positive.
+    pub dof: Option<usize>,
+    pub chi2_reduced: Option<f64>,
+    /// `P(chi2(dof) >= chi2)`.
+    pub p_value: Option<f64>,
+    /// The same residuals with each quantity's combined variance alone,
+    /// every quantity taken as independent (the diagonal of `C`).
+    pub chi2_independent: f64,
+    /// The same residuals with the cases taken as independent: every
+    /// input's error its own in each case (`C` block-diagonal, each case's
+    /// U and Omega_b still correlated by its inputs); `None` when not
+    /// computed. Between the two others, it says how much of the change
+    /// comes from within the cases and how much from across them.
+    pub chi2_cases_independent: Option<f64>,
+    /// The shared inputs' pulls, largest first (those the data see).
+    pub pulls: Vec<Pull>,
+}
+
+/// The rows and sources of a comparison: residuals from `cases` (one per
+/// case of `data`, in order: `(id, U predicted, Omega_b predicted)`), loads
+/// from the bands, each input's scope from `scope` (the data layer's
+/// [`crate::data::uncertainty::scope_of`] outside tests).
+pub fn rows_and_sources(
+    data: &Dataset,
+    predicted: &[(f64, f64)],
+    bands: &[Band],
+    scope: impl Fn(&str) -> Scope,
+) -> (Vec<Row>, Vec<Source>) {
+    let mut rows = Vec::new();
+    // per case: the row of U and of Omega_b, where measured
+    let mut at = Vec::with_capacity(data.cases.len());
+    for (case, (u, o)) in data.cases.iter().zip(predicted) {
+        let mut push = |q, m: &crate::data::Measured, pred: f64| {
+            rows.push(Row {
+                case: case.id.clone(),
+                quantity: q,
+                residual: m.mean - pred,
+                sd_measured: m.standard_error(),
+            });
+            rows.len() - 1
+        };
+        let ru = case.u_mm_s.as_ref().map(|m| push(Quantity::U, m, *u));
+        let ro = case
+            .omega_body_hz
+            .as_ref()
+            .map(|m| push(Quantity::Omega, m, *o));
+        at.push((ru, ro));
+    }
+    let mut sources: Vec<(Source, u64, u64)> = Vec::new();
+    for ((case, band), (ru, ro)) in data.cases.iter().zip(bands).zip(&at) {
+        for c in &band.contributions {
+            let loads: Vec<(usize, f64)> = [(*ru, c.u_mm_s), (*ro, c.omega_hz)]
+                .into_iter()
+                .filter_map(|(r, l)| r.map(|r| (r, l)))
+                .collect();
+            let value = field_value(case, c.field).unwrap_or(f64::NAN).to_bits();
+            let key = (value, c.standard.to_bits());
+            let same = |s: &(Source, u64, u64)| {
+                s.0.scope == Scope::Shared && s.0.name == c.field && (s.1, s.2) == key
+            };
+            match sources.iter_mut().find(|s| same(s)) {
+                Some(s) if scope(c.field) == Scope::Shared => {
+                    s.0.loads.extend(loads);
+                    s.0.cases += 1;
+                }
+                _ => sources.push((
+                    Source {
+                        name: c.field.to_string(),
+                        scope: scope(c.field),
+                        standard: c.standard,
+                        loads,
+                        cases: 1,
+                    },
+                    key.0,
+                    key.1,
+                )),
+            }
+        }
+    }
+    name_distinct_objects(&mut sources);
+    (rows, sources.into_iter().map(|s| s.0).collect())
+}
+
+/// A shared input recorded with several values is several objects: each
+/// is named with its value.
+fn name_distinct_objects(sources: &mut [(Source, u64, u64)]) {
+    let shared = |s: &Source| s.scope == Scope::Shared;
+    let names: Vec<String> = sources.iter().map(|s| s.0.name.clone()).collect();
+    for (s, value, _) in sources.iter_mut().filter(|s| shared(&s.0)) {
+        let groups = names.iter().filter(|n| **n == s.name).count();
+        if groups > 1 {
+            s.name = format!(
+                "{} = {}",
+                s.name,
+                crate::format::fmt_sig(f64::from_bits(*value), 4)
+            );
+        }
+    }
+}
+
+/// [`correlated_chi2`] with the inputs' scopes from the data layer and
+/// [`CorrelatedChi2::chi2_cases_independent`] filled in.
+pub fn correlated_chi2_of(
+    data: &Dataset,
+    predicted: &[(f64, f64)],
+    bands: &[Band],
+    free_params: usize,
+) -> Option<CorrelatedChi2> {
+    let (rows, sources) = rows_and_sources(data, predicted, bands, scope_of);
+    let mut x = correlated_chi2(&rows, &sources, free_params)?;
+    let (rows, own) = rows_and_sources(data, predicted, bands, |_| Scope::PerCase);
+    x.chi2_cases_independent = correlated_chi2(&rows, &own, free_params).map(|c| c.chi2);
+    Some(x)
+}
+
+/// `C = C_meas + J J^T` over the rows.
+pub fn covariance(rows: &[Row], sources: &[Source]) -> DMatrix<f64> {
+    let n = rows.len();
+    let mut c = DMatrix::from_diagonal(&DVector::from_iterator(
+        n,
+        rows.iter().map(|r| r.sd_measured * r.sd_measured),
+    ));
+    for s in sources {
+        for &(a, la) in &s.loads {
+            for &(b, lb) in &s.loads {
+                c[(a, b)] += la * lb;
+            }
+        }
+    }
+    c
+}
+
+/// The chi-square with the covariance, its p-value and the shared inputs'
+/// pulls; `None` when the covariance is not positive definite (a quantity
+/// with neither a measured nor an input uncertainty).
+pub fn correlated_chi2(
+    rows: &[Row],
+    sources: &[Source],
+    free_params: usize,
+) -> Option<CorrelatedChi2> {
+    let c = covariance(rows, sources);
+    let chol = c.clone().cholesky()?;
+    let r = DVector::from_iterator(rows.len(), rows.iter().map(|r| r.residual));
+    let c_inv_r = chol.solve(&r);
+    let chi2 = r.dot(&c_inv_r);
+    let n = rows.len();
+    let dof = n.checked_sub(free_params).filter(|d| *d > 0);
+    let p_value = dof
+        .and_then(|d| ChiSquared::new(d as f64).ok())
+        .map(|d| d.sf(chi2));
+    let chi2_independent = (0..n).map(|a| r[a] * r[a] / c[(a, a)]).sum();
+    let mut pulls: Vec<Pull> = sources
+        .iter()
+        .filter(|s| s.scope == Scope::Shared)
+        .filter_map(|s| pull(s, n, &chol, &c_inv_r))
+        .collect();
+    pulls.sort_by(|a, b| b.pull_sigmas.abs().total_cmp(&a.pull_sigmas.abs()));
+    Some(CorrelatedChi2 {
+        chi2,
+        n,
+        free_params,
+        dof,
+        chi2_reduced: dof.map(|d| chi2 / d as f64),
+        p_value,
+        chi2_independent,
+        chi2_cases_independent: None,
+        pulls,
+    })
+}
+
+/// Below this information `j^T C^-1 j` the data do not see a source:
+/// its pull would have a standard deviation above 1e6 declared
+/// uncertainties (an input the outputs do not depend on, such as the
+/// viscosity when nothing but the tail and body drags balance, has loads
+/// at finite-difference round-off).
+const UNSEEN: f64 = 1e-12;
+
+/// The pull of one source (module docs); `None` for a source the data
+/// do not see ([`UNSEEN`]).
+fn pull(
+    s: &Source,
+    n: usize,
+    chol: &nalgebra::Cholesky<f64, nalgebra::Dyn>,
+    c_inv_r: &DVector<f64>,
+) -> Option<Pull> {
+    let mut j = DVector::zeros(n);
+    for &(a, l) in &s.loads {
+        j[a] += l;
+    }
+    let c_inv_j = chol.solve(&j);
+    let a = j.dot(&c_inv_j);
+    (a > UNSEEN).then(|| {
+        let delta = j.dot(c_inv_r) / a;
+        Pull {
+            input: s.name.clone(),
+            cases: s.cases,
+            standard: s.standard,
+            pull_sigmas: delta,
+            // a < 1 always (C holds j j^T plus a positive diagonal)
+            pull_sd_sigmas: (1.0 / a - 1.0).max(0.0).sqrt(),
+            shift: delta * s.standard,
+        }
+    })
+}
