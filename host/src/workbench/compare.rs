@@ -49,7 +49,10 @@ pub struct Comparison {
     pub dataset: String,
     pub cases: Vec<CaseComparison>,
     pub summary: FitSummary,
-    /// The summary against the combined uncertainty, with bands attached.
+    /// The summary against the combined uncertainty, with bands attached,
+    /// every quantity taken as independent: its chi-square is
+    /// [`CorrelatedChi2::chi2_independent`], not the statistic to judge
+    /// with ([`Self::chi2_correlated`] is).
     pub summary_combined: Option<FitSummary>,
     /// How many quantities lie within [`COVERAGE_SIGMAS`] combined
     /// standard deviations, with bands attached.
