@@ -46,39 +46,13 @@
 //! (correlated inputs); G. Cowan, *Statistical Data Analysis* (1998),
 //! section 7.6 (chi-square with correlated errors).
 
-use super::compare::Quantity;
+pub use super::input_sources::{rows_and_sources, Row, Source};
 use super::propagate::Band;
-use crate::data::uncertainty::{field_value, scope_of, Scope};
+use crate::data::uncertainty::{scope_of, Scope};
 use crate::data::Dataset;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
-
-/// One measured quantity: a row of the residual vector.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Row {
-    pub case: String,
-    pub quantity: Quantity,
-    /// Observed minus predicted.
-    pub residual: f64,
-    /// The measured mean's standard error.
-    pub sd_measured: f64,
-}
-
-/// One independent source of error: an input of one case, or a shared
-/// input over the cases that share it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Source {
-    /// The input's name (with its value when cases record several).
-    pub name: String,
-    pub scope: Scope,
-    /// The declared standard uncertainty, in the input's unit.
-    pub standard: f64,
-    /// `(row, load)`: the row's change for a one-sigma error of the input.
-    pub loads: Vec<(usize, f64)>,
-    /// How many cases the source reaches.
-    pub cases: usize,
-}
 
 /// What the data want of a shared input (module docs).
 #[derive(Debug, Clone, Serialize)]
@@ -130,88 +104,6 @@ pub struct CorrelatedChi2 {
     pub chi2_cases_independent: Option<f64>,
     /// The shared inputs' pulls, largest first (those the data see).
     pub pulls: Vec<Pull>,
-}
-
-/// The rows and sources of a comparison: residuals from `cases` (one per
-/// case of `data`, in order: `(id, U predicted, Omega_b predicted)`), loads
-/// from the bands, each input's scope from `scope` (the data layer's
-/// [`crate::data::uncertainty::scope_of`] outside tests).
-pub fn rows_and_sources(
-    data: &Dataset,
-    predicted: &[(f64, f64)],
-    bands: &[Band],
-    scope: impl Fn(&str) -> Scope,
-) -> (Vec<Row>, Vec<Source>) {
-    let mut rows = Vec::new();
-    // per case: the row of U and of Omega_b, where measured
-    let mut at = Vec::with_capacity(data.cases.len());
-    for (case, (u, o)) in data.cases.iter().zip(predicted) {
-        let mut push = |q, m: &crate::data::Measured, pred: f64| {
-            rows.push(Row {
-                case: case.id.clone(),
-                quantity: q,
-                residual: m.mean - pred,
-                sd_measured: m.standard_error(),
-            });
-            rows.len() - 1
-        };
-        let ru = case.u_mm_s.as_ref().map(|m| push(Quantity::U, m, *u));
-        let ro = case
-            .omega_body_hz
-            .as_ref()
-            .map(|m| push(Quantity::Omega, m, *o));
-        at.push((ru, ro));
-    }
-    let mut sources: Vec<(Source, u64, u64)> = Vec::new();
-    for ((case, band), (ru, ro)) in data.cases.iter().zip(bands).zip(&at) {
-        for c in &band.contributions {
-            let loads: Vec<(usize, f64)> = [(*ru, c.u_mm_s), (*ro, c.omega_hz)]
-                .into_iter()
-                .filter_map(|(r, l)| r.map(|r| (r, l)))
-                .collect();
-            let value = field_value(case, c.field).unwrap_or(f64::NAN).to_bits();
-            let key = (value, c.standard.to_bits());
-            let same = |s: &(Source, u64, u64)| {
-                s.0.scope == Scope::Shared && s.0.name == c.field && (s.1, s.2) == key
-            };
-            match sources.iter_mut().find(|s| same(s)) {
-                Some(s) if scope(c.field) == Scope::Shared => {
-                    s.0.loads.extend(loads);
-                    s.0.cases += 1;
-                }
-                _ => sources.push((
-                    Source {
-                        name: c.field.to_string(),
-                        scope: scope(c.field),
-                        standard: c.standard,
-                        loads,
-                        cases: 1,
-                    },
-                    key.0,
-                    key.1,
-                )),
-            }
-        }
-    }
-    name_distinct_objects(&mut sources);
-    (rows, sources.into_iter().map(|s| s.0).collect())
-}
-
-/// A shared input recorded with several values is several objects: each
-/// is named with its value.
-fn name_distinct_objects(sources: &mut [(Source, u64, u64)]) {
-    let shared = |s: &Source| s.scope == Scope::Shared;
-    let names: Vec<String> = sources.iter().map(|s| s.0.name.clone()).collect();
-    for (s, value, _) in sources.iter_mut().filter(|s| shared(&s.0)) {
-        let groups = names.iter().filter(|n| **n == s.name).count();
-        if groups > 1 {
-            s.name = format!(
-                "{} = {}",
-                s.name,
-                crate::format::fmt_sig(f64::from_bits(*value), 4)
-            );
-        }
-    }
 }
 
 /// [`correlated_chi2`] with the inputs' scopes from the data layer and
@@ -317,4 +209,84 @@ fn pull(
             shift: delta * s.standard,
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::workbench::compare::Quantity;
+    use proptest::prelude::*;
+
+    fn rows(res: &[f64], sd: &[f64]) -> Vec<Row> {
+        res.iter()
+            .zip(sd)
+            .map(|(r, s)| Row {
+                case: String::new(),
+                quantity: Quantity::U,
+                residual: *r,
+                sd_measured: *s,
+            })
+            .collect()
+    }
+
+    fn shared(loads: &[f64]) -> Source {
+        Source {
+            name: "x".into(),
+            scope: Scope::Shared,
+            standard: 0.5,
+            loads: loads.iter().copied().enumerate().collect(),
+            cases: loads.len(),
+        }
+    }
+
+    proptest! {
+        /// The pull's closed form (Sherman-Morrison on C - j j^T) is the
+        /// generalised-least-squares estimate solved directly, and the
+        /// chi-square is never negative.
+        #[test]
+        fn the_pull_is_the_gls_estimate_solved_directly(
+            res in prop::collection::vec(-3.0f64..3.0, 4),
+            sd in prop::collection::vec(0.1f64..2.0, 4),
+            j in prop::collection::vec(-2.0f64..2.0, 4),
+            other in prop::collection::vec(-1.0f64..1.0, 4),
+        ) {
+            prop_assume!(j.iter().map(|x| x * x).sum::<f64>() > 1e-3);
+            let rs = rows(&res, &sd);
+            let mut second = shared(&other);
+            second.name = "y".into();
+            let sources = [shared(&j), second];
+            let x = correlated_chi2(&rs, &sources, 0).unwrap();
+            prop_assert!(x.chi2 >= 0.0);
+            let p = x.pulls.iter().find(|p| p.input == "x").unwrap();
+            // direct: the noise is C without x's own column
+            let noise = covariance(&rs, &sources[1..]);
+            let w = noise.try_inverse().unwrap();
+            let jv = DVector::from_vec(j.clone());
+            let r = DVector::from_vec(res.clone());
+            let info = jv.dot(&(&w * &jv));
+            let delta = jv.dot(&(&w * &r)) / info;
+            prop_assert!((p.pull_sigmas - delta).abs() < 1e-8 * (1.0 + delta.abs()));
+            prop_assert!((p.pull_sd_sigmas - info.powf(-0.5)).abs() < 1e-8 * (1.0 + info.powf(-0.5)));
+            prop_assert!((p.shift - 0.5 * delta).abs() < 1e-8 * (1.0 + delta.abs()));
+        }
+
+        /// A covariance with each source on one row only is diagonal: the
+        /// statistic is the independent sum.
+        #[test]
+        fn one_row_per_source_is_the_independent_sum(
+            res in prop::collection::vec(-3.0f64..3.0, 5),
+            sd in prop::collection::vec(0.1f64..2.0, 5),
+            l in prop::collection::vec(-2.0f64..2.0, 5),
+        ) {
+            let rs = rows(&res, &sd);
+            let sources: Vec<Source> = l
+                .iter()
+                .enumerate()
+                .map(|(a, v)| Source { loads: vec![(a, *v)], cases: 1, ..shared(&[]) })
+                .collect();
+            let x = correlated_chi2(&rs, &sources, 2).unwrap();
+            prop_assert!((x.chi2 - x.chi2_independent).abs() < 1e-10 * (1.0 + x.chi2));
+            prop_assert_eq!(x.dof, Some(3));
+        }
+    }
 }
