@@ -261,6 +261,7 @@ fn the_trims_pull_recovers_a_drawn_offset() {
     }
     let (m, v) = mean_var(&est);
     let se = (v / SEEDS as f64).sqrt();
+    eprintln!("trim drawn at +2 sigma: mean pull {m:.3} ± {se:.3}, {hits} of {SEEDS} within 2 sd");
     assert!((m - 2.0).abs() < 3.0 * se, "mean pull {m:.3} ± {se:.3}");
     assert!(hits as f64 >= 0.9 * SEEDS as f64, "{hits} of {SEEDS}");
 }
