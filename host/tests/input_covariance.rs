@@ -96,6 +96,10 @@ fn the_covariance_is_symmetric_positive_definite() {
     let (rows, sources) = rows_and_sources(&d, &predictions(&model, &d), &b, scope_of);
     let c = covariance(&rows, &sources);
     assert_eq!(c.nrows(), 12);
+    assert!(
+        sources.iter().any(|s| s.cases == 6),
+        "shared inputs span the cases"
+    );
     assert!((&c - c.transpose()).abs().max() == 0.0);
     let eig = c.clone().symmetric_eigen().eigenvalues;
     assert!(eig.min() > 0.0, "{eig}");
@@ -109,6 +113,15 @@ fn the_covariance_is_symmetric_positive_definite() {
     let e = c_in.symmetric_eigen().eigenvalues;
     assert!(e.min() > -1e-12 * e.max(), "{e}");
     assert!(sources.len() >= 12, "per-case sources alone span the rows");
+    // the statistic's block-wise (Woodbury) solve against the dense one
+    let r = nalgebra::DVector::from_iterator(12, rows.iter().map(|r| r.residual));
+    let dense = r.dot(&c.cholesky().unwrap().solve(&r));
+    let x = correlated_chi2(&rows, &sources, 0).unwrap();
+    assert!(
+        (x.chi2 - dense).abs() < 1e-9 * dense,
+        "{} vs {dense}",
+        x.chi2
+    );
 }
 
 /// One synthetic dataset: the paper's design, every uncertain input's

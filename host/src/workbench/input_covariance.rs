@@ -22,7 +22,8 @@
 //! Omega_b from shared trials is not recorded by the data, so it is not
 //! assumed): `C_meas = diag(s_m^2)`. With `r = observed - predicted`,
 //! `chi2 = r^T (C_meas + C_in)^-1 r` (a Cholesky solve), on `n - k`
-//! degrees of freedom (`k` the model's free parameters), and its p-value
+//! degrees of freedom (`k` the model's free parameters; the solve by the
+//! Woodbury identity over the cases' blocks, [`super::input_solve`]), and its p-value
 //! `P(chi2(n - k) >= chi2)`. The covariance is treated as known (type-B
 //! inputs and measured standard errors alike), so the reference
 //! distribution is chi-square, not the Student-t mixture a few trials
@@ -46,6 +47,7 @@
 //! (correlated inputs); G. Cowan, *Statistical Data Analysis* (1998),
 //! section 7.6 (chi-square with correlated errors).
 
+use super::input_solve::Solver;
 pub use super::input_sources::{rows_and_sources, Row, Source};
 use super::propagate::Band;
 use crate::data::uncertainty::{scope_of, Scope};
@@ -146,21 +148,20 @@ pub fn correlated_chi2(
     sources: &[Source],
     free_params: usize,
 ) -> Option<CorrelatedChi2> {
-    let c = covariance(rows, sources);
-    let chol = c.clone().cholesky()?;
+    let solver = Solver::new(rows, sources)?;
     let r = DVector::from_iterator(rows.len(), rows.iter().map(|r| r.residual));
-    let c_inv_r = chol.solve(&r);
+    let c_inv_r = solver.solve(&r);
     let chi2 = r.dot(&c_inv_r);
     let n = rows.len();
     let dof = n.checked_sub(free_params).filter(|d| *d > 0);
     let p_value = dof
         .and_then(|d| ChiSquared::new(d as f64).ok())
         .map(|d| d.sf(chi2));
-    let chi2_independent = (0..n).map(|a| r[a] * r[a] / c[(a, a)]).sum();
+    let chi2_independent = (0..n).map(|a| r[a] * r[a] / solver.diagonal[a]).sum();
     let mut pulls: Vec<Pull> = sources
         .iter()
         .filter(|s| s.scope == Scope::Shared)
-        .filter_map(|s| pull(s, n, &chol, &c_inv_r))
+        .filter_map(|s| pull(s, n, &solver, &c_inv_r))
         .collect();
     pulls.sort_by(|a, b| b.pull_sigmas.abs().total_cmp(&a.pull_sigmas.abs()));
     Some(CorrelatedChi2 {
@@ -185,17 +186,12 @@ const UNSEEN: f64 = 1e-12;
 
 /// The pull of one source (module docs); `None` for a source the data
 /// do not see ([`UNSEEN`]).
-fn pull(
-    s: &Source,
-    n: usize,
-    chol: &nalgebra::Cholesky<f64, nalgebra::Dyn>,
-    c_inv_r: &DVector<f64>,
-) -> Option<Pull> {
+fn pull(s: &Source, n: usize, solver: &Solver, c_inv_r: &DVector<f64>) -> Option<Pull> {
     let mut j = DVector::zeros(n);
     for &(a, l) in &s.loads {
         j[a] += l;
     }
-    let c_inv_j = chol.solve(&j);
+    let c_inv_j = solver.solve(&j);
     let a = j.dot(&c_inv_j);
     (a > UNSEEN).then(|| {
         let delta = j.dot(c_inv_r) / a;
@@ -218,10 +214,12 @@ mod tests {
     use proptest::prelude::*;
 
     fn rows(res: &[f64], sd: &[f64]) -> Vec<Row> {
+        // two quantities per case, as U and Omega_b
         res.iter()
             .zip(sd)
-            .map(|(r, s)| Row {
-                case: String::new(),
+            .enumerate()
+            .map(|(a, (r, s))| Row {
+                case: format!("case-{}", a / 2),
                 quantity: Quantity::U,
                 residual: *r,
                 sd_measured: *s,
@@ -257,6 +255,10 @@ mod tests {
             let sources = [shared(&j), second];
             let x = correlated_chi2(&rs, &sources, 0).unwrap();
             prop_assert!(x.chi2 >= 0.0);
+            // the Woodbury solve against the dense Cholesky of C
+            let r0 = DVector::from_vec(res.clone());
+            let dense = covariance(&rs, &sources).cholesky().unwrap().solve(&r0);
+            prop_assert!((x.chi2 - r0.dot(&dense)).abs() < 1e-8 * (1.0 + x.chi2));
             let p = x.pulls.iter().find(|p| p.input == "x").unwrap();
             // direct: the noise is C without x's own column
             let noise = covariance(&rs, &sources[1..]);

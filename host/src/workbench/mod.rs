@@ -15,6 +15,7 @@ pub mod fit;
 pub mod fit_uncertainty;
 pub mod input_covariance;
 pub mod input_covariance_text;
+pub mod input_solve;
 pub mod input_sources;
 pub mod noise;
 pub mod outlier;
