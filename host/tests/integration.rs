@@ -18,6 +18,7 @@ mod discovery;
 mod formula_input;
 mod hardening;
 mod hidden_effect;
+mod input_covariance;
 mod model;
 mod mutation;
 mod nonlocal;

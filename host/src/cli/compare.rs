@@ -5,6 +5,7 @@ use super::output::{opt, pct, print_json, Format};
 use super::CliError;
 use crate::format::{fmt_sig, fmt_value_unc};
 use crate::workbench::compare::Comparison;
+use crate::workbench::input_covariance::CorrelatedChi2;
 use crate::workbench::path::{user_path, Path};
 use crate::workbench::propagate::{
     affordable, bands, has_input_uncertainty, monte_carlo, MonteCarloCheck,
@@ -194,11 +195,16 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
     } else {
         println!(" σ = error in standard errors of the measured mean)");
     }
+    // Against the inputs too, the statistic is the chi-square with their
+    // covariance (printed below); the measurement-alone one otherwise.
+    let chi2_here = match (&c.chi2_correlated, combined) {
+        (Some(_), true) => String::new(),
+        _ => format!("reduced chi-square {}   ", opt(s.chi2_reduced, 3)),
+    };
     println!(
-        "MARE {:.1} %   max |rel err| {:.1} %   reduced chi-square {}   ({} quantities - {} free parameters)",
+        "MARE {:.1} %   max |rel err| {:.1} %   {chi2_here}({} quantities - {} free parameters)",
         100.0 * s.mare,
         100.0 * s.max_abs_rel_err,
-        opt(s.chi2_reduced, 3),
         s.n,
         s.free_params
     );
@@ -218,11 +224,8 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
             }
         );
     }
-    if let (false, Some(sc)) = (combined, &c.summary_combined) {
-        println!(
-            "against the combined uncertainty (measurement + inputs): reduced chi-square {} (--input-uncertainty judges with it)",
-            opt(sc.chi2_reduced, 3)
-        );
+    if let Some(x) = &c.chi2_correlated {
+        print_correlated(x, combined);
     }
     if bands {
         println!("\ndominant input of each band (U, Ω):");
@@ -253,6 +256,36 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
                 fmt_sig(m.omega_sd_ratio, 3)
             );
         }
+    }
+}
+
+/// The chi-square against measurement and inputs with the inputs'
+/// covariance, in the words the page uses, and the shared inputs' pulls.
+fn print_correlated(x: &CorrelatedChi2, combined: bool) {
+    println!(
+        "against measurement and inputs: {}{}",
+        x.describe(),
+        if combined {
+            ""
+        } else {
+            " (--input-uncertainty judges with it)"
+        }
+    );
+    println!(
+        "  the same residuals: chi-square {}",
+        x.describe_independent()
+    );
+    let shown: Vec<String> = x
+        .pulls
+        .iter()
+        .filter(|p| p.informative())
+        .map(|p| format!("  {}", p.describe()))
+        .collect();
+    if !shown.is_empty() {
+        println!(
+            "what the data would want of the inputs shared by cases (each alone, the others at their declared uncertainty; reported, not applied; pinned to within 3 declared uncertainties):\n{}",
+            shown.join("\n")
+        );
     }
 }
 

@@ -17,7 +17,9 @@
 //! sections, trim, coupler)
 //! are one physical object shared by every case, so their errors are fully
 //! correlated between cases and cancel, to first order, in ratios between
-//! cases.
+//! cases. A shared input is one object among the cases that record the
+//! same value of it (one oil, one tube); the chi-square with the inputs'
+//! covariance (`workbench::input_covariance`) takes it so.
 //!
 //! References: JCGM 100:2008 (GUM), *Evaluation of measurement data: Guide
 //! to the expression of uncertainty in measurement*, sections 4.3 (type B
@@ -98,11 +100,34 @@ pub enum Scope {
     Shared,
 }
 
-/// The scope of a field (see the module docs).
+/// The scope of a field (see the module docs), every input named:
+/// - per case: the tail's geometry (each case its own hand-made helix on
+///   the paper's robot) and its rate (counted on each run's video; a
+///   camera clock error common to all runs would be shared, but at 30 fps
+///   from a crystal it is far below the 2 % counting error);
+/// - shared: the tube, the oil, the body and its sections, the trim, the
+///   coupler: one object for every case that records the same value
+///   (`workbench::input_covariance` groups by value, so a second oil or
+///   another tube is another object with its own error).
+///
+/// A name that is not an input ([`input_names`]) is taken as shared: it
+/// can carry no uncertainty (the parser refuses it), so it never counts.
 pub fn scope_of(field: &str) -> Scope {
     match field {
         "wavelength_mm" | "amplitude_mm" | "tail_length_mm" | "wire_diameter_mm"
         | "frequency_hz" => Scope::PerCase,
+        "channel_diameter_mm"
+        | "channel_length_mm"
+        | "viscosity_pa_s"
+        | "density_kg_m3"
+        | "body_diameter_mm"
+        | "body_length_mm"
+        | "coupler_diameter_mm"
+        | "coupler_length_mm"
+        | "coupler_gap_mm"
+        | "net_weight_g"
+        | super::body_inputs::NOSE
+        | super::body_inputs::REAR => Scope::Shared,
         _ => Scope::Shared,
     }
 }
@@ -337,5 +362,19 @@ mod tests {
         assert_eq!(scope_of("viscosity_pa_s"), Scope::Shared);
         assert_eq!(scope_of("net_weight_g"), Scope::Shared);
         assert_eq!(scope_of(crate::data::body_inputs::NOSE), Scope::Shared);
+        // every input's scope is stated, and the tail's own are per case
+        let per_case: Vec<&str> = input_names()
+            .filter(|f| scope_of(f) == Scope::PerCase)
+            .collect();
+        assert_eq!(
+            per_case,
+            [
+                "wavelength_mm",
+                "amplitude_mm",
+                "tail_length_mm",
+                "wire_diameter_mm",
+                "frequency_hz"
+            ]
+        );
     }
 }

@@ -126,11 +126,10 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<String, crate::mod
                 .chi2_reduced
                 .map_or("n/a".into(), |c| fmt_sig(c.sqrt(), 2)),
         ));
-        if let Some(sc) = &cmp.summary_combined {
+        if cmp.summary_combined.is_some() {
             h.push_str(&format!(
-                " Judged against the measurement and the inputs' uncertainty combined, the \
-                 reduced χ² is {}.",
-                stat(sc.chi2_reduced)
+                " Judged against the measurement and the inputs' uncertainty: {}.",
+                super::correlated::statistic(cmp)
             ));
         }
         h.push_str("</p>");

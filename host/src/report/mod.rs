@@ -6,6 +6,7 @@
 
 mod bundle;
 pub use bundle::Guard;
+mod correlated;
 mod curve;
 mod fails;
 mod figure4;

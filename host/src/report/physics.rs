@@ -149,6 +149,7 @@ pub fn section(
         ("paper (Lighthill)".to_string(), &paper.li),
     ];
     h.push_str(&super::physics_misses::list(data, &cmp, &models, d, audit));
+    h.push_str(&super::correlated::pulls(&cmp));
     let layers = [
         Layer {
             label: "paper (Gray-Hancock)".into(),

@@ -147,10 +147,9 @@ pub fn list(
         return String::new();
     };
     let mut h = format!(
-        "<p id=\"physics-coverage\"><b>Coverage: {}</b> (reduced χ² against measurement and \
-         inputs combined: {}).",
+        "<p id=\"physics-coverage\"><b>Coverage: {}</b> (against measurement and inputs: {}).",
         escape(&cov.describe()),
-        super::wording::stat(cmp.summary_combined.as_ref().and_then(|s| s.chi2_reduced))
+        super::correlated::statistic(cmp)
     );
     if cov.outside.is_empty() {
         h.push_str("</p>");

@@ -252,9 +252,11 @@ pub fn section(data: &Dataset, path: &Path) -> String {
     if let Some(cov) = &last.comparison.coverage {
         h.push_str(&format!(
             "<p id=\"yours-coverage\">{}, judged against measurement and inputs combined: \
-             <b>{}</b> (<code>swimbot compare --input-uncertainty</code> prints the same).</p>",
+             <b>{}</b>; {} (<code>swimbot compare --input-uncertainty</code> prints the \
+             same).</p>",
             escape(&last.label),
-            escape(&cov.describe())
+            escape(&cov.describe()),
+            super::correlated::statistic(&last.comparison)
         ));
     }
     for s in &path.steps {

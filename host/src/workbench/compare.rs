@@ -3,6 +3,7 @@
 //! errors in standard errors, and the summary statistics (MARE, max
 //! relative error, reduced chi-square).
 
+use super::input_covariance::{correlated_chi2_of, CorrelatedChi2};
 use crate::data::{Case, Dataset, Measured};
 use crate::model::{Model, ModelError, Prediction};
 use crate::stats::{summarise, FitSummary, Residual};
@@ -48,11 +49,18 @@ pub struct Comparison {
     pub dataset: String,
     pub cases: Vec<CaseComparison>,
     pub summary: FitSummary,
-    /// The summary against the combined uncertainty, with bands attached.
+    /// The summary against the combined uncertainty, with bands attached,
+    /// every quantity taken as independent: its chi-square is
+    /// [`CorrelatedChi2::chi2_independent`], not the statistic to judge
+    /// with ([`Self::chi2_correlated`] is).
     pub summary_combined: Option<FitSummary>,
     /// How many quantities lie within [`COVERAGE_SIGMAS`] combined
     /// standard deviations, with bands attached.
     pub coverage: Option<Coverage>,
+    /// The chi-square with the inputs' covariance across cases (shared
+    /// inputs correlate every case they span), its p-value and the shared
+    /// inputs' pulls, with bands attached ([`super::input_covariance`]).
+    pub chi2_correlated: Option<CorrelatedChi2>,
 }
 
 /// The coverage factor of [`Coverage`]: 2 combined standard deviations,
@@ -149,6 +157,13 @@ impl Comparison {
         }
         self.summary_combined = Some(summarise(&all, self.summary.free_params));
         self.coverage = Some(Coverage::of_cases(&self.cases));
+        let predicted: Vec<(f64, f64)> = self
+            .cases
+            .iter()
+            .map(|k| (k.u_pred_mm_s, k.omega_pred_hz))
+            .collect();
+        self.chi2_correlated =
+            correlated_chi2_of(data, &predicted, bands, self.summary.free_params);
         self
     }
 }
@@ -245,6 +260,7 @@ pub fn compare(
         summary: summarise(&all, free_params),
         summary_combined: None,
         coverage: None,
+        chi2_correlated: None,
     })
 }
 
