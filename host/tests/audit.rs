@@ -130,14 +130,17 @@ fn one_step_and_exact_leave_one_out_agree() {
     use swimbot::workbench::audit_influence::influence_with;
     use swimbot::workbench::audit_loo::LooMethod;
     use swimbot::workbench::propagate::with_input_uncertainty;
+    use swimbot::workbench::robust::Likelihood;
     let mut bad = consistent();
     let c = bad.cases.iter_mut().find(|c| c.id == "tail-4").unwrap();
     c.u_mm_s.as_mut().unwrap().mean *= 1.3;
     for (d, flagged) in [(consistent(), false), (bad, true)] {
         let model = truth();
         let combined = with_input_uncertainty(&model, &d).unwrap();
-        let (ex, ex_flags) = influence_with(&model, &combined, LooMethod::Exact);
-        let (os, os_flags) = influence_with(&model, &combined, LooMethod::OneStep);
+        let (ex, ex_flags) =
+            influence_with(&model, &combined, LooMethod::Exact, Likelihood::Gaussian);
+        let (os, os_flags) =
+            influence_with(&model, &combined, LooMethod::OneStep, Likelihood::Gaussian);
         assert_eq!(ex.conclusion, os.conclusion);
         assert_eq!(ex.without, os.without);
         let key = |f: &Vec<swimbot::workbench::audit::Flag>| {

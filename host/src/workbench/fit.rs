@@ -77,6 +77,10 @@ pub struct FitResult {
     /// The minimised deviance when it is not the chi-square (the Student-t
     /// deviance); `None` for a Gaussian fit.
     pub t_deviance: Option<f64>,
+    /// The deviance that was minimised, whichever it is (the chi-square of
+    /// a Gaussian fit): the figure `fit`, `diagnose` and `audit` report
+    /// alike for the same model and likelihood.
+    pub deviance: f64,
     /// Correlation matrix of the estimates (row-major), when defined.
     pub correlation: Option<Vec<Vec<f64>>>,
     /// Pairs of parameters that the data cannot separate (|r| > 0.95), or
@@ -246,8 +250,8 @@ fn starts(model: &Model, free: &[FreeParam]) -> Vec<DVector<f64>> {
 }
 
 /// Fit `free` parameters of `model` to the measured cases of `data` (or the
-/// subset `only`) by least squares (the Gaussian likelihood); `multi_start`
-/// tries several starts.
+/// subset `only`) by the [`ambient_likelihood`] (least squares unless run
+/// inside [`with_likelihood`]); `multi_start` tries several starts.
 pub fn fit(
     model: &Model,
     data: &Dataset,
@@ -255,7 +259,38 @@ pub fn fit(
     free: &[FreeParam],
     multi_start: bool,
 ) -> Result<FitResult, FitError> {
-    fit_with(model, data, only, free, multi_start, Likelihood::Gaussian)
+    fit_with(model, data, only, free, multi_start, ambient_likelihood())
+}
+
+thread_local! {
+    static AMBIENT: std::cell::Cell<Likelihood> = const { std::cell::Cell::new(Likelihood::Gaussian) };
+}
+
+/// The likelihood [`fit`] minimises on this thread: the Gaussian, or the one
+/// set by an enclosing [`with_likelihood`].
+pub fn ambient_likelihood() -> Likelihood {
+    AMBIENT.with(std::cell::Cell::get)
+}
+
+/// Run `work` with every [`fit`] inside it (on any thread of its parallel
+/// loops) minimising the deviance of `likelihood`.
+///
+/// Why a scoped default and not a parameter: `diagnose` fits through many
+/// layers (catalogue candidates, their cross-validation, the located laws'
+/// refits, the stagewise search and its backfitting), and the one option
+/// must reach every fit they make alike. The work runs on a rayon pool of
+/// its own whose threads all carry the likelihood (a thread-local set as
+/// each starts), so nothing outside it is affected, nor other work running
+/// at the same time in the process.
+pub fn with_likelihood<R: Send>(
+    likelihood: Likelihood,
+    work: impl FnOnce() -> R + Send,
+) -> Result<R, rayon::ThreadPoolBuildError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(rayon::current_num_threads())
+        .start_handler(move |_| AMBIENT.with(|a| a.set(likelihood)))
+        .build()?;
+    Ok(pool.install(work))
 }
 
 /// [`fit`] minimising the deviance of `likelihood`.

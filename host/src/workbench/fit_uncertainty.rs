@@ -153,6 +153,7 @@ pub(super) fn finish(
         chi2,
         likelihood: lik.label(),
         t_deviance: (lik != Likelihood::Gaussian).then_some(deviance),
+        deviance,
         correlation,
         non_identifiable,
         converged,
