@@ -302,3 +302,96 @@ fn fit_diagnose_and_audit_minimise_the_same_deviance() {
     }
     assert_eq!(compared, 6);
 }
+
+/// An effect file scaling the tail's axial torque by `k` (free or held at
+/// `value`): in the axial model a tail torque factor and the body's
+/// rotational drag factor act only through their ratio.
+fn torque_scale(k: f64, free: bool) -> String {
+    format!(
+        r#"[[effect]]
+name = "tail-torque-scale"
+statement = "the tail's axial torque scaled by k"
+reference = "a test of the fit's intervals"
+
+[[effect.param]]
+name = "k"
+unit = "1"
+default = {k:?}
+min = 0.02
+max = 50.0
+free = {free}
+
+[effect.places]
+"tail.torque" = "k"
+"#
+    )
+}
+
+/// Two exactly degenerate parameters (body-correction's rotation and a
+/// tail torque factor) on synthetic data of a known truth (seed 823, used
+/// nowhere else): the fit names their combination, gives neither an
+/// interval, and gives the translation the interval of the fit with the
+/// torque factor fixed on its fitted value (to 1e-6), where before it gave
+/// none. The fit starts with the pair's ratio at the truth's: from
+/// rotation = 2 the solver drifted along the free direction until both
+/// parameters sat on their upper bounds (a local optimum at chi-square
+/// 11 104 against 15.2), where no interval means anything.
+#[test]
+fn a_free_combination_leaves_the_other_intervals_those_of_the_fit_with_one_fixed() {
+    let s = SynthSettings {
+        seed: 823,
+        ..Default::default()
+    };
+    let d = generate(&truth(), &data::paper(), s).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let data_path = dir.path().join("d.toml");
+    std::fs::write(&data_path, data::to_toml(&d)).unwrap();
+    let fit_with_file = |text: String| {
+        let file = dir.path().join("scale.toml");
+        std::fs::write(&file, text).unwrap();
+        let args = [
+            "fit",
+            "--effect",
+            "body-correction:translation=10,rotation=1.4",
+            "--effect-file",
+            file.to_str().unwrap(),
+            "--effect",
+            "tail-torque-scale",
+        ];
+        json_of(&args, &data_path)["fit"].clone()
+    };
+    let free = fit_with_file(torque_scale(1.0, true));
+    let est = |f: &serde_json::Value, name: &str| {
+        f["estimates"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|e| e["name"] == name)
+            .cloned()
+            .unwrap_or_else(|| panic!("{name} in {f}"))
+    };
+    let held = free["held"].as_array().unwrap();
+    assert_eq!(held.len(), 1, "{free}");
+    let combo = held[0].as_str().unwrap();
+    assert!(
+        combo.contains("rotation") && combo.contains("tail-torque-scale.k"),
+        "{combo}"
+    );
+    assert!(est(&free, "rotation")["ci95"].is_null() && est(&free, "k")["ci95"].is_null());
+    let k = est(&free, "k")["value"].as_f64().unwrap();
+    let fixed = fit_with_file(torque_scale(k, false));
+    assert!(fixed["held"].as_array().unwrap().is_empty(), "{fixed}");
+    // Both reach the same optimum (the free pair on its valley floor).
+    let chi2 = |f: &serde_json::Value| f["chi2"].as_f64().unwrap();
+    assert!((chi2(&free) - chi2(&fixed)).abs() < 1e-6 * chi2(&fixed));
+    let (a, b) = (est(&free, "translation"), est(&fixed, "translation"));
+    let (ca, cb) = (a["ci95"].as_f64().unwrap(), b["ci95"].as_f64().unwrap());
+    assert!(
+        (ca - cb).abs() < 1e-6 * cb,
+        "translation ± {ca} against {cb} with k fixed"
+    );
+    let (va, vb) = (a["value"].as_f64().unwrap(), b["value"].as_f64().unwrap());
+    assert!((va - vb).abs() < 1e-3 * cb, "{va} {vb}");
+    // The truth's translation is inside its interval.
+    assert!((va - 16.0).abs() < ca, "{va} ± {ca}");
+}

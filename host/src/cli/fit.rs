@@ -132,6 +132,9 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
             }
         );
     }
+    for h in &result.held {
+        println!("  (the intervals above are with {h} held on its fitted value)");
+    }
     for w in &result.non_identifiable {
         println!("  not identifiable: {w}");
     }

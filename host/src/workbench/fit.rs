@@ -16,7 +16,11 @@
 //! Gaussian, `(nu + 1)/(nu + 3)` Student-t), and `s²` the larger of the
 //! deviance over its expectation for a perfect model and `chi²_red`, at
 //! least 1, so that an underfitting model does not claim precise
-//! parameters.
+//! parameters. When the data leave a combination of parameters free (a
+//! null direction of the column-scaled `J^T W J`), its parameters get no
+//! interval and the others get theirs on the constrained subspace (the
+//! pseudo-inverse without the free direction: the combination held on its
+//! fitted value), `s²` counted with the constrained directions only.
 //!
 //! References: J. J. Moré, "The Levenberg-Marquardt algorithm:
 //! implementation and theory", Lecture Notes in Math. 630 (1978) 105;
@@ -86,6 +90,10 @@ pub struct FitResult {
     /// Pairs of parameters that the data cannot separate (|r| > 0.95), or
     /// parameters that do not change the fit at all.
     pub non_identifiable: Vec<String>,
+    /// The combinations the data leave free (`+a -b`, a null direction of
+    /// the column-scaled `J^T W J`), each held on its fitted value for the
+    /// other parameters' intervals; its own parameters have none.
+    pub held: Vec<String>,
     pub converged: bool,
     #[serde(skip)]
     pub model: Model,
