@@ -201,9 +201,10 @@ fn a_bad_run_is_named_as_an_outlier() {
 /// refits say it is not: the audit confirms such a claim by exact refits
 /// before it warns. Such draws are rare: none of 320 least-squares
 /// draws searched (5 truths, 2 designs, seeds 900-905, 2-15 % noise, with
-/// and without one bad run), 2 of 384 Student-t ones (8 truths, seeds
-/// 906-911). This is one of them: the varied design, truth buoyancy, 3 %
-/// noise, seed 909, one case's U moved by 8 standard errors.
+/// and without one bad run) nor of 240 Student-t ones of the same, 2 of
+/// 384 more Student-t ones (8 truths, seeds 906-911). This is one of them:
+/// the varied design, truth buoyancy, 3 % noise, seed 909, one case's U
+/// moved by 8 standard errors.
 #[test]
 fn a_claim_of_the_one_step_deletion_is_confirmed_by_exact_refits() {
     use swimbot::workbench::audit_influence::{decide, influence_with, Finding};
