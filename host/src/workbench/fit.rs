@@ -2,8 +2,9 @@
 //! deviance of the normalised residuals `z = (pred - obs) / SE` over the
 //! free parameters of the chosen effects, within their bounds. The
 //! deviance is the [`Likelihood`]'s: the chi-square `sum z²` (Gaussian,
-//! [`fit`]) or the Student-t deviance `sum (nu + 1) ln(1 + z²/nu)`
-//! ([`super::robust`], [`fit_with`]), which one bad run cannot drag.
+//! the default) or the Student-t deviance `sum (nu + 1) ln(1 + z²/nu)`
+//! ([`super::robust`]), which one bad run cannot drag; [`fit_with`] takes
+//! it explicitly, [`fit`] from an enclosing [`with_likelihood`].
 //!
 //! The solver is the `levenberg-marquardt` crate (MINPACK's algorithm),
 //! given the signed square roots of each residual's deviance (their squares
