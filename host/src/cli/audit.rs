@@ -29,6 +29,8 @@ pub struct AuditArgs {
     /// estimated over 10 s is announced on stderr].
     #[arg(long, value_name = "SECONDS")]
     pub max_seconds: Option<f64>,
+    #[command(flatten)]
+    pub likelihood: super::likelihood::LikelihoodArgs,
 }
 
 pub fn run(a: AuditArgs) -> Result<(), CliError> {
@@ -49,6 +51,7 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
     let settings = AuditSettings {
         family_samples: a.family_samples,
         seed: a.seed,
+        likelihood: a.likelihood.get(),
     };
     let spinner = crate::progress::spinner("audit");
     let report = audit(&model, &data, &settings)?;
@@ -188,6 +191,10 @@ fn print_table(a: &Audit) {
         a.ratio.pairs_tested, a.ratio.members, a.ratio.members_used, a.ratio.pairs_out_of_range
     );
     println!(
+        "{}",
+        super::likelihood::minimised_line_of(&a.influence.likelihood)
+    );
+    println!(
         "influence: best-supported model on all cases: {}",
         a.influence
             .conclusion
@@ -260,6 +267,7 @@ mod tests {
             let settings = AuditSettings {
                 family_samples: 16,
                 seed: 5,
+                ..Default::default()
             };
             let before = count();
             pool.install(|| audit(&Model::base(), &data, &settings).unwrap());

@@ -44,6 +44,8 @@ pub struct DiagnoseArgs {
     /// defaults [default: none written].
     #[arg(long, value_name = "FILE.toml")]
     pub write_effect: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    pub likelihood: super::likelihood::LikelihoodArgs,
 }
 
 /// The spinner `diagnose` reports its stages to (a fn pointer cannot capture it).
@@ -102,7 +104,10 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     // Shown once the work has lasted 2 s (paper-sized data takes less).
     let spinner = crate::progress::spinner(&format!("diagnosing {} cases", data.cases.len()));
     let _ = SPINNER.set(spinner.clone());
-    let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
+    let lik = a.likelihood.get();
+    let d = crate::workbench::fit::with_likelihood(lik, || diagnose(&model, &data, &settings))
+        .map_err(|e| CliError::failure(format!("could not start the worker threads: {e}")))?
+        .map_err(CliError::input)?;
     super::output::check_finite("diagnosis", &d)?;
     spinner.finish_and_clear();
     // The file the user asked for is written before stdout is touched: a
@@ -112,12 +117,13 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
         write_effect(&d, &data.name, path)?;
     }
     match a.format {
-        TableJsonCsv::Json => print_json(&d),
+        TableJsonCsv::Json => print_json(&super::likelihood::diagnosis_json(&d, &data, lik)?),
         TableJsonCsv::Csv => print_csv(&ranking_rows(&d))?,
         TableJsonCsv::Table => {
             if a.input_uncertainty {
                 println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
             }
+            println!("{}\n", super::likelihood::minimised_line(lik));
             print_table(&d)
         }
     }

@@ -7,27 +7,7 @@ use super::CliError;
 use crate::format::{fmt_estimate, fmt_sig, with_unit};
 use crate::workbench::compare::compare;
 use crate::workbench::fit::{fit_with, free_params_of};
-use crate::workbench::robust::Likelihood;
-use clap::{Args, ValueEnum};
-
-/// What the fit minimises (workbench::robust::Likelihood).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum LikelihoodArg {
-    /// The Student-t deviance, nu = trials - 1 of each measurement: one bad
-    /// run cannot drag the estimates.
-    StudentT,
-    /// The chi-square (least squares), the nu -> infinity limit.
-    Gaussian,
-}
-
-impl From<LikelihoodArg> for Likelihood {
-    fn from(a: LikelihoodArg) -> Self {
-        match a {
-            LikelihoodArg::StudentT => Likelihood::StudentT,
-            LikelihoodArg::Gaussian => Likelihood::Gaussian,
-        }
-    }
-}
+use clap::Args;
 
 #[derive(Args, Debug)]
 pub struct FitArgs {
@@ -43,12 +23,8 @@ pub struct FitArgs {
     /// calibrated model are `compare --format csv` with the same effects).
     #[arg(long, value_enum, default_value = "table")]
     pub format: TableJsonCsv,
-    /// What the fit minimises: the chi-square (least squares, what
-    /// `diagnose`, `compare` and the page fit) or the Student-t deviance
-    /// (robust to one bad run where the model otherwise meets the data; on
-    /// data it misses everywhere the t treats most cases as outliers).
-    #[arg(long, value_enum, default_value = "gaussian")]
-    pub likelihood: LikelihoodArg,
+    #[command(flatten)]
+    pub likelihood: super::likelihood::LikelihoodArgs,
 }
 
 pub fn run(a: FitArgs) -> Result<(), CliError> {
@@ -117,7 +93,7 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
         only.as_deref(),
         &free,
         true,
-        a.likelihood.into(),
+        a.likelihood.get(),
     )
     .map_err(CliError::input)?;
     let all = compare(&result.model, &data, free.len())
@@ -156,6 +132,9 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
             }
         );
     }
+    for h in &result.held {
+        println!("  (the intervals above are with {h} held on its fitted value)");
+    }
     for w in &result.non_identifiable {
         println!("  not identifiable: {w}");
     }
@@ -164,7 +143,7 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
             "  warning: the optimiser did not report convergence; treat the estimates with care"
         );
     }
-    println!("minimised: the {} deviance", result.likelihood);
+    println!("{}", super::likelihood::minimised_line(a.likelihood.get()));
     println!(
         "chi-square on the calibration cases: {}",
         fmt_sig(result.chi2, 5)

@@ -14,6 +14,7 @@ mod finite;
 mod fit;
 mod helix;
 mod help_lint;
+mod likelihood;
 mod log;
 mod model_args;
 mod output;

@@ -23,6 +23,9 @@
 //!    1 % per dataset, and the others at the noise floor without it),
 //!    judged in measurement standard errors as `diagnose` judges it.
 //!
+//! The fits of check 3 minimise the deviance of [`AuditSettings::likelihood`]
+//! (`--likelihood`, as in `fit` and `diagnose`).
+//!
 //! Checks 2 and 3 use the measurements with the input uncertainty combined
 //! ([`super::propagate::with_input_uncertainty`]), so that a residual the
 //! inputs can explain is not flagged.
@@ -86,6 +89,8 @@ pub struct AuditSettings {
     /// Members of the model family sampled for the ratio test (256).
     pub family_samples: usize,
     pub seed: u64,
+    /// What the influence check's fits minimise (least squares).
+    pub likelihood: super::robust::Likelihood,
 }
 
 impl Default for AuditSettings {
@@ -93,6 +98,7 @@ impl Default for AuditSettings {
         AuditSettings {
             family_samples: 256,
             seed: 12,
+            likelihood: super::robust::Likelihood::Gaussian,
         }
     }
 }
@@ -103,7 +109,8 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
     let combined = with_input_uncertainty(model, data)?;
     let (ratio, ratio_flags) = super::audit_ratio::ratio_test(model, data, s)?;
     flags.extend(ratio_flags);
-    let (influence, influence_flags) = super::audit_influence::influence(model, &combined);
+    let (influence, influence_flags) =
+        super::audit_influence::influence(model, &combined, s.likelihood);
     flags.extend(influence_flags);
     // One case alone above the noise floor ([`super::robust`]), judged in
     // measurement standard errors as `diagnose` judges it; an error when it

@@ -4,7 +4,7 @@
 //! **Candidates**: the model as given, and the model with each cheap
 //! candidate catalogue effect added (free parameters fitted, weighted by
 //! the combined standard errors), ranked by AICc
-//! (`chi² + 2k + 2k(k+1)/(n-k-1)`). The conclusion is the best candidate
+//! (the deviance's AICc, below). The conclusion is the best candidate
 //! when it beats the runner-up by at least 4 (Burnham & Anderson's
 //! "considerably less support"), otherwise "undecided".
 //!
@@ -27,32 +27,82 @@
 //! When no candidate fits the others, the case cannot be called an outlier
 //! (the model family itself fails) and nothing is flagged for it.
 //!
+//! Every fit (full data, leave-one-out, the exact re-check) minimises the
+//! deviance of the audit's [`Likelihood`] (least squares by default, the
+//! Student-t with `--likelihood student-t`), and the AICc is that
+//! deviance's: `D + 2k + 2k(k+1)/(n-k-1)`. What is decided is here; how
+//! each finding is worded is [`super::audit_influence_words`].
+//!
 //! References: K. P. Burnham & D. R. Anderson, *Model Selection and
 //! Multimodel Inference*, 2nd ed. (2002), ch. 2; R. D. Cook & S. Weisberg
 //! (1982).
 
-use super::audit::{Flag, Severity};
+use super::audit::Flag;
 use super::audit_loo::{leave_one_out, FullFit, LooMethod};
-use super::compare::case_residuals;
-use super::fit::{fit, free_params_of, FitResult};
-use super::noise::{chi2_noise_floor, error_dofs};
-use crate::data::Dataset;
+use super::audit_outlier::{outlier, NoiseFloors};
+use super::fit::{fit_with, free_params_of, FitResult};
+use super::noise::error_dofs;
+use super::robust::Likelihood;
+use crate::data::{Case, Dataset};
 use crate::effects::{EffectInstance, CATALOGUE};
 use crate::model::Model;
 use rayon::prelude::*;
 use serde::Serialize;
-use std::collections::{BTreeMap, HashMap, HashSet};
 
 const CLEAR_MARGIN: f64 = 4.0;
 
 #[derive(Debug, Clone, Serialize)]
 pub struct InfluenceSummary {
-    /// Candidates with their full-data AICc, best first.
-    pub candidates: Vec<(String, Option<f64>)>,
+    /// What every fit minimised ([`Likelihood::label`]).
+    pub likelihood: String,
+    /// Candidates with their full-data fit, best AICc first.
+    pub candidates: Vec<CandidateScore>,
     /// The clear conclusion on all cases, if any.
     pub conclusion: Option<String>,
     /// Per case: the conclusion without it.
     pub without: Vec<(String, Option<String>)>,
+}
+
+/// One candidate's full-data fit, as scored.
+#[derive(Debug, Clone, Serialize)]
+pub struct CandidateScore {
+    pub name: String,
+    /// The minimised deviance (the chi-square of a least-squares fit).
+    pub deviance: f64,
+    pub aicc: Option<f64>,
+}
+
+/// What the influence and outlier checks decide about one case (worded by
+/// [`super::audit_influence_words`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Finding {
+    /// No candidate is clearly best on all cases; without the case `without` is.
+    MakesAConclusion { case: String, without: String },
+    /// The clear conclusion `with` changes without the case.
+    ChangesTheConclusion {
+        case: String,
+        with: String,
+        without: Option<String>,
+    },
+    /// With the conclusion unchanged, a parameter moves beyond its interval.
+    MovesAParameter {
+        case: String,
+        effect: String,
+        name: String,
+        value: f64,
+        ci95: f64,
+        without: f64,
+    },
+    /// The others are at the noise floor under `best`; the case's
+    /// `quantity` stays `z` combined standard errors off, beyond `limit`,
+    /// under every candidate that fits them.
+    Outlier {
+        case: String,
+        best: String,
+        quantity: &'static str,
+        z: f64,
+        limit: f64,
+    },
 }
 
 struct Scored {
@@ -61,7 +111,7 @@ struct Scored {
     aicc: Option<f64>,
 }
 
-fn n_obs_case(c: &crate::data::Case) -> usize {
+fn n_obs_case(c: &Case) -> usize {
     c.u_mm_s.is_some() as usize + c.omega_body_hz.is_some() as usize
 }
 
@@ -69,97 +119,19 @@ fn n_obs(data: &Dataset) -> usize {
     data.cases.iter().map(n_obs_case).sum()
 }
 
-/// The degrees of freedom of the quantities' standard errors as a
-/// histogram (bits of the dof -> count).
-type DofHistogram = Vec<(u64, usize)>;
-
-/// The noise floors the outlier check needs, and the Student-t limits: the
-/// floor is a Monte Carlo quantile over every quantity (20 000 draws each)
-/// and depends only on the histogram of the degrees of freedom and `k`, so
-/// each distinct one is drawn once (in parallel), not once per case; with
-/// equal trials everywhere leaving any case out gives the same histogram.
-struct NoiseFloors {
-    floors: HashMap<(DofHistogram, usize), Option<f64>>,
-    limits: HashMap<u32, f64>,
-}
-
-impl NoiseFloors {
-    /// For every case left out and every `k` of `ks`.
-    fn new(data: &Dataset, ks: &[usize], n_all: usize) -> NoiseFloors {
-        let all = error_dofs(data);
-        let keys: HashSet<(DofHistogram, usize)> = data
-            .cases
-            .iter()
-            .flat_map(|c| {
-                let own = error_dofs_of(c);
-                let h = histogram(&all, &own);
-                ks.iter().map(move |&k| (h.clone(), k))
-            })
-            .collect();
-        let floors = keys
-            .into_par_iter()
-            .map(|(h, k)| {
-                let dofs: Vec<f64> = h
-                    .iter()
-                    .flat_map(|&(d, n)| std::iter::repeat_n(f64::from_bits(d), n))
-                    .collect();
-                let f = chi2_noise_floor(&dofs, k, 0.95);
-                ((h, k), f)
-            })
-            .collect();
-        let trials: HashSet<u32> = data
-            .cases
-            .iter()
-            .flat_map(|c| [c.u_mm_s, c.omega_body_hz])
-            .flatten()
-            .map(|m| m.trials)
-            .collect();
-        let limits = trials
-            .into_par_iter()
-            .map(|t| {
-                let nu = f64::from(t.max(2) - 1);
-                (
-                    t,
-                    super::outlier::limit(nu, n_all, super::outlier::FALSE_ALARM),
-                )
-            })
-            .collect();
-        NoiseFloors { floors, limits }
-    }
-
-    /// The floor with `case` left out.
-    fn floor(&self, all: &[f64], case: &crate::data::Case, k: usize) -> Option<f64> {
-        let h = histogram(all, &error_dofs_of(case));
-        self.floors.get(&(h, k)).copied().flatten()
-    }
-}
-
-/// One case's part of [`error_dofs`] (the same rule: `trials - 1`, at least 1).
-fn error_dofs_of(c: &crate::data::Case) -> Vec<f64> {
-    [c.u_mm_s, c.omega_body_hz]
-        .into_iter()
-        .flatten()
-        .map(|m| f64::from(m.trials.max(2) - 1))
-        .collect()
-}
-
-/// The histogram of `all` without the values of `left_out`.
-fn histogram(all: &[f64], left_out: &[f64]) -> DofHistogram {
-    let mut hist: BTreeMap<u64, usize> = BTreeMap::new();
-    for d in all {
-        *hist.entry(d.to_bits()).or_default() += 1;
-    }
-    for d in left_out {
-        if let Some(n) = hist.get_mut(&d.to_bits()) {
-            *n -= 1;
-        }
-    }
-    hist.into_iter().filter(|(_, n)| *n > 0).collect()
-}
-
-fn aicc(chi2: f64, n: usize, k: usize) -> Option<f64> {
+/// The AICc of a fit's minimised deviance over `n` quantities.
+fn aicc(fit: &FitResult, n: usize) -> Option<f64> {
+    let k = fit.estimates.len();
     let d = n as i64 - k as i64 - 1;
-    (d > 0).then(|| chi2 + 2.0 * k as f64 + 2.0 * (k * (k + 1)) as f64 / d as f64)
+    (d > 0).then(|| fit.deviance + 2.0 * k as f64 + 2.0 * (k * (k + 1)) as f64 / d as f64)
+}
+
+fn scored(name: &str, fit: FitResult, n: usize) -> Scored {
+    Scored {
+        name: name.to_string(),
+        aicc: aicc(&fit, n),
+        fit,
+    }
 }
 
 /// The model and the model with each cheap candidate effect (unfitted).
@@ -179,18 +151,6 @@ fn candidate_models(model: &Model) -> Vec<(String, Model)> {
     out
 }
 
-fn score(name: &str, m: &Model, base_len: usize, data: &Dataset, multi: bool) -> Option<Scored> {
-    let added: Vec<usize> = (base_len..m.effects.len()).collect();
-    let free = free_params_of(m, &added);
-    let f = fit(m, data, None, &free, multi).ok()?;
-    let a = aicc(f.chi2, n_obs(data), free.len());
-    Some(Scored {
-        name: name.to_string(),
-        fit: f,
-        aicc: a,
-    })
-}
-
 /// The clear winner of a scored list, if any.
 fn conclusion(list: &[Scored]) -> Option<String> {
     let mut v: Vec<(f64, &str)> = list
@@ -207,8 +167,8 @@ fn conclusion(list: &[Scored]) -> Option<String> {
 
 /// Run the influence and outlier checks (module docs), the leave-one-out
 /// fits by [`LooMethod::Auto`].
-pub fn influence(model: &Model, data: &Dataset) -> (InfluenceSummary, Vec<Flag>) {
-    influence_with(model, data, LooMethod::Auto)
+pub fn influence(model: &Model, data: &Dataset, lik: Likelihood) -> (InfluenceSummary, Vec<Flag>) {
+    influence_with(model, data, LooMethod::Auto, lik)
 }
 
 /// [`influence`] with the leave-one-out fits made by `method`.
@@ -216,16 +176,34 @@ pub fn influence_with(
     model: &Model,
     data: &Dataset,
     method: LooMethod,
+    lik: Likelihood,
 ) -> (InfluenceSummary, Vec<Flag>) {
+    let (summary, findings) = decide(model, data, method, lik, true);
+    (summary, findings.iter().map(Finding::flag).collect())
+}
+
+/// What the checks decide; `recheck`: confirm a conclusion the one-step
+/// approximation changes by exact refits (always, but for the test that
+/// shows the re-check matters).
+#[doc(hidden)]
+pub fn decide(
+    model: &Model,
+    data: &Dataset,
+    method: LooMethod,
+    lik: Likelihood,
+    recheck: bool,
+) -> (InfluenceSummary, Vec<Finding>) {
     let base_len = model.effects.len();
+    let n_all = n_obs(data);
     let full: Vec<Scored> = candidate_models(model)
         .par_iter()
-        .filter_map(|(n, m)| score(n, m, base_len, data, true))
+        .filter_map(|(name, m)| {
+            let free = free_params_of(m, &(base_len..m.effects.len()).collect::<Vec<_>>());
+            let f = fit_with(m, data, None, &free, true, lik).ok()?;
+            Some(scored(name, f, n_all))
+        })
         .collect();
     let concl = conclusion(&full);
-    let n_all = n_obs(data);
-    let mut flags = Vec::new();
-    let mut without_list = Vec::new();
     let fulls: Vec<FullFit> = full
         .iter()
         .map(|s| FullFit {
@@ -237,20 +215,13 @@ pub fn influence_with(
         })
         .collect();
     let n_sub = |i: usize| n_all - n_obs_case(&data.cases[i]);
-    let loo: Vec<Vec<Scored>> = leave_one_out(&fulls, data, method)
+    let loo: Vec<Vec<Scored>> = leave_one_out(&fulls, data, method, lik)
         .into_iter()
         .enumerate()
         .map(|(i, fits)| {
             full.iter()
                 .zip(fits)
-                .filter_map(|(s, f)| {
-                    let f = f?;
-                    Some(Scored {
-                        name: s.name.clone(),
-                        aicc: aicc(f.chi2, n_sub(i), f.estimates.len()),
-                        fit: f,
-                    })
-                })
+                .filter_map(|(s, f)| Some(scored(&s.name, f?, n_sub(i))))
                 .collect()
         })
         .collect();
@@ -263,6 +234,8 @@ pub fn influence_with(
     ks.dedup();
     let floors = NoiseFloors::new(data, &ks, n_all);
     let all_dofs = error_dofs(data);
+    let mut findings = Vec::new();
+    let mut without_list = Vec::new();
     for (i, list) in loo.iter().enumerate() {
         let case = &data.cases[i];
         let mut c_i = conclusion(list);
@@ -274,73 +247,85 @@ pub fn influence_with(
             None => c_i.is_some(),
             Some(x) => c_i.as_ref() != Some(x),
         };
-        if changed && !exact_loo(method, data) {
-            c_i = exact_conclusion(&fulls, &full, data, i);
+        if recheck && changed && !exact_loo(method, data) {
+            c_i = exact_conclusion(&fulls, &full, data, i, lik);
         }
         without_list.push((case.id.clone(), c_i.clone()));
-        if let (None, Some(y)) = (&concl, &c_i) {
-            flags.push(Flag {
-                case: case.id.clone(),
-                kind: "influence-verdict".into(),
-                detail: format!(
-                    "{}: with all cases no candidate is clearly best; without this case {y} is (ahead by 4 or more in AICc): this one case stands against that conclusion, check its record or re-measure it",
-                    case.id
-                ),
-                severity: Severity::Warning,
-            });
-        }
-        if let Some(x) = &concl {
-            if c_i.as_ref() != Some(x) {
-                flags.push(Flag {
-                    case: case.id.clone(),
-                    kind: "influence-verdict".into(),
-                    detail: format!(
-                        "{}: with all cases the best-supported effect is {x}; without this case it is {}: the conclusion rests on this one case, re-measure it before relying on it",
-                        case.id,
-                        c_i.as_deref().map(|s| format!("{s} instead")).unwrap_or_else(|| "undecided".into())
-                    ),
-                    severity: Severity::Warning,
-                });
-            } else if let (Some(f), Some(l)) = (
-                full.iter().find(|s| &s.name == x),
-                list.iter().find(|s| &s.name == x),
-            ) {
-                for (e, el) in f.fit.estimates.iter().zip(&l.fit.estimates) {
-                    let Some(ci) = e.ci95 else { continue };
-                    if (el.value - e.value).abs() > ci {
-                        flags.push(Flag {
-                            case: case.id.clone(),
-                            kind: "influence-parameter".into(),
-                            detail: format!(
-                                "{}: leaving it out moves the fitted {} {} from {} (95 % interval) to {}, beyond the interval: this case drives the fitted value",
-                                case.id, e.effect, e.name,
-                                crate::format::fmt_value_unc(e.value, ci),
-                                crate::format::fmt_sig(el.value, 3)
-                            ),
-                            severity: Severity::Warning,
-                        });
-                    }
-                }
-            }
-        }
-        if let Some(f) = outlier(case, list, &all_dofs, &floors) {
-            flags.push(f);
-        }
+        findings.extend(conclusion_findings(case, &concl, &c_i, &full, list));
+        let fitted: Vec<(&str, &FitResult)> =
+            list.iter().map(|s| (s.name.as_str(), &s.fit)).collect();
+        findings.extend(outlier(case, &fitted, &all_dofs, &floors));
     }
-    let mut ranked: Vec<(String, Option<f64>)> =
-        full.iter().map(|s| (s.name.clone(), s.aicc)).collect();
+    let mut ranked: Vec<CandidateScore> = full
+        .iter()
+        .map(|s| CandidateScore {
+            name: s.name.clone(),
+            deviance: s.fit.deviance,
+            aicc: s.aicc,
+        })
+        .collect();
     ranked.sort_by(|a, b| {
-        a.1.unwrap_or(f64::INFINITY)
-            .total_cmp(&b.1.unwrap_or(f64::INFINITY))
+        a.aicc
+            .unwrap_or(f64::INFINITY)
+            .total_cmp(&b.aicc.unwrap_or(f64::INFINITY))
     });
-    (
-        InfluenceSummary {
-            candidates: ranked,
-            conclusion: concl,
-            without: without_list,
-        },
-        flags,
-    )
+    let summary = InfluenceSummary {
+        likelihood: lik.label(),
+        candidates: ranked,
+        conclusion: concl,
+        without: without_list,
+    };
+    (summary, findings)
+}
+
+/// The findings of one case about the conclusion and the parameters
+/// (module docs, **Influence**).
+fn conclusion_findings(
+    case: &Case,
+    concl: &Option<String>,
+    c_i: &Option<String>,
+    full: &[Scored],
+    list: &[Scored],
+) -> Vec<Finding> {
+    let id = case.id.clone();
+    let Some(x) = concl else {
+        return c_i
+            .iter()
+            .map(|y| Finding::MakesAConclusion {
+                case: id.clone(),
+                without: y.clone(),
+            })
+            .collect();
+    };
+    if c_i.as_ref() != Some(x) {
+        return vec![Finding::ChangesTheConclusion {
+            case: id,
+            with: x.clone(),
+            without: c_i.clone(),
+        }];
+    }
+    let (Some(f), Some(l)) = (
+        full.iter().find(|s| &s.name == x),
+        list.iter().find(|s| &s.name == x),
+    ) else {
+        return Vec::new();
+    };
+    f.fit
+        .estimates
+        .iter()
+        .zip(&l.fit.estimates)
+        .filter_map(|(e, el)| {
+            let ci = e.ci95?;
+            ((el.value - e.value).abs() > ci).then(|| Finding::MovesAParameter {
+                case: id.clone(),
+                effect: e.effect.clone(),
+                name: e.name.clone(),
+                value: e.value,
+                ci95: ci,
+                without: el.value,
+            })
+        })
+        .collect()
 }
 
 fn exact_loo(method: LooMethod, data: &Dataset) -> bool {
@@ -358,6 +343,7 @@ fn exact_conclusion(
     full: &[Scored],
     data: &Dataset,
     i: usize,
+    lik: Likelihood,
 ) -> Option<String> {
     let mut sub = data.clone();
     sub.cases.remove(i);
@@ -366,64 +352,9 @@ fn exact_conclusion(
         .par_iter()
         .zip(full)
         .filter_map(|(f, s)| {
-            let fit = fit(&f.fit.model, &sub, None, &f.free, false).ok()?;
-            Some(Scored {
-                name: s.name.clone(),
-                aicc: aicc(fit.chi2, n, fit.estimates.len()),
-                fit,
-            })
+            let fit = fit_with(&f.fit.model, &sub, None, &f.free, false, lik).ok()?;
+            Some(scored(&s.name, fit, n))
         })
         .collect();
     conclusion(&list)
-}
-
-/// The outlier check of one case against the candidates fitted without it.
-fn outlier(
-    case: &crate::data::Case,
-    fitted: &[Scored],
-    all_dofs: &[f64],
-    floors: &NoiseFloors,
-) -> Option<Flag> {
-    let at_floor: Vec<&Scored> = fitted
-        .iter()
-        .filter(|s| {
-            let k = s.fit.estimates.len();
-            floors
-                .floor(all_dofs, case, k)
-                .is_some_and(|f| s.fit.chi2 <= f)
-        })
-        .collect();
-    if at_floor.is_empty() {
-        return None;
-    }
-    let mut best: Option<(f64, f64, &str, &'static str)> = None;
-    for s in &at_floor {
-        let p = s.fit.model.predict(case).ok()?;
-        let (q, r) = case_residuals(case, &p)
-            .into_iter()
-            .max_by(|a, b| a.1.normalised().abs().total_cmp(&b.1.normalised().abs()))?;
-        let m = if q == super::compare::Quantity::U {
-            case.u_mm_s
-        } else {
-            case.omega_body_hz
-        }?;
-        let limit = floors.limits[&m.trials];
-        let z = r.normalised().abs();
-        if z <= limit {
-            return None;
-        }
-        if best.is_none_or(|b| z < b.0) {
-            best = Some((z, limit, s.name.as_str(), q.label()));
-        }
-    }
-    let (z, limit, name, q) = best?;
-    Some(Flag {
-        case: case.id.clone(),
-        kind: "outlier".into(),
-        detail: format!(
-            "{}: the other cases are fitted to the noise (best: {name}), but this case's {q} stays {z:.1} combined standard errors away (limit {limit:.1}) under every model that fits them: no candidate effect removes it; check this case's record or re-measure it",
-            case.id
-        ),
-        severity: Severity::Error,
-    })
 }

@@ -2,8 +2,9 @@
 //! deviance of the normalised residuals `z = (pred - obs) / SE` over the
 //! free parameters of the chosen effects, within their bounds. The
 //! deviance is the [`Likelihood`]'s: the chi-square `sum z²` (Gaussian,
-//! [`fit`]) or the Student-t deviance `sum (nu + 1) ln(1 + z²/nu)`
-//! ([`super::robust`], [`fit_with`]), which one bad run cannot drag.
+//! the default) or the Student-t deviance `sum (nu + 1) ln(1 + z²/nu)`
+//! ([`super::robust`]), which one bad run cannot drag; [`fit_with`] takes
+//! it explicitly, [`fit`] from an enclosing [`with_likelihood`].
 //!
 //! The solver is the `levenberg-marquardt` crate (MINPACK's algorithm),
 //! given the signed square roots of each residual's deviance (their squares
@@ -16,7 +17,11 @@
 //! Gaussian, `(nu + 1)/(nu + 3)` Student-t), and `s²` the larger of the
 //! deviance over its expectation for a perfect model and `chi²_red`, at
 //! least 1, so that an underfitting model does not claim precise
-//! parameters.
+//! parameters. When the data leave a combination of parameters free (a
+//! null direction of the column-scaled `J^T W J`), its parameters get no
+//! interval and the others get theirs on the constrained subspace (the
+//! pseudo-inverse without the free direction: the combination held on its
+//! fitted value), `s²` counted with the constrained directions only.
 //!
 //! References: J. J. Moré, "The Levenberg-Marquardt algorithm:
 //! implementation and theory", Lecture Notes in Math. 630 (1978) 105;
@@ -77,11 +82,19 @@ pub struct FitResult {
     /// The minimised deviance when it is not the chi-square (the Student-t
     /// deviance); `None` for a Gaussian fit.
     pub t_deviance: Option<f64>,
+    /// The deviance that was minimised, whichever it is (the chi-square of
+    /// a Gaussian fit): the figure `fit`, `diagnose` and `audit` report
+    /// alike for the same model and likelihood.
+    pub deviance: f64,
     /// Correlation matrix of the estimates (row-major), when defined.
     pub correlation: Option<Vec<Vec<f64>>>,
     /// Pairs of parameters that the data cannot separate (|r| > 0.95), or
     /// parameters that do not change the fit at all.
     pub non_identifiable: Vec<String>,
+    /// The combinations the data leave free (`+a -b`, a null direction of
+    /// the column-scaled `J^T W J`), each held on its fitted value for the
+    /// other parameters' intervals; its own parameters have none.
+    pub held: Vec<String>,
     pub converged: bool,
     #[serde(skip)]
     pub model: Model,
@@ -246,8 +259,8 @@ fn starts(model: &Model, free: &[FreeParam]) -> Vec<DVector<f64>> {
 }
 
 /// Fit `free` parameters of `model` to the measured cases of `data` (or the
-/// subset `only`) by least squares (the Gaussian likelihood); `multi_start`
-/// tries several starts.
+/// subset `only`) by the [`ambient_likelihood`] (least squares unless run
+/// inside [`with_likelihood`]); `multi_start` tries several starts.
 pub fn fit(
     model: &Model,
     data: &Dataset,
@@ -255,7 +268,38 @@ pub fn fit(
     free: &[FreeParam],
     multi_start: bool,
 ) -> Result<FitResult, FitError> {
-    fit_with(model, data, only, free, multi_start, Likelihood::Gaussian)
+    fit_with(model, data, only, free, multi_start, ambient_likelihood())
+}
+
+thread_local! {
+    static AMBIENT: std::cell::Cell<Likelihood> = const { std::cell::Cell::new(Likelihood::Gaussian) };
+}
+
+/// The likelihood [`fit`] minimises on this thread: the Gaussian, or the one
+/// set by an enclosing [`with_likelihood`].
+pub fn ambient_likelihood() -> Likelihood {
+    AMBIENT.with(std::cell::Cell::get)
+}
+
+/// Run `work` with every [`fit`] inside it (on any thread of its parallel
+/// loops) minimising the deviance of `likelihood`.
+///
+/// Why a scoped default and not a parameter: `diagnose` fits through many
+/// layers (catalogue candidates, their cross-validation, the located laws'
+/// refits, the stagewise search and its backfitting), and the one option
+/// must reach every fit they make alike. The work runs on a rayon pool of
+/// its own whose threads all carry the likelihood (a thread-local set as
+/// each starts), so nothing outside it is affected, nor other work running
+/// at the same time in the process.
+pub fn with_likelihood<R: Send>(
+    likelihood: Likelihood,
+    work: impl FnOnce() -> R + Send,
+) -> Result<R, rayon::ThreadPoolBuildError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(rayon::current_num_threads())
+        .start_handler(move |_| AMBIENT.with(|a| a.set(likelihood)))
+        .build()?;
+    Ok(pool.install(work))
 }
 
 /// [`fit`] minimising the deviance of `likelihood`.

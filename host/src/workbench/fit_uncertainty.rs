@@ -32,19 +32,6 @@ pub(super) fn finish(
     } else {
         physical_jacobian(&model, free, cases)
     };
-    // The deviance over what a perfect model shows with n - k residuals
-    // left, and the reduced chi-square, at least 1: the t deviance grows
-    // only logarithmically, so for a model that misses every case it alone
-    // would claim precise parameters (on the paper's data the base model's
-    // body correction came out +-1.6 against least squares' +-53).
-    let s2 = if n > k {
-        let dof = (n - k) as f64;
-        (deviance / (expected * dof / n as f64))
-            .max(chi2 / dof)
-            .max(1.0)
-    } else {
-        1.0
-    };
     // J^T W J with W diagonal: scale J's rows by sqrt(w) (never form the
     // n x n matrix: 2000 rows would be 32 MB and O(k n^2) work per fit).
     let root_w = DVector::from_iterator(
@@ -58,19 +45,28 @@ pub(super) fn finish(
         }
         wj.transpose() * &wj
     });
-    let cov = info.as_ref().and_then(|jtj| {
-        // nalgebra's SVD panics ("Singular value was NaN") on non-finite
-        // input; J^T J overflows when a confidence interval is tiny.
-        if jtj.iter().any(|x| !x.is_finite()) {
-            return None;
-        }
-        let svd = jtj.clone().svd(false, false);
-        let (max, min) = (svd.singular_values.max(), svd.singular_values.min());
-        (min > 1e-12 * max && max > 0.0)
-            .then(|| jtj.clone().try_inverse())
-            .flatten()
-            .map(|inv| inv * s2)
-    });
+    let inv = info.as_ref().and_then(inverse);
+    // The deviance over what a perfect model shows with n - rank residuals
+    // left, and the reduced chi-square, at least 1: the t deviance grows
+    // only logarithmically, so for a model that misses every case it alone
+    // would claim precise parameters (on the paper's data the base model's
+    // body correction came out +-1.6 against least squares' +-53).
+    let rank = inv.as_ref().map_or(k, |i| i.rank);
+    let s2 = if n > rank {
+        let dof = (n - rank) as f64;
+        (deviance / (expected * dof / n as f64))
+            .max(chi2 / dof)
+            .max(1.0)
+    } else {
+        1.0
+    };
+    let cov = inv.as_ref().map(|i| &i.cov * s2);
+    let held: Vec<Vec<(usize, f64)>> = match (&inv, &info) {
+        (Some(i), _) => i.held.clone(),
+        (None, Some(m)) => unconstrained_directions(m),
+        (None, None) => Vec::new(),
+    };
+    let in_held = |i: usize| held.iter().flatten().any(|&(p, _)| p == i);
     let mut non_identifiable = Vec::new();
     let label = |f: &FreeParam| {
         let e = &model.effects[f.effect];
@@ -78,6 +74,7 @@ pub(super) fn finish(
     };
     let correlation = cov
         .as_ref()
+        .filter(|_| held.is_empty())
         .map(|c| {
             (0..k)
                 .map(|i| {
@@ -103,28 +100,28 @@ pub(super) fn finish(
                 }
             }
         }
-    } else if k > 0 {
-        let combos = info
-            .as_ref()
-            .map(unconstrained_directions)
-            .unwrap_or_default();
-        if combos.is_empty() {
-            non_identifiable.push(format!(
-                "{}: the data do not constrain them (singular J^T J)",
-                free.iter().map(label).collect::<Vec<_>>().join(", ")
-            ));
-        }
-        for combo in combos {
-            let names: Vec<String> = combo
+    } else if k > 0 && held.is_empty() {
+        non_identifiable.push(format!(
+            "{}: the data do not constrain them (singular J^T J)",
+            free.iter().map(label).collect::<Vec<_>>().join(", ")
+        ));
+    }
+    let combos: Vec<String> = held
+        .iter()
+        .map(|combo| {
+            combo
                 .iter()
                 .map(|&(i, c)| format!("{}{}", if c < 0.0 { "-" } else { "+" }, label(&free[i])))
-                .collect();
-            non_identifiable.push(format!(
-                "{}: the data leave this combination of them free (a null direction of \
-                 J^T J, in relative steps): fix one of them",
-                names.join(" ")
-            ));
-        }
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .collect();
+    for c in &combos {
+        non_identifiable.push(format!(
+            "{c}: the data leave this combination of them free (a null direction of \
+             J^T J, in relative steps): fix one of them; it has no interval, and the \
+             other parameters' intervals are with {c} held on its fitted value"
+        ));
     }
     let t95 = 1.96;
     let estimates = free
@@ -142,6 +139,7 @@ pub(super) fn finish(
                 value: v,
                 ci95: cov
                     .as_ref()
+                    .filter(|_| !in_held(i))
                     .map(|c| t95 * c[(i, i)].sqrt())
                     .filter(|x| x.is_finite()),
                 at_bound: (v - spec.min).abs() < 1e-6 * span || (spec.max - v).abs() < 1e-6 * span,
@@ -153,12 +151,84 @@ pub(super) fn finish(
         chi2,
         likelihood: lik.label(),
         t_deviance: (lik != Likelihood::Gaussian).then_some(deviance),
+        deviance,
         correlation,
         non_identifiable,
+        held: combos,
         converged,
         model,
     })
 }
+
+/// The covariance of the estimates before the scale `s²`, on the subspace
+/// the data constrain.
+#[derive(Debug, Clone)]
+pub(super) struct Inverse {
+    pub cov: DMatrix<f64>,
+    /// The number of directions the data constrain.
+    pub rank: usize,
+    /// The combinations held ([`unconstrained_directions`]).
+    pub held: Vec<Vec<(usize, f64)>>,
+}
+
+/// `(J^T W J)^-1` when it is regular; otherwise its pseudo-inverse in the
+/// column-scaled parameters (relative steps) with the free combinations
+/// removed: the information about every other direction, each free
+/// combination held on its fitted value. For two parameters acting only
+/// through one combination this gives the others exactly the intervals of
+/// the fit with one of the pair fixed (the test below). `None` when the
+/// matrix is not finite or singular without a nameable free combination.
+pub(super) fn inverse(jtj: &DMatrix<f64>) -> Option<Inverse> {
+    // nalgebra's SVD panics ("Singular value was NaN") on non-finite
+    // input; J^T J overflows when a confidence interval is tiny.
+    if jtj.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let k = jtj.nrows();
+    let svd = jtj.clone().svd(false, false);
+    let (max, min) = (svd.singular_values.max(), svd.singular_values.min());
+    if max.is_nan() || max <= 0.0 {
+        return None;
+    }
+    if min > 1e-12 * max {
+        let cov = jtj.clone().try_inverse()?;
+        return Some(Inverse {
+            cov,
+            rank: k,
+            held: Vec::new(),
+        });
+    }
+    let held = unconstrained_directions(jtj);
+    if held.is_empty() {
+        return None;
+    }
+    let d: Vec<f64> = (0..k).map(|i| jtj[(i, i)].sqrt()).collect();
+    let live: Vec<usize> = (0..k).filter(|&i| d[i] > 0.0).collect();
+    let scaled = DMatrix::from_fn(live.len(), live.len(), |a, b| {
+        jtj[(live[a], live[b])] / (d[live[a]] * d[live[b]])
+    });
+    let eig = scaled.symmetric_eigen();
+    let top = eig.eigenvalues.max();
+    let mut cov = DMatrix::zeros(k, k);
+    let mut rank = 0;
+    for (j, &lambda) in eig.eigenvalues.iter().enumerate() {
+        if lambda < NULL_EIGENVALUE * top {
+            continue;
+        }
+        rank += 1;
+        let v = eig.eigenvectors.column(j);
+        for (a, &pa) in live.iter().enumerate() {
+            for (b, &pb) in live.iter().enumerate() {
+                cov[(pa, pb)] += v[a] * v[b] / (lambda * d[pa] * d[pb]);
+            }
+        }
+    }
+    Some(Inverse { cov, rank, held })
+}
+
+/// An eigenvalue of the column-scaled `J^T W J` below this fraction of the
+/// largest is a direction the data leave free.
+const NULL_EIGENVALUE: f64 = 1e-10;
 
 /// The parameter combinations the data leave free: the eigenvectors of
 /// the column-scaled `J^T W J` whose eigenvalue is below 1e-10 of the
@@ -186,7 +256,7 @@ fn unconstrained_directions(jtj: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
     let eig = scaled.symmetric_eigen();
     let max = eig.eigenvalues.max();
     for (j, &lambda) in eig.eigenvalues.iter().enumerate() {
-        if lambda < 1e-10 * max {
+        if lambda < NULL_EIGENVALUE * max {
             let v = eig.eigenvectors.column(j);
             // A sign convention so the same direction reads the same.
             let lead = v
@@ -232,7 +302,7 @@ pub(super) fn physical_jacobian(
 
 #[cfg(test)]
 mod tests {
-    use super::unconstrained_directions;
+    use super::{inverse, unconstrained_directions};
     use nalgebra::DMatrix;
 
     /// Two parameters that act only through their ratio (column 1 is twice
@@ -257,6 +327,41 @@ mod tests {
         // Equal relative steps of opposite sign keep the product fixed.
         assert!((pair[0].1 + pair[1].1).abs() < 1e-9, "{pair:?}");
         assert!((pair[0].1.abs() - 0.5_f64.sqrt()).abs() < 1e-9, "{pair:?}");
+    }
+
+    /// Parameters 0 and 1 act only through `a + 2b` (column 1 twice column
+    /// 0): the others' covariance on the constrained subspace is exactly
+    /// that of the information without parameter 1 (it fixed), and the
+    /// rank is one less.
+    #[test]
+    fn the_others_intervals_equal_those_with_one_of_the_pair_fixed() {
+        let j = DMatrix::from_row_slice(
+            5,
+            4,
+            &[
+                1.0, 2.0, 0.3, 10.0, //
+                -0.5, -1.0, 1.0, 4.0, //
+                2.0, 4.0, -0.7, -3.0, //
+                0.1, 0.2, 0.2, 1.0, //
+                0.7, 1.4, 0.5, -2.0,
+            ],
+        );
+        let inv = inverse(&(j.transpose() * &j)).expect("a nameable free combination");
+        assert_eq!(inv.rank, 3);
+        assert_eq!(inv.held.len(), 1);
+        let fixed = j.clone().remove_column(1);
+        let reference = (fixed.transpose() * &fixed).try_inverse().unwrap();
+        // Others (2, 3) of the full against (1, 2) of the reduced.
+        for (a, ra) in [(2, 1), (3, 2)] {
+            for (b, rb) in [(2, 1), (3, 2)] {
+                let (x, y) = (inv.cov[(a, b)], reference[(ra, rb)]);
+                assert!((x - y).abs() < 1e-9 * y.abs().max(1e-3), "{a} {b}: {x} {y}");
+            }
+        }
+        // A regular matrix is simply inverted, at full rank.
+        let regular = inverse(&(fixed.transpose() * &fixed)).unwrap();
+        assert!(regular.held.is_empty() && regular.rank == 3);
+        assert!((regular.cov.clone() - reference).norm() < 1e-9);
     }
 
     #[test]

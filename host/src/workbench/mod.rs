@@ -2,7 +2,9 @@
 //! where it fails, and test which physical effect explains the failure.
 pub mod audit;
 pub mod audit_influence;
+mod audit_influence_words;
 pub mod audit_loo;
+mod audit_outlier;
 pub mod audit_ratio;
 pub mod candidate;
 pub mod compare;

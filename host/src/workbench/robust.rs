@@ -9,10 +9,12 @@
 //! `D_t = sum (nu + 1) ln(1 + z^2 / nu)`,
 //!
 //! which grows like `z^2` for small residuals and only like `ln z` for a
-//! large one: one bad run cannot buy a law. `fit` minimises it (the
-//! default of `swimbot fit`; [`Likelihood`]); `diagnose` requires every
-//! step to lower both the chi-square and `D_t` by its charge; `fit`,
-//! `diagnose` and `audit` use the same test for a lone case.
+//! large one: one bad run cannot buy a law. `fit`, `diagnose` and `audit`
+//! minimise it in every fit they make when given `--likelihood student-t`
+//! ([`Likelihood`]; least squares is their default, so that they and the
+//! page read the same statistics); `diagnose` requires every step to lower
+//! both the chi-square and `D_t` by its charge; `fit`, `diagnose` and
+//! `audit` use the same test for a lone case.
 //!
 //! **A case stands alone** when, for a model:
 //! (a) its residual is beyond the limit of the t model's one-bad-run test
@@ -85,21 +87,23 @@ fn trials_of(c: &Case, q: Quantity) -> u32 {
     }
 }
 
-/// What `fit` minimises, and how a residual is scored.
+/// What a fit minimises, and how a residual is scored.
 ///
-/// **Student-t** (the default of `swimbot fit`): each normalised residual
+/// **Student-t** (`--likelihood student-t` of `fit`, `diagnose` and
+/// `audit`): each normalised residual
 /// is a Student-t variable with `nu` degrees of freedom, `nu = trials - 1`
 /// of its own measurement unless stated; the objective is [`t_deviance`].
 /// The t is chosen over Huber's loss because it is the residual's exact
 /// sampling distribution when the model is right and the standard error
 /// comes from `trials` Gaussian trials: its `nu` is read from the data, not
 /// tuned (Huber's threshold would be a free choice). **Gaussian**: the
-/// chi-square, the `nu -> inf` limit of the same deviance.
+/// chi-square, the `nu -> inf` limit of the same deviance (the default
+/// everywhere).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Likelihood {
-    Gaussian,
-    /// `nu`: `None` = `trials - 1` of each quantity.
     #[default]
+    Gaussian,
+    /// `nu = trials - 1` of each quantity.
     StudentT,
     /// The t with one stated `nu` for every quantity.
     StudentTWithNu(f64),
@@ -131,6 +135,21 @@ impl Likelihood {
     /// Smooth through zero (`~ z sqrt((nu + 1)/nu)`).
     pub fn pseudo_residual(&self, z: f64, trials: u32) -> f64 {
         z.signum() * self.deviance_one(z, trials).sqrt()
+    }
+
+    /// `d pseudo_residual / d z`: the chain rule from the Jacobian of the
+    /// residuals to that of the pseudo-residuals (1 for the Gaussian).
+    pub fn pseudo_residual_slope(&self, z: f64, trials: u32) -> f64 {
+        let nu = self.nu(trials);
+        if nu.is_infinite() {
+            return 1.0;
+        }
+        let d = t_deviance_one(z, nu);
+        if d == 0.0 {
+            ((nu + 1.0) / nu).sqrt()
+        } else {
+            (nu + 1.0) * z.abs() / ((nu + z * z) * d.sqrt())
+        }
     }
 
     /// Its name in the reports.
@@ -180,6 +199,15 @@ pub fn t_deviance(obs: &[Obs]) -> f64 {
 /// The Student-t deviance of `model` on `data`.
 pub fn t_deviance_of(model: &Model, data: &Dataset) -> Result<f64, ModelError> {
     Ok(t_deviance(&observations(model, data)?))
+}
+
+/// The deviance of `lik` for `model` on `data` (the chi-square for the
+/// Gaussian): what a fit under `lik` minimises.
+pub fn deviance_of(model: &Model, data: &Dataset, lik: Likelihood) -> Result<f64, ModelError> {
+    Ok(observations(model, data)?
+        .iter()
+        .map(|o| lik.deviance_one(o.z, o.trials))
+        .sum())
 }
 
 /// A case that stands alone (module docs), with the numbers behind it.
@@ -337,6 +365,13 @@ mod tests {
             assert!((g.pseudo_residual(z, 5) - t.pseudo_residual(z, 5)).abs() < 1e-6);
         }
         assert_eq!(Likelihood::StudentT.nu(5), 4.0);
+        // The slope is the derivative of the pseudo-residual, through zero too.
+        for z in [-7.0, -0.3, 0.0, 1e-9, 2.5] {
+            let l = Likelihood::StudentT;
+            let h = 1e-6;
+            let num = (l.pseudo_residual(z + h, 5) - l.pseudo_residual(z - h, 5)) / (2.0 * h);
+            assert!((num - l.pseudo_residual_slope(z, 5)).abs() < 1e-6, "{z}");
+        }
         assert!((t.fisher_information_one(5) - 1.0).abs() < 1e-8);
         assert!((t.expected_deviance_one(5) - 1.0).abs() < 1e-6);
     }
