@@ -84,6 +84,11 @@ fn a_dropped_run_is_refused_not_read_as_the_earlier_one() {
         "{}",
         stdout(&o)
     );
+    let csv = std::fs::read_to_string(dir.path().join("out-lost/log.csv")).unwrap();
+    assert!(
+        csv.contains("# warning: this power-up's run was NOT logged"),
+        "{csv}"
+    );
 
     // Dropped with no earlier log to fall back to: refused, --earlier or not.
     let nothing = image(FLAG_CLOSED, 7, 0);

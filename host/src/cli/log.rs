@@ -60,7 +60,9 @@ pub fn run(args: LogArgs) -> Result<(), CliError> {
         ),
         (
             args.output.join("log.csv"),
-            (provenance.comment_block() + &csv(&trace)).into_bytes(),
+            // The warnings go with the data: a trace of an earlier
+            // power-up's run must not pass for today's once saved.
+            (provenance.comment_block() + &warning_comments(&warnings) + &csv(&trace)).into_bytes(),
         ),
     ];
     if let Some(case) = &base {
@@ -87,6 +89,13 @@ pub fn run(args: LogArgs) -> Result<(), CliError> {
     let names: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
     println!("wrote {}", names.join(", "));
     Ok(())
+}
+
+fn warning_comments(warnings: &[String]) -> String {
+    warnings
+        .iter()
+        .map(|w| format!("# warning: {w}\n"))
+        .collect()
 }
 
 fn named_case(data: &Option<PathBuf>, id: &str) -> Result<crate::data::Case, CliError> {
