@@ -30,14 +30,15 @@ pub fn check(image: &LogImage<'_>, earlier: bool) -> Result<Vec<String>, Refusal
         }
         Some(ThisRun::PartlyDropped { dropped }) => warnings.push(format!(
             "this power-up's log misses {dropped} records ({}): its slot was not yet erased \
-             when the motor first ran, or it was full; the trace has gaps",
+             when the motor first ran, was full, or its flash did not take a page; the \
+             trace has gaps",
             running_time(dropped, image.header.sample_period_ms)
         )),
         Some(ThisRun::Dropped { dropped }) => {
             let lost = format!(
                 "this power-up's run was NOT logged: the robot dropped all {dropped} records \
                  it took ({}; no erased log slot: the power-up before it ended before its \
-                 erase, or the slot was full)",
+                 erase; or flash that did not take the records)",
                 running_time(dropped, image.header.sample_period_ms)
             );
             if of != LogOf::EarlierPowerUp {
