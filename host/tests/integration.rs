@@ -30,6 +30,7 @@ mod rate_control;
 mod report;
 mod robust;
 mod run_log;
+mod run_log_lost;
 mod sim;
 mod tail_compat;
 mod tail_tube;

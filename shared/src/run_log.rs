@@ -12,20 +12,22 @@
 //! - [`image`]: the log image (32-byte header + records), `encode` and a
 //!   total `decode` (any bytes give a log or a typed [`DecodeError`]);
 //! - [`readout`]: the request/answer protocol over USB CDC;
+//! - [`power_up`]: what a readout says about the power-up it is read in
+//!   (whose records, and whether this power-up's run was dropped);
 //! - [`store`]: the log's slots in flash: which slot a power-up writes,
 //!   which it erases (only while the motor is off), what a readout holds.
 //!
-//! # The log image (version 1, all integers little-endian)
+//! # The log image (version 2, all integers little-endian)
 //!
 //! | offset | size | field |
 //! |---|---|---|
 //! | 0 | 4 | magic `SWLG` |
-//! | 4 | 2 | version = 1 |
+//! | 4 | 2 | version = 2 (1: the same layout, dropped count 0 in a log of an earlier power-up) |
 //! | 6 | 2 | header length = 32 |
 //! | 8 | 2 | record length = 16 |
 //! | 10 | 2 | sample period, ms (100: 10 Hz) |
 //! | 12 | 4 | record count N |
-//! | 16 | 4 | records dropped (the log slot was full or not yet erased); 0 in a log of an earlier power-up |
+//! | 16 | 4 | records this power-up took and did not keep (its log slot was full or not yet erased), also in a log of an earlier power-up: records there and none kept = this power-up's run was dropped |
 //! | 20 | 4 | frames from other remotes ignored since power-up; in a log of an earlier power-up, the sum of its records' counts |
 //! | 24 | 2 | paired remote's NEC address (0x0000-0x00FF), 0xFFFF = unpaired |
 //! | 26 | 2 | flags: bit 0 closed (the motor was off when the image was made: always, since USB holds it off), bit 1 recovered (the log of an earlier power-up, rebuilt from flash) |
@@ -56,7 +58,7 @@
 //! | request | answer |
 //! |---|---|
 //! | `LOG` | the log image of the last run, exactly `32 + 16 N` bytes (binary; N from the header). With no run recorded: a valid image with N = 0 |
-//! | `INFO` | one line: `swimbot-log v1 records=N period_ms=100 dropped=D foreign=F paired=0xAA` (or `paired=none`), then `\n` |
+//! | `INFO` | one line: `swimbot-log v2 records=N period_ms=100 dropped=D foreign=F paired=0xAA log=L this_run=R` (or `paired=none`), then `\n`. `L`: whose records `LOG` sends, `this` (this power-up's), `earlier` (an earlier power-up's) or `none`; `R`: what became of this power-up's records, `none` (the motor did not run), `kept`, `partly-dropped` or `dropped` (none kept: `LOG` holds no record of this power-up) |
 //! | anything else | `ERR unknown request\n` |
 //!
 //! The host reads the 32-byte header first, takes N from it, then reads the
@@ -67,6 +69,7 @@
 //! USB CDC 1.2, ACM subclass (usb.org).
 
 pub mod image;
+pub mod power_up;
 pub mod readout;
 pub mod record;
 pub mod recorder;
@@ -77,6 +80,7 @@ mod tests;
 pub use image::{
     decode, encode, DecodeError, EncodeError, Header, ImageDigest, LogImage, HEADER_LEN,
 };
+pub use power_up::{LogOf, ThisRun};
 pub use readout::{Request, RequestReader};
 pub use record::{Events, Record, RECORD_LEN};
 pub use recorder::Recorder;

@@ -7,10 +7,11 @@
 use super::model_args::load_data;
 use super::CliError;
 use crate::runlog::steady::{pool, show_rate, Pooled, CONFIDENCE, MIN_TURNS};
-use crate::runlog::{figure, read_source, steady_windows, trials, Source, SteadyWindow, Trace};
+use crate::runlog::{figure, read_current, steady_windows, trials, Source, SteadyWindow, Trace};
 use clap::Args;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use swimbot_shared::run_log::LogOf;
 
 /// Where `swimbot log` writes unless told.
 pub const DEFAULT_LOG_DIR: &str = "swimbot-out/log";
@@ -26,6 +27,9 @@ pub struct LogArgs {
     /// Dataset holding --case (TOML or CSV) [default: the paper's built-in data].
     #[arg(long, value_name = "FILE", requires = "case")]
     pub data: Option<PathBuf>,
+    /// Read an earlier power-up's run even though the robot says its current power-up's run was dropped (not logged) [default: refused, exit 2].
+    #[arg(long)]
+    pub earlier: bool,
     /// Output directory for log.svg, log.csv, trials.toml (and run.swlog, the image read from a port).
     #[arg(short, long, value_name = "DIR", default_value = DEFAULT_LOG_DIR)]
     pub output: PathBuf,
@@ -38,7 +42,10 @@ pub fn run(args: LogArgs) -> Result<(), CliError> {
         None => None,
     };
     super::output::check_output_dir(&args.output)?;
-    let (log, bytes) = read_source(&source).map_err(CliError::input)?;
+    let (log, bytes, warnings) = read_current(&source, args.earlier).map_err(CliError::input)?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", source.name());
+    }
     let trace = Trace::of(&log);
     let windows = steady_windows(&trace);
     let pooled = pool(&windows);
@@ -53,7 +60,9 @@ pub fn run(args: LogArgs) -> Result<(), CliError> {
         ),
         (
             args.output.join("log.csv"),
-            (provenance.comment_block() + &csv(&trace)).into_bytes(),
+            // The warnings go with the data: a trace of an earlier
+            // power-up's run must not pass for today's once saved.
+            (provenance.comment_block() + &warning_comments(&warnings) + &csv(&trace)).into_bytes(),
         ),
     ];
     if let Some(case) = &base {
@@ -80,6 +89,13 @@ pub fn run(args: LogArgs) -> Result<(), CliError> {
     let names: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
     println!("wrote {}", names.join(", "));
     Ok(())
+}
+
+fn warning_comments(warnings: &[String]) -> String {
+    warnings
+        .iter()
+        .map(|w| format!("# warning: {w}\n"))
+        .collect()
 }
 
 fn named_case(data: &Option<PathBuf>, id: &str) -> Result<crate::data::Case, CliError> {
@@ -130,9 +146,13 @@ fn summary(
     );
     let _ = writeln!(
         s,
-        "{} records every {} ms, {t0:.1}-{t1:.1} s since power-up; {} dropped; {} frames from other remotes ignored; remote {}",
+        "{} records every {} ms, {t0:.1}-{t1:.1} s since power-up, {}; {} dropped by the power-up that read it out; {} frames from other remotes ignored; remote {}",
         trace.points.len(),
         header.sample_period_ms,
+        match LogOf::of(header) {
+            LogOf::EarlierPowerUp => "an EARLIER power-up's run",
+            _ => "this power-up's run",
+        },
         header.dropped_records,
         header.foreign_frames,
         header

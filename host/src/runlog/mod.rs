@@ -1,8 +1,10 @@
 //! The robot's run log on the host (issue 26, item 4): the log image the
 //! firmware keeps in flash and hands out over USB (`swimbot_shared::run_log`,
 //! whose module doc has the byte layout), read from a saved file or the
-//! robot's port ([`read`]), turned into a time series ([`trace`]), cut into
-//! steady windows ([`steady`]: set-point constant, rate settled), and those
+//! robot's port ([`read`]) and checked to be the run of the power-up that
+//! read it out ([`power_up`]: a run the robot could not log is refused,
+//! not read as the earlier run it falls back to), turned into a time
+//! series ([`trace`]), cut into steady windows ([`steady`]: set-point constant, rate settled), and those
 //! into a dataset's cases and trials ([`trials`], `docs/data-format.md`),
 //! with the trace figure ([`figure`]).
 //!
@@ -18,11 +20,12 @@
 //! Simulation*, Springer 2001, section 6.6.
 
 pub mod figure;
+pub mod power_up;
 pub mod read;
 pub mod steady;
 pub mod trace;
 pub mod trials;
 
-pub use read::{read_source, LogError, RunLog, Source};
+pub use read::{read_current, read_source, LogError, RunLog, Source};
 pub use steady::{steady_windows, SteadyWindow, STEADY_BAND};
 pub use trace::{LogPoint, Trace};

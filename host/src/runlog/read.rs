@@ -13,6 +13,7 @@
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
+use swimbot_shared::run_log::image::{OLDEST_VERSION, VERSION};
 use swimbot_shared::run_log::{decode, DecodeError, Header, Record, HEADER_LEN};
 
 /// A decoded log: its header and records, in time order as recorded.
@@ -81,12 +82,31 @@ fn err(source: &Source, message: impl Into<String>) -> LogError {
 /// Read and decode a log; also its raw bytes (to be saved when read from
 /// the port: the robot keeps only the last run).
 pub fn read_source(source: &Source) -> Result<(RunLog, Vec<u8>), LogError> {
-    let bytes = match source {
-        Source::File(p) => read_file(p).map_err(|m| err(source, m))?,
-        Source::Port(p) => read_port(p).map_err(|m| err(source, m))?,
-    };
+    let bytes = read_bytes(source)?;
     let log = decode_bytes(&bytes).map_err(|m| err(source, m))?;
     Ok((log, bytes))
+}
+
+/// A log that is the run of the power-up that read it out, as
+/// [`read_source`], with the warnings to print; refused (naming the
+/// source) if that power-up's run was dropped, unless `earlier`
+/// ([`super::power_up::check`]).
+pub fn read_current(
+    source: &Source,
+    earlier: bool,
+) -> Result<(RunLog, Vec<u8>, Vec<String>), LogError> {
+    let bytes = read_bytes(source)?;
+    let image = decode(&bytes).map_err(|e| err(source, describe(&e)))?;
+    let warnings = super::power_up::check(&image, earlier).map_err(|m| err(source, m))?;
+    let log = decode_bytes(&bytes).map_err(|m| err(source, m))?;
+    Ok((log, bytes, warnings))
+}
+
+fn read_bytes(source: &Source) -> Result<Vec<u8>, LogError> {
+    match source {
+        Source::File(p) => read_file(p).map_err(|m| err(source, m)),
+        Source::Port(p) => read_port(p).map_err(|m| err(source, m)),
+    }
 }
 
 /// The largest image the robot can hold (a 10-minute run at 10 Hz is
@@ -155,14 +175,14 @@ pub fn describe(e: &DecodeError) -> String {
         DecodeError::BadMagic(m) => {
             format!("not a swimbot run log: it starts with {m:02x?}, a log with \"SWLG\"")
         }
-        DecodeError::UnsupportedVersion(v) => {
-            format!("log format version {v}: this swimbot reads version 1")
-        }
+        DecodeError::UnsupportedVersion(v) => format!(
+            "log format version {v}: this swimbot reads versions {OLDEST_VERSION}-{VERSION}"
+        ),
         DecodeError::BadLengths {
             header_len,
             record_len,
         } => format!(
-            "header and record lengths {header_len} and {record_len}: version 1 has 32 and 16"
+            "header and record lengths {header_len} and {record_len}: the log format has 32 and 16"
         ),
         DecodeError::ZeroPeriod => "the header's sample period is 0 ms".into(),
         DecodeError::BadAddress(a) => format!("the header's paired address {a:#06x} is not 0-255"),

@@ -3,13 +3,20 @@
 //! and what a saved log file holds. [`decode`] is total: any bytes give a
 //! [`LogImage`] or a [`DecodeError`] saying what is wrong, never a panic.
 
+use super::power_up::ThisRun;
 use super::record::{Record, RecordError, RECORD_LEN};
 use crc::{Crc, Digest, NoTable, CRC_32_ISO_HDLC};
 
 /// Bytes of the header.
 pub const HEADER_LEN: usize = 32;
 pub const MAGIC: [u8; 4] = *b"SWLG";
-pub const VERSION: u16 = 1;
+/// The version written. Version 2 has version 1's layout; only the
+/// dropped count's meaning changed: always this power-up's, also when the
+/// records are an earlier power-up's (`power_up`). A version-1 reader
+/// refuses it rather than read a lost run as none.
+pub const VERSION: u16 = 2;
+/// The oldest version [`decode`] reads (saved files).
+pub const OLDEST_VERSION: u16 = 1;
 /// Header bytes the CRC covers (everything before the CRC itself).
 const CRC_AT: usize = 28;
 const UNPAIRED: u16 = 0xFFFF;
@@ -31,7 +38,8 @@ pub const FLAG_RECOVERED: u16 = 1 << 1;
 pub struct Header {
     pub sample_period_ms: u16,
     pub record_count: u32,
-    /// Records taken but not kept (log slot full or not yet erased).
+    /// Records this power-up took but did not keep (log slot full or not
+    /// yet erased), whatever power-up's records the image holds.
     pub dropped_records: u32,
     /// Frames from other remotes ignored since power-up.
     pub foreign_frames: u32,
@@ -157,6 +165,8 @@ pub enum DecodeError {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LogImage<'a> {
     pub header: Header,
+    /// The format version it was written in ([`OLDEST_VERSION`]..=[`VERSION`]).
+    pub version: u16,
     /// The records' bytes, `RECORD_LEN` each.
     bytes: &'a [u8],
 }
@@ -168,6 +178,12 @@ impl<'a> LogImage<'a> {
 
     pub fn is_empty(&self) -> bool {
         self.bytes.is_empty()
+    }
+
+    /// What became of the run of the power-up that made the image
+    /// (`None`: a version-1 image of an earlier power-up's log cannot say).
+    pub fn this_run(&self) -> Option<ThisRun> {
+        ThisRun::of(&self.header, self.version)
     }
 
     /// The records in order (each was checked by [`decode`]).
@@ -196,7 +212,7 @@ pub(crate) fn decode_header(b: &[u8]) -> Result<(Header, u32), DecodeError> {
         return Err(DecodeError::BadMagic(magic));
     }
     let version = u16_at(b, 4);
-    if version != VERSION {
+    if !(OLDEST_VERSION..=VERSION).contains(&version) {
         return Err(DecodeError::UnsupportedVersion(version));
     }
     let (header_len, record_len) = (u16_at(b, 6), u16_at(b, 8));
@@ -243,7 +259,9 @@ pub fn decode(bytes: &[u8]) -> Result<LogImage<'_>, DecodeError> {
         });
     }
     let records = &bytes[HEADER_LEN..];
-    let mut digest = ImageDigest::new(&header);
+    // Over the bytes as they are (a version-1 file's own version field).
+    let mut digest = CRC32.digest();
+    digest.update(&bytes[..CRC_AT]);
     digest.update(records);
     let computed = digest.finalize();
     if computed != stored {
@@ -260,6 +278,7 @@ pub fn decode(bytes: &[u8]) -> Result<LogImage<'_>, DecodeError> {
     }
     Ok(LogImage {
         header,
+        version: u16_at(bytes, 4),
         bytes: records,
     })
 }

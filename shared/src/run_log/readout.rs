@@ -4,7 +4,8 @@
 //! newline and answered as unknown, so no byte stream can overflow the
 //! reader or leave it stuck.
 
-use super::image::Header;
+use super::image::{Header, VERSION};
+use super::power_up::{LogOf, ThisRun};
 
 /// Longest request line kept (bytes before the newline).
 pub const MAX_REQUEST: usize = 16;
@@ -59,7 +60,7 @@ impl RequestReader {
 }
 
 /// Capacity of an answer [`Line`].
-pub const LINE_MAX: usize = 112;
+pub const LINE_MAX: usize = 136;
 
 /// An answer line of at most [`LINE_MAX`] bytes. Filled with
 /// `copy_from_slice`: heapless's `extend_from_slice` copies byte by byte
@@ -132,9 +133,11 @@ impl core::ops::Deref for Line {
 /// `core::fmt` would cost the firmware about 2 kB of flash for this line.
 pub fn info_line(header: &Header) -> Line {
     let mut s = Line::new();
-    // The longest line (three 10-digit counts, a 5-digit period) is 100
-    // bytes: every put below fits.
-    s.put(b"swimbot-log v1 records=");
+    // The longest line (three 10-digit counts, a 5-digit period,
+    // `log=this this_run=partly-dropped`) is 133 bytes: every put fits.
+    s.put(b"swimbot-log v");
+    s.put_decimal(u32::from(VERSION));
+    s.put(b" records=");
     s.put_decimal(header.record_count);
     s.put(b" period_ms=");
     s.put_decimal(u32::from(header.sample_period_ms));
@@ -154,6 +157,12 @@ pub fn info_line(header: &Header) -> Line {
             ]);
         }
         None => s.put(b"none"),
+    }
+    s.put(b" log=");
+    s.put(LogOf::of(header).word());
+    s.put(b" this_run=");
+    if let Some(run) = ThisRun::of(header, VERSION) {
+        s.put(run.word());
     }
     s.put(b"\n");
     s

@@ -298,7 +298,8 @@ impl LogStore {
     }
 
     /// The image a `LOG` request answers: this power-up's log if it has
-    /// records, else the newest earlier one, else an empty log. `foreign`
+    /// records, else the newest earlier one, else an empty log; the
+    /// dropped count is this power-up's in every case. `foreign`
     /// is the pass's count since power-up; `paired` the paired remote.
     /// Reading a whole slot through XIP takes longer than the watchdog's
     /// period (about 3 us per 8 bytes in the board's 03h read mode, 100 ms
@@ -324,7 +325,9 @@ impl LogStore {
                 _ => self.period_ms,
             },
             record_count: count,
-            dropped_records: if earlier { 0 } else { self.dropped },
+            // This power-up's, also under an earlier power-up's records:
+            // a run that was dropped is said so (`power_up`).
+            dropped_records: self.dropped,
             foreign_frames: foreign,
             paired_address: paired,
             flags: FLAG_CLOSED | if earlier { FLAG_RECOVERED } else { 0 },

@@ -1,7 +1,7 @@
 //! The run log on the host: the record and image round trips, `decode`'s
 //! totality and its typed errors, the readout requests, and the recorder
 //! over a whole 10-minute run of the real main-loop pass.
-use super::image::{FLAG_CLOSED, MAGIC};
+use super::image::{FLAG_CLOSED, FLAG_RECOVERED, MAGIC};
 use super::readout::{info_line, Line, LINE_MAX, MAX_REQUEST};
 use super::record::RecordError;
 use super::*;
@@ -156,23 +156,75 @@ fn readout_requests() {
     let line = std::string::String::from_utf8(info_line(&h).to_vec()).unwrap();
     assert_eq!(
         line,
-        "swimbot-log v1 records=4294967295 period_ms=65535 dropped=4294967295 \
-         foreign=4294967295 paired=0x5a\n"
+        "swimbot-log v2 records=4294967295 period_ms=65535 dropped=4294967295 \
+         foreign=4294967295 paired=0x5a log=this this_run=partly-dropped\n"
     );
-    assert_eq!(line.len(), 100, "the longest line fits");
+    // The longest words go together (an earlier power-up's records are
+    // never this one's, kept or partly).
+    assert_eq!(line.len(), 133);
+    assert!(line.len() <= LINE_MAX, "the longest line fits");
+    let earlier = info_line(&Header {
+        flags: FLAG_CLOSED | FLAG_RECOVERED,
+        ..h
+    });
+    assert!(earlier.ends_with(b"paired=0x5a log=earlier this_run=dropped\n"));
     let unpaired = info_line(&Header {
         paired_address: Some(0x0b),
         ..header()
     });
+    // No record and 3 dropped: this power-up's run was lost, nothing to send.
     assert_eq!(
         unpaired.as_slice(),
-        b"swimbot-log v1 records=0 period_ms=100 dropped=3 foreign=7 paired=0x0b\n"
+        b"swimbot-log v2 records=0 period_ms=100 dropped=3 foreign=7 paired=0x0b \
+          log=none this_run=dropped\n"
     );
     let none = info_line(&Header {
         paired_address: None,
         ..header()
     });
-    assert!(none.ends_with(b"paired=none\n"));
+    assert!(none.ends_with(b"paired=none log=none this_run=dropped\n"));
+}
+
+/// A version-1 file still reads; of an earlier power-up's log it cannot
+/// say whether the run of the power-up that read it out was dropped (its
+/// dropped count was 0 there by definition).
+#[test]
+fn version_1_images_decode_and_say_what_they_cannot_tell() {
+    let records: Vec<Record> = (0..4).map(record).collect();
+    let v1 = |flags: u16| {
+        let mut bytes = image(&records);
+        bytes[4..6].copy_from_slice(&1u16.to_le_bytes());
+        bytes[26..28].copy_from_slice(&flags.to_le_bytes());
+        let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC);
+        let mut d = crc.digest();
+        d.update(&bytes[..28]);
+        d.update(&bytes[HEADER_LEN..]);
+        let sum = d.finalize();
+        bytes[28..32].copy_from_slice(&sum.to_le_bytes());
+        bytes
+    };
+    let own = v1(FLAG_CLOSED);
+    let log = decode(&own).unwrap();
+    assert_eq!(log.version, 1);
+    assert_eq!(log.this_run(), Some(ThisRun::PartlyDropped { dropped: 3 }));
+    let earlier = v1(FLAG_CLOSED | FLAG_RECOVERED);
+    assert_eq!(decode(&earlier).unwrap().this_run(), None);
+    // Version 2, the same header: this power-up dropped 3 and kept none.
+    let mut bytes = std::vec![0u8; HEADER_LEN + RECORD_LEN * 4];
+    let h = Header {
+        flags: FLAG_CLOSED | FLAG_RECOVERED,
+        ..header()
+    };
+    encode(&h, &records, &mut bytes).unwrap();
+    let log = decode(&bytes).unwrap();
+    assert_eq!(log.version, 2);
+    assert_eq!(log.this_run(), Some(ThisRun::Dropped { dropped: 3 }));
+    assert_eq!(LogOf::of(&log.header), LogOf::EarlierPowerUp);
+    bytes[4] = 3;
+    assert!(matches!(
+        decode(&bytes),
+        Err(DecodeError::UnsupportedVersion(3))
+    ));
 }
 
 #[test]

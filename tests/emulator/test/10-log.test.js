@@ -100,7 +100,7 @@ test('run log: a run with foreign key spam and a sagging cell, read out over USB
   assert.equal(again.header.flags & 2, 2, 'flagged as an earlier power-up\'s');
   assert.equal(again.header.foreign, foreign, 'foreign count rebuilt from the records');
   const info = readOverUsb(b, 'INFO\n', { bytes: 60, timeoutNs: 1000 * MS }).toString('ascii');
-  assert.match(info, new RegExp(`^swimbot-log v1 records=${records.length} period_ms=100 `));
+  assert.match(info, new RegExp(`^swimbot-log v2 records=${records.length} period_ms=100 `));
 });
 
 test('pairing: unpaired obeys nobody; a 1 s hold of Off in the window pairs, kept in flash', { skip: route !== 'a' && 'route (b) has no boot ROM: no flash writes' }, () => {

@@ -93,7 +93,7 @@ test('USB plugged into a DORMANT robot wakes it: the log reads out, the motor st
   const replug = b.nowNs;
   const info = readOverUsb(b, 'INFO\n', { bytes: 30, timeoutNs: 1000 * MS }).toString('ascii');
   assert.ok(blipped[0].to - replug < 1 * US, 'the second plug did not wake the chip');
-  assert.match(info, new RegExp(`^swimbot-log v1 records=${records.length} `), 'no answer after the second plug');
+  assert.match(info, new RegExp(`^swimbot-log v2 records=${records.length} `), 'no answer after the second plug');
   b.disconnectUsb();
   const unplug2 = b.nowNs;
   b.runUntil(unplug2 + 1000 * MS);

@@ -45,7 +45,7 @@ test('an erase pending while USB was in is finished after the unplug, before DOR
   const boot = b.nowNs;
   const erases = () => b.flashChip.ops.filter((o) => o.op === 'erase' && o.t >= boot);
   b.runUntil(boot + (f.dormantAfterMs + 2000) * MS);
-  assert.match(Buffer.from(b.usb.rx).toString('ascii'), /^swimbot-log v1 /, 'the port did not answer');
+  assert.match(Buffer.from(b.usb.rx).toString('ascii'), /^swimbot-log v2 /, 'the port did not answer');
   assert.equal(erases().length, 0, 'an erase with USB connected');
   assert.equal(b.dormantStretches.filter((d) => d.from >= boot).length, 0, 'DORMANT with USB connected');
 

@@ -2,7 +2,9 @@
 //! across power-ups, power losses mid-run and mid-erase, foreign data in
 //! the region and a full slot; every readout must decode.
 use super::*;
-use crate::run_log::image::decode;
+use crate::run_log::image::{decode, VERSION};
+use crate::run_log::power_up::{LogOf, ThisRun};
+use crate::run_log::readout::info_line;
 use crate::run_log::record::Events;
 use proptest::prelude::*;
 use std::vec::Vec;
@@ -214,6 +216,44 @@ fn a_power_loss_mid_erase_erases_again() {
     assert_eq!(decode(&bytes).unwrap().header.dropped_records, 3);
 }
 
+/// A power-up with no erased slot runs: its readout is the newest earlier
+/// log, and says so with this power-up's dropped count (it said 0 before,
+/// and a lab took the earlier run for this one).
+#[test]
+fn a_dropped_run_is_said_in_the_readout() {
+    let mut flash = Flash::blank();
+    for from in [0, 1_000, 2_000] {
+        let mut s = LogStore::open(&flash, LAYOUT, 100);
+        run(&mut s, &mut flash, from, 30);
+    }
+    let mut s = LogStore::open(&flash, LAYOUT, 100);
+    assert!(!s.ready());
+    let unrun = decode(&read_out(&s, &flash, 0)).unwrap().header;
+    assert_eq!(ThisRun::of(&unrun, VERSION), Some(ThisRun::NoRun));
+    run(&mut s, &mut flash, 3_000, 17);
+    let bytes = read_out(&s, &flash, 0);
+    let log = decode(&bytes).unwrap();
+    assert_eq!(log.version, VERSION);
+    assert_eq!(LogOf::of(&log.header), LogOf::EarlierPowerUp);
+    assert_eq!(
+        records_of(&bytes),
+        (2_000..2_030).map(record).collect::<Vec<_>>()
+    );
+    assert_eq!(log.header.dropped_records, 17);
+    assert_eq!(log.this_run(), Some(ThisRun::Dropped { dropped: 17 }));
+    let info = info_line(&log.header);
+    assert!(
+        info.ends_with(b" dropped=17 foreign=15 paired=0x5a log=earlier this_run=dropped\n"),
+        "{:?}",
+        core::str::from_utf8(&info)
+    );
+    // Erased, a second run is kept: this power-up's log, partly dropped.
+    while s.erase_step(&mut flash) {}
+    run(&mut s, &mut flash, 4_000, 5);
+    let log = decode(&read_out(&s, &flash, 0)).unwrap().this_run();
+    assert_eq!(log, Some(ThisRun::PartlyDropped { dropped: 17 }));
+}
+
 #[test]
 fn foreign_data_is_erased_or_ends_the_log() {
     // Garbage over the whole region (a previous firmware's file system).
@@ -286,7 +326,8 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
     /// Any sequence of runs, power-ups and erase steps: no panic, every
     /// readout decodes, and it holds the last power-up's records that were
-    /// flushed (or the newest earlier log if that power-up kept none).
+    /// flushed (or the newest earlier log if that power-up kept none), and
+    /// this power-up's dropped count whatever log it holds.
     #[test]
     fn any_history_reads_out(steps in proptest::collection::vec((0u32..40, any::<bool>(), 0u32..5), 1..12)) {
         let mut flash = Flash::blank();
@@ -301,9 +342,20 @@ proptest! {
             let bytes = read_out(&store, &flash, 0);
             let log = decode(&bytes);
             prop_assert!(log.is_ok(), "{:?}", log);
+            let log = log.unwrap();
             if store.count() > 0 {
-                prop_assert_eq!(log.unwrap().header.record_count, store.count());
+                prop_assert_eq!(log.header.record_count, store.count());
             }
+            // Whatever the records, the readout says what this power-up lost.
+            prop_assert_eq!(log.header.dropped_records, store.dropped());
+            let kept = store.count() > 0;
+            let said = log.this_run();
+            prop_assert_eq!(said, Some(match (kept, store.dropped()) {
+                (true, 0) => ThisRun::Kept,
+                (true, d) => ThisRun::PartlyDropped { dropped: d },
+                (false, 0) => ThisRun::NoRun,
+                (false, d) => ThisRun::Dropped { dropped: d },
+            }));
             if reopen {
                 store = LogStore::open(&flash, LAYOUT, 100);
             }
