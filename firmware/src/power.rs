@@ -178,7 +178,7 @@ impl Power {
     /// clock tree running again. The next pass handles the cause as any
     /// pass does: the IR edge is queued by its interrupt, VBUS is read.
     /// `false` (nothing done) if the tree is not complete.
-    pub fn dormant_until_ir(&mut self) -> bool {
+    pub fn dormant_until_wake(&mut self) -> bool {
         if self.resets.is_none() {
             return false;
         }

@@ -227,8 +227,8 @@ impl Robot {
             if out.may_go_dormant {
                 // Motor off (the condition), LED dark, until an IR edge.
                 let _ = self.led.set_low();
-                defmt::info!("dormant until the next IR edge");
-                self.power.dormant_until_ir();
+                defmt::info!("dormant until an IR edge or VBUS");
+                self.power.dormant_until_wake();
                 defmt::info!("awake");
                 watchdog.feed();
                 continue;

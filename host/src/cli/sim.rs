@@ -6,7 +6,7 @@
 use super::model_args::{load_data, ModelArgs};
 use super::CliError;
 use crate::physics::solve::Dofs;
-use crate::runlog::{read_source, Source, Trace};
+use crate::runlog::{read_current, Source, Trace};
 use crate::sim::{
     self, calibrate, log_overlay, output, rate_figure, replay, Options, RateRun, Robot, Script,
     SimError,
@@ -304,7 +304,13 @@ fn rate_run(args: &SimArgs) -> Result<Option<RateRun>, CliError> {
 /// schedule for the board's controller.
 fn replayed_log(src: &str, robot: &Robot) -> Result<(Trace, Script, RateRun), CliError> {
     let source = Source::of(src);
-    let (log, _) = read_source(&source).map_err(CliError::input)?;
+    // Replaying an earlier power-up's set-points is a legitimate choice
+    // here (the set-points, not the record of today's run, are wanted), so
+    // a dropped run does not refuse; it is said, as `swimbot log` says it.
+    let (log, _, warnings) = read_current(&source, true).map_err(CliError::input)?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", source.name());
+    }
     let trace = Trace::of(&log);
     let (script, run) = replay::replay(&trace, &robot.keys)
         .map_err(|e| CliError::input(format!("{}: {e}", source.name())))?;
