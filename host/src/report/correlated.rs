@@ -13,7 +13,7 @@ pub fn statistic(cmp: &Comparison) -> String {
         Some(x) => format!(
             "{}; the same residuals: chi-square {}",
             escape(&x.describe()),
-            escape(&x.describe_independent())
+            escape(&x.describe_independent()).replace("Omega_b", "Ω<sub>b</sub>")
         ),
         None => "the chi-square with the inputs' covariance is not computed (a quantity with \
                  neither a measured nor an input uncertainty)"
@@ -50,8 +50,10 @@ pub fn pulls(cmp: &Comparison) -> String {
     format!(
         "<p id=\"physics-pulls\">What the data would want of the inputs the cases share, each \
          alone with the others at their declared uncertainty (a generalised-least-squares \
-         estimate; reported, never applied to the prediction): {}. Listed where the data pin \
-         the input to within {} declared standard uncertainties.</p>{}",
+         estimate; reported, never applied to the prediction): most of all {}. The table lists \
+         every shared input the data pin to within {} declared standard uncertainties. None of \
+         these shifts is a measurement of the robot: each says in which direction of the data \
+         the model misses.</p>{}",
         escape(&first.describe()),
         crate::workbench::input_covariance::SHOWN_PULL_SD,
         table(
