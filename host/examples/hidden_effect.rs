@@ -38,10 +38,10 @@ fn main() {
                 println!(
                     "    {:<18} aicc {:>10.1} chi2r {:?} cv {:.4} floor {}",
                     c.effect,
-                    c.aicc.unwrap_or(f64::NAN),
-                    c.chi2_reduced.map(|x| (x * 100.0).round() / 100.0),
-                    c.cv_mare,
-                    c.at_noise_floor
+                    c.score.aicc.unwrap_or(f64::NAN),
+                    c.score.chi2_reduced.map(|x| (x * 100.0).round() / 100.0),
+                    c.score.cv_mare,
+                    c.score.at_noise_floor
                 );
             }
         }

@@ -56,14 +56,14 @@ fn assert_recovered(spec: &str, name: &str) {
         assert_eq!(d.verdict.kind, VerdictKind::Identified);
         let best = &d.ranking[0];
         assert_eq!(best.effect, name);
-        assert!(best.cv_mare < d.baseline.mare, "CV error must fall");
+        assert!(best.score.cv_mare < d.baseline.mare, "CV error must fall");
         let floor = noise_floor_mare(&data);
         assert!(
-            best.cv_mare <= floor,
+            best.score.cv_mare <= floor,
             "{spec} seed {seed}: CV MARE {} above the noise floor {floor}",
-            best.cv_mare
+            best.score.cv_mare
         );
-        assert!(best.at_noise_floor);
+        assert!(best.score.at_noise_floor);
     }
 }
 

@@ -209,13 +209,13 @@ fn print_located(title: &str, list: &[Located]) {
         println!(
             "  {:<58} {:>7.2}% {:>7.2}% {:>10} {:>7} {:>5}  {}",
             format!("{} = {}", l.place, l.formula),
-            100.0 * l.mare,
-            100.0 * l.cv_mare,
-            opt(l.chi2_reduced, 3),
+            100.0 * l.score.mare,
+            100.0 * l.score.cv_mare,
+            opt(l.score.chi2_reduced, 3),
             l.explained_fraction
                 .map(|f| format!("{:.0}%", 100.0 * f))
                 .unwrap_or_else(|| "-".into()),
-            if l.at_noise_floor { "yes" } else { "no" },
+            if l.score.at_noise_floor { "yes" } else { "no" },
             ps
         );
         println!("  {:<58} {}", "", l.interpretation);
@@ -240,7 +240,7 @@ fn print_candidates(title: &str, list: &[Candidate]) {
     if list.is_empty() {
         return;
     }
-    let best = list[0].aicc.unwrap_or(f64::NAN);
+    let best = list[0].score.aicc.unwrap_or(f64::NAN);
     println!("\n{title}");
     println!(
         "  {:<34} {:>8} {:>8} {:>10} {:>10} {:>7} {:>5}  parameters (95 % CI)",
@@ -250,14 +250,15 @@ fn print_candidates(title: &str, list: &[Candidate]) {
         println!(
             "  {:<34} {:>7.2}% {:>7.2}% {:>10} {:>10} {:>7} {:>5}  {}",
             c.effect,
-            100.0 * c.mare,
-            100.0 * c.cv_mare,
-            opt(c.chi2_reduced, 3),
-            opt(c.aicc, 5),
-            c.aicc
+            100.0 * c.score.mare,
+            100.0 * c.score.cv_mare,
+            opt(c.score.chi2_reduced, 3),
+            opt(c.score.aicc, 5),
+            c.score
+                .aicc
                 .map(|a| fmt_sig(a - best, 3))
                 .unwrap_or_else(|| "-".into()),
-            if c.at_noise_floor { "yes" } else { "no" },
+            if c.score.at_noise_floor { "yes" } else { "no" },
             params(c)
         );
         for w in &c.non_identifiable {
@@ -358,12 +359,12 @@ fn ranking_row<'a>(kind: &'static str, c: &'a Candidate) -> RankingRow<'a> {
         kind,
         effect: &c.effect,
         params: params.join(";"),
-        mare: c.mare,
-        cv_mare: c.cv_mare,
-        chi2: c.chi2,
-        chi2_reduced: c.chi2_reduced,
-        aicc: c.aicc,
-        at_noise_floor: c.at_noise_floor,
+        mare: c.score.mare,
+        cv_mare: c.score.cv_mare,
+        chi2: c.score.chi2,
+        chi2_reduced: c.score.chi2_reduced,
+        aicc: c.score.aicc,
+        at_noise_floor: c.score.at_noise_floor,
         converged: c.converged,
     }
 }

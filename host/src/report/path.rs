@@ -65,9 +65,9 @@ fn from_candidate(c: &Candidate, what: &str) -> Step {
         what: what.to_string(),
         // every free parameter of the step's model, the start's included
         fitted: free_params(&c.model),
-        mare: c.mare,
-        cv_mare: Some(c.cv_mare),
-        chi2_reduced: c.chi2_reduced,
+        mare: c.score.mare,
+        cv_mare: Some(c.score.cv_mare),
+        chi2_reduced: c.score.chi2_reduced,
     }
 }
 
@@ -84,8 +84,8 @@ pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
     let zero = d
         .ranking
         .iter()
-        .filter(|c| c.params.is_empty() && c.chi2 < d.baseline.chi2)
-        .min_by(|a, b| a.chi2.total_cmp(&b.chi2));
+        .filter(|c| c.params.is_empty() && c.score.chi2 < d.baseline.chi2)
+        .min_by(|a, b| a.score.chi2.total_cmp(&b.score.chi2));
     if let Some(z) = zero {
         out.push(from_candidate(
             z,
@@ -99,7 +99,7 @@ pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
             "the best catalogue effect by AICc, fitted",
         ));
     }
-    let aicc = |c: &Candidate| c.aicc.unwrap_or(f64::INFINITY);
+    let aicc = |c: &Candidate| c.score.aicc.unwrap_or(f64::INFINITY);
     if let Some(p) = d
         .pairs
         .first()
@@ -132,9 +132,9 @@ pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
                 l.interpretation
             ),
             fitted: free_params(&l.model),
-            mare: l.mare,
-            cv_mare: Some(l.cv_mare),
-            chi2_reduced: l.chi2_reduced,
+            mare: l.score.mare,
+            cv_mare: Some(l.score.cv_mare),
+            chi2_reduced: l.score.chi2_reduced,
         });
     }
     // Label each step by what it changes from the step before, so that

@@ -107,11 +107,11 @@ pub fn section(
         rows.push(vec![
             format!("diagnose's best: {}", escape(&l.describe())),
             format!("{k}, fitted"),
-            pct(l.mare),
+            pct(l.score.mare),
             "-".into(),
             "-".into(),
             "-".into(),
-            stat(l.chi2_reduced),
+            stat(l.score.chi2_reduced),
         ]);
     }
     h.push_str(&table(&SUMMARY_HEADER, &rows));

@@ -82,9 +82,9 @@ pub fn section(data: &Dataset, d: Option<&Diagnosis>, audit: Option<&Audit>) -> 
                             format!("<code>{} = {}</code>", escape(l.place), escape(&l.formula)),
                             escape(&l.interpretation),
                             escape(&params(l)),
-                            pct(l.mare),
-                            pct(l.cv_mare),
-                            stat(l.chi2_reduced),
+                            pct(l.score.mare),
+                            pct(l.score.cv_mare),
+                            stat(l.score.chi2_reduced),
                             l.explained_fraction.map_or("-".into(), pct),
                         ]
                     })

@@ -11,6 +11,7 @@ use super::compare::compare;
 use super::diagnosis::Candidate;
 use super::discovery::aicc;
 use super::fit::{fit, free_params_of, FitError};
+use super::score::FitScore;
 use crate::data::Dataset;
 use crate::effects::Effect;
 use crate::model::Model;
@@ -61,12 +62,14 @@ pub fn evaluate(
             .collect::<Vec<_>>()
             .join(" + "),
         params: full.estimates.clone(),
-        mare: cmp.summary.mare,
-        cv_mare,
-        chi2: full.chi2,
-        chi2_reduced: cmp.summary.chi2_reduced,
-        aicc: aicc(full.chi2, n, k),
-        at_noise_floor: floor(k).is_some_and(|f| full.chi2 <= f),
+        score: FitScore {
+            mare: cmp.summary.mare,
+            cv_mare,
+            chi2: full.chi2,
+            chi2_reduced: cmp.summary.chi2_reduced,
+            aicc: aicc(full.chi2, n, k),
+            at_noise_floor: floor(k).is_some_and(|f| full.chi2 <= f),
+        },
         non_identifiable: full.non_identifiable.clone(),
         converged: full.converged,
         model: full.model,
@@ -105,10 +108,10 @@ pub(crate) fn cross_validated_mare(
 
 pub(crate) fn sort_by_aicc(v: &mut [Candidate]) {
     v.sort_by(|a, b| {
-        let key = |c: &Candidate| c.aicc.unwrap_or(f64::INFINITY);
+        let key = |c: &Candidate| c.score.aicc.unwrap_or(f64::INFINITY);
         key(a)
             .total_cmp(&key(b))
-            .then(a.cv_mare.total_cmp(&b.cv_mare))
+            .then(a.score.cv_mare.total_cmp(&b.score.cv_mare))
     });
 }
 

@@ -90,14 +90,15 @@ pub fn diagnose(
         })
         .collect();
     sort_by_aicc(&mut ranking);
-    let pairs =
-        if s.second_effect && !baseline.at_noise_floor && !ranking.iter().any(|c| c.at_noise_floor)
-        {
-            say("forward selection: pairs of catalogue effects");
-            forward_selection(model, data, &ranking, &floor)
-        } else {
-            Vec::new()
-        };
+    let pairs = if s.second_effect
+        && !baseline.at_noise_floor
+        && !ranking.iter().any(|c| c.score.at_noise_floor)
+    {
+        say("forward selection: pairs of catalogue effects");
+        forward_selection(model, data, &ranking, &floor)
+    } else {
+        Vec::new()
+    };
     let (discovery, remainder) = if s.discover && !baseline.at_noise_floor && lone_case.is_none() {
         say("searching beyond the catalogue: place x feature x form");
         let reference = super::discovery::Reference {

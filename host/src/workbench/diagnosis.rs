@@ -8,6 +8,7 @@ use super::discovery::{Discovery, DiscoverySettings, Located};
 use super::features::Trend;
 use super::fit::Estimate;
 use super::robust::LoneCase;
+use super::score::FitScore;
 use crate::model::Model;
 use serde::Serialize;
 
@@ -62,12 +63,8 @@ pub struct Baseline {
 pub struct Candidate {
     pub effect: String,
     pub params: Vec<Estimate>,
-    pub mare: f64,
-    pub cv_mare: f64,
-    pub chi2: f64,
-    pub chi2_reduced: Option<f64>,
-    pub aicc: Option<f64>,
-    pub at_noise_floor: bool,
+    #[serde(flatten)]
+    pub score: FitScore,
     pub non_identifiable: Vec<String>,
     pub converged: bool,
     #[serde(skip)]

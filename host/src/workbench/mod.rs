@@ -24,6 +24,7 @@ pub mod outlier;
 pub mod path;
 pub mod propagate;
 pub mod robust;
+pub mod score;
 pub mod stagewise;
 pub mod stagewise_backfit;
 pub mod stagewise_verdict;

@@ -131,13 +131,13 @@ fn from_candidate(
     let k = prev.k + c.params.len();
     let level = Level {
         model: c.model.clone(),
-        chi2: c.chi2,
+        chi2: c.score.chi2,
         k,
-        mare: c.mare,
-        cv_mare: c.cv_mare,
-        chi2_reduced: c.chi2_reduced,
+        mare: c.score.mare,
+        cv_mare: c.score.cv_mare,
+        chi2_reduced: c.score.chi2_reduced,
         t_deviance: t_deviance_of(&c.model, data).ok()?,
-        at_floor: floor(k).is_some_and(|f| c.chi2 <= f),
+        at_floor: floor(k).is_some_and(|f| c.score.chi2 <= f),
     };
     let step = step_of("catalogue", c.effect.clone(), prev, &level, n_obs(data));
     Some(Proposal {
@@ -151,13 +151,13 @@ fn from_candidate(
 fn from_located(l: &Located, prev: &Level, data: &Dataset, charge: f64) -> Option<Proposal> {
     let level = Level {
         model: l.model.clone(),
-        chi2: l.chi2,
+        chi2: l.score.chi2,
         k: prev.k + l.params.len(),
-        mare: l.mare,
-        cv_mare: l.cv_mare,
-        chi2_reduced: l.chi2_reduced,
+        mare: l.score.mare,
+        cv_mare: l.score.cv_mare,
+        chi2_reduced: l.score.chi2_reduced,
         t_deviance: t_deviance_of(&l.model, data).ok()?,
-        at_floor: l.at_noise_floor,
+        at_floor: l.score.at_noise_floor,
     };
     let step = step_of("located", l.describe(), prev, &level, n_obs(data));
     Some(Proposal {

@@ -114,7 +114,7 @@ pub fn remainders(
     floor: &(dyn Fn(usize) -> Option<f64> + Sync),
     s: &DiagnoseSettings,
 ) -> Result<Option<Remainder>, FitError> {
-    if ranking.iter().any(|c| c.at_noise_floor) {
+    if ranking.iter().any(|c| c.score.at_noise_floor) {
         return Ok(None);
     }
     // Parsimony: a correction that reaches the floor alone leaves nothing a
@@ -131,13 +131,13 @@ pub fn remainders(
     for c in ranking
         .iter()
         .filter(|c| {
-            explained_fraction(base.chi2, c.chi2, floor0).is_some_and(|f| f >= PARTIAL)
-                && c.mare < base.mare
+            explained_fraction(base.chi2, c.score.chi2, floor0).is_some_and(|f| f >= PARTIAL)
+                && c.score.mare < base.mare
         })
         .take(3)
     {
         let reference = Reference {
-            chi2: c.chi2,
+            chi2: c.score.chi2,
             k: c.params.len(),
             floor,
         };
@@ -168,18 +168,19 @@ pub fn decide<'a>(e: &Evidence<'a>, s: &DiagnoseSettings) -> Decision<'a> {
     let alone = e
         .discovery
         .and_then(|d| parsimonious(d, base, s.clear_margin, data).map(|l| (l, d)));
-    let pool: &[Candidate] = if e.ranking.iter().any(|c| c.at_noise_floor) || e.pairs.is_empty() {
-        e.ranking
-    } else {
-        e.pairs
-    };
-    if let Some(cb) = pool.iter().find(|c| c.at_noise_floor) {
+    let pool: &[Candidate] =
+        if e.ranking.iter().any(|c| c.score.at_noise_floor) || e.pairs.is_empty() {
+            e.ranking
+        } else {
+            e.pairs
+        };
+    if let Some(cb) = pool.iter().find(|c| c.score.at_noise_floor) {
         if let Some((l, d)) = alone {
             // The located law is the best of `M` searched, the catalogue
             // effect one of a dozen stated in advance: the law must beat it
             // by the margin plus the search's charge 2 ln M.
             let charge = 2.0 * (d.screened.max(1) as f64).ln();
-            let cat = cb.aicc.unwrap_or(f64::INFINITY);
+            let cat = cb.score.aicc.unwrap_or(f64::INFINITY);
             if aicc(l) + s.clear_margin + charge <= cat {
                 return finding(e, l, d, None, Some((cb, cat - aicc(l))), s);
             }
@@ -224,7 +225,7 @@ fn same_as_catalogue(
     s: &DiagnoseSettings,
 ) -> Option<Suggestion> {
     let close = l.params.len() <= cb.params.len()
-        && aicc(l) < cb.aicc.unwrap_or(f64::INFINITY) + s.clear_margin;
+        && aicc(l) < cb.score.aicc.unwrap_or(f64::INFINITY) + s.clear_margin;
     if !close {
         return None;
     }
@@ -250,7 +251,7 @@ fn finding<'a>(
         s.clear_margin,
     );
     let floor0 = floor0(e.base);
-    let beneath = effect.map(|c| (c, explained_fraction(e.base.chi2, c.chi2, floor0)));
+    let beneath = effect.map(|c| (c, explained_fraction(e.base.chi2, c.score.chi2, floor0)));
     if rivals.is_empty() {
         return Decision::Law {
             law: best,
@@ -272,8 +273,8 @@ fn unexplained<'a>(e: &Evidence<'a>, s: &DiagnoseSettings) -> Decision<'a> {
     let closest = e
         .ranking
         .iter()
-        .map(|c| (c, explained_fraction(base.chi2, c.chi2, floor0)))
-        .find(|(c, f)| c.mare < base.mare && f.is_some_and(|f| f >= PARTIAL));
+        .map(|c| (c, explained_fraction(base.chi2, c.score.chi2, floor0)))
+        .find(|(c, f)| c.score.mare < base.mare && f.is_some_and(|f| f >= PARTIAL));
     let mut located: Vec<Located> = e
         .discovery
         .map(|d| {
@@ -288,7 +289,7 @@ fn unexplained<'a>(e: &Evidence<'a>, s: &DiagnoseSettings) -> Decision<'a> {
     if let Some(r) = e.remainder {
         if let Some(l) = r.discovery.located.first() {
             let mut l = l.clone();
-            l.explained_fraction = explained_fraction(base.chi2, l.chi2, floor0);
+            l.explained_fraction = explained_fraction(base.chi2, l.score.chi2, floor0);
             if partial(&l, base) {
                 l.interpretation = format!("beyond {}: {}", r.effect, l.interpretation);
                 located.push(l);
@@ -321,20 +322,20 @@ fn catalogue<'a>(
     s: &DiagnoseSettings,
 ) -> Decision<'a> {
     let base = e.base;
-    let best_aicc = best.aicc.unwrap_or(f64::INFINITY);
+    let best_aicc = best.score.aicc.unwrap_or(f64::INFINITY);
     let rivals: Vec<&Candidate> = pool
         .iter()
         .filter(|c| {
             c.effect != best.effect
-                && c.at_noise_floor
-                && c.cv_mare < base.mare
-                && c.aicc.unwrap_or(f64::INFINITY) - best_aicc < s.clear_margin
+                && c.score.at_noise_floor
+                && c.score.cv_mare < base.mare
+                && c.score.aicc.unwrap_or(f64::INFINITY) - best_aicc < s.clear_margin
         })
         .collect();
-    let fraction = explained_fraction(base.chi2, best.chi2, floor0(base));
+    let fraction = explained_fraction(base.chi2, best.score.chi2, floor0(base));
     // A variant that does not beat the baseline out of sample is never
     // reported, whatever its rivals.
-    if best.cv_mare >= base.mare {
+    if best.score.cv_mare >= base.mare {
         return Decision::NotOutOfSample { best };
     }
     if rivals.is_empty() {

@@ -14,7 +14,7 @@ use crate::data::Dataset;
 pub const PARTIAL: f64 = 0.5;
 
 pub fn aicc(l: &Located) -> f64 {
-    l.aicc.unwrap_or(f64::INFINITY)
+    l.score.aicc.unwrap_or(f64::INFINITY)
 }
 
 /// The finding to report from a discovery: among supported corrections
@@ -63,17 +63,17 @@ fn noise_mare(data: &Dataset) -> f64 {
 pub fn supported(l: &Located, base: &Baseline, searched: usize, data: &Dataset) -> bool {
     let k = l.params.len() as f64;
     let approximate =
-        l.explained_fraction.is_some_and(|f| f >= 0.95) && l.cv_mare <= noise_mare(data);
+        l.explained_fraction.is_some_and(|f| f >= 0.95) && l.score.cv_mare <= noise_mare(data);
     let cost = 2.0 * k + 2.0 * (searched.max(1) as f64).ln();
-    (l.at_noise_floor || approximate)
-        && l.cv_mare < base.mare
-        && base.chi2 - l.chi2 >= cost
+    (l.score.at_noise_floor || approximate)
+        && l.score.cv_mare < base.mare
+        && base.chi2 - l.score.chi2 >= cost
         && base.t_deviance - l.t_deviance >= cost
 }
 
 /// A partial finding: removes at least [`PARTIAL`] and lowers MARE.
 pub fn partial(l: &Located, base: &Baseline) -> bool {
-    l.explained_fraction.is_some_and(|f| f >= PARTIAL) && l.mare < base.mare
+    l.explained_fraction.is_some_and(|f| f >= PARTIAL) && l.score.mare < base.mare
 }
 
 /// Rivals of `best` among `pool`: supported, within the margin, and a

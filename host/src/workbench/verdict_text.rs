@@ -126,7 +126,7 @@ pub fn word(d: Decision, e: &Evidence, s: &DiagnoseSettings) -> Verdict {
                 fmt(base.chi2_reduced),
                 fmt(base.noise_floor_chi2_reduced),
                 best.effect,
-                100.0 * best.cv_mare,
+                100.0 * best.score.cv_mare,
                 100.0 * base.mare
             ),
         ),
@@ -137,7 +137,7 @@ pub fn word(d: Decision, e: &Evidence, s: &DiagnoseSettings) -> Verdict {
                     "missing: {} (removes {} of the excess chi-square). {}",
                     best.effect,
                     frac(fraction),
-                    errors(base, best.mare, best.cv_mare, best.chi2_reduced)
+                    errors(base, best.score.mare, best.score.cv_mare, best.score.chi2_reduced)
                 ),
             );
             v.effect = Some(best.effect.clone());
@@ -175,15 +175,15 @@ pub fn word(d: Decision, e: &Evidence, s: &DiagnoseSettings) -> Verdict {
                     effect.effect,
                     law.describe(),
                     law.interpretation,
-                    effect.aicc.unwrap_or(f64::NAN),
-                    law.aicc.unwrap_or(f64::NAN),
+                    effect.score.aicc.unwrap_or(f64::NAN),
+                    law.score.aicc.unwrap_or(f64::NAN),
                     hint(&g)
                 ),
             );
             v.indistinguishable = vec![effect.effect.clone(), law.describe()];
             v.effect_explained_fraction = crate::stats::excess_removed(
                 base.chi2,
-                effect.chi2,
+                effect.score.chi2,
                 super::verdict::floor0(base),
             );
             v.suggestion = Some(g);
@@ -230,7 +230,12 @@ fn law_verdict(
     beneath: Option<(&super::diagnosis::Candidate, Option<f64>)>,
     beats: Option<(&super::diagnosis::Candidate, f64)>,
 ) -> Verdict {
-    let how = errors(base, law.mare, law.cv_mare, law.chi2_reduced);
+    let how = errors(
+        base,
+        law.score.mare,
+        law.score.cv_mare,
+        law.score.chi2_reduced,
+    );
     let mut v = match beneath {
         Some((c, f)) => {
             let mut v = verdict_of(
@@ -284,7 +289,7 @@ fn unexplained_verdict(
                 c.effect,
                 frac(f),
                 100.0 * base.mare,
-                100.0 * c.mare
+                100.0 * c.score.mare
             )
         })
         .unwrap_or_else(|| {

@@ -15,6 +15,7 @@
 
 use crate::data::quantities::Quantity;
 use crate::effects::place::{Part, Place};
+use serde::Serialize;
 
 /// The family a feature belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -92,16 +93,68 @@ pub fn interpret_on(
         ));
         s.push(')');
     }
-    // In the axial model the body's rotation balances the tail's torque:
-    // scaling one by a law is scaling the other by its reciprocal.
-    match place {
-        Place::TailTorque => s.push_str("; equivalently, body.E_x scaled by the reciprocal law"),
-        Place::BodyRotation => {
-            s.push_str("; equivalently, tail.torque scaled by the reciprocal law")
-        }
-        _ => {}
+    for e in equivalents(place) {
+        s.push_str("; equivalently, ");
+        s.push_str(e.reading);
     }
     s
+}
+
+/// A reading of a law that the axial model cannot tell from it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Equivalent {
+    /// The other place.
+    pub place: &'static str,
+    /// How the law maps there: `reciprocal` (the same feature, the
+    /// multiplier inverted) or `opposite` (the same feature, changing the
+    /// other way; not an exact map, each fitted at its own optimum).
+    pub relation: &'static str,
+    /// The reading in words.
+    #[serde(skip)]
+    pub reading: &'static str,
+}
+
+/// The places the axial model cannot tell from `place`.
+///
+/// - The body's rotation balances the tail's torque: scaling one by a law
+///   is scaling the other by its reciprocal (exact).
+/// - The tail's axial drag and its thrust coupling: the body's rotation
+///   barely depends on either and the speed on their ratio (the tail's thrust
+///   against the drag of tail and body). On ten drawn designs with a tail
+///   drag rising near the wall, the best drag law and the best thrust law
+///   (each at its own optimum) both reached the noise floor on all ten,
+///   their speeds differed by at most 1.3-4.1 standard errors in the most
+///   different case and their rotation by less than 0.005, and the AICc
+///   preferred either by up to 42 (docs/discovery.md): a preference set by
+///   which form the search can write, not by the place.
+pub fn equivalents(place: Place) -> &'static [Equivalent] {
+    const TO_BODY_E_X: Equivalent = Equivalent {
+        place: "body.E_x",
+        relation: "reciprocal",
+        reading: "body.E_x scaled by the reciprocal law",
+    };
+    const TO_TAIL_TORQUE: Equivalent = Equivalent {
+        place: "tail.torque",
+        relation: "reciprocal",
+        reading: "tail.torque scaled by the reciprocal law",
+    };
+    const TO_THRUST: Equivalent = Equivalent {
+        place: "tail.thrust",
+        relation: "opposite",
+        reading: "tail.thrust changing the other way with the same feature (in the axial model both set the speed through the ratio of thrust to drag and barely move the body's rotation; the data of docs/discovery.md's study could not tell them apart)",
+    };
+    const TO_DRAG: Equivalent = Equivalent {
+        place: "tail.drag",
+        relation: "opposite",
+        reading: "tail.drag changing the other way with the same feature (in the axial model both set the speed through the ratio of thrust to drag and barely move the body's rotation; the data of docs/discovery.md's study could not tell them apart)",
+    };
+    match place {
+        Place::TailTorque => &[TO_BODY_E_X],
+        Place::BodyRotation => &[TO_TAIL_TORQUE],
+        Place::TailDrag => &[TO_THRUST],
+        Place::TailThrust => &[TO_DRAG],
+        _ => &[],
+    }
 }
 
 /// One sentence for a correction at `place` with `feature`; `rising` is
@@ -228,5 +281,29 @@ mod tests {
         );
         let t = interpret_on(Place::TailTorque, None, false, 1.2, varied);
         assert!(t.contains("body.E_x scaled by the reciprocal"), "{t}");
+        let g = by_id("tail_clearance").unwrap();
+        let d = interpret_on(Place::TailDrag, Some(g), true, 1.1, varied);
+        assert!(d.contains("tail.thrust changing the other way"), "{d}");
+    }
+
+    /// An equivalence read one way is stated the other way too, with the
+    /// same relation; places without one state none.
+    #[test]
+    fn equivalent_readings_are_mutual() {
+        for place in Place::ALL {
+            for e in equivalents(place) {
+                let other = Place::from_name(e.place).unwrap();
+                let back = equivalents(other);
+                assert!(
+                    back.iter()
+                        .any(|b| b.place == place.name() && b.relation == e.relation),
+                    "{} -> {}",
+                    place.name(),
+                    e.place
+                );
+            }
+        }
+        assert_eq!(equivalents(Place::TailDrag)[0].place, "tail.thrust");
+        assert!(equivalents(Place::TailNormal).is_empty());
     }
 }

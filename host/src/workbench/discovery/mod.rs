@@ -30,6 +30,7 @@ pub mod write;
 
 use super::compare::compare;
 use super::fit::{fit, free_params_of, Estimate, FitError};
+use super::score::FitScore;
 use crate::data::Dataset;
 use crate::effects::correction::{Form, LocatedCorrection};
 use crate::effects::place::Part;
@@ -76,16 +77,15 @@ pub struct Located {
     /// The law with quantity ids, as written in an effect file.
     pub formula: String,
     pub params: Vec<Estimate>,
-    pub mare: f64,
-    pub cv_mare: f64,
-    pub chi2: f64,
-    pub chi2_reduced: Option<f64>,
-    pub aicc: Option<f64>,
-    pub at_noise_floor: bool,
+    #[serde(flatten)]
+    pub score: FitScore,
     /// Share of the reference model's chi-square above the noise floor that
     /// this correction removes (1 = all of it; negative = worse).
     pub explained_fraction: Option<f64>,
     pub interpretation: String,
+    /// The readings the axial model cannot tell from this one (another
+    /// place, the law mapped): issue 23's "physically equivalent readings".
+    pub equivalent: Vec<interpret::Equivalent>,
     pub non_identifiable: Vec<String>,
     /// The effects beneath it (`NAME:k=v,...` at full precision): the
     /// model it was fitted on top of, machine-readable.
@@ -193,7 +193,7 @@ pub fn discover(
         })
         .collect();
     located.sort_by(|a, b| {
-        let k = |l: &Located| l.aicc.unwrap_or(f64::INFINITY);
+        let k = |l: &Located| l.score.aicc.unwrap_or(f64::INFINITY);
         k(a).total_cmp(&k(b))
     });
     Ok(Discovery {
@@ -237,14 +237,17 @@ fn refit(
         form: c.form,
         formula: c.formula(),
         params: full.estimates.clone(),
-        mare: cmp.summary.mare,
-        cv_mare,
-        chi2: full.chi2,
-        chi2_reduced: cmp.summary.chi2_reduced,
-        aicc: aicc(full.chi2, n, k),
-        at_noise_floor: (reference.floor)(k).is_some_and(|f| full.chi2 <= f),
+        score: FitScore {
+            mare: cmp.summary.mare,
+            cv_mare,
+            chi2: full.chi2,
+            chi2_reduced: cmp.summary.chi2_reduced,
+            aicc: aicc(full.chi2, n, k),
+            at_noise_floor: (reference.floor)(k).is_some_and(|f| full.chi2 <= f),
+        },
         explained_fraction: explained_fraction(reference.chi2, full.chi2, floor0),
         interpretation: interpretation_of(c, &values, data),
+        equivalent: interpret::equivalents(c.place).to_vec(),
         non_identifiable: full.non_identifiable.clone(),
         on_top_of: model.effects.iter().map(write::exact_spec).collect(),
         t_deviance: crate::workbench::robust::t_deviance_of(&full.model, data)?,

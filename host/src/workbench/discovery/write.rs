@@ -76,8 +76,8 @@ pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
             i + 1,
             name,
             l.describe(),
-            100.0 * l.mare,
-            100.0 * l.cv_mare,
+            100.0 * l.score.mare,
+            100.0 * l.score.cv_mare,
             l.explained_fraction
                 .map(|f| format!("{f:.3}"))
                 .unwrap_or_else(|| "n/a".into()),
