@@ -314,9 +314,13 @@ pub fn check_output_file(path: &Path) -> Result<Target, CliError> {
 }
 
 /// Creates and removes `probe_path`, reporting failure against `shown`.
+/// The probe is the temporary file's own name, so it is registered like
+/// one: a SIGTERM between its creation and removal left it behind (the
+/// interrupt test saw `.big.csv.tmp-PID` on a loaded machine).
 fn probe(probe_path: &Path, shown: &Path) -> Result<(), CliError> {
-    std::fs::File::create(probe_path).map_err(|e| cannot_write(shown, &e))?;
+    drop(guard::create_temp(probe_path).map_err(|e| cannot_write(shown, &e))?);
     let _ = std::fs::remove_file(probe_path);
+    guard::forget_temp(probe_path);
     Ok(())
 }
 
