@@ -16,7 +16,12 @@
 //!   above it for one that also removes at least [`MIN_SHARE`] of what it
 //!   leaves above the floor (the first step may have taken a share of two
 //!   effects, and no one-for-one exchange reaches the floor while the
-//!   others still carry that share).
+//!   others still carry that share);
+//! - failing that, it is **moved** when the best screened law at another
+//!   place ([`super::discovery::places`]), refitted jointly with the others,
+//!   reaches the floor and lowers the key by the same margin: the exact
+//!   refits of a search all sit at one place on the drawn two-effect truth,
+//!   so the single best proposal never tries another (issue 23).
 //!
 //! The cycle repeats until no step changes (at most [`MAX_CHANGES`]). The
 //! path can only lose or exchange steps, never gain one, so a null dataset
@@ -29,7 +34,8 @@
 use super::candidate::{candidates, cross_validated_mare};
 use super::compare::compare;
 use super::diagnosis::DiagnoseSettings;
-use super::discovery::{aicc, explained_fraction, interpretation_of, Located};
+use super::discovery::places::{best_at_each_place, AtPlace};
+use super::discovery::{aicc, explained_fraction, interpretation_of, Located, Reference};
 use super::fit::{fit, free_params_of, Estimate, FitError, FitResult};
 use super::robust::t_deviance_of;
 use super::stagewise::{best_taken, n_obs, proposals, step_of, Floor, Level, Steps, MIN_SHARE};
@@ -180,39 +186,145 @@ fn one_change(
         let level = level_of(&fo, data)?;
         let seen: Vec<Located> = others.iter().filter_map(|m| m.located.clone()).collect();
         let list = proposals(&level, data, &seen, floor, s, None)?;
-        let Some(p) = best_taken(list, &level, n_obs(data), floor(0)) else {
-            continue;
+        let ctx = Ctx {
+            model0,
+            data,
+            floor,
+            s,
+            laws,
         };
-        let new = Member {
-            insts: p.level.model.effects[level.model.effects.len()..].to_vec(),
-            name: p.step.name.clone(),
-            charge: match &p.located {
-                Some(_) => 2.0 * (laws.max(1) as f64).ln(),
-                None => p.charge,
-            },
-            located: p.located,
-        };
-        if new.same(&out) {
-            continue;
+        if let Some(p) = best_taken(list, &level, n_obs(data), floor(0)) {
+            let new = Member {
+                insts: p.level.model.effects[level.model.effects.len()..].to_vec(),
+                name: p.step.name.clone(),
+                charge: match &p.located {
+                    Some(_) => ctx.law_charge(),
+                    None => p.charge,
+                },
+                located: p.located,
+            };
+            if !new.same(&out) {
+                if let Some(x) = ctx.exchange(&others, new, cur)? {
+                    return Ok(Some(x));
+                }
+            }
         }
-        let mut next = others;
-        next.push(new);
-        let fj = joint(model0, &next, data, floor)?;
-        // An exchange must win clearly (the AICc margin), or chance alone
-        // would swap a constant for a near-constant law with a free exponent;
-        // it may not lose the floor. A set above the floor may be exchanged
-        // for one still above it (the first step may have taken a share of
-        // two effects) only when that removes half of what the set leaves
-        // above the floor, as a step must: a data set the model misses
-        // everywhere (the paper's) must not trade stated physics for a
-        // law that merely shaves the misfit.
-        let share = explained_fraction(cur.fit.chi2, fj.fit.chi2, floor(0));
-        let above = !cur.at_floor && share.is_some_and(|f| f >= MIN_SHARE);
-        if fj.key + s.clear_margin < cur.key && (fj.at_floor || above) {
-            return Ok(Some((next, fj)));
+        if let Some(x) = ctx.elsewhere(&others, &fo, &out, cur)? {
+            return Ok(Some(x));
         }
     }
     Ok(None)
+}
+
+/// What every exchange is judged on.
+struct Ctx<'a> {
+    model0: &'a Model,
+    data: &'a Dataset,
+    floor: Floor<'a>,
+    s: &'a DiagnoseSettings,
+    laws: usize,
+}
+
+impl Ctx<'_> {
+    /// `2 ln M` for a law chosen among the `laws` screened.
+    fn law_charge(&self) -> f64 {
+        2.0 * (self.laws.max(1) as f64).ln()
+    }
+
+    /// `others` with `new`, refitted jointly, when that is a clear exchange
+    /// for the current set.
+    fn exchange(
+        &self,
+        others: &[Member],
+        new: Member,
+        cur: &Joint,
+    ) -> Result<Option<(Vec<Member>, Joint)>, FitError> {
+        let mut next = others.to_vec();
+        next.push(new);
+        let fj = joint(self.model0, &next, self.data, self.floor)?;
+        Ok(self.clear(cur, &fj).then_some((next, fj)))
+    }
+
+    /// An exchange must win clearly (the AICc margin), or chance alone
+    /// would swap a constant for a near-constant law with a free exponent;
+    /// it may not lose the floor. A set above the floor may be exchanged
+    /// for one still above it (the first step may have taken a share of
+    /// two effects) only when that removes half of what the set leaves
+    /// above the floor, as a step must: a data set the model misses
+    /// everywhere (the paper's) must not trade stated physics for a
+    /// law that merely shaves the misfit.
+    fn clear(&self, cur: &Joint, fj: &Joint) -> bool {
+        let share = explained_fraction(cur.fit.chi2, fj.fit.chi2, (self.floor)(0));
+        let above = !cur.at_floor && share.is_some_and(|f| f >= MIN_SHARE);
+        fj.key + self.s.clear_margin < cur.key && (fj.at_floor || above)
+    }
+
+    /// The best law at each place other than `out`'s, each refitted
+    /// exactly jointly with `others` (fitted as `fo`): the clear exchange
+    /// with the lowest key (issue 23: the exact refits of a search all sat
+    /// at one place, so the single best proposal never tried another).
+    fn elsewhere(
+        &self,
+        others: &[Member],
+        fo: &Joint,
+        out: &Member,
+        cur: &Joint,
+    ) -> Result<Option<(Vec<Member>, Joint)>, FitError> {
+        let seen: Vec<&Located> = others.iter().filter_map(|m| m.located.as_ref()).collect();
+        let tried = best_at_each_place(&fo.fit.model, self.data, fo.k, &self.s.discovery)?;
+        let mut best: Option<(&AtPlace, Vec<Member>, Joint)> = None;
+        for at in &tried {
+            let c = at.screened.correction;
+            let own = out
+                .located
+                .as_ref()
+                .is_some_and(|l| l.place == at.place.name());
+            let repeat = seen.iter().any(|l| {
+                l.place == at.place.name()
+                    && l.feature == c.feature.map(|q| q.id)
+                    && l.form == c.form
+            });
+            if own || repeat {
+                continue;
+            }
+            let new = Member {
+                insts: vec![EffectInstance {
+                    effect: c,
+                    values: at.screened.params.clone(),
+                }],
+                located: None,
+                name: c.formula(),
+                charge: self.law_charge(),
+            };
+            // A failed joint fit is one place fewer to try, not an error.
+            // Among ten places one will shave a misfit by chance, so only a
+            // set that reaches the floor is taken here (on the paper's data,
+            // far above it, the half-share rule let a -700 external torque
+            // in the wave speed replace the located tail-torque law).
+            let Ok(Some((next, fj))) = self.exchange(others, new, cur) else {
+                continue;
+            };
+            if !fj.at_floor {
+                continue;
+            }
+            if best.as_ref().is_none_or(|b| fj.key < b.2.key) {
+                best = Some((at, next, fj));
+            }
+        }
+        let Some((at, mut next, fj)) = best else {
+            return Ok(None);
+        };
+        let reference = Reference {
+            chi2: fo.fit.chi2,
+            k: fo.k,
+            floor: self.floor,
+        };
+        let l = at.locate(&fo.fit.model, self.data, &reference)?;
+        let last = next.last_mut().expect("just pushed");
+        last.name = l.describe();
+        last.located = Some(l);
+        Ok(Some((next, fj)))
+    }
 }
 
 /// The level of the starting model with `set` at a joint fit's values

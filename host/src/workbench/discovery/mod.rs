@@ -24,6 +24,7 @@
 //! from a library of candidate functions).
 
 pub mod interpret;
+pub mod places;
 pub mod screen;
 pub mod search;
 pub mod write;

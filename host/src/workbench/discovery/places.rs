@@ -1,0 +1,93 @@
+//! The best law at each place (issue 23): the exact refits of [`super::discover`]
+//! take the top of one ranking, and on the drawn two-effect truth they all
+//! sit at one place, so backfitting never tried another. This screens every
+//! law on the table (the same search, [`super::search`]) and keeps the best
+//! at each place the model is sensitive to; the caller refits it exactly,
+//! jointly with the steps it keeps ([`crate::workbench::stagewise_backfit`]).
+//!
+//! References: Burnham & Anderson, *Model Selection and Multimodel
+//! Inference*, 2nd ed. (2002) (AICc ranking).
+
+use super::screen::Table;
+use super::search::{corrections, cv_mare, fit_on_table, screen_one, Screened};
+use super::{aicc, refit, DiscoverySettings, Located, Reference};
+use crate::data::Dataset;
+use crate::effects::place::Place;
+use crate::model::Model;
+use crate::workbench::fit::FitError;
+use rayon::prelude::*;
+
+/// The best screened law at one place, with what its exact refit needs.
+pub struct AtPlace {
+    pub place: Place,
+    pub screened: Screened,
+    cv_mare: f64,
+}
+
+/// The best screened law at each sensitive place on top of `model`
+/// (`k`: free parameters already fitted, counted in the ranking's AICc).
+pub fn best_at_each_place(
+    model: &Model,
+    data: &Dataset,
+    k: usize,
+    s: &DiscoverySettings,
+) -> Result<Vec<AtPlace>, FitError> {
+    let table = Table::build(model, data)?;
+    let n_cases = data.cases.len();
+    let all: Vec<usize> = (0..table.obs.len()).collect();
+    let stride = n_cases.div_ceil(s.screen_cases.max(1)).max(1);
+    let sub: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&o| table.obs[o].case % stride == 0)
+        .collect();
+    let key = |x: &Screened| aicc(x.chi2, sub.len(), k + x.params.len()).unwrap_or(x.chi2);
+    let screened: Vec<Screened> = corrections(&table, data)
+        .par_iter()
+        .map(|c| screen_one(&table, c, data, &sub))
+        .filter(|x| x.chi2.is_finite())
+        .collect();
+    let folds = if n_cases <= 10 { n_cases } else { s.folds };
+    let mut out: Vec<AtPlace> = Vec::new();
+    for place in Place::ALL {
+        let best = screened
+            .iter()
+            .filter(|x| x.correction.place == place)
+            .min_by(|a, b| key(a).total_cmp(&key(b)));
+        let Some(x) = best else { continue };
+        let mut x = x.clone();
+        if stride > 1 {
+            let (p, f) = fit_on_table(&table, x.correction, &x.xs, &all, &x.params);
+            x.params = p;
+            x.chi2 = f;
+        }
+        let cv = cv_mare(&table, &x, n_cases, folds);
+        out.push(AtPlace {
+            place,
+            screened: x,
+            cv_mare: cv,
+        });
+    }
+    Ok(out)
+}
+
+impl AtPlace {
+    /// The exact refit of this law alone on top of `model` (the finding a
+    /// path records once the law is kept).
+    pub fn locate(
+        &self,
+        model: &Model,
+        data: &Dataset,
+        reference: &Reference,
+    ) -> Result<Located, FitError> {
+        let floor0 = (reference.floor)(0);
+        refit(
+            model,
+            data,
+            self.screened.clone(),
+            self.cv_mare,
+            reference,
+            floor0,
+        )
+    }
+}
