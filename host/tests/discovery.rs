@@ -17,7 +17,7 @@ use fixtures::{drawn, truths};
 use swimbot::data::Dataset;
 use swimbot::effects::parse_effect_spec;
 use swimbot::model::Model;
-use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, Diagnosis, VerdictKind};
+use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, Diagnosis, Verdict, VerdictKind};
 use swimbot::workbench::synth::{generate, rich_design, SynthSettings};
 
 const SEED: u64 = 23;
@@ -284,6 +284,23 @@ fn drawn_data(truth: &Model, design: &Dataset, seed: u64) -> Dataset {
 
 const BODY_FEATURES: &[&str] = &["body_ratio", "body_gap_ratio", "body_over_gap"];
 
+/// Whether the verdict locates a law at `place` in one of `feats`.
+fn placed(v: &Verdict, place: &str, feats: &[&str]) -> bool {
+    v.located
+        .iter()
+        .any(|l| l.place == place && l.feature.is_some_and(|f| feats.contains(&f)))
+}
+
+/// `diagnose` from the base model on the drawn two-effect truth (body law
+/// and shear-thinning oil, tests/fixtures/drawn.rs) of `seed`.
+fn diagnose_drawn_pair(seed: u64) -> Diagnosis {
+    let truth = Model::base()
+        .with_effect(drawn::body_law(seed))
+        .with_effect(drawn::shear_law(seed));
+    let data = drawn_data(&truth, &drawn::design(&swimbot::data::paper(), seed), seed);
+    diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap()
+}
+
 /// Two out-of-catalogue effects at once, both drawn (constants and design:
 /// tests/fixtures/drawn.rs, seed 31). The catalogue's body-correction
 /// takes most of the body law first; backfitting re-locates each step on
@@ -292,19 +309,10 @@ const BODY_FEATURES: &[&str] = &["body_ratio", "body_gap_ratio", "body_over_gap"
 #[test]
 fn two_drawn_effects_at_once_are_both_placed_after_backfitting() {
     let seed = 31;
-    let truth = Model::base()
-        .with_effect(drawn::body_law(seed))
-        .with_effect(drawn::shear_law(seed));
-    let data = drawn_data(&truth, &drawn::design(&swimbot::data::paper(), seed), seed);
-    let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
+    let d = diagnose_drawn_pair(seed);
     let v = &d.verdict;
-    let placed = |place: &str, feats: &[&str]| {
-        v.located
-            .iter()
-            .any(|l| l.place == place && l.feature.is_some_and(|f| feats.contains(&f)))
-    };
-    assert!(placed("body.D_x", BODY_FEATURES), "{}", v.note);
-    assert!(placed("tail.viscosity", &["shear_rate"]), "{}", v.note);
+    assert!(placed(v, "body.D_x", BODY_FEATURES), "{}", v.note);
+    assert!(placed(v, "tail.viscosity", &["shear_rate"]), "{}", v.note);
     assert!(v.steps.iter().all(|s| s.kind == "located"), "{}", v.note);
     assert!(v.steps.last().unwrap().at_noise_floor, "{}", v.note);
     assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
@@ -323,13 +331,8 @@ fn backfitting_above_the_floor_moves_the_body_law_back_to_the_body() {
     let data = data(&truth, 139);
     let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
     let v = &d.verdict;
-    let placed = |place: &str, feats: &[&str]| {
-        v.located
-            .iter()
-            .any(|l| l.place == place && l.feature.is_some_and(|f| feats.contains(&f)))
-    };
-    assert!(placed("body.D_x", BODY_FEATURES), "{}", v.note);
-    assert!(placed("tail.viscosity", &["shear_rate"]), "{}", v.note);
+    assert!(placed(v, "body.D_x", BODY_FEATURES), "{}", v.note);
+    assert!(placed(v, "tail.viscosity", &["shear_rate"]), "{}", v.note);
     assert!(
         v.located.iter().all(|l| l.place != "tail.c_n"),
         "{}",
@@ -347,19 +350,10 @@ fn backfitting_above_the_floor_moves_the_body_law_back_to_the_body() {
 #[test]
 fn backfitting_tries_the_best_law_at_each_other_place() {
     let seed = 203;
-    let truth = Model::base()
-        .with_effect(drawn::body_law(seed))
-        .with_effect(drawn::shear_law(seed));
-    let data = drawn_data(&truth, &drawn::design(&swimbot::data::paper(), seed), seed);
-    let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
+    let d = diagnose_drawn_pair(seed);
     let v = &d.verdict;
-    let placed = |place: &str, feats: &[&str]| {
-        v.located
-            .iter()
-            .any(|l| l.place == place && l.feature.is_some_and(|f| feats.contains(&f)))
-    };
-    assert!(placed("body.D_x", BODY_FEATURES), "{}", v.note);
-    assert!(placed("tail.viscosity", &["shear_rate"]), "{}", v.note);
+    assert!(placed(v, "body.D_x", BODY_FEATURES), "{}", v.note);
+    assert!(placed(v, "tail.viscosity", &["shear_rate"]), "{}", v.note);
     assert!(v.steps.iter().all(|s| s.kind == "located"), "{}", v.note);
     assert!(v.steps.last().unwrap().at_noise_floor, "{}", v.note);
     assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);

@@ -9,7 +9,6 @@
 
 use super::compare::compare;
 use super::diagnosis::Candidate;
-use super::discovery::aicc;
 use super::fit::{fit, free_params_of, FitError};
 use super::score::FitScore;
 use crate::data::Dataset;
@@ -49,7 +48,6 @@ pub fn evaluate(
         fit(model, data, None, &free, true)?
     };
     let cmp = compare(&full.model, data, k)?;
-    let n = cmp.summary.n;
     let cv_mare = if k == 0 {
         cmp.summary.mare
     } else {
@@ -62,14 +60,7 @@ pub fn evaluate(
             .collect::<Vec<_>>()
             .join(" + "),
         params: full.estimates.clone(),
-        score: FitScore {
-            mare: cmp.summary.mare,
-            cv_mare,
-            chi2: full.chi2,
-            chi2_reduced: cmp.summary.chi2_reduced,
-            aicc: aicc(full.chi2, n, k),
-            at_noise_floor: floor(k).is_some_and(|f| full.chi2 <= f),
-        },
+        score: FitScore::of(&cmp.summary, cv_mare, full.chi2, k, floor(k)),
         non_identifiable: full.non_identifiable.clone(),
         converged: full.converged,
         model: full.model,

@@ -117,10 +117,7 @@ pub struct Reference<'a> {
     pub floor: &'a (dyn Fn(usize) -> Option<f64> + Sync),
 }
 
-pub fn aicc(chi2: f64, n: usize, k: usize) -> Option<f64> {
-    let denom = n as i64 - k as i64 - 1;
-    (denom > 0).then(|| chi2 + 2.0 * k as f64 + 2.0 * (k * (k + 1)) as f64 / denom as f64)
-}
+pub use super::score::aicc;
 
 /// Fraction of `reference`'s excess over the floor that `chi2` removes:
 /// the one definition, [`crate::stats::excess_removed`].
@@ -221,7 +218,6 @@ fn refit(
     let full = fit(&m, data, None, &free, false)?;
     let k = reference.k + free.len();
     let cmp = compare(&full.model, data, k)?;
-    let n = cmp.summary.n;
     let values = full
         .model
         .effects
@@ -238,14 +234,7 @@ fn refit(
         form: c.form,
         formula: c.formula(),
         params: full.estimates.clone(),
-        score: FitScore {
-            mare: cmp.summary.mare,
-            cv_mare,
-            chi2: full.chi2,
-            chi2_reduced: cmp.summary.chi2_reduced,
-            aicc: aicc(full.chi2, n, k),
-            at_noise_floor: (reference.floor)(k).is_some_and(|f| full.chi2 <= f),
-        },
+        score: FitScore::of(&cmp.summary, cv_mare, full.chi2, k, (reference.floor)(k)),
         explained_fraction: explained_fraction(reference.chi2, full.chi2, floor0),
         interpretation: interpretation_of(c, &values, data),
         equivalent: interpret::equivalents(c.place).to_vec(),
