@@ -221,14 +221,7 @@ pub fn solve_mesh(
     let start = std::time::Instant::now();
     let els = &mesh.elements;
     let n = els.len();
-    let bytes = dense_bytes(n);
-    if bytes > s.max_dense_bytes {
-        return Err(NonlocalError::Settings(format!(
-            "{n} elements need {:.2} GB for the dense solve, above the limit of {:.2} GB; lower the resolution",
-            bytes as f64 / 1e9,
-            s.max_dense_bytes as f64 / 1e9
-        )));
-    }
+    within_dense_limit(n, dense_bytes(n), "the dense solve", s)?;
     let table: Vec<Vec<Ring>> = (0..n)
         .into_par_iter()
         .map(|i| {
@@ -302,4 +295,22 @@ pub fn solve_mesh(
         seconds: start.elapsed().as_secs_f64(),
         flux_seconds: start.elapsed().as_secs_f64() - solved_at,
     })
+}
+
+/// Refuses a dense solve of `n` elements whose matrix (`bytes`) exceeds the
+/// settings' limit, naming `what` it is for, before anything is allocated.
+pub(super) fn within_dense_limit(
+    n: usize,
+    bytes: usize,
+    what: &str,
+    s: &AxisymSettings,
+) -> Result<(), NonlocalError> {
+    if bytes > s.max_dense_bytes {
+        return Err(NonlocalError::Settings(format!(
+            "{n} elements need {:.2} GB for {what}, above the limit of {:.2} GB; lower the resolution",
+            bytes as f64 / 1e9,
+            s.max_dense_bytes as f64 / 1e9
+        )));
+    }
+    Ok(())
 }

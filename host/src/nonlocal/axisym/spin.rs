@@ -107,14 +107,7 @@ pub fn solve_spin(
     let start = std::time::Instant::now();
     let (els, kinds) = build(stack, confinement, centre_m, s)?;
     let n = els.len();
-    let bytes = 2 * 8 * n * n;
-    if bytes > s.max_dense_bytes {
-        return Err(NonlocalError::Settings(format!(
-            "{n} elements need {:.2} GB for the swirl solve, above the limit of {:.2} GB; lower the resolution",
-            bytes as f64 / 1e9,
-            s.max_dense_bytes as f64 / 1e9
-        )));
-    }
+    super::solve::within_dense_limit(n, 2 * 8 * n * n, "the swirl solve", s)?;
     let rows: Vec<Vec<f64>> = (0..n)
         .into_par_iter()
         .map(|i| {
