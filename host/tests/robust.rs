@@ -446,10 +446,19 @@ fn student_t_ranks_by_the_deviance_it_minimised() {
     // two-factor correction, the t deviance's the truth.
     assert_eq!(by(&|c| aicc_of(get(c, "chi2"), n, k(c))), "body-correction");
     assert_eq!(
+        ranking[0]["effect"], "body-confinement",
+        "{}",
+        diag["ranking"]
+    );
+    assert_eq!(
+        diag["verdict"]["steps"][0]["name"], "body-confinement",
+        "{}",
+        diag["verdict"]
+    );
+    assert_eq!(
         by(&|c| aicc_of(get(c, "deviance"), n, k(c))),
         "body-confinement"
     );
-    assert_eq!(ranking[0]["effect"], "body-confinement", "{diag}");
     for c in ranking {
         let dev = get(c, "deviance");
         assert!((get(c, "aicc") - aicc_of(dev, n, k(c))).abs() < 1e-9 * dev);
