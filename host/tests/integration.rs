@@ -19,6 +19,7 @@ mod formula_input;
 mod hardening;
 mod hidden_effect;
 mod input_covariance;
+mod likelihood;
 mod model;
 mod mutation;
 mod nonlocal;

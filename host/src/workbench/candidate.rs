@@ -1,6 +1,7 @@
 //! The catalogue's candidates for `diagnose`: each effect not yet in the
 //! model added alone, its free parameters fitted and scored by
-//! cross-validated MARE and AICc; forward selection of a second one.
+//! cross-validated MARE and the AICc of the deviance the fit minimised
+//! ([`super::score`]); forward selection of a second one.
 //!
 //! References: K. P. Burnham & D. R. Anderson, *Model Selection and
 //! Multimodel Inference*, 2nd ed. (2002), ch. 2; T. Hastie, R. Tibshirani &
@@ -10,7 +11,7 @@
 use super::compare::compare;
 use super::diagnosis::Candidate;
 use super::fit::{fit, free_params_of, FitError};
-use super::score::FitScore;
+use super::score::{Deviance, FitScore};
 use crate::data::Dataset;
 use crate::effects::Effect;
 use crate::model::Model;
@@ -60,7 +61,7 @@ pub fn evaluate(
             .collect::<Vec<_>>()
             .join(" + "),
         params: full.estimates.clone(),
-        score: FitScore::of(&cmp.summary, cv_mare, full.chi2, k, floor(k)),
+        score: FitScore::of(&cmp.summary, cv_mare, Deviance::of_fit(&full), k, floor(k)),
         non_identifiable: full.non_identifiable.clone(),
         converged: full.converged,
         model: full.model,

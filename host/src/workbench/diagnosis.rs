@@ -132,6 +132,11 @@ pub struct Step {
     pub mare: f64,
     pub cv_mare: f64,
     pub chi2_reduced: Option<f64>,
+    /// The deviance its fit minimised when it is not the chi-square
+    /// ([`super::score::FitScore::deviance`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub deviance: Option<f64>,
+    /// AICc of the minimised deviance ([`super::score`]).
     pub aicc: Option<f64>,
     pub at_noise_floor: bool,
     /// Share of the excess chi-square left by the steps before that this

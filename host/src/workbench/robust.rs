@@ -12,9 +12,10 @@
 //! large one: one bad run cannot buy a law. `fit`, `diagnose` and `audit`
 //! minimise it in every fit they make when given `--likelihood student-t`
 //! ([`Likelihood`]; least squares is their default, so that they and the
-//! page read the same statistics); `diagnose` requires every step to lower
-//! both the chi-square and `D_t` by its charge; `fit`, `diagnose` and
-//! `audit` use the same test for a lone case.
+//! page read the same statistics); `diagnose` ranks every candidate, law
+//! and step by the AICc of the deviance it minimised ([`super::score`])
+//! and requires every step to lower both the chi-square and `D_t` by its
+//! charge; `fit`, `diagnose` and `audit` use the same test for a lone case.
 //!
 //! **A case stands alone** when, for a model:
 //! (a) its residual is beyond the limit of the t model's one-bad-run test

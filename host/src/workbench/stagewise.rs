@@ -13,7 +13,9 @@
 //! - and reaches the floor or removes at least [`MIN_SHARE`] of what the
 //!   level leaves above it (a step that shaves a misfit is not physics);
 //!
-//! among the steps taken, the lowest `AICc + 2 ln M` wins. The search stops
+//! among the steps taken, the lowest `AICc + 2 ln M` wins, the AICc of the
+//! deviance the fits minimised ([`super::score`]: the chi-square, or the
+//! Student-t deviance under `--likelihood student-t`). The search stops
 //! at the noise floor, when no step is taken, or after [`MAX_STEPS`]. Each
 //! step records the model beneath it (`on_top_of`, machine-readable).
 //!
@@ -30,9 +32,10 @@
 use super::candidate::{candidates, evaluate};
 use super::diagnosis::{Candidate, DiagnoseSettings, Remainder, Step, Verdict, VerdictKind};
 use super::discovery::write::exact_spec;
-use super::discovery::{aicc, discover, explained_fraction, Discovery, Located, Reference};
+use super::discovery::{discover, explained_fraction, Discovery, Located, Reference};
 use super::fit::FitError;
 use super::robust::t_deviance_of;
+use super::score::Deviance;
 use super::verdict::Evidence;
 use crate::data::Dataset;
 use crate::effects::EffectInstance;
@@ -57,7 +60,19 @@ pub struct Level {
     pub cv_mare: f64,
     pub chi2_reduced: Option<f64>,
     pub t_deviance: f64,
+    /// The deviance its fits minimised when it is not the chi-square.
+    pub minimised: Option<f64>,
     pub at_floor: bool,
+}
+
+impl Level {
+    /// What the level is ranked by ([`super::score`]).
+    pub fn deviance(&self) -> Deviance {
+        Deviance {
+            chi2: self.chi2,
+            minimised: self.minimised,
+        }
+    }
 }
 
 /// The steps found, each with its level and (for a law) the finding.
@@ -77,7 +92,11 @@ pub(super) struct Proposal {
 
 impl Proposal {
     fn key(&self, n: usize) -> f64 {
-        aicc(self.level.chi2, n, self.level.k).unwrap_or(f64::INFINITY) + self.charge
+        self.level
+            .deviance()
+            .aicc(n, self.level.k)
+            .unwrap_or(f64::INFINITY)
+            + self.charge
     }
 
     fn taken(&self, prev: &Level, floor0: Option<f64>) -> bool {
@@ -115,7 +134,8 @@ pub(super) fn step_of(
         mare: level.mare,
         cv_mare: level.cv_mare,
         chi2_reduced: level.chi2_reduced,
-        aicc: aicc(level.chi2, n, level.k),
+        deviance: level.minimised,
+        aicc: level.deviance().aicc(n, level.k),
         at_noise_floor: level.at_floor,
         explained_fraction: None,
     }
@@ -137,6 +157,7 @@ fn from_candidate(
         cv_mare: c.score.cv_mare,
         chi2_reduced: c.score.chi2_reduced,
         t_deviance: t_deviance_of(&c.model, data).ok()?,
+        minimised: c.score.deviance,
         at_floor: floor(k).is_some_and(|f| c.score.chi2 <= f),
     };
     let step = step_of("catalogue", c.effect.clone(), prev, &level, n_obs(data));
@@ -157,6 +178,7 @@ fn from_located(l: &Located, prev: &Level, data: &Dataset, charge: f64) -> Optio
         cv_mare: l.score.cv_mare,
         chi2_reduced: l.score.chi2_reduced,
         t_deviance: t_deviance_of(&l.model, data).ok()?,
+        minimised: l.score.deviance,
         at_floor: l.score.at_noise_floor,
     };
     let step = step_of("located", l.describe(), prev, &level, n_obs(data));
@@ -310,6 +332,7 @@ pub fn stagewise(
         cv_mare: base.mare,
         chi2_reduced: base.chi2_reduced,
         t_deviance: t_deviance_of(model, data)?,
+        minimised: Deviance::of_model(model, data, base.chi2)?.minimised,
         at_floor: base.at_noise_floor,
     };
     let mut path: Steps = Vec::new();

@@ -35,9 +35,10 @@ use super::candidate::{candidates, cross_validated_mare};
 use super::compare::compare;
 use super::diagnosis::DiagnoseSettings;
 use super::discovery::places::{best_at_each_place, AtPlace};
-use super::discovery::{aicc, explained_fraction, interpretation_of, Located, Reference};
+use super::discovery::{explained_fraction, interpretation_of, Located, Reference};
 use super::fit::{fit, free_params_of, Estimate, FitError, FitResult};
 use super::robust::t_deviance_of;
+use super::score::Deviance;
 use super::stagewise::{best_taken, n_obs, proposals, step_of, Floor, Level, Steps, MIN_SHARE};
 use crate::data::Dataset;
 use crate::effects::EffectInstance;
@@ -89,7 +90,10 @@ fn joint(model0: &Model, set: &[Member], data: &Dataset, floor: Floor) -> Result
     let k = free.len();
     let at_floor = floor(k).is_some_and(|f| fit.chi2 <= f);
     let charges: f64 = set.iter().map(|s| s.charge).sum();
-    let key = aicc(fit.chi2, n_obs(data), k).unwrap_or(f64::INFINITY) + charges;
+    let key = Deviance::of_fit(&fit)
+        .aicc(n_obs(data), k)
+        .unwrap_or(f64::INFINITY)
+        + charges;
     Ok(Joint {
         fit,
         k,
@@ -340,6 +344,7 @@ fn level_of(j: &Joint, data: &Dataset) -> Result<Level, FitError> {
         cv_mare: cmp.summary.mare,
         chi2_reduced: cmp.summary.chi2_reduced,
         t_deviance: t_deviance_of(&j.fit.model, data)?,
+        minimised: j.fit.t_deviance,
         at_floor: j.at_floor,
     })
 }
@@ -364,6 +369,7 @@ fn rebuild(
         cv_mare: f64::INFINITY,
         chi2_reduced: None,
         t_deviance: f64::INFINITY,
+        minimised: None,
         at_floor: false,
     };
     let mut out: Steps = Vec::new();
@@ -383,6 +389,7 @@ fn rebuild(
             mare: cmp.summary.mare,
             chi2_reduced: cmp.summary.chi2_reduced,
             t_deviance: t_deviance_of(&model, data)?,
+            minimised: Deviance::of_model(&model, data, cmp.summary.chi2)?.minimised,
             at_floor: floor(k).is_some_and(|f| cmp.summary.chi2 <= f),
             model,
         };
@@ -416,7 +423,8 @@ fn restate(l: &Located, level: &Level, own: Vec<Estimate>, data: &Dataset, n: us
     out.score.cv_mare = level.cv_mare;
     out.score.chi2 = level.chi2;
     out.score.chi2_reduced = level.chi2_reduced;
-    out.score.aicc = aicc(level.chi2, n, level.k);
+    out.score.deviance = level.minimised;
+    out.score.aicc = level.deviance().aicc(n, level.k);
     out.score.at_noise_floor = level.at_floor;
     out.t_deviance = level.t_deviance;
     out.interpretation = interpretation_of(l.correction, values, data);

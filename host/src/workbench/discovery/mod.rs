@@ -11,7 +11,10 @@
 //! 3. The best `top` are refitted on every case with the real model
 //!    ([`crate::workbench::fit`], starting from the screened optimum), which
 //!    gives exact chi-square, MARE and 95 % CIs; their cross-validated MARE
-//!    is k-fold on the table (leave-one-case-out up to ten cases).
+//!    is k-fold on the table (leave-one-case-out up to ten cases). They are
+//!    ranked by the AICc of the deviance the refit minimised
+//!    ([`super::score`]; the screening's own ranking stays on the table's
+//!    chi-square: it only picks who is refitted).
 //! 4. Each is given its explained fraction of the excess chi-square above
 //!    the noise floor and a physics sentence ([`interpret`]).
 //!
@@ -31,7 +34,7 @@ pub mod write;
 
 use super::compare::compare;
 use super::fit::{fit, free_params_of, Estimate, FitError};
-use super::score::FitScore;
+use super::score::{Deviance, FitScore};
 use crate::data::Dataset;
 use crate::effects::correction::{Form, LocatedCorrection};
 use crate::effects::place::Part;
@@ -104,7 +107,8 @@ pub struct Located {
 pub struct Discovery {
     /// Corrections screened on the table.
     pub screened: usize,
-    /// The exact refits, best AICc first.
+    /// The exact refits, best AICc of the minimised deviance first
+    /// ([`super::score`]).
     pub located: Vec<Located>,
 }
 
@@ -234,7 +238,13 @@ fn refit(
         form: c.form,
         formula: c.formula(),
         params: full.estimates.clone(),
-        score: FitScore::of(&cmp.summary, cv_mare, full.chi2, k, (reference.floor)(k)),
+        score: FitScore::of(
+            &cmp.summary,
+            cv_mare,
+            Deviance::of_fit(&full),
+            k,
+            (reference.floor)(k),
+        ),
         explained_fraction: explained_fraction(reference.chi2, full.chi2, floor0),
         interpretation: interpretation_of(c, &values, data),
         equivalent: interpret::equivalents(c.place).to_vec(),
