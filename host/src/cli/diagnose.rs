@@ -123,7 +123,11 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
             if a.input_uncertainty {
                 println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
             }
-            println!("{}\n", super::likelihood::minimised_line(lik));
+            // Every "by AICc" below is that deviance's AICc (workbench::score).
+            println!(
+                "{}; every AICc below is that deviance's\n",
+                super::likelihood::minimised_line(lik)
+            );
             print_table(&d)
         }
     }
