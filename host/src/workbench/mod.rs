@@ -27,6 +27,7 @@ pub mod robust;
 pub mod score;
 pub mod stagewise;
 pub mod stagewise_backfit;
+pub mod stagewise_joint;
 pub mod stagewise_verdict;
 pub mod synth;
 pub mod verdict;

@@ -1,0 +1,383 @@
+//! What the data fix in a found set of two steps or more (issue 23): the
+//! steps' parameters refitted jointly, the pairs of parameters of
+//! different steps that trade against each other, the places that carry
+//! two laws, and the parameters whose interval spans no effect. The set is
+//! still a set that fits; these say which of its parts the data fix only
+//! together. How they are worded is in [`super::verdict_text`].
+//!
+//! - **Traded**: two parameters of different steps whose correlation in
+//!   the joint fit exceeds [`TRADE_CORRELATION`] in magnitude, or that
+//!   span a combination the data leave free (a null direction of
+//!   `J^T W J`, [`super::fit_uncertainty`]; no correlation is defined, it
+//!   is reported as `null`). The data fix a combination of the two, not
+//!   each: moving one and refitting the other costs almost nothing.
+//! - **Shared place**: two located laws at one place (in different
+//!   features) are one place whose multiplier is the product of the two
+//!   laws (a load: their sum), or at places the axial model cannot tell
+//!   apart ([`super::discovery::interpret::equivalents`]).
+//! - **No effect within the interval**: a located law's strength `k`
+//!   whose 95 % interval in the joint fit contains the value at which the
+//!   law does nothing (1 for a constant multiplier, 0 for `1 + k x`,
+//!   `1 + k x^p` and for every load). A law `k x` or `k x^p` on a
+//!   multiplier has no such value.
+//!
+//! The joint fit starts from the path's values (one start), with every
+//! parameter the steps added free, by the likelihood of the enclosing
+//! diagnosis ([`super::fit::fit`]).
+//!
+//! References: D. A. Belsley, E. Kuh & R. E. Welsch, *Regression
+//! Diagnostics* (1980), ch. 3 (collinearity; a variance inflation factor
+//! `1/(1 - r^2)` above 10, `|r|` above 0.95 for a pair, is the usual
+//! mark of a combination fixed rather than its parts).
+
+use super::discovery::interpret::equivalents;
+use super::fit::{fit, free_params_of, FitError, FitResult, FreeParam};
+use super::stagewise::Path;
+use crate::data::Dataset;
+use crate::effects::correction::Form;
+use crate::effects::place::Place;
+use serde::Serialize;
+
+/// `|r|` above which two parameters of different steps trade (0.95): the
+/// threshold `fit` uses for its own pairs ([`super::fit_uncertainty`]), a
+/// variance inflation factor `1/(1 - r^2)` of 10.3 (module docs).
+pub const TRADE_CORRELATION: f64 = 0.95;
+
+/// One parameter of a step of the set, at the joint fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StepParam {
+    /// The step's number in `verdict.steps`, from 1.
+    pub step: usize,
+    /// The law's place, or the catalogue effect's name.
+    pub of: String,
+    pub param: &'static str,
+    pub value: f64,
+    /// 95 % half-width in the joint fit; `None` when not identifiable.
+    pub ci95: Option<f64>,
+}
+
+/// Two parameters of different steps that the data fix only together.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Traded {
+    pub params: [StepParam; 2],
+    /// Their correlation in the joint fit; `None` for a combination the
+    /// data leave free (no correlation is defined there).
+    pub correlation: Option<f64>,
+}
+
+/// Located laws of different steps at one place, or at places the axial
+/// model cannot tell apart.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SharedPlace {
+    pub places: [&'static str; 2],
+    pub steps: [usize; 2],
+    /// `same` (one place), or the equivalent's `reciprocal`/`opposite`.
+    pub relation: &'static str,
+    /// At one place: `product` (multipliers) or `sum` (loads).
+    pub combined: Option<&'static str>,
+}
+
+/// What the joint fit of a found set fixes only together (module docs).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct JointReading {
+    pub traded: Vec<Traded>,
+    pub shared_places: Vec<SharedPlace>,
+    /// Located laws' strengths whose 95 % interval contains no effect.
+    pub no_effect_within: Vec<StepParam>,
+}
+
+impl JointReading {
+    pub fn is_empty(&self) -> bool {
+        self.traded.is_empty() && self.shared_places.is_empty() && self.no_effect_within.is_empty()
+    }
+}
+
+/// The reading of `path` on `data`; `None` for a path of fewer than two
+/// steps (a single law's own fit says what it fixes).
+pub fn joint_reading(path: &Path, data: &Dataset) -> Result<Option<JointReading>, FitError> {
+    let (Some(first), Some(last)) = (path.steps.first(), path.steps.last()) else {
+        return Ok(None);
+    };
+    if path.steps.len() < 2 {
+        return Ok(None);
+    }
+    let model = &last.1.model;
+    let n0 = first.0.on_top_of.len();
+    let free = free_params_of(model, &(n0..model.effects.len()).collect::<Vec<_>>());
+    // Step `i` added the effects from its `on_top_of` to its level's end.
+    let step_of_effect = |e: usize| {
+        path.steps
+            .iter()
+            .position(|(s, l, _)| (s.on_top_of.len()..l.model.effects.len()).contains(&e))
+            .unwrap_or(0)
+    };
+    let steps: Vec<usize> = free.iter().map(|f| step_of_effect(f.effect)).collect();
+    let joint = fit(model, data, None, &free, false)?;
+    let params: Vec<StepParam> = joint
+        .estimates
+        .iter()
+        .zip(&steps)
+        .zip(&free)
+        .map(|((e, &s), f)| StepParam {
+            step: s + 1,
+            of: path.steps[s]
+                .2
+                .as_ref()
+                .map_or_else(|| path.steps[s].0.name.clone(), |l| l.place.to_string()),
+            param: model.effects[f.effect].effect.params()[f.param].name,
+            value: e.value,
+            ci95: e.ci95,
+        })
+        .collect();
+    let laws: Vec<(usize, Place)> = path
+        .steps
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| p.2.as_ref().map(|l| (i + 1, l.correction.place)))
+        .collect();
+    let strengths = strength_nulls(&free, &steps, path);
+    Ok(Some(JointReading {
+        traded: traded(&params, &correlations(&joint, &free, data)),
+        shared_places: shared_places(&laws),
+        no_effect_within: no_effect_within(&params, &strengths),
+    }))
+}
+
+/// The joint fit's correlations: its matrix, or, when the data leave a
+/// combination free, `None` for the pairs within it (their correlation is
+/// not defined) and 0 elsewhere.
+fn correlations(joint: &FitResult, free: &[FreeParam], data: &Dataset) -> Vec<Vec<Option<f64>>> {
+    let k = free.len();
+    if let Some(r) = &joint.correlation {
+        return r
+            .iter()
+            .map(|row| row.iter().map(|&x| Some(x)).collect())
+            .collect();
+    }
+    let mut out = vec![vec![Some(0.0); k]; k];
+    let cases: Vec<&crate::data::Case> = data.cases.iter().collect();
+    let held = super::fit_uncertainty::physical_jacobian(&joint.model, free, &cases)
+        .and_then(|j| super::fit_uncertainty::inverse(&(j.transpose() * &j)))
+        .map(|i| i.held)
+        .unwrap_or_default();
+    for combo in held {
+        for &(a, _) in &combo {
+            for &(b, _) in &combo {
+                out[a][b] = None;
+            }
+        }
+    }
+    out
+}
+
+/// Pairs of parameters of different steps with `|r| >` [`TRADE_CORRELATION`]
+/// or in a free combination (`None`).
+pub fn traded(params: &[StepParam], r: &[Vec<Option<f64>>]) -> Vec<Traded> {
+    let mut out = Vec::new();
+    for (i, a) in params.iter().enumerate() {
+        for (j, b) in params.iter().enumerate().skip(i + 1) {
+            if a.step == b.step {
+                continue;
+            }
+            let rij = r[i][j];
+            if rij.is_none_or(|x| x.abs() > TRADE_CORRELATION) {
+                out.push(Traded {
+                    params: [a.clone(), b.clone()],
+                    correlation: rij,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Located laws (step number, place) at one place or at equivalent places.
+pub fn shared_places(laws: &[(usize, Place)]) -> Vec<SharedPlace> {
+    let mut out = Vec::new();
+    for (i, &(sa, a)) in laws.iter().enumerate() {
+        for &(sb, b) in &laws[i + 1..] {
+            let relation = if a == b {
+                Some("same")
+            } else {
+                equivalents(a)
+                    .iter()
+                    .find(|e| e.place == b.name())
+                    .map(|e| e.relation)
+            };
+            let Some(relation) = relation else { continue };
+            let additive = a.is_additive();
+            out.push(SharedPlace {
+                places: [a.name(), b.name()],
+                steps: [sa, sb],
+                relation,
+                combined: (relation == "same").then_some(if additive { "sum" } else { "product" }),
+            });
+        }
+    }
+    out
+}
+
+/// The value of a located law's strength `k` at which it does nothing
+/// (module docs), per free parameter; `None` for every other parameter.
+fn strength_nulls(free: &[FreeParam], steps: &[usize], path: &Path) -> Vec<Option<f64>> {
+    free.iter()
+        .zip(steps)
+        .map(|(f, &s)| {
+            let l = path.steps[s].2.as_ref()?;
+            (f.param == 0).then_some(())?;
+            no_effect_value(l.correction.form, l.correction.place.is_additive())
+        })
+        .collect()
+}
+
+/// The strength at which a law of `form` does nothing.
+pub fn no_effect_value(form: Form, additive: bool) -> Option<f64> {
+    match (form, additive) {
+        (_, true) | (Form::Linear | Form::Power, false) => Some(0.0),
+        (Form::Constant, false) => Some(1.0),
+        (Form::Proportional | Form::PowerLaw, false) => None,
+    }
+}
+
+/// Parameters whose 95 % interval contains their no-effect value.
+pub fn no_effect_within(params: &[StepParam], nulls: &[Option<f64>]) -> Vec<StepParam> {
+    params
+        .iter()
+        .zip(nulls)
+        .filter(|(p, n)| {
+            n.zip(p.ci95)
+                .is_some_and(|(n, ci)| (p.value - n).abs() <= ci)
+        })
+        .map(|(p, _)| p.clone())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn param(step: usize, value: f64, ci95: f64) -> StepParam {
+        StepParam {
+            step,
+            of: format!("step{step}"),
+            param: "k",
+            value,
+            ci95: Some(ci95),
+        }
+    }
+
+    /// Places no two of which are one place or stated equivalents.
+    fn apart() -> impl Strategy<Value = Vec<Place>> {
+        proptest::sample::subsequence(Place::ALL.to_vec(), 2..=4).prop_filter(
+            "no stated equivalents",
+            |ps| {
+                ps.iter().all(|a| {
+                    equivalents(*a)
+                        .iter()
+                        .all(|e| ps.iter().all(|b| b.name() != e.place))
+                })
+            },
+        )
+    }
+
+    /// A symmetric matrix with unit diagonal and off-diagonal `|r| <= 0.95`.
+    fn weak(k: usize, raw: &[f64]) -> Vec<Vec<Option<f64>>> {
+        let mut r = vec![vec![Some(1.0); k]; k];
+        let mut it = raw.iter();
+        for i in 0..k {
+            for j in i + 1..k {
+                let x = *it.next().unwrap();
+                r[i][j] = Some(x);
+                r[j][i] = Some(x);
+            }
+        }
+        r
+    }
+
+    proptest! {
+        /// A set at distinct places, with correlations within the
+        /// threshold and strengths clear of no effect, is given no flag.
+        #[test]
+        fn a_set_apart_with_weak_correlations_gets_no_flag(
+            places in apart(),
+            raw in proptest::collection::vec(-TRADE_CORRELATION..=TRADE_CORRELATION, 28),
+            values in proptest::collection::vec(0.2f64..5.0, 8),
+        ) {
+            // Two parameters per step, the strength well clear of 0 and 1.
+            let params: Vec<StepParam> = (0..2 * places.len())
+                .map(|i| param(i / 2 + 1, 1.0 + values[i], 0.1 * values[i]))
+                .collect();
+            let r = weak(params.len(), &raw);
+            let laws: Vec<(usize, Place)> =
+                places.iter().enumerate().map(|(i, &p)| (i + 1, p)).collect();
+            let nulls: Vec<Option<f64>> = params.iter().map(|_| Some(0.0)).collect();
+            let j = JointReading {
+                traded: traded(&params, &r),
+                shared_places: shared_places(&laws),
+                no_effect_within: no_effect_within(&params, &nulls),
+            };
+            prop_assert!(j.is_empty(), "{j:?}");
+        }
+
+        /// One strong pair across steps is flagged, exactly it; the same
+        /// correlation within one step is the law's own fit's business.
+        #[test]
+        fn one_strong_pair_across_steps_is_flagged(
+            raw in proptest::collection::vec(-0.9f64..=0.9, 6),
+            strong in 0.951f64..0.9999,
+            sign in prop_oneof![Just(-1.0), Just(1.0)],
+        ) {
+            let params: Vec<StepParam> =
+                (0..4).map(|i| param(i / 2 + 1, 2.0, 0.1)).collect();
+            let mut r = weak(4, &raw);
+            r[1][2] = Some(sign * strong);
+            r[2][1] = r[1][2];
+            r[0][1] = Some(sign * strong);
+            r[1][0] = r[0][1];
+            let t = traded(&params, &r);
+            prop_assert_eq!(t.len(), 1, "{:?}", t);
+            prop_assert_eq!((t[0].params[0].step, t[0].params[1].step), (1, 2));
+            prop_assert_eq!(t[0].correlation, Some(sign * strong));
+        }
+    }
+
+    #[test]
+    fn two_laws_at_one_place_multiply_and_loads_add() {
+        let s = shared_places(&[
+            (1, Place::BodyTranslation),
+            (2, Place::TailViscosity),
+            (3, Place::BodyTranslation),
+        ]);
+        assert_eq!(s.len(), 1, "{s:?}");
+        assert_eq!((s[0].steps, s[0].combined), ([1, 3], Some("product")));
+        let loads = shared_places(&[(1, Place::LoadForce), (2, Place::LoadForce)]);
+        assert_eq!(loads[0].combined, Some("sum"));
+        let eq = shared_places(&[(1, Place::TailTorque), (2, Place::BodyRotation)]);
+        assert_eq!((eq[0].relation, eq[0].combined), ("reciprocal", None));
+    }
+
+    #[test]
+    fn a_free_combination_is_traded_without_a_correlation() {
+        let params = [param(1, 2.0, 0.1), param(2, 3.0, 0.1)];
+        let r = vec![vec![Some(1.0), None], vec![None, Some(1.0)]];
+        let t = traded(&params, &r);
+        assert_eq!(t.len(), 1);
+        assert_eq!(t[0].correlation, None);
+    }
+
+    #[test]
+    fn the_no_effect_value_is_where_the_law_does_nothing() {
+        assert_eq!(no_effect_value(Form::Constant, false), Some(1.0));
+        assert_eq!(no_effect_value(Form::Linear, false), Some(0.0));
+        assert_eq!(no_effect_value(Form::Power, false), Some(0.0));
+        assert_eq!(no_effect_value(Form::PowerLaw, true), Some(0.0));
+        assert_eq!(no_effect_value(Form::PowerLaw, false), None);
+        let within = no_effect_within(
+            &[param(1, 0.02, 0.05), param(2, 0.2, 0.05)],
+            &[Some(0.0), Some(0.0)],
+        );
+        assert_eq!(within.len(), 1);
+        assert_eq!(within[0].step, 1);
+    }
+}
