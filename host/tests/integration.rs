@@ -15,6 +15,7 @@ mod data;
 mod data_cli;
 mod data_csv;
 mod discovery_features;
+mod discovery_joint;
 mod discovery_located;
 mod discovery_nulls;
 mod discovery_stagewise;

@@ -191,6 +191,31 @@ pub fn traded(params: &[StepParam], r: &[Vec<Option<f64>>]) -> Vec<Traded> {
     out
 }
 
+/// The traded pairs joined into groups that share a parameter (a set whose
+/// resistances all scale together trades every pair of its strengths:
+/// one combination, said once), each with its parameters in step order
+/// and its pairs.
+pub fn traded_groups(traded: &[Traded]) -> Vec<(Vec<StepParam>, Vec<&Traded>)> {
+    let mut groups: Vec<(Vec<StepParam>, Vec<&Traded>)> = Vec::new();
+    for t in traded {
+        let touching: Vec<usize> = (0..groups.len())
+            .filter(|&g| groups[g].0.iter().any(|p| t.params.contains(p)))
+            .collect();
+        let mut merged = (t.params.to_vec(), vec![t]);
+        for &g in touching.iter().rev() {
+            let (ps, ts) = groups.remove(g);
+            merged.0.extend(ps);
+            merged.1.extend(ts);
+        }
+        merged
+            .0
+            .sort_by(|a, b| (a.step, a.param).cmp(&(b.step, b.param)));
+        merged.0.dedup();
+        groups.push(merged);
+    }
+    groups
+}
+
 /// Located laws (step number, place) at one place or at equivalent places.
 pub fn shared_places(laws: &[(usize, Place)]) -> Vec<SharedPlace> {
     let mut out = Vec::new();
@@ -250,134 +275,4 @@ pub fn no_effect_within(params: &[StepParam], nulls: &[Option<f64>]) -> Vec<Step
         })
         .map(|(p, _)| p.clone())
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    fn param(step: usize, value: f64, ci95: f64) -> StepParam {
-        StepParam {
-            step,
-            of: format!("step{step}"),
-            param: "k",
-            value,
-            ci95: Some(ci95),
-        }
-    }
-
-    /// Places no two of which are one place or stated equivalents.
-    fn apart() -> impl Strategy<Value = Vec<Place>> {
-        proptest::sample::subsequence(Place::ALL.to_vec(), 2..=4).prop_filter(
-            "no stated equivalents",
-            |ps| {
-                ps.iter().all(|a| {
-                    equivalents(*a)
-                        .iter()
-                        .all(|e| ps.iter().all(|b| b.name() != e.place))
-                })
-            },
-        )
-    }
-
-    /// A symmetric matrix with unit diagonal and off-diagonal `|r| <= 0.95`.
-    fn weak(k: usize, raw: &[f64]) -> Vec<Vec<Option<f64>>> {
-        let mut r = vec![vec![Some(1.0); k]; k];
-        let mut it = raw.iter();
-        for i in 0..k {
-            for j in i + 1..k {
-                let x = *it.next().unwrap();
-                r[i][j] = Some(x);
-                r[j][i] = Some(x);
-            }
-        }
-        r
-    }
-
-    proptest! {
-        /// A set at distinct places, with correlations within the
-        /// threshold and strengths clear of no effect, is given no flag.
-        #[test]
-        fn a_set_apart_with_weak_correlations_gets_no_flag(
-            places in apart(),
-            raw in proptest::collection::vec(-TRADE_CORRELATION..=TRADE_CORRELATION, 28),
-            values in proptest::collection::vec(0.2f64..5.0, 8),
-        ) {
-            // Two parameters per step, the strength well clear of 0 and 1.
-            let params: Vec<StepParam> = (0..2 * places.len())
-                .map(|i| param(i / 2 + 1, 1.0 + values[i], 0.1 * values[i]))
-                .collect();
-            let r = weak(params.len(), &raw);
-            let laws: Vec<(usize, Place)> =
-                places.iter().enumerate().map(|(i, &p)| (i + 1, p)).collect();
-            let nulls: Vec<Option<f64>> = params.iter().map(|_| Some(0.0)).collect();
-            let j = JointReading {
-                traded: traded(&params, &r),
-                shared_places: shared_places(&laws),
-                no_effect_within: no_effect_within(&params, &nulls),
-            };
-            prop_assert!(j.is_empty(), "{j:?}");
-        }
-
-        /// One strong pair across steps is flagged, exactly it; the same
-        /// correlation within one step is the law's own fit's business.
-        #[test]
-        fn one_strong_pair_across_steps_is_flagged(
-            raw in proptest::collection::vec(-0.9f64..=0.9, 6),
-            strong in 0.951f64..0.9999,
-            sign in prop_oneof![Just(-1.0), Just(1.0)],
-        ) {
-            let params: Vec<StepParam> =
-                (0..4).map(|i| param(i / 2 + 1, 2.0, 0.1)).collect();
-            let mut r = weak(4, &raw);
-            r[1][2] = Some(sign * strong);
-            r[2][1] = r[1][2];
-            r[0][1] = Some(sign * strong);
-            r[1][0] = r[0][1];
-            let t = traded(&params, &r);
-            prop_assert_eq!(t.len(), 1, "{:?}", t);
-            prop_assert_eq!((t[0].params[0].step, t[0].params[1].step), (1, 2));
-            prop_assert_eq!(t[0].correlation, Some(sign * strong));
-        }
-    }
-
-    #[test]
-    fn two_laws_at_one_place_multiply_and_loads_add() {
-        let s = shared_places(&[
-            (1, Place::BodyTranslation),
-            (2, Place::TailViscosity),
-            (3, Place::BodyTranslation),
-        ]);
-        assert_eq!(s.len(), 1, "{s:?}");
-        assert_eq!((s[0].steps, s[0].combined), ([1, 3], Some("product")));
-        let loads = shared_places(&[(1, Place::LoadForce), (2, Place::LoadForce)]);
-        assert_eq!(loads[0].combined, Some("sum"));
-        let eq = shared_places(&[(1, Place::TailTorque), (2, Place::BodyRotation)]);
-        assert_eq!((eq[0].relation, eq[0].combined), ("reciprocal", None));
-    }
-
-    #[test]
-    fn a_free_combination_is_traded_without_a_correlation() {
-        let params = [param(1, 2.0, 0.1), param(2, 3.0, 0.1)];
-        let r = vec![vec![Some(1.0), None], vec![None, Some(1.0)]];
-        let t = traded(&params, &r);
-        assert_eq!(t.len(), 1);
-        assert_eq!(t[0].correlation, None);
-    }
-
-    #[test]
-    fn the_no_effect_value_is_where_the_law_does_nothing() {
-        assert_eq!(no_effect_value(Form::Constant, false), Some(1.0));
-        assert_eq!(no_effect_value(Form::Linear, false), Some(0.0));
-        assert_eq!(no_effect_value(Form::Power, false), Some(0.0));
-        assert_eq!(no_effect_value(Form::PowerLaw, true), Some(0.0));
-        assert_eq!(no_effect_value(Form::PowerLaw, false), None);
-        let within = no_effect_within(
-            &[param(1, 0.02, 0.05), param(2, 0.2, 0.05)],
-            &[Some(0.0), Some(0.0)],
-        );
-        assert_eq!(within.len(), 1);
-        assert_eq!(within[0].step, 1);
-    }
 }

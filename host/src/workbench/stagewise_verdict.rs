@@ -9,7 +9,8 @@
 use super::diagnosis::{Baseline, Verdict, VerdictKind};
 use super::discovery::Located;
 use super::stagewise::Path;
-use super::verdict_text::{fmt, joint_sentences, verdict_of};
+use super::stagewise_joint_text::joint_sentences;
+use super::verdict_text::{fmt, verdict_of};
 use crate::data::Dataset;
 
 /// Put the path into the verdict: its steps always; when the path goes

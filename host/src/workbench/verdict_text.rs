@@ -6,9 +6,7 @@ use super::design::Suggestion;
 use super::diagnosis::{Baseline, DiagnoseSettings, Verdict, VerdictKind};
 use super::discovery::Located;
 use super::stagewise::{Level, Path};
-use super::stagewise_joint::{JointReading, StepParam};
 use super::verdict::{Decision, Evidence};
-use crate::format::fmt_sig;
 
 /// A reduced chi-square in a note: 3 significant figures (`crate::format`).
 pub fn fmt(x: Option<f64>) -> String {
@@ -330,59 +328,4 @@ fn unexplained_verdict(
     }
     v.located = located;
     v
-}
-
-/// A parameter of a step: "step 2's body.E_x k = -0.98 +- 0.05".
-fn step_param(p: &StepParam) -> String {
-    let ci = p.ci95.map_or_else(
-        || " (no interval)".to_string(),
-        |c| format!(" ± {}", fmt_sig(c, 2)),
-    );
-    format!(
-        "step {}'s {} {} = {}{ci}",
-        p.step,
-        p.of,
-        p.param,
-        fmt_sig(p.value, 3)
-    )
-}
-
-/// What a found set's joint fit fixes only together, in sentences (empty
-/// when it fixes each part).
-pub fn joint_sentences(j: &JointReading) -> Vec<String> {
-    let mut out: Vec<String> = j
-        .traded
-        .iter()
-        .map(|t| {
-            let r = t.correlation.map_or_else(
-                || "they span a combination the data leave free".to_string(),
-                |r| format!("r = {r:+.3} in the joint fit of the steps"),
-            );
-            format!(
-                "the data fix the combination of {} and {}, not each ({r})",
-                step_param(&t.params[0]),
-                step_param(&t.params[1])
-            )
-        })
-        .collect();
-    out.extend(j.shared_places.iter().map(|s| {
-        let [a, b] = s.steps;
-        match s.combined {
-            Some(c) => format!(
-                "{} carries two laws (steps {a} and {b}): one place, whose {} is the {c} of the two",
-                s.places[0],
-                if c == "sum" { "load" } else { "multiplier" }
-            ),
-            None => format!(
-                "the laws of steps {a} ({}) and {b} ({}) are at places the axial model cannot tell apart ({}): together they act as one law",
-                s.places[0], s.places[1], s.relation
-            ),
-        }
-    }));
-    out.extend(
-        j.no_effect_within
-            .iter()
-            .map(|p| format!("the 95 % interval of {} contains no effect", step_param(p))),
-    );
-    out
 }
