@@ -46,4 +46,18 @@ fn candidates_and_located_laws_carry_the_same_score_fields_in_the_json() {
     // law's chi-square is below the baseline's, as its score says.
     let base_chi2 = json["baseline"]["chi2"].as_f64().unwrap();
     assert!(located[0]["chi2"].as_f64().unwrap() < base_chi2);
+    // The set of steps carries its joint reading; each parameter names a
+    // step of `verdict.steps` (from 1).
+    let steps = json["verdict"]["steps"].as_array().unwrap();
+    let joint = &json["verdict"]["joint"];
+    assert!(steps.len() >= 2, "{}", json["verdict"]);
+    for key in ["traded", "shared_places", "no_effect_within"] {
+        assert!(joint[key].is_array(), "{key}: {joint}");
+    }
+    for t in joint["traded"].as_array().unwrap() {
+        for p in t["params"].as_array().unwrap() {
+            let step = p["step"].as_u64().unwrap() as usize;
+            assert!((1..=steps.len()).contains(&step), "{t}");
+        }
+    }
 }
