@@ -109,9 +109,16 @@ pub fn joint_reading(path: &Path, data: &Dataset) -> Result<Option<JointReading>
         path.steps
             .iter()
             .position(|(s, l, _)| (s.on_top_of.len()..l.model.effects.len()).contains(&e))
-            .unwrap_or(0)
     };
-    let steps: Vec<usize> = free.iter().map(|f| step_of_effect(f.effect)).collect();
+    // Every effect beyond the starting model was added by a step; a path
+    // that says otherwise is not read rather than read wrong.
+    let Some(steps) = free
+        .iter()
+        .map(|f| step_of_effect(f.effect))
+        .collect::<Option<Vec<usize>>>()
+    else {
+        return Ok(None);
+    };
     let joint = fit(model, data, None, &free, false)?;
     let params: Vec<StepParam> = joint
         .estimates
@@ -143,9 +150,12 @@ pub fn joint_reading(path: &Path, data: &Dataset) -> Result<Option<JointReading>
     }))
 }
 
-/// The joint fit's correlations: its matrix, or, when the data leave a
-/// combination free, `None` for the pairs within it (their correlation is
-/// not defined) and 0 elsewhere.
+/// The joint fit's correlations: its matrix; or, when the data leave a
+/// combination free (the fit then gives none), those of the covariance on
+/// the constrained subspace ([`super::fit_uncertainty::inverse`], the
+/// information `J^T J` of the normalised residuals), with `None` for the
+/// pairs within a free combination (no correlation is defined there) and
+/// for every pair when the information has no usable inverse at all.
 fn correlations(joint: &FitResult, free: &[FreeParam], data: &Dataset) -> Vec<Vec<Option<f64>>> {
     let k = free.len();
     if let Some(r) = &joint.correlation {
@@ -154,15 +164,23 @@ fn correlations(joint: &FitResult, free: &[FreeParam], data: &Dataset) -> Vec<Ve
             .map(|row| row.iter().map(|&x| Some(x)).collect())
             .collect();
     }
-    let mut out = vec![vec![Some(0.0); k]; k];
     let cases: Vec<&crate::data::Case> = data.cases.iter().collect();
-    let held = super::fit_uncertainty::physical_jacobian(&joint.model, free, &cases)
+    let Some(inv) = super::fit_uncertainty::physical_jacobian(&joint.model, free, &cases)
         .and_then(|j| super::fit_uncertainty::inverse(&(j.transpose() * &j)))
-        .map(|i| i.held)
-        .unwrap_or_default();
-    for combo in held {
-        for &(a, _) in &combo {
-            for &(b, _) in &combo {
+    else {
+        return vec![vec![None; k]; k];
+    };
+    let c = &inv.cov;
+    let mut out: Vec<Vec<Option<f64>>> = (0..k)
+        .map(|i| {
+            (0..k)
+                .map(|j| Some(c[(i, j)] / (c[(i, i)] * c[(j, j)]).sqrt()).filter(|r| r.is_finite()))
+                .collect()
+        })
+        .collect();
+    for combo in &inv.held {
+        for &(a, _) in combo {
+            for &(b, _) in combo {
                 out[a][b] = None;
             }
         }
@@ -248,8 +266,7 @@ fn strength_nulls(free: &[FreeParam], steps: &[usize], path: &Path) -> Vec<Optio
     free.iter()
         .zip(steps)
         .map(|(f, &s)| {
-            let l = path.steps[s].2.as_ref()?;
-            (f.param == 0).then_some(())?;
+            let l = path.steps[s].2.as_ref().filter(|_| f.param == 0)?;
             no_effect_value(l.correction.form, l.correction.place.is_additive())
         })
         .collect()
