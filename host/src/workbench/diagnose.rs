@@ -128,7 +128,7 @@ pub fn diagnose(
             if s.discover {
                 say("stagewise: searching again on top of each step");
                 let path = super::stagewise::stagewise(model, &evidence, &v, &floor, s)?;
-                super::stagewise_verdict::conclude(path, &mut v, &baseline);
+                super::stagewise_verdict::conclude(path, &mut v, &baseline, data);
             }
             super::stagewise_verdict::dedup_located(&mut v.located);
             v

@@ -93,6 +93,10 @@ pub struct Verdict {
     /// The stagewise search's steps in order, each with the model beneath
     /// it (`on_top_of`); empty when nothing is needed or nothing is found.
     pub steps: Vec<Step>,
+    /// For a set of two steps or more: what its joint fit fixes only
+    /// together (parameters of different steps that trade, places with two
+    /// laws, strengths whose interval spans no effect; `null` otherwise).
+    pub joint: Option<super::stagewise_joint::JointReading>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

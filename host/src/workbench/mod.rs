@@ -27,6 +27,8 @@ pub mod robust;
 pub mod score;
 pub mod stagewise;
 pub mod stagewise_backfit;
+pub mod stagewise_joint;
+mod stagewise_joint_text;
 pub mod stagewise_verdict;
 pub mod synth;
 pub mod verdict;

@@ -2,18 +2,40 @@
 //! order, and (when the path goes beyond the single-step verdict) the kind,
 //! the named catalogue effects, the located laws and the note
 //! ([`super::verdict_text::stagewise_note`]); the verdict when one case
-//! stands alone; and the located list without repeats.
+//! stands alone; and the located list without repeats. A set of two steps
+//! or more carries what its joint fit fixes only together
+//! ([`super::stagewise_joint`]), in `verdict.joint` and the note.
 
 use super::diagnosis::{Baseline, Verdict, VerdictKind};
 use super::discovery::Located;
 use super::stagewise::Path;
+use super::stagewise_joint_text::joint_sentences;
 use super::verdict_text::{fmt, verdict_of};
+use crate::data::Dataset;
 
 /// Put the path into the verdict: its steps always; when the path goes
 /// beyond the single-step verdict (or is the first thing found), the kind,
-/// the named effects, the located laws in order and the note.
-pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline) {
+/// the named effects, the located laws in order and the note; for a set of
+/// two steps or more, what its joint fit fixes only together.
+pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline, data: &Dataset) {
     v.steps = path.steps.iter().map(|p| p.0.clone()).collect();
+    put_path(&path, v, base);
+    let joint = super::stagewise_joint::joint_reading(&path, data);
+    match joint {
+        Ok(Some(j)) => {
+            let said = joint_sentences(&j);
+            if !said.is_empty() {
+                v.note = format!("{}. Jointly: {}", v.note, said.join("; "));
+            }
+            v.joint = Some(j);
+        }
+        Ok(None) => {}
+        // The set stands as found; only what its parts fix is unknown.
+        Err(e) => v.note = format!("{} (the steps could not be refitted jointly: {e})", v.note),
+    }
+}
+
+fn put_path(path: &Path, v: &mut Verdict, base: &Baseline) {
     let Some(last) = path.steps.last().map(|p| &p.1) else {
         return;
     };
@@ -43,7 +65,7 @@ pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline) {
     v.indistinguishable.clear();
     v.suggestion = None;
     v.located = path.steps.iter().filter_map(|p| p.2.clone()).collect();
-    v.note = super::verdict_text::stagewise_note(base, &path, last);
+    v.note = super::verdict_text::stagewise_note(base, path, last);
 }
 
 /// `none-needed` because one case stands alone ([`super::robust`]).

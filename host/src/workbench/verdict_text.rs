@@ -91,6 +91,7 @@ pub(crate) fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
         effect_explained_fraction: None,
         located: Vec::new(),
         steps: Vec::new(),
+        joint: None,
     }
 }
 

@@ -1,0 +1,231 @@
+//! What a found set's joint fit fixes only together
+//! (src/workbench/stagewise_joint.rs), on the drawn two-effect truth (body
+//! law and shear-thinning oil, host/tests/fixtures/drawn.rs) at held-out
+//! seeds of the recovery study: a set whose strengths trade, a set that
+//! lists one place twice, and a right set at distinct places that gets no
+//! flag; and the rules themselves as properties.
+
+use crate::fixtures::diagnosed::diagnose_drawn_pair;
+use proptest::prelude::*;
+use swimbot::effects::correction::Form;
+use swimbot::effects::place::Place;
+use swimbot::workbench::diagnose::VerdictKind;
+use swimbot::workbench::discovery::interpret::equivalents;
+use swimbot::workbench::stagewise_joint::*;
+
+/// Seed 205: the tail's viscosity, the body's E_x and its D_x all fall to
+/// a few hundredths of RFT's (the whole swimmer's resistance scaled down
+/// together: in Stokes flow the kinematics only see ratios), and each was
+/// called located. The joint fit says their strengths trade, in the JSON
+/// and the note; the set still reaches the floor, so the kind stays.
+#[test]
+fn strengths_that_trade_across_steps_are_said_so() {
+    let d = diagnose_drawn_pair(205);
+    let v = &d.verdict;
+    assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
+    let j = v
+        .joint
+        .as_ref()
+        .expect("a set of steps has a joint reading");
+    assert!(!j.traded.is_empty(), "{}", v.note);
+    for t in &j.traded {
+        assert_ne!(t.params[0].step, t.params[1].step, "{t:?}");
+        assert!(t.correlation.is_none_or(|r| r.abs() > 0.95), "{t:?}");
+    }
+    let body_d_x = j
+        .traded
+        .iter()
+        .any(|t| t.params.iter().any(|p| p.of == "body.D_x"));
+    assert!(body_d_x, "{:?}", j.traded);
+    assert!(
+        v.note.contains("the data fix a combination of") && v.note.contains("not each"),
+        "{}",
+        v.note
+    );
+}
+
+/// Seed 207: body.D_x is located twice, in two features. It is one place
+/// whose multiplier is the product of the two laws, said so.
+#[test]
+fn one_place_listed_twice_is_one_place_with_a_product() {
+    let d = diagnose_drawn_pair(207);
+    let v = &d.verdict;
+    let j = v.joint.as_ref().expect("a joint reading");
+    let twice: Vec<_> = v.located.iter().filter(|l| l.place == "body.D_x").collect();
+    assert_eq!(twice.len(), 2, "{}", v.note);
+    let shared = j
+        .shared_places
+        .iter()
+        .find(|s| s.places == ["body.D_x", "body.D_x"])
+        .unwrap_or_else(|| panic!("{:?}", j.shared_places));
+    assert_eq!(
+        (shared.relation, shared.combined),
+        ("same", Some("product"))
+    );
+    assert!(
+        v.note.contains("body.D_x carries two laws") && v.note.contains("the product of the two"),
+        "{}",
+        v.note
+    );
+}
+
+/// Seed 208: the body law on the body and the oil on the tail's viscosity,
+/// at distinct places: the joint fit fixes each, and nothing is flagged.
+#[test]
+fn a_right_set_at_distinct_places_gets_no_flag() {
+    let d = diagnose_drawn_pair(208);
+    let v = &d.verdict;
+    assert!(
+        v.located.iter().any(|l| l.place == "body.D_x"),
+        "{}",
+        v.note
+    );
+    assert!(
+        v.located.iter().any(|l| l.place == "tail.viscosity"),
+        "{}",
+        v.note
+    );
+    let j = v.joint.as_ref().expect("a joint reading");
+    assert!(j.is_empty(), "{j:?}: {}", v.note);
+    assert!(!v.note.contains("Jointly"), "{}", v.note);
+}
+
+fn param(step: usize, value: f64, ci95: f64) -> StepParam {
+    StepParam {
+        step,
+        of: format!("step{step}"),
+        param: "k",
+        value,
+        ci95: Some(ci95),
+    }
+}
+
+/// Places no two of which are one place or stated equivalents.
+fn apart() -> impl Strategy<Value = Vec<Place>> {
+    proptest::sample::subsequence(Place::ALL.to_vec(), 2..=4).prop_filter(
+        "no stated equivalents",
+        |ps| {
+            ps.iter().all(|a| {
+                equivalents(*a)
+                    .iter()
+                    .all(|e| ps.iter().all(|b| b.name() != e.place))
+            })
+        },
+    )
+}
+
+/// A symmetric matrix with unit diagonal and off-diagonal `|r| <= 0.95`.
+fn weak(k: usize, raw: &[f64]) -> Vec<Vec<Option<f64>>> {
+    let mut r = vec![vec![Some(1.0); k]; k];
+    let pairs = (0..k).flat_map(|i| (i + 1..k).map(move |j| (i, j)));
+    for ((i, j), &x) in pairs.zip(raw) {
+        r[i][j] = Some(x);
+        r[j][i] = Some(x);
+    }
+    r
+}
+
+proptest! {
+    /// A set at distinct places, with correlations within the
+    /// threshold and strengths clear of no effect, is given no flag.
+    #[test]
+    fn a_set_apart_with_weak_correlations_gets_no_flag(
+        places in apart(),
+        raw in proptest::collection::vec(-TRADE_CORRELATION..=TRADE_CORRELATION, 28),
+        values in proptest::collection::vec(0.2f64..5.0, 8),
+    ) {
+        // Two parameters per step, the strength well clear of 0 and 1.
+        let params: Vec<StepParam> = (0..2 * places.len())
+            .map(|i| param(i / 2 + 1, 1.0 + values[i], 0.1 * values[i]))
+            .collect();
+        let r = weak(params.len(), &raw);
+        let laws: Vec<(usize, Place)> =
+            places.iter().enumerate().map(|(i, &p)| (i + 1, p)).collect();
+        let nulls: Vec<Option<f64>> = params.iter().map(|_| Some(0.0)).collect();
+        let j = JointReading {
+            traded: traded(&params, &r),
+            shared_places: shared_places(&laws),
+            no_effect_within: no_effect_within(&params, &nulls),
+        };
+        prop_assert!(j.is_empty(), "{j:?}");
+    }
+
+    /// One strong pair across steps is flagged, exactly it; the same
+    /// correlation within one step is the law's own fit's business.
+    #[test]
+    fn one_strong_pair_across_steps_is_flagged(
+        raw in proptest::collection::vec(-0.9f64..=0.9, 6),
+        strong in 0.951f64..0.9999,
+        sign in prop_oneof![Just(-1.0), Just(1.0)],
+    ) {
+        let params: Vec<StepParam> =
+            (0..4).map(|i| param(i / 2 + 1, 2.0, 0.1)).collect();
+        let mut r = weak(4, &raw);
+        r[1][2] = Some(sign * strong);
+        r[2][1] = r[1][2];
+        r[0][1] = Some(sign * strong);
+        r[1][0] = r[0][1];
+        let t = traded(&params, &r);
+        prop_assert_eq!(t.len(), 1, "{:?}", t);
+        prop_assert_eq!((t[0].params[0].step, t[0].params[1].step), (1, 2));
+        prop_assert_eq!(t[0].correlation, Some(sign * strong));
+    }
+}
+
+#[test]
+fn two_laws_at_one_place_multiply_and_loads_add() {
+    let s = shared_places(&[
+        (1, Place::BodyTranslation),
+        (2, Place::TailViscosity),
+        (3, Place::BodyTranslation),
+    ]);
+    assert_eq!(s.len(), 1, "{s:?}");
+    assert_eq!((s[0].steps, s[0].combined), ([1, 3], Some("product")));
+    let loads = shared_places(&[(1, Place::LoadForce), (2, Place::LoadForce)]);
+    assert_eq!(loads[0].combined, Some("sum"));
+    let eq = shared_places(&[(1, Place::TailTorque), (2, Place::BodyRotation)]);
+    assert_eq!((eq[0].relation, eq[0].combined), ("reciprocal", None));
+}
+
+/// Three strengths that scale together trade pairwise: one group.
+#[test]
+fn pairs_sharing_a_parameter_are_one_combination() {
+    let p = [param(1, 2.0, 0.1), param(2, 3.0, 0.1), param(3, 4.0, 0.1)];
+    let strong = vec![vec![Some(0.99); 3]; 3];
+    let t = traded(&p, &strong);
+    assert_eq!(t.len(), 3);
+    let g = traded_groups(&t);
+    assert_eq!(g.len(), 1);
+    assert_eq!(g[0].0.iter().map(|p| p.step).collect::<Vec<_>>(), [1, 2, 3]);
+    assert_eq!(g[0].1.len(), 3);
+    // Two separate pairs stay two.
+    let p4 = [p[0].clone(), p[1].clone(), p[2].clone(), param(4, 1.0, 0.1)];
+    let mut r = vec![vec![Some(0.0); 4]; 4];
+    r[0][1] = Some(0.99);
+    r[2][3] = Some(-0.99);
+    assert_eq!(traded_groups(&traded(&p4, &r)).len(), 2);
+}
+
+#[test]
+fn a_free_combination_is_traded_without_a_correlation() {
+    let params = [param(1, 2.0, 0.1), param(2, 3.0, 0.1)];
+    let r = vec![vec![Some(1.0), None], vec![None, Some(1.0)]];
+    let t = traded(&params, &r);
+    assert_eq!(t.len(), 1);
+    assert_eq!(t[0].correlation, None);
+}
+
+#[test]
+fn the_no_effect_value_is_where_the_law_does_nothing() {
+    assert_eq!(no_effect_value(Form::Constant, false), Some(1.0));
+    assert_eq!(no_effect_value(Form::Linear, false), Some(0.0));
+    assert_eq!(no_effect_value(Form::Power, false), Some(0.0));
+    assert_eq!(no_effect_value(Form::PowerLaw, true), Some(0.0));
+    assert_eq!(no_effect_value(Form::PowerLaw, false), None);
+    let within = no_effect_within(
+        &[param(1, 0.02, 0.05), param(2, 0.2, 0.05)],
+        &[Some(0.0), Some(0.0)],
+    );
+    assert_eq!(within.len(), 1);
+    assert_eq!(within[0].step, 1);
+}
