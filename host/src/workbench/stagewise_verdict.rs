@@ -25,7 +25,7 @@ pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline, data: &Dataset) {
         Ok(Some(j)) => {
             let said = joint_sentences(&j);
             if !said.is_empty() {
-                v.note = format!("{}. Jointly: {}", v.note, said.join("; "));
+                v.note = format!("{}. Jointly: {}.", v.note, said.join("; "));
             }
             v.joint = Some(j);
         }
