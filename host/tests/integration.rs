@@ -15,6 +15,7 @@ mod data;
 mod data_cli;
 mod data_csv;
 mod discovery;
+mod discovery_pairs;
 mod formula_input;
 mod hardening;
 mod hidden_effect;
