@@ -26,7 +26,7 @@
 //! The cycle repeats until no step changes (at most [`MAX_CHANGES`]).
 //! When the set is then still above the floor, or needs three steps or more
 //! to reach it, two laws placed from scratch at every pair of places are
-//! tried ([`pairs`]) and replace the set only at the floor with a key lower
+//! tried (`pairs.rs`) and replace the set only at the floor with a key lower
 //! by the margin. The cycle can only lose or exchange steps; the pair search
 //! can turn one step into two, never an empty path into a step, so a null
 //! dataset whose stagewise search took no step stays without one.
