@@ -18,6 +18,7 @@ mod discovery_features;
 mod discovery_joint;
 mod discovery_located;
 mod discovery_nulls;
+mod discovery_pairs;
 mod discovery_stagewise;
 mod discovery_verdict;
 mod discovery_write;

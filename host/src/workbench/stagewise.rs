@@ -23,7 +23,9 @@
 //! charges make a null dataset gain no step.
 //!
 //! A path of two steps or more is then backfitted
-//! ([`super::stagewise_backfit`]): each step re-located on top of the others.
+//! ([`super::stagewise_backfit`]): each step re-located on top of the others;
+//! a path left above the floor (one step or more) is also set against the
+//! best pairs of laws placed from scratch.
 //!
 //! References: T. Hastie, R. Tibshirani & J. Friedman, *The Elements of
 //! Statistical Learning*, 2nd ed. (2009), sec. 3.3.3 (forward stagewise);
@@ -196,6 +198,15 @@ fn repeats(l: &Located, seen: &[Located]) -> bool {
         .any(|o| o.place == l.place && o.feature == l.feature && o.form == l.form)
 }
 
+/// The search's settings for a step on top of a level: fewer exact refits
+/// than the first search (five at most).
+pub(super) fn step_settings(s: &DiagnoseSettings) -> super::discovery::DiscoverySettings {
+    super::discovery::DiscoverySettings {
+        top: s.discovery.top.min(5),
+        ..s.discovery.clone()
+    }
+}
+
 /// Every proposal on top of `prev`: the located laws and the catalogue
 /// effects not yet in the model.
 pub(super) fn proposals(
@@ -211,10 +222,7 @@ pub(super) fn proposals(
         k: prev.k,
         floor,
     };
-    let settings = super::discovery::DiscoverySettings {
-        top: s.discovery.top.min(5),
-        ..s.discovery.clone()
-    };
+    let settings = step_settings(s);
     let fresh;
     let d = match done {
         Some(d) => d,

@@ -23,119 +23,37 @@
 //!   refits of a search all sit at one place on the drawn two-effect truth,
 //!   so the single best proposal never tries another (issue 23).
 //!
-//! The cycle repeats until no step changes (at most [`MAX_CHANGES`]). The
-//! path can only lose or exchange steps, never gain one, so a null dataset
-//! whose stagewise search took no step stays without one.
+//! The cycle repeats until no step changes (at most [`MAX_CHANGES`]).
+//! When the set is then still above the floor, or needs three steps or more
+//! to reach it, two laws placed from scratch at every pair of places are
+//! tried (`pairs.rs`) and replace the set only at the floor with a key lower
+//! by the margin. The cycle can only lose or exchange steps; the pair search
+//! can turn one step into two, never an empty path into a step, so a null
+//! dataset whose stagewise search took no step stays without one.
 //!
 //! References: T. Hastie & R. Tibshirani, *Generalized Additive Models*
 //! (1990), ch. 4 (backfitting); T. Hastie, R. Tibshirani & J. Friedman, *The
 //! Elements of Statistical Learning*, 2nd ed. (2009), sec. 9.1.1.
 
-use super::candidate::{candidates, cross_validated_mare};
+mod pairs;
+mod set;
+
 use super::compare::compare;
 use super::diagnosis::DiagnoseSettings;
 use super::discovery::places::{best_at_each_place, AtPlace};
-use super::discovery::{explained_fraction, interpretation_of, Located, Reference};
-use super::fit::{fit, free_params_of, Estimate, FitError, FitResult};
+use super::discovery::{discover_on, explained_fraction, Located, Reference, Table};
+use super::fit::FitError;
 use super::robust::t_deviance_of;
-use super::score::Deviance;
-use super::stagewise::{best_taken, n_obs, proposals, step_of, Floor, Level, Steps, MIN_SHARE};
+use super::stagewise::{
+    best_taken, n_obs, proposals, step_settings, Floor, Level, Steps, MIN_SHARE,
+};
 use crate::data::Dataset;
 use crate::effects::EffectInstance;
 use crate::model::Model;
+use set::{joint, members, rebuild, with_values, Joint, Member};
 
 /// Most changes (drops or replacements) in one backfit (6).
 pub const MAX_CHANGES: usize = 6;
-
-/// One step of the set: the effects it adds, and the law (for a located
-/// step) or the catalogue name.
-#[derive(Clone)]
-struct Member {
-    insts: Vec<EffectInstance>,
-    located: Option<Located>,
-    name: String,
-    /// `2 ln M`: the charge for having chosen it among `M`.
-    charge: f64,
-}
-
-impl Member {
-    /// The same catalogue effect, or a law at the same place: which form
-    /// and feature a place takes is the parsimony rule's business
-    /// ([`super::verdict_rules::parsimonious`]), not backfitting's.
-    fn same(&self, other: &Member) -> bool {
-        match (&self.located, &other.located) {
-            (Some(a), Some(b)) => a.place == b.place,
-            (None, None) => self.name == other.name,
-            _ => false,
-        }
-    }
-}
-
-/// A set of members fitted jointly on top of the starting model.
-struct Joint {
-    fit: FitResult,
-    k: usize,
-    at_floor: bool,
-    key: f64,
-}
-
-fn joint(model0: &Model, set: &[Member], data: &Dataset, floor: Floor) -> Result<Joint, FitError> {
-    let mut m = model0.clone();
-    for inst in set.iter().flat_map(|s| &s.insts) {
-        m = m.with_effect(inst.clone());
-    }
-    let added: Vec<usize> = (model0.effects.len()..m.effects.len()).collect();
-    let free = free_params_of(&m, &added);
-    let fit = fit(&m, data, None, &free, false)?;
-    let k = free.len();
-    let at_floor = floor(k).is_some_and(|f| fit.chi2 <= f);
-    let charges: f64 = set.iter().map(|s| s.charge).sum();
-    let key = Deviance::of_fit(&fit)
-        .aicc(n_obs(data), k)
-        .unwrap_or(f64::INFINITY)
-        + charges;
-    Ok(Joint {
-        fit,
-        k,
-        at_floor,
-        key,
-    })
-}
-
-/// The members with the values of a joint fit.
-fn with_values(set: &[Member], model0: &Model, j: &Joint) -> Vec<Member> {
-    let mut at = model0.effects.len();
-    set.iter()
-        .map(|s| {
-            let mut s = s.clone();
-            for inst in &mut s.insts {
-                *inst = j.fit.model.effects[at].clone();
-                at += 1;
-            }
-            s
-        })
-        .collect()
-}
-
-fn members(model0: &Model, path: &Steps, laws: usize) -> Vec<Member> {
-    let n_cat = candidates(model0, true).len().max(1) as f64;
-    let mut prev = model0.effects.len();
-    path.iter()
-        .map(|(step, level, located)| {
-            let insts = level.model.effects[prev..].to_vec();
-            prev = level.model.effects.len();
-            Member {
-                insts,
-                located: located.clone(),
-                name: step.name.clone(),
-                charge: match located {
-                    Some(_) => 2.0 * (laws.max(1) as f64).ln(),
-                    None => 2.0 * n_cat.ln(),
-                },
-            }
-        })
-        .collect()
-}
 
 /// Backfit `path` (module docs); `laws` is the number of laws a search
 /// screens. `None` when no step changes.
@@ -147,19 +65,28 @@ pub fn backfit(
     s: &DiagnoseSettings,
     laws: usize,
 ) -> Result<Option<Steps>, FitError> {
-    if path.len() < 2 || path.iter().all(|p| p.2.is_none()) {
+    if path.is_empty() {
         return Ok(None);
     }
+    let ctx = Ctx {
+        model0,
+        data,
+        floor,
+        s,
+        laws,
+    };
     let mut set = members(model0, path, laws);
     let mut cur = joint(model0, &set, data, floor)?;
     let mut changes = 0;
-    while changes < MAX_CHANGES {
-        let Some((next, j)) = one_change(model0, data, &set, &cur, floor, s, laws)? else {
-            break;
-        };
-        set = next;
-        cur = j;
-        changes += 1;
+    if path.len() >= 2 && path.iter().any(|p| p.2.is_some()) {
+        changes += ctx.cycle(&mut set, &mut cur, MAX_CHANGES)?;
+    }
+    if pairs::wanted(&set, &cur, floor) {
+        if let Some((next, j)) = pairs::best_pair(&ctx, &cur)? {
+            set = next;
+            cur = j;
+            changes += 1;
+        }
     }
     if changes == 0 {
         return Ok(None);
@@ -170,14 +97,11 @@ pub fn backfit(
 
 /// The first drop or replacement that lowers the key, trying each step.
 fn one_change(
-    model0: &Model,
-    data: &Dataset,
+    ctx: &Ctx,
     set: &[Member],
     cur: &Joint,
-    floor: Floor,
-    s: &DiagnoseSettings,
-    laws: usize,
 ) -> Result<Option<(Vec<Member>, Joint)>, FitError> {
+    let (model0, data, floor) = (ctx.model0, ctx.data, ctx.floor);
     let valued = with_values(set, model0, cur);
     for i in 0..valued.len() {
         let mut others = valued.clone();
@@ -188,15 +112,23 @@ fn one_change(
         }
         let others = with_values(&others, model0, &fo);
         let level = level_of(&fo, data)?;
-        let seen: Vec<Located> = others.iter().filter_map(|m| m.located.clone()).collect();
-        let list = proposals(&level, data, &seen, floor, s, None)?;
-        let ctx = Ctx {
-            model0,
-            data,
+        // One response table for the model of the others: the search on
+        // top of them and the best law at each place both read it.
+        let table = Table::build(&level.model, data)?;
+        let reference = Reference {
+            chi2: level.chi2,
+            k: level.k,
             floor,
-            s,
-            laws,
         };
+        let done = discover_on(
+            &table,
+            &level.model,
+            data,
+            &reference,
+            &step_settings(ctx.s),
+        )?;
+        let seen: Vec<Located> = others.iter().filter_map(|m| m.located.clone()).collect();
+        let list = proposals(&level, data, &seen, floor, ctx.s, Some(&done))?;
         if let Some(p) = best_taken(list, &level, n_obs(data), floor(0)) {
             let new = Member {
                 insts: p.level.model.effects[level.model.effects.len()..].to_vec(),
@@ -213,7 +145,7 @@ fn one_change(
                 }
             }
         }
-        if let Some(x) = ctx.elsewhere(&others, &fo, &out, cur)? {
+        if let Some(x) = ctx.elsewhere(&table, &others, &fo, &out, cur)? {
             return Ok(Some(x));
         }
     }
@@ -230,6 +162,26 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
+    /// Drops and exchanges until none applies or `most` were made; the
+    /// number made.
+    fn cycle(
+        &self,
+        set: &mut Vec<Member>,
+        cur: &mut Joint,
+        most: usize,
+    ) -> Result<usize, FitError> {
+        let mut changes = 0;
+        while changes < most {
+            let Some((next, j)) = one_change(self, set, cur)? else {
+                break;
+            };
+            *set = next;
+            *cur = j;
+            changes += 1;
+        }
+        Ok(changes)
+    }
+
     /// `2 ln M` for a law chosen among the `laws` screened.
     fn law_charge(&self) -> f64 {
         2.0 * (self.laws.max(1) as f64).ln()
@@ -269,13 +221,14 @@ impl Ctx<'_> {
     /// at one place, so the single best proposal never tried another).
     fn elsewhere(
         &self,
+        table: &Table,
         others: &[Member],
         fo: &Joint,
         out: &Member,
         cur: &Joint,
     ) -> Result<Option<(Vec<Member>, Joint)>, FitError> {
         let seen: Vec<&Located> = others.iter().filter_map(|m| m.located.as_ref()).collect();
-        let tried = best_at_each_place(&fo.fit.model, self.data, fo.k, &self.s.discovery)?;
+        let tried = best_at_each_place(table, self.data, fo.k, &self.s.discovery);
         let mut best: Option<(&AtPlace, Vec<Member>, Joint)> = None;
         for at in &tried {
             let c = at.screened.correction;
@@ -347,87 +300,4 @@ fn level_of(j: &Joint, data: &Dataset) -> Result<Level, FitError> {
         minimised: j.fit.t_deviance,
         at_floor: j.at_floor,
     })
-}
-
-/// The path of a backfitted set: each step's level is the starting model
-/// with the steps up to it at the joint values, scored as it stands
-/// (cross-validated by refitting all their parameters on each fold).
-fn rebuild(
-    model0: &Model,
-    data: &Dataset,
-    set: &[Member],
-    estimates: &[Estimate],
-    floor: Floor,
-) -> Result<Steps, FitError> {
-    let n = n_obs(data);
-    let mut estimates = estimates.iter();
-    let mut prev = Level {
-        model: model0.clone(),
-        chi2: f64::INFINITY,
-        k: 0,
-        mare: f64::INFINITY,
-        cv_mare: f64::INFINITY,
-        chi2_reduced: None,
-        t_deviance: f64::INFINITY,
-        minimised: None,
-        at_floor: false,
-    };
-    let mut out: Steps = Vec::new();
-    for m in set {
-        let mut model = prev.model.clone();
-        for inst in &m.insts {
-            model = model.with_effect(inst.clone());
-        }
-        let added: Vec<usize> = (model0.effects.len()..model.effects.len()).collect();
-        let free = free_params_of(&model, &added);
-        let k = free.len();
-        let cmp = compare(&model, data, k)?;
-        let level = Level {
-            cv_mare: cross_validated_mare(&model, data, &free),
-            chi2: cmp.summary.chi2,
-            k,
-            mare: cmp.summary.mare,
-            chi2_reduced: cmp.summary.chi2_reduced,
-            t_deviance: t_deviance_of(&model, data)?,
-            minimised: Deviance::of_model(&model, data, cmp.summary.chi2)?.minimised,
-            at_floor: floor(k).is_some_and(|f| cmp.summary.chi2 <= f),
-            model,
-        };
-        let own: Vec<Estimate> = estimates.by_ref().take(k - prev.k).cloned().collect();
-        let located = m.located.as_ref().map(|l| restate(l, &level, own, data, n));
-        let (kind, name) = match &located {
-            Some(l) => ("located", l.describe()),
-            None => ("catalogue", m.name.clone()),
-        };
-        out.push((
-            step_of(kind, name, &prev, &level, n),
-            level.clone(),
-            located,
-        ));
-        prev = level;
-    }
-    Ok(out)
-}
-
-/// A law restated at its backfitted values and level.
-fn restate(l: &Located, level: &Level, own: Vec<Estimate>, data: &Dataset, n: usize) -> Located {
-    let values = &level
-        .model
-        .effects
-        .last()
-        .expect("a law adds one effect")
-        .values;
-    let mut out = l.clone();
-    out.params = own;
-    out.score.mare = level.mare;
-    out.score.cv_mare = level.cv_mare;
-    out.score.chi2 = level.chi2;
-    out.score.chi2_reduced = level.chi2_reduced;
-    out.score.deviance = level.minimised;
-    out.score.aicc = level.deviance().aicc(n, level.k);
-    out.score.at_noise_floor = level.at_floor;
-    out.t_deviance = level.t_deviance;
-    out.interpretation = interpretation_of(l.correction, values, data);
-    out.model = level.model.clone();
-    out
 }

@@ -41,7 +41,7 @@ use crate::effects::place::Part;
 use crate::effects::EffectInstance;
 use crate::model::Model;
 use rayon::prelude::*;
-use screen::Table;
+pub use screen::Table;
 use search::{corrections, cv_mare, fit_on_table, screen_one};
 use serde::Serialize;
 
@@ -136,20 +136,31 @@ pub fn discover(
     reference: &Reference,
     s: &DiscoverySettings,
 ) -> Result<Discovery, FitError> {
-    let table = Table::build(model, data)?;
+    discover_on(&Table::build(model, data)?, model, data, reference, s)
+}
+
+/// [`discover`] on a response table already built for `model` (a caller
+/// that also wants the best law at each place builds it once).
+pub fn discover_on(
+    table: &Table,
+    model: &Model,
+    data: &Dataset,
+    reference: &Reference,
+    s: &DiscoverySettings,
+) -> Result<Discovery, FitError> {
     let n_cases = data.cases.len();
     let all: Vec<usize> = (0..table.obs.len()).collect();
     let stride = n_cases.div_ceil(s.screen_cases.max(1)).max(1);
     let screen_set: Vec<usize> = all
         .iter()
         .copied()
-        .filter(|&o| table.obs[o].case % stride == 0)
+        .filter(|&o| table.obs[o].case.is_multiple_of(stride))
         .collect();
-    let list = corrections(&table, data);
+    let list = corrections(table, data);
     let n_screen = screen_set.len();
     let mut screened: Vec<_> = list
         .par_iter()
-        .map(|c| screen_one(&table, c, data, &screen_set))
+        .map(|c| screen_one(table, c, data, &screen_set))
         .filter(|x| x.chi2.is_finite())
         .collect();
     let key = |x: &search::Screened| {
@@ -186,11 +197,11 @@ pub fn discover(
         .into_par_iter()
         .filter_map(|mut x| {
             if stride > 1 {
-                let (p, f) = fit_on_table(&table, x.correction, &x.xs, &all, &x.params);
+                let (p, f) = fit_on_table(table, x.correction, &x.xs, &all, &x.params);
                 x.params = p;
                 x.chi2 = f;
             }
-            let cv = cv_mare(&table, &x, n_cases, folds);
+            let cv = cv_mare(table, &x, n_cases, folds);
             refit(model, data, x, cv, reference, floor0).ok()
         })
         .collect();

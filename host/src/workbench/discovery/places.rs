@@ -24,27 +24,29 @@ pub struct AtPlace {
     cv_mare: f64,
 }
 
-/// The best screened law at each sensitive place on top of `model`
-/// (`k`: free parameters already fitted, counted in the ranking's AICc).
+/// The best screened law at each sensitive place on the response `table`
+/// of a model (`k`: free parameters already fitted, counted in the
+/// ranking's AICc). The table is the caller's: the search on the same model
+/// ([`super::discover_on`]) reads it too, and building it is most of the
+/// cost on small data.
 pub fn best_at_each_place(
-    model: &Model,
+    table: &Table,
     data: &Dataset,
     k: usize,
     s: &DiscoverySettings,
-) -> Result<Vec<AtPlace>, FitError> {
-    let table = Table::build(model, data)?;
+) -> Vec<AtPlace> {
     let n_cases = data.cases.len();
     let all: Vec<usize> = (0..table.obs.len()).collect();
     let stride = n_cases.div_ceil(s.screen_cases.max(1)).max(1);
     let sub: Vec<usize> = all
         .iter()
         .copied()
-        .filter(|&o| table.obs[o].case % stride == 0)
+        .filter(|&o| table.obs[o].case.is_multiple_of(stride))
         .collect();
     let key = |x: &Screened| aicc(x.chi2, sub.len(), k + x.params.len()).unwrap_or(x.chi2);
-    let screened: Vec<Screened> = corrections(&table, data)
+    let screened: Vec<Screened> = corrections(table, data)
         .par_iter()
-        .map(|c| screen_one(&table, c, data, &sub))
+        .map(|c| screen_one(table, c, data, &sub))
         .filter(|x| x.chi2.is_finite())
         .collect();
     let folds = if n_cases <= 10 { n_cases } else { s.folds };
@@ -57,18 +59,18 @@ pub fn best_at_each_place(
         let Some(x) = best else { continue };
         let mut x = x.clone();
         if stride > 1 {
-            let (p, f) = fit_on_table(&table, x.correction, &x.xs, &all, &x.params);
+            let (p, f) = fit_on_table(table, x.correction, &x.xs, &all, &x.params);
             x.params = p;
             x.chi2 = f;
         }
-        let cv = cv_mare(&table, &x, n_cases, folds);
+        let cv = cv_mare(table, &x, n_cases, folds);
         out.push(AtPlace {
             place,
             screened: x,
             cv_mare: cv,
         });
     }
-    Ok(out)
+    out
 }
 
 impl AtPlace {
