@@ -1,7 +1,7 @@
 //! What a found set's joint fit fixes only together
 //! (src/workbench/stagewise_joint.rs), on the drawn two-effect truth (body
 //! law and shear-thinning oil, host/tests/fixtures/drawn.rs) at held-out
-//! seeds of the recovery study: a set whose strengths trade, a set that
+//! seeds of the recovery study (and tuning seed 108): a set whose strengths trade, a set that
 //! lists one place twice, and a right set at distinct places that gets no
 //! flag; and the rules themselves as properties.
 
@@ -44,26 +44,33 @@ fn strengths_that_trade_across_steps_are_said_so() {
     );
 }
 
-/// Seed 207: body.D_x is located twice, in two features. It is one place
-/// whose multiplier is the product of the two laws, said so.
+/// Drawn seed 108 (the tuning range; 207, used before, is placed right
+/// since the pair search): tail.viscosity is located twice, in the shear
+/// rate and in a tail ratio. It is one place whose multiplier is the
+/// product of the two laws, said so.
 #[test]
 fn one_place_listed_twice_is_one_place_with_a_product() {
-    let d = diagnose_drawn_pair(207);
+    let d = diagnose_drawn_pair(108);
     let v = &d.verdict;
     let j = v.joint.as_ref().expect("a joint reading");
-    let twice: Vec<_> = v.located.iter().filter(|l| l.place == "body.D_x").collect();
+    let twice: Vec<_> = v
+        .located
+        .iter()
+        .filter(|l| l.place == "tail.viscosity")
+        .collect();
     assert_eq!(twice.len(), 2, "{}", v.note);
     let shared = j
         .shared_places
         .iter()
-        .find(|s| s.places == ["body.D_x", "body.D_x"])
+        .find(|s| s.places == ["tail.viscosity", "tail.viscosity"])
         .unwrap_or_else(|| panic!("{:?}", j.shared_places));
     assert_eq!(
         (shared.relation, shared.combined),
         ("same", Some("product"))
     );
     assert!(
-        v.note.contains("body.D_x carries two laws") && v.note.contains("the product of the two"),
+        v.note.contains("tail.viscosity carries two laws")
+            && v.note.contains("the product of the two"),
         "{}",
         v.note
     );
