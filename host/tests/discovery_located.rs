@@ -139,3 +139,33 @@ fn a_tail_drag_rising_near_the_wall_is_placed_on_the_tail() {
     );
     assert_no_repeats(v);
 }
+
+/// Issue 23.5 on held-out seed 207 of the recovery study: body-confinement
+/// with a tail drag rising near the wall. The catalogue pair
+/// body-confinement + buoyancy reaches the floor too (a free trim stands in
+/// for the drag), and was identified without the located law being weighed
+/// against it; now the catalogue effect with the law on top of it wins by
+/// the margin plus the search's charge, as a law alone must.
+#[test]
+fn a_catalogue_pair_at_the_floor_is_weighed_against_the_effect_with_a_law() {
+    let seed = 207;
+    let truth = Model::base()
+        .with_effect(parse_effect_spec("body-confinement").unwrap())
+        .with_effect(drawn::tail_wall_drag(seed));
+    let data = drawn_data(&truth, &drawn::design(&swimbot::data::paper(), seed), seed);
+    let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
+    let v = &d.verdict;
+    assert_eq!(v.kind, VerdictKind::Identified, "{}", v.note);
+    assert_eq!(v.effect.as_deref(), Some("body-confinement"), "{}", v.note);
+    let l = v.located.first().unwrap_or_else(|| panic!("{}", v.note));
+    let on_the_drag = l.place == "tail.drag"
+        || l.equivalent
+            .iter()
+            .any(|e| e.place == "tail.drag" && e.relation == "opposite");
+    assert!(on_the_drag, "{}", v.note);
+    assert!(
+        l.feature.is_some_and(|f| WALL_FEATURES.contains(&f)),
+        "{}",
+        v.note
+    );
+}

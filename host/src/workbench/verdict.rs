@@ -16,7 +16,11 @@
 //! - With no catalogue effect at the floor, a catalogue effect that removes
 //!   at least half of the excess and lowers MARE is kept, and what it
 //!   leaves is located on top of it: **identified** with a remainder. It
-//!   competes on AICc with a correction located alone.
+//!   competes on AICc with a correction located alone; when only a
+//!   catalogue *pair* reaches the floor, the catalogue effect with the law
+//!   on top of it must beat the pair by the margin plus the search's charge
+//!   `2 ln M`, as a law alone must beat a catalogue effect (issue 23.5: a
+//!   free trim had stood in for a tail drag near the wall).
 //! - Two supported findings within the AICc margin that are not the same
 //!   finding (same place, equivalent feature) are **indistinguishable**,
 //!   with the new case that separates them best.
@@ -183,6 +187,20 @@ pub fn decide<'a>(e: &Evidence<'a>, s: &DiagnoseSettings) -> Decision<'a> {
             let cat = cb.score.aicc.unwrap_or(f64::INFINITY);
             if aicc(l) + s.clear_margin + charge <= cat {
                 return finding(e, l, d, None, Some((cb, cat - aicc(l))), s);
+            }
+        }
+        // A catalogue pair at the floor against the best catalogue effect
+        // with the law located on top of it (issue 23.5: a free trim stood
+        // in for a tail drag near the wall): the law pays the same charge.
+        if let Some((rl, r)) = e
+            .remainder
+            .and_then(|r| parsimonious(&r.discovery, base, s.clear_margin, data).map(|l| (l, r)))
+        {
+            let charge = 2.0 * (r.discovery.screened.max(1) as f64).ln();
+            let cat = cb.score.aicc.unwrap_or(f64::INFINITY);
+            if aicc(rl) + s.clear_margin + charge <= cat {
+                let c = e.ranking.iter().find(|c| c.effect == r.effect);
+                return finding(e, rl, &r.discovery, c, Some((cb, cat - aicc(rl))), s);
             }
         }
         let decided = catalogue(e, pool, cb, s);
