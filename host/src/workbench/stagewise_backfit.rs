@@ -41,6 +41,7 @@ mod set;
 use super::compare::compare;
 use super::diagnosis::DiagnoseSettings;
 use super::discovery::places::{best_at_each_place, AtPlace};
+use super::discovery::search::Screen;
 use super::discovery::{discover_on, explained_fraction, Located, Reference, Table};
 use super::fit::FitError;
 use super::robust::t_deviance_of;
@@ -115,6 +116,7 @@ fn one_change(
         // One response table for the model of the others: the search on
         // top of them and the best law at each place both read it.
         let table = Table::build(&level.model, data)?;
+        let screen = Screen::run(&table, data, ctx.s.discovery.screen_cases);
         let reference = Reference {
             chi2: level.chi2,
             k: level.k,
@@ -122,6 +124,7 @@ fn one_change(
         };
         let done = discover_on(
             &table,
+            &screen,
             &level.model,
             data,
             &reference,
@@ -145,7 +148,7 @@ fn one_change(
                 }
             }
         }
-        if let Some(x) = ctx.elsewhere(&table, &others, &fo, &out, cur)? {
+        if let Some(x) = ctx.elsewhere(&table, &screen, &others, &fo, &out, cur)? {
             return Ok(Some(x));
         }
     }
@@ -222,13 +225,14 @@ impl Ctx<'_> {
     fn elsewhere(
         &self,
         table: &Table,
+        screen: &Screen,
         others: &[Member],
         fo: &Joint,
         out: &Member,
         cur: &Joint,
     ) -> Result<Option<(Vec<Member>, Joint)>, FitError> {
         let seen: Vec<&Located> = others.iter().filter_map(|m| m.located.as_ref()).collect();
-        let tried = best_at_each_place(table, self.data, fo.k, &self.s.discovery);
+        let tried = best_at_each_place(table, screen, self.data, fo.k, &self.s.discovery);
         let mut best: Option<(&AtPlace, Vec<Member>, Joint)> = None;
         for at in &tried {
             let c = at.screened.correction;

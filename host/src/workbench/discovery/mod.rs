@@ -42,7 +42,7 @@ use crate::effects::EffectInstance;
 use crate::model::Model;
 use rayon::prelude::*;
 pub use screen::Table;
-use search::{corrections, cv_mare, fit_on_table, screen_one};
+use search::{cv_mare, Screen};
 use serde::Serialize;
 
 /// Settings of [`discover`]; `Default` gives the documented values.
@@ -136,33 +136,25 @@ pub fn discover(
     reference: &Reference,
     s: &DiscoverySettings,
 ) -> Result<Discovery, FitError> {
-    discover_on(&Table::build(model, data)?, model, data, reference, s)
+    let table = Table::build(model, data)?;
+    let screen = Screen::run(&table, data, s.screen_cases);
+    discover_on(&table, &screen, model, data, reference, s)
 }
 
-/// [`discover`] on a response table already built for `model` (a caller
-/// that also wants the best law at each place builds it once).
+/// [`discover`] on a response table already built and screened for
+/// `model` (a caller that also wants the best law at each place builds
+/// both once).
 pub fn discover_on(
     table: &Table,
+    screen: &Screen,
     model: &Model,
     data: &Dataset,
     reference: &Reference,
     s: &DiscoverySettings,
 ) -> Result<Discovery, FitError> {
     let n_cases = data.cases.len();
-    let all: Vec<usize> = (0..table.obs.len()).collect();
-    let stride = n_cases.div_ceil(s.screen_cases.max(1)).max(1);
-    let screen_set: Vec<usize> = all
-        .iter()
-        .copied()
-        .filter(|&o| table.obs[o].case.is_multiple_of(stride))
-        .collect();
-    let list = corrections(table, data);
-    let n_screen = screen_set.len();
-    let mut screened: Vec<_> = list
-        .par_iter()
-        .map(|c| screen_one(table, c, data, &screen_set))
-        .filter(|x| x.chi2.is_finite())
-        .collect();
+    let n_screen = screen.sub.len();
+    let mut screened = screen.screened.clone();
     let key = |x: &search::Screened| {
         aicc(x.chi2, n_screen, reference.k + x.params.len()).unwrap_or(x.chi2)
     };
@@ -196,11 +188,7 @@ pub fn discover_on(
     let mut located: Vec<Located> = screened
         .into_par_iter()
         .filter_map(|mut x| {
-            if stride > 1 {
-                let (p, f) = fit_on_table(table, x.correction, &x.xs, &all, &x.params);
-                x.params = p;
-                x.chi2 = f;
-            }
+            screen.on_all(table, &mut x);
             let cv = cv_mare(table, &x, n_cases, folds);
             refit(model, data, x, cv, reference, floor0).ok()
         })
@@ -210,7 +198,7 @@ pub fn discover_on(
         k(a).total_cmp(&k(b))
     });
     Ok(Discovery {
-        screened: list.len(),
+        screened: screen.n_laws,
         located,
     })
 }

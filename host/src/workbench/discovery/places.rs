@@ -9,13 +9,12 @@
 //! Inference*, 2nd ed. (2002) (AICc ranking).
 
 use super::screen::Table;
-use super::search::{corrections, cv_mare, fit_on_table, screen_one, Screened};
+use super::search::{cv_mare, Screen, Screened};
 use super::{aicc, refit, DiscoverySettings, Located, Reference};
 use crate::data::Dataset;
 use crate::effects::place::Place;
 use crate::model::Model;
 use crate::workbench::fit::FitError;
-use rayon::prelude::*;
 
 /// The best screened law at one place, with what its exact refit needs.
 pub struct AtPlace {
@@ -26,43 +25,30 @@ pub struct AtPlace {
 
 /// The best screened law at each sensitive place on the response `table`
 /// of a model (`k`: free parameters already fitted, counted in the
-/// ranking's AICc). The table is the caller's: the search on the same model
-/// ([`super::discover_on`]) reads it too, and building it is most of the
-/// cost on small data.
+/// ranking's AICc). The table and its screen are the caller's: the search
+/// on the same model ([`super::discover_on`]) reads them too, and building
+/// them is most of the cost on small data.
 pub fn best_at_each_place(
     table: &Table,
+    screen: &Screen,
     data: &Dataset,
     k: usize,
     s: &DiscoverySettings,
 ) -> Vec<AtPlace> {
     let n_cases = data.cases.len();
-    let all: Vec<usize> = (0..table.obs.len()).collect();
-    let stride = n_cases.div_ceil(s.screen_cases.max(1)).max(1);
-    let sub: Vec<usize> = all
-        .iter()
-        .copied()
-        .filter(|&o| table.obs[o].case.is_multiple_of(stride))
-        .collect();
-    let key = |x: &Screened| aicc(x.chi2, sub.len(), k + x.params.len()).unwrap_or(x.chi2);
-    let screened: Vec<Screened> = corrections(table, data)
-        .par_iter()
-        .map(|c| screen_one(table, c, data, &sub))
-        .filter(|x| x.chi2.is_finite())
-        .collect();
+    let n_sub = screen.sub.len();
+    let key = |x: &Screened| aicc(x.chi2, n_sub, k + x.params.len()).unwrap_or(x.chi2);
     let folds = if n_cases <= 10 { n_cases } else { s.folds };
     let mut out: Vec<AtPlace> = Vec::new();
     for place in Place::ALL {
-        let best = screened
+        let best = screen
+            .screened
             .iter()
             .filter(|x| x.correction.place == place)
             .min_by(|a, b| key(a).total_cmp(&key(b)));
         let Some(x) = best else { continue };
         let mut x = x.clone();
-        if stride > 1 {
-            let (p, f) = fit_on_table(table, x.correction, &x.xs, &all, &x.params);
-            x.params = p;
-            x.chi2 = f;
-        }
+        screen.on_all(table, &mut x);
         let cv = cv_mare(table, &x, n_cases, folds);
         out.push(AtPlace {
             place,

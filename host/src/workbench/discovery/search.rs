@@ -15,6 +15,7 @@ use crate::data::Dataset;
 use crate::effects::correction::{Form, LocatedCorrection};
 use crate::effects::place::Place;
 use crate::effects::Effect;
+use rayon::prelude::*;
 
 /// One screened candidate: a correction with its table-fitted parameters.
 #[derive(Clone)]
@@ -244,5 +245,57 @@ pub fn cv_mare(table: &Table, s: &Screened, n_cases: usize, folds: usize) -> f64
         f64::NAN
     } else {
         errs.iter().sum::<f64>() / errs.len() as f64
+    }
+}
+
+/// Every law screened once on a response table: on every `stride`-th case
+/// when the data hold more than `screen_cases` cases, in the order of
+/// [`corrections`]. The search and the best law at each place read the
+/// same screen of one model (backfitting asks both of every model it
+/// tries), so it is run once.
+pub struct Screen {
+    /// Every observation of the table.
+    pub all: Vec<usize>,
+    /// The observations screened on.
+    pub sub: Vec<usize>,
+    stride: usize,
+    /// How many laws were screened (the `M` of the charge `2 ln M`).
+    pub n_laws: usize,
+    /// The laws whose screened chi-square is finite.
+    pub screened: Vec<Screened>,
+}
+
+impl Screen {
+    pub fn run(table: &Table, data: &Dataset, screen_cases: usize) -> Screen {
+        let all: Vec<usize> = (0..table.obs.len()).collect();
+        let stride = data.cases.len().div_ceil(screen_cases.max(1)).max(1);
+        let sub: Vec<usize> = all
+            .iter()
+            .copied()
+            .filter(|&o| table.obs[o].case.is_multiple_of(stride))
+            .collect();
+        let list = corrections(table, data);
+        let screened = list
+            .par_iter()
+            .map(|c| screen_one(table, c, data, &sub))
+            .filter(|x| x.chi2.is_finite())
+            .collect();
+        Screen {
+            all,
+            sub,
+            stride,
+            n_laws: list.len(),
+            screened,
+        }
+    }
+
+    /// `x` refitted on every observation when it was screened on a
+    /// subsample.
+    pub fn on_all(&self, table: &Table, x: &mut Screened) {
+        if self.stride > 1 {
+            let (p, f) = fit_on_table(table, x.correction, &x.xs, &self.all, &x.params);
+            x.params = p;
+            x.chi2 = f;
+        }
     }
 }

@@ -29,6 +29,7 @@ use super::Ctx;
 use crate::effects::EffectInstance;
 use crate::workbench::compare::compare;
 use crate::workbench::discovery::places::{best_at_each_place, AtPlace};
+use crate::workbench::discovery::search::Screen;
 use crate::workbench::discovery::{aicc, Located, Reference, Table};
 use crate::workbench::fit::FitError;
 use crate::workbench::stagewise::Floor;
@@ -74,7 +75,8 @@ pub(super) fn best_pair(ctx: &Ctx, cur: &Joint) -> Result<Option<(Vec<Member>, J
         k: 0,
         floor,
     };
-    let firsts = best_at_each_place(&table0, data, 0, ds);
+    let screen0 = Screen::run(&table0, data, ds.screen_cases);
+    let firsts = best_at_each_place(&table0, &screen0, data, 0, ds);
     let mut pairs: Vec<Pair> = firsts
         .par_iter()
         .filter_map(|a| {
@@ -83,7 +85,8 @@ pub(super) fn best_pair(ctx: &Ctx, cur: &Joint) -> Result<Option<(Vec<Member>, J
             let table = Table::build(&first.model, data).ok()?;
             let k1 = first.params.len();
             let n = table.obs.len();
-            let seconds = best_at_each_place(&table, data, k1, ds);
+            let screen = Screen::run(&table, data, ds.screen_cases);
+            let seconds = best_at_each_place(&table, &screen, data, k1, ds);
             Some(
                 seconds
                     .into_iter()
