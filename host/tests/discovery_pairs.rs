@@ -5,19 +5,8 @@
 //! 301-310 of docs/discovery.md's recovery study, where the path before the
 //! pair search stopped above the noise floor.
 
-use crate::fixtures::drawn;
-use swimbot::model::Model;
-use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, Verdict, VerdictKind};
-use swimbot::workbench::synth::{generate, SynthSettings};
-
-const BODY_FEATURES: &[&str] = &["body_ratio", "body_gap_ratio", "body_over_gap"];
-
-/// Whether the verdict locates a law at `place` in one of `feats`.
-fn placed(v: &Verdict, place: &str, feats: &[&str]) -> bool {
-    v.located
-        .iter()
-        .any(|l| l.place == place && l.feature.is_some_and(|f| feats.contains(&f)))
-}
+use crate::fixtures::diagnosed::{diagnose_drawn_pair, placed, BODY_FEATURES};
+use swimbot::workbench::diagnose::VerdictKind;
 
 /// Seed 308: the first step was a drive slip in the shear rate that took a
 /// share of both effects, then `tail.c_t` in a body ratio; no one-for-one
@@ -26,17 +15,7 @@ fn placed(v: &Verdict, place: &str, feats: &[&str]) -> bool {
 /// jointly and backfits them: both at their places, at the floor.
 #[test]
 fn a_path_stuck_above_the_floor_is_replaced_by_the_pair_at_the_places() {
-    let seed = 308;
-    let truth = Model::base()
-        .with_effect(drawn::body_law(seed))
-        .with_effect(drawn::shear_law(seed));
-    let design = drawn::design(&swimbot::data::paper(), seed);
-    let settings = SynthSettings {
-        seed,
-        ..Default::default()
-    };
-    let data = generate(&truth, &design, settings).unwrap();
-    let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
+    let d = diagnose_drawn_pair(308);
     let v = &d.verdict;
     assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
     assert!(placed(v, "body.D_x", BODY_FEATURES), "{}", v.note);

@@ -5,11 +5,12 @@
 use crate::fixtures;
 
 use fixtures::diagnosed::{
-    assert_no_repeats, base_with, data, diagnose_drawn_pair, placed, run, BODY_FEATURES,
+    assert_no_repeats, assert_pair_located_at_floor, base_with, data, diagnose_drawn_pair, placed,
+    run, BODY_FEATURES,
 };
 use fixtures::truths;
 use swimbot::model::Model;
-use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, VerdictKind};
+use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings};
 
 /// Two out-of-catalogue truths at different places (body drag, tail
 /// viscosity): the stagewise search takes several steps, each fitted on top
@@ -51,13 +52,7 @@ fn two_missing_effects_at_once_are_found_in_steps_each_on_top_of_the_last() {
 fn two_drawn_effects_at_once_are_both_placed_after_backfitting() {
     let seed = 31;
     let d = diagnose_drawn_pair(seed);
-    let v = &d.verdict;
-    assert!(placed(v, "body.D_x", BODY_FEATURES), "{}", v.note);
-    assert!(placed(v, "tail.viscosity", &["shear_rate"]), "{}", v.note);
-    assert!(v.steps.iter().all(|s| s.kind == "located"), "{}", v.note);
-    assert!(v.steps.last().unwrap().at_noise_floor, "{}", v.note);
-    assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
-    assert_no_repeats(v);
+    assert_pair_located_at_floor(&d.verdict);
 }
 
 /// Backfitting above the floor (issue 23 item 1), on a synth seed (139)
@@ -92,11 +87,5 @@ fn backfitting_above_the_floor_moves_the_body_law_back_to_the_body() {
 fn backfitting_tries_the_best_law_at_each_other_place() {
     let seed = 203;
     let d = diagnose_drawn_pair(seed);
-    let v = &d.verdict;
-    assert!(placed(v, "body.D_x", BODY_FEATURES), "{}", v.note);
-    assert!(placed(v, "tail.viscosity", &["shear_rate"]), "{}", v.note);
-    assert!(v.steps.iter().all(|s| s.kind == "located"), "{}", v.note);
-    assert!(v.steps.last().unwrap().at_noise_floor, "{}", v.note);
-    assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
-    assert_no_repeats(v);
+    assert_pair_located_at_floor(&d.verdict);
 }
