@@ -13,6 +13,7 @@ use crate::pwm;
 use crate::rate::{HallConfig, RateConfig};
 use crate::run_log::store::{StoreLayout, BLOCK_LEN};
 use crate::set_point::SetPointKeys;
+use crate::supervisor::{JamConfig, SupervisorConfig, ThermalConfig, ThermalNode};
 
 /// Crystal on the board (Raspberry Pi Pico compatible).
 pub const XOSC_HZ: u32 = 12_000_000;
@@ -88,8 +89,70 @@ pub const CONTROLLER: ControllerConfig = ControllerConfig::DEFAULT;
 /// start and interlocks (`rate::control`).
 pub const RATE: RateConfig = RateConfig {
     motor: CONTROLLER,
+    max_motor_mv: MOTOR_RATED_MV,
     ..RateConfig::DEFAULT
 };
+/// The motor's rated voltage: a 6 mm coreless motor run from one Li-Po
+/// cell is rated 3.7 V (the cell's nominal). Both the rate controller's
+/// clamp and the supervisor's ceiling.
+pub const MOTOR_RATED_MV: u16 = 3_700;
+
+/// The motor supervisor (`supervisor`), independent of the controller.
+///
+/// Jam: 1.5 V moves the heaviest tail of the paper's (5.1 V/Hz over a
+/// 0.175 V intercept, `rate::control`) at 0.26 Hz; fewer than 4 of the 16
+/// quadrature steps a turn in 1.75 s is below 0.14 Hz (a rotor at 0.1 Hz
+/// makes at most 3), while the lowest set-point, 0.2 Hz, makes at least 5
+/// (4 if the window holds the first edge, whose step is unknown). A tail
+/// jammed at full drive stops 1.75-2.0 s after the drive reached 1.5 V.
+///
+/// Heat: the motor (7 ohm, 6 x 11 mm, coreless) is in the class of
+/// Faulhaber's 0615 and maxon's 6 mm motors, whose datasheets give
+/// winding -> housing about 10 K/W with a 2-3 s time constant, housing ->
+/// air about 75 K/W with about 100 s, and 85-125 C winding limits: class
+/// values, not this motor's. At 1 Hz the direct-drive tail holds the motor
+/// near stall, so a healthy run dissipates `V_motor V_cell / R`, about
+/// 1.7-1.8 W at the 3.0 V target: in free air (75 K/W) its winding would
+/// pass 150 C, yet the paper's robot ran 10-minute runs. Its housing sheds
+/// heat into the seal, the coupler and the oil: 25 K/W is assumed (a
+/// healthy 1.8 W run settles 63 K up), with 70 K allowed (105 C from a
+/// 35 C sealed body). Measure the can's rise over a 10-minute run on the
+/// bench (firmware/README.md, bring-up) and enter `rise / P` here. A
+/// turning motor held at the 3.7 V ceiling from a 4.0 V cell (2.0 W)
+/// passes the limit after 7.3 minutes (host test); a new start waits until
+/// the winding is back under 35 K. The driver is
+/// a SOT-23 N-MOSFET (about 50 mohm at 3.3 V gate drive) and a SOD-123
+/// Schottky freewheel diode (0.3 V for about a quarter of each period:
+/// about 100 mohm equivalent at 0.5 A), 250 K/W junction -> air, 1 s,
+/// 80 K allowed (125 C junction from 45 C).
+pub const SUPERVISOR: SupervisorConfig = SupervisorConfig {
+    max_motor_mv: MOTOR_RATED_MV as u32,
+    jam: JamConfig {
+        drive_min_mv: 1_500,
+        window_us: 1_750_000,
+        min_steps: 4,
+    },
+    thermal: ThermalConfig {
+        motor_resistance_mohm: 7_000,
+        winding: ThermalNode {
+            r_th_mk_per_w: 10_000,
+            tau_ms: 2_500,
+        },
+        housing: ThermalNode {
+            r_th_mk_per_w: 25_000,
+            tau_ms: 100_000,
+        },
+        winding_rise_max_mk: 70_000,
+        winding_restart_mk: 35_000,
+        driver_resistance_mohm: 150,
+        driver: ThermalNode {
+            r_th_mk_per_w: 250_000,
+            tau_ms: 1_000,
+        },
+        driver_rise_max_mk: 80_000,
+    },
+};
+
 /// The set-point after power-up: 1 Hz, inside the paper's observed
 /// 0.57-1.50 Hz (Table II). The remote's keys change it.
 pub const DEFAULT_RATE_MHZ: u32 = 1_000;
@@ -203,6 +266,8 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
         (tag(b"PWIN"), (PAIRING.window_us / 1_000) as u32),
         (tag(b"PHLD"), (PAIRING.hold_us / 1_000) as u32),
         (tag(b"VBUS"), VBUS_SENSE_GPIO as u32),
+        (tag(b"VMAX"), SUPERVISOR.max_motor_mv),
+        (tag(b"JAMW"), SUPERVISOR.jam.window_us / 1_000),
     ];
     let mut out = [0u32; 2 + 2 * EXPORT_PAIRS];
     out[0] = tag(b"SWBD");
@@ -215,7 +280,7 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
     }
     out
 };
-pub const EXPORT_PAIRS: usize = 40;
+pub const EXPORT_PAIRS: usize = 42;
 
 #[cfg(test)]
 mod tests {

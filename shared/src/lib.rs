@@ -26,6 +26,7 @@ pub mod rate;
 pub mod reset_memory;
 pub mod run_log;
 pub mod set_point;
+pub mod supervisor;
 pub mod usb_cdc;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
@@ -37,3 +38,4 @@ pub use nec::{AddressFilter, Level, NecDecoder, NecEvent};
 pub use pairing::{Pairing, PairingConfig};
 pub use pwm::PwmTiming;
 pub use set_point::{SetPointKey, SetPointKeys};
+pub use supervisor::{Supervisor, SupervisorConfig};

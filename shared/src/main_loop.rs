@@ -10,6 +10,10 @@
 //! pass; only the hardware around it differs. What turns the command and
 //! the battery status into a duty is a [`MotorControl`]: the chip's rate
 //! control ([`ChipControl`]) by default; the sim's voltage mode in its place.
+//! Between its duty and the PWM stands the motor supervisor
+//! (`supervisor`), which keeps its own state: it caps the mean voltage at
+//! the motor's rating, and stops the motor on a jam or on its heat
+//! estimate, whatever the controller asked.
 //!
 //! "Motor on", for the battery monitor's release-at-rest rule, means the
 //! duty applied since the previous pass is non-zero: that is what loaded
@@ -24,6 +28,7 @@ use crate::nec::Level;
 use crate::pairing::{Pairing, PairingConfig};
 use crate::rate::{HallConfig, RateConfig, RateController, RateEstimator, RateEvent};
 use crate::set_point::SetPointKeys;
+use crate::supervisor::{Supervisor, SupervisorConfig};
 
 mod motor_control;
 mod output;
@@ -57,6 +62,8 @@ pub struct MainLoopConfig {
     pub dormant_after_us: u64,
     /// How the robot is paired with its remote after power-up.
     pub pairing: PairingConfig,
+    /// The motor's limits, guarded independently of the controller.
+    pub supervisor: SupervisorConfig,
 }
 
 impl MainLoopConfig {
@@ -70,6 +77,7 @@ impl MainLoopConfig {
         sample_period_us: board::BATTERY_SAMPLE_PERIOD_US,
         dormant_after_us: board::DORMANT_AFTER_IDLE_US,
         pairing: board::PAIRING,
+        supervisor: board::SUPERVISOR,
     };
 }
 
@@ -86,6 +94,7 @@ pub struct MainLoop<C = ChipControl> {
     remote: Remote,
     monitor: BatteryMonitor,
     control: C,
+    supervisor: Supervisor,
     next_sample_us: Option<u64>,
     duty: Duty,
     state: MotorState,
@@ -132,6 +141,7 @@ impl<C: MotorControl> MainLoop<C> {
             remote: Remote::new(cfg.keys),
             monitor,
             control,
+            supervisor: Supervisor::new(cfg.supervisor),
             next_sample_us: None,
             duty: Duty::ZERO,
             state: MotorState::Off,
@@ -201,6 +211,10 @@ impl<C: MotorControl> MainLoop<C> {
         &self.monitor
     }
 
+    pub fn supervisor(&self) -> &Supervisor {
+        &self.supervisor
+    }
+
     /// One pass at `now_us`: feed `edges` (receiver level and the timer's
     /// low 32 bits, oldest first) and `hall` (oldest first), call
     /// `read_adc` if a battery reading is due (at most every
@@ -246,6 +260,7 @@ impl<C: MotorControl> MainLoop<C> {
         }
         for e in hall {
             self.control.hall_edge(e);
+            self.supervisor.hall_edge(e);
         }
         let mut sample = None;
         if self.next_sample_us.is_none_or(|due| now_us >= due) {
@@ -257,12 +272,29 @@ impl<C: MotorControl> MainLoop<C> {
         }
         let battery = self.monitor.status();
         // USB connected: Off every pass (Off wins over any On).
+        // An overheated motor refuses On until it has cooled.
         let applied = if self.usb_connected {
             Some(Command::Off)
+        } else if command == Some(Command::On) && self.supervisor.refuses_start() {
+            None
         } else {
             command
         };
-        let out = self.control.step(now_us, applied, battery);
+        let mut out = self.control.step(now_us, applied, battery);
+        if out.event == Some(RateEvent::Motor(Event::Started)) {
+            self.supervisor.started();
+        }
+        let senses = self.control.senses_rotor();
+        let verdict = self
+            .supervisor
+            .check(now_us, out.duty, u32::from(battery.mv), senses);
+        if let Some(f) = verdict.trip {
+            // The controller is told Off, so it stops as after any Off.
+            let stopped = self.control.step(now_us, Some(Command::Off), battery);
+            out.state = stopped.state;
+            out.event = Some(RateEvent::Fault(f));
+        }
+        out.duty = verdict.duty;
         self.duty = out.duty;
         self.state = out.state;
         let (event, fault) = match out.event {
@@ -278,7 +310,8 @@ impl<C: MotorControl> MainLoop<C> {
         let latch_changed = (latched != self.latched).then_some(latched);
         self.latched = latched;
         let pairing_window = self.pairing.window_open(now_us);
-        let led = LedMode::of(out.state, battery, self.control.fault().is_some())
+        let faulted = self.control.fault().is_some() || self.supervisor.fault().is_some();
+        let led = LedMode::of(out.state, battery, faulted)
             .with_pairing(pairing_window, self.remote.paired().is_some());
         let quiet = self
             .last_ir_us

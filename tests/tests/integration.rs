@@ -5,6 +5,7 @@
 mod battery_ripple;
 mod controller_motor;
 mod firmware_safety;
+mod motor_supervisor;
 
 /// A file added to tests/tests/ but not declared above would never be
 /// compiled, its tests silently lost.

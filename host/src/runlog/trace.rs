@@ -71,6 +71,8 @@ fn words(r: &Record) -> Vec<&'static str> {
             swimbot_shared::rate::SensorFault::Reversed => "fault: reversed",
             swimbot_shared::rate::SensorFault::Disconnected => "fault: sensor disconnected",
             swimbot_shared::rate::SensorFault::Overspeed => "fault: overspeed",
+            swimbot_shared::rate::SensorFault::Jammed => "fault: jammed (supervisor)",
+            swimbot_shared::rate::SensorFault::Overheated => "fault: overheated (supervisor)",
         });
     }
     out

@@ -255,6 +255,10 @@ impl MotorControl for Driver {
             Driver::Voltage(_) => None,
         }
     }
+
+    fn senses_rotor(&self) -> bool {
+        matches!(self, Driver::Rate(_))
+    }
 }
 
 #[cfg(test)]

@@ -113,7 +113,7 @@ fn no_erase_pending_sleeps_after_the_idle_time_as_before() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
+    #![proptest_config(ProptestConfig::with_cases(1024))]
 
     /// Any number of blocks, USB unplugged at any time, IR noise at any
     /// times: never dormant with a block left, never an erase with USB in

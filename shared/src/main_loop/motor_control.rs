@@ -27,6 +27,12 @@ pub trait MotorControl {
     fn fault(&self) -> Option<SensorFault>;
     /// The turn-averaged rate (mHz), if measured.
     fn rate_mhz(&self) -> Option<u32>;
+    /// The rotor carries the Hall ring, so its edges say whether it turns
+    /// (the motor supervisor's jam check needs them). A drive without the
+    /// sensor (the sim's voltage mode, a test's constant duty) says no.
+    fn senses_rotor(&self) -> bool {
+        true
+    }
 }
 
 /// The chip's controller: rate control on the Hall ring's edges.

@@ -232,6 +232,9 @@ impl MotorControl for Fixed {
         None
     }
     fn set_rate_mhz(&mut self, _: Option<u32>) {}
+    fn senses_rotor(&self) -> bool {
+        false
+    }
     fn fault(&self) -> Option<SensorFault> {
         None
     }

@@ -87,6 +87,8 @@ pub struct RateConfig {
     pub slew_mhz_per_s: u32,
     /// Driven past the soft start with no edge for this long: stalled.
     pub stall_us: u32,
+    /// The mean motor voltage never asked beyond this (the motor's rating).
+    pub max_motor_mv: u16,
 }
 
 impl RateConfig {
@@ -115,6 +117,7 @@ impl RateConfig {
         max_rate_mhz: 2_000,
         slew_mhz_per_s: 1_000,
         stall_us: 5_000_000,
+        max_motor_mv: 3_700,
     };
 }
 
@@ -426,11 +429,12 @@ impl RateController {
     /// duty of the measured cell voltage.
     fn duty(&mut self, battery: BatteryStatus) -> Duty {
         let p = ONE + i64::from(self.cfg.kp_q16) * self.rel_err_q16 / ONE;
-        let mv = self.line.voltage_mv(&self.cfg, self.ref_mhz, p);
+        let asked = self.line.voltage_mv(&self.cfg, self.ref_mhz, p);
+        let mv = asked.min(u32::from(self.cfg.max_motor_mv));
         self.held_mv = mv;
         let raw = Duty::from_ratio(mv, u32::from(battery.mv));
         let duty = raw.min(self.cfg.motor.max_duty);
-        self.saturated_high = raw >= self.cfg.motor.max_duty && mv > 0;
+        self.saturated_high = (raw >= self.cfg.motor.max_duty || asked > mv) && mv > 0;
         duty
     }
 }

@@ -63,7 +63,9 @@ impl HallConfig {
     }
 }
 
-/// A sensor fault: each stops the motor (see `rate::control`).
+/// A fault that stopped the motor: the first four from the Hall sensor
+/// (see `rate::control`), the last two from the motor supervisor
+/// (`supervisor`), which reads the same edges independently.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum SensorFault {
@@ -76,6 +78,10 @@ pub enum SensorFault {
     Disconnected,
     /// Faster than any tail in oil: the tail is lost, or the edges are noise.
     Overspeed,
+    /// Driven hard but hardly turning: a jammed or nearly jammed tail.
+    Jammed,
+    /// The `I^2 t` estimate put the winding or the driver past its limit.
+    Overheated,
 }
 
 /// A turn-averaged rate.

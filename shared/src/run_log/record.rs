@@ -92,7 +92,7 @@ pub struct Record {
 /// Why 16 bytes do not make a record.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RecordError {
-    /// The fault byte is not 0-4.
+    /// The fault byte is not 0-6.
     FaultCode(u8),
     /// The duty is above 10000 (100 %).
     Duty(u16),
@@ -105,6 +105,8 @@ const fn fault_code(f: Option<SensorFault>) -> u8 {
         Some(SensorFault::Reversed) => 2,
         Some(SensorFault::Disconnected) => 3,
         Some(SensorFault::Overspeed) => 4,
+        Some(SensorFault::Jammed) => 5,
+        Some(SensorFault::Overheated) => 6,
     }
 }
 
@@ -115,6 +117,8 @@ const fn fault_of(code: u8) -> Result<Option<SensorFault>, RecordError> {
         2 => SensorFault::Reversed,
         3 => SensorFault::Disconnected,
         4 => SensorFault::Overspeed,
+        5 => SensorFault::Jammed,
+        6 => SensorFault::Overheated,
         c => return Err(RecordError::FaultCode(c)),
     }))
 }

@@ -264,6 +264,9 @@ impl MotorControl for Constant {
     fn rate_mhz(&self) -> Option<u32> {
         Some(1_000)
     }
+    fn senses_rotor(&self) -> bool {
+        false
+    }
 }
 
 fn frame(at_us: u32, address: u8, command: u8) -> Vec<(Level, u32)> {
@@ -324,7 +327,7 @@ fn a_whole_ten_minute_run_at_10_hz() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(32))]
+    #![proptest_config(ProptestConfig::with_cases(1024))]
     /// Passes at any gaps up to the wake period: while the motor runs the
     /// records come one sample period apart at least and at most one pass
     /// later, the first in the starting pass, the last in the stopping one.
@@ -381,7 +384,7 @@ proptest! {
     }
 
     #[test]
-    fn records_round_trip(t_ms: u32, set in 0u16..=u16::MAX, rate: Option<u16>, duty in 0u16..=10_000, mv: u16, ev: u16, fault in 0u8..5, foreign: u8) {
+    fn records_round_trip(t_ms: u32, set in 0u16..=u16::MAX, rate: Option<u16>, duty in 0u16..=10_000, mv: u16, ev: u16, fault in 0u8..7, foreign: u8) {
         let mut b = [0u8; RECORD_LEN];
         b[0..4].copy_from_slice(&t_ms.to_le_bytes());
         b[4..6].copy_from_slice(&set.to_le_bytes());

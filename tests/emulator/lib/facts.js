@@ -45,6 +45,8 @@ const NAMES = {
   PWIN: 'pairingWindowMs',
   PHLD: 'pairingHoldMs',
   VBUS: 'vbusGpio',
+  VMAX: 'motorRatedMv',
+  JAMW: 'jamWindowMs',
 };
 
 const tagText = (w) => String.fromCharCode((w >>> 24) & 0xff, (w >>> 16) & 0xff, (w >>> 8) & 0xff, w & 0xff);

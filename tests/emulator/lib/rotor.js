@@ -25,6 +25,8 @@ export class Rotor {
     this.rateHz = 0;
     /** A seized coupler: the rotor does not turn whatever the drive. */
     this.stalled = false;
+    /** The tail's load against the nominal one: the line's slope times this. */
+    this.load = 1;
   }
 
   /** The steady rate at mean motor voltage `v`. */
@@ -34,7 +36,7 @@ export class Rotor {
 
   /** Turn for `dtNs` at mean voltage `v`: the crossings as [{ dtNs, a, b }] from the step's start. */
   advance(v, dtNs) {
-    this.rateHz = this.stalled ? 0 : Rotor.rateAt(v);
+    this.rateHz = this.stalled ? 0 : Rotor.rateAt(v) / this.load;
     const from = this.turns * this.edgesPerTurn;
     this.turns += this.rateHz * dtNs * 1e-9;
     const to = this.turns * this.edgesPerTurn;

@@ -243,7 +243,7 @@ fn event() -> impl Strategy<Value = Event> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(ProptestConfig::with_cases(1024))]
 
     /// Whatever a host (or a broken one) does: no panic, no packet over 64
     /// bytes, every answer to a SETUP on DATA1, an address only when an
