@@ -57,6 +57,9 @@ pub struct Verdict {
 
 /// Motion is sampled this often into the jam window.
 const SAMPLE_US: u64 = 250_000;
+/// The heat network advances this often (its fastest time constant, the
+/// winding's, is 2.5 s).
+const HEAT_STEP_US: u64 = 100_000;
 /// Samples kept: the window (at most 4 s) in 250 ms steps, plus one.
 const RING: usize = 17;
 const _: () = assert!(RING >= 2);
@@ -80,6 +83,13 @@ pub struct Supervisor {
     /// The duty applied since the last check, and the cell it drew from.
     applied_q16: u32,
     applied_cell_mv: u32,
+    /// `duty V_cell^2 dt` summed since the heat was last advanced, and
+    /// the time it spans: the heat advances every `HEAT_STEP_US` on the
+    /// mean (one division per step, not several per pass).
+    heat_sum: u64,
+    heat_sum_us: u64,
+    /// The ceiling's duty for the last cell voltage seen.
+    ceiling: (u32, Duty),
 }
 
 /// Gray-code index of a quadrature state.
@@ -111,6 +121,9 @@ impl Supervisor {
             cooling: false,
             applied_q16: 0,
             applied_cell_mv: 0,
+            heat_sum: 0,
+            heat_sum_us: 0,
+            ceiling: (0, Duty::ZERO),
         }
     }
 
@@ -159,17 +172,14 @@ impl Supervisor {
     pub fn check(&mut self, now_us: u64, asked: Duty, cell_mv: u32, senses_rotor: bool) -> Verdict {
         let dt = self.last_us.map_or(0, |t| now_us.saturating_sub(t));
         self.last_us = Some(now_us);
-        // The heat of the interval that just ended, at the duty it had.
-        self.heat.advance(
-            &self.cfg.thermal,
-            dt,
-            self.applied_q16,
-            self.applied_cell_mv,
-        );
+        self.heat_of_interval(dt);
         if self.cooling && self.heat.may_restart(&self.cfg.thermal) {
             self.cooling = false;
         }
-        let duty = asked.min(Duty::from_ratio(self.cfg.max_motor_mv, cell_mv));
+        if self.ceiling.0 != cell_mv {
+            self.ceiling = (cell_mv, Duty::from_ratio(self.cfg.max_motor_mv, cell_mv));
+        }
+        let duty = asked.min(self.ceiling.1);
         let trip = if duty == Duty::ZERO {
             self.samples = 0;
             None
@@ -189,6 +199,38 @@ impl Supervisor {
         self.applied_q16 = duty.raw();
         self.applied_cell_mv = cell_mv;
         Verdict { duty, trip }
+    }
+
+    /// The heat of the interval that just ended, at the duty it had.
+    fn heat_of_interval(&mut self, dt_us: u64) {
+        if dt_us > HEAT_STEP_US {
+            // A long gap (DORMANT, a late pass): the sum so far, then the
+            // gap at its own duty.
+            self.flush_heat();
+            self.heat.advance(
+                &self.cfg.thermal,
+                dt_us,
+                self.applied_q16,
+                self.applied_cell_mv,
+            );
+            return;
+        }
+        let v2 = thermal::duty_v2(self.applied_q16, self.applied_cell_mv);
+        self.heat_sum = self.heat_sum.saturating_add(v2 * dt_us);
+        self.heat_sum_us += dt_us;
+        if self.heat_sum_us >= HEAT_STEP_US {
+            self.flush_heat();
+        }
+    }
+
+    fn flush_heat(&mut self) {
+        if self.heat_sum_us > 0 {
+            let mean = self.heat_sum / self.heat_sum_us;
+            self.heat
+                .advance_mean(&self.cfg.thermal, self.heat_sum_us, mean);
+        }
+        self.heat_sum = 0;
+        self.heat_sum_us = 0;
     }
 
     /// Driven hard for the whole window with too little motion.

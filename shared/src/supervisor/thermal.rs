@@ -90,12 +90,18 @@ const COOLED_AFTER_TAUS: u64 = 5;
 impl Heating {
     /// Advance by `dt_us` at `duty_q16` (1/65536) of a cell at `cell_mv`.
     pub fn advance(&mut self, cfg: &ThermalConfig, dt_us: u64, duty_q16: u32, cell_mv: u32) {
+        self.advance_mean(cfg, dt_us, duty_v2(duty_q16, cell_mv));
+    }
+
+    /// Advance by `dt_us` at a mean `duty V_cell^2` (1/65536 mV^2, as
+    /// [`duty_v2`] gives it): the on-pulse loss's mean over the interval.
+    pub fn advance_mean(&mut self, cfg: &ThermalConfig, dt_us: u64, mean_duty_v2: u64) {
         let cooled_us = u64::from(cfg.housing.tau_ms) * 1_000 * COOLED_AFTER_TAUS;
-        if duty_q16 == 0 && dt_us >= cooled_us {
+        if mean_duty_v2 == 0 && dt_us >= cooled_us {
             *self = Heating::default();
             return;
         }
-        let (p_motor, p_driver) = powers_uw(cfg, duty_q16, cell_mv);
+        let (p_motor, p_driver) = powers_of(cfg, mean_duty_v2);
         let max_step = (u64::from(cfg.winding.tau_ms) * 1_000 / 8).clamp(1_000, 1_000_000);
         // A long pause with the motor on cannot happen (the pass runs every
         // millisecond); bound the loop anyway (ten minutes at most).
@@ -138,25 +144,36 @@ const MAX_POWER_UW: i64 = 1_000_000_000;
 /// Rises are bounded (1000 K): far past any trip, and no overflow.
 const MAX_RISE_UK: i64 = 1_000_000_000;
 
+/// `duty V_cell^2` in 1/65536 mV^2 (the cell taken at most 10 V): what the
+/// supervisor sums each pass, with multiplications only (a 64-bit
+/// division is hundreds of cycles on the Cortex-M0+).
+pub fn duty_v2(duty_q16: u32, cell_mv: u32) -> u64 {
+    let v = u64::from(cell_mv.min(10_000));
+    u64::from(duty_q16.min(1 << 16)) * v * v
+}
+
 /// Mean copper losses (uW) of the motor and the driver: the on-pulse
 /// current `V_cell / (R_motor + R_driver)` flowing `duty` of the time.
 pub fn powers_uw(cfg: &ThermalConfig, duty_q16: u32, cell_mv: u32) -> (i64, i64) {
-    let r_total = i64::from(cfg.motor_resistance_mohm) + i64::from(cfg.driver_resistance_mohm);
+    powers_of(cfg, duty_v2(duty_q16, cell_mv))
+}
+
+/// The losses at a mean `duty V_cell^2`: `P_x = duty V^2 R_x / R_total^2`
+/// (mV^2 / mohm = mW), bounded so that nothing overflows whatever the
+/// configuration.
+fn powers_of(cfg: &ThermalConfig, mean_duty_v2: u64) -> (i64, i64) {
+    let r_total = u64::from(cfg.motor_resistance_mohm) + u64::from(cfg.driver_resistance_mohm);
     if r_total == 0 {
         return (0, 0);
     }
-    let duty = i64::from(duty_q16.min(1 << 16));
-    let v = i64::from(cell_mv.min(10_000));
-    // I [uA] = V [mV] * 1e6 / R [mohm], at most 100 A so that nothing
-    // below overflows whatever the configuration; P [uW] = I^2 R.
-    let i_ua = (v * 1_000_000 / r_total).min(100_000_000);
-    let on = |r_mohm: u32| {
-        let p = i_ua * i_ua / 1_000 * i64::from(r_mohm.min(1_000_000)) / 1_000_000;
-        p.min(MAX_POWER_UW)
+    let v2_mv2 = (mean_duty_v2 >> 16).min(100_000_000);
+    let r2 = r_total * r_total;
+    let of = |r_mohm: u32| {
+        let p = v2_mv2 * u64::from(r_mohm.min(1_000_000)) * 1_000 / r2;
+        i64::try_from(p).unwrap_or(MAX_POWER_UW).min(MAX_POWER_UW)
     };
-    let mean = |p_on: i64| p_on * duty >> 16;
     (
-        mean(on(cfg.motor_resistance_mohm)),
-        mean(on(cfg.driver_resistance_mohm)),
+        of(cfg.motor_resistance_mohm),
+        of(cfg.driver_resistance_mohm),
     )
 }
