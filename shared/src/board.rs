@@ -167,7 +167,7 @@ pub const BATTERY_SAMPLE_PERIOD_US: u64 = 20_000;
 pub const LOG_PERIOD_US: u32 = 100_000;
 
 /// Flash: 2 MiB (W25Q16JV on Pico-compatible boards). `memory.x` gives
-/// the first 1 MiB to boot2 and code (32 KiB budget) and reserves the rest:
+/// the first 1 MiB to boot2 and code (128 KiB budget) and reserves the rest:
 /// the run log's slots from 1 MiB, the pairing sector at the very top.
 /// Offsets from the start of flash, as the boot ROM's flash functions
 /// take them; keep `memory.x`'s RUNLOG and PAIRING regions equal
