@@ -224,8 +224,7 @@ impl Supervisor {
     }
 
     fn flush_heat(&mut self) {
-        if self.heat_sum_us > 0 {
-            let mean = self.heat_sum / self.heat_sum_us;
+        if let Some(mean) = self.heat_sum.checked_div(self.heat_sum_us) {
             self.heat
                 .advance_mean(&self.cfg.thermal, self.heat_sum_us, mean);
         }
