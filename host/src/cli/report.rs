@@ -49,7 +49,7 @@ fn spinner(message: &str) -> ProgressBar {
 pub fn run(a: ReportArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
     let model = a.model.model()?;
-    super::output::check_output_dir(&a.output)?;
+    super::output::check_output_dir(&a.output, "report")?;
     crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
     let to_input = in_data(&a.data.data);
     // Every model on the page must predict every case: a bad case is the
