@@ -30,6 +30,21 @@ pub const STAGING_MARKER: &str = ".swimbot-staging";
 
 static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// Set by [`remove_pending`] (a signal's clean-up): from then on nothing
+/// new is staged or swapped, so the clean-up cannot race the writer. Every
+/// change to a staging folder happens under [`PENDING`]'s lock.
+static CLOSING: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+fn closing() -> std::io::Result<()> {
+    if CLOSING.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::Interrupted,
+            "the run is being stopped",
+        ));
+    }
+    Ok(())
+}
+
 fn pending() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
     PENDING.lock().unwrap_or_else(|e| e.into_inner())
 }
@@ -64,19 +79,12 @@ impl Staging {
             // Ours from an earlier staging of this process: never a user's.
             remove_staging(&stage);
         }
-        {
-            let mut p = pending();
-            std::fs::create_dir(&stage)?;
-            p.push(stage.clone());
-        }
+        let mut p = pending();
+        closing()?;
+        std::fs::create_dir(&stage)?;
+        p.push(stage.clone());
         let staging = Staging { target, stage };
-        let mut marker = std::fs::File::create(staging.stage.join(STAGING_MARKER))?;
-        writeln!(
-            marker,
-            "swimbot staging folder of {} (process {}); safe to remove when that process has ended",
-            staging.target.display(),
-            std::process::id()
-        )?;
+        mark(&staging.stage, &staging.target)?;
         if let Ok(meta) = std::fs::metadata(&staging.target) {
             std::fs::set_permissions(&staging.stage, meta.permissions())?;
             carry_over(&staging.target, &staging.stage, Path::new(""), replaced)?;
@@ -91,6 +99,8 @@ impl Staging {
 
     /// Writes `bytes` to `rel` in the staging folder, flushed to disk.
     pub fn write(&self, rel: &str, bytes: &[u8]) -> std::io::Result<()> {
+        let _p = pending();
+        closing()?;
         let path = self.stage.join(rel);
         if let Some(parent) = path.parent() {
             std::fs::create_dir_all(parent)?;
@@ -102,8 +112,12 @@ impl Staging {
     }
 
     /// Swaps the new folder in (module docs) and removes the old one.
+    /// The whole swap holds the lock a signal's clean-up takes: the
+    /// clean-up comes before it (and it is refused) or after it.
     pub fn commit(self) -> std::io::Result<()> {
-        let _ = std::fs::remove_file(self.stage.join(STAGING_MARKER));
+        let mut p = pending();
+        closing()?;
+        std::fs::remove_file(self.stage.join(STAGING_MARKER))?;
         sync_dir(&self.stage);
         let swapped = if self.target.exists() {
             swap_in(&self.stage, &self.target)
@@ -115,17 +129,21 @@ impl Staging {
                 if let Some(parent) = self.target.parent() {
                     sync_dir(parent);
                 }
-                pending().retain(|p| p != &self.stage);
                 if let Some(old) = old {
+                    // Marked first: a kill while it is removed leaves a
+                    // leftover the next run recognises.
+                    let _ = mark(&old, &self.target);
                     let _ = std::fs::remove_dir_all(old);
                 }
+                p.retain(|s| s != &self.stage);
+                drop(p);
                 std::mem::forget(self);
                 Ok(())
             }
             Err(e) => {
                 // The marker again, so that a kill now leaves a staging
                 // folder the next run recognises; dropping removes it.
-                let _ = std::fs::File::create(self.stage.join(STAGING_MARKER));
+                let _ = mark(&self.stage, &self.target);
                 Err(e)
             }
         }
@@ -134,9 +152,21 @@ impl Staging {
 
 impl Drop for Staging {
     fn drop(&mut self) {
+        let mut p = pending();
         remove_staging(&self.stage);
-        pending().retain(|p| p != &self.stage);
+        p.retain(|s| s != &self.stage);
     }
+}
+
+/// Writes the staging marker into `dir`, a staging folder of `target`.
+fn mark(dir: &Path, target: &Path) -> std::io::Result<()> {
+    let mut marker = std::fs::File::create(dir.join(STAGING_MARKER))?;
+    writeln!(
+        marker,
+        "swimbot staging folder of {} (process {}); safe to remove when that process has ended",
+        target.display(),
+        std::process::id()
+    )
 }
 
 /// Exchanges `stage` and `target`; returns where the old folder now is.
@@ -252,9 +282,10 @@ fn remove_staging(stage: &Path) {
 }
 
 /// Removes this process's staging folders (the run failed or was
-/// interrupted).
+/// interrupted); nothing is staged after it.
 pub fn remove_pending() {
     let p = pending();
+    CLOSING.store(true, std::sync::atomic::Ordering::SeqCst);
     for stage in p.iter() {
         remove_staging(stage);
     }

@@ -44,7 +44,7 @@ fn an_endless_device_is_refused_at_its_kinds_cap() {
     let csv = dir.path().join("d.csv");
     std::fs::write(
         &csv,
-        "# setup_file = /dev/zero\nid,wavelength_mm\ntail-1,10\n",
+        "# setup_file = \"/dev/zero\"\nid,wavelength_mm\ntail-1,10\n",
     )
     .unwrap();
     for (args, needle) in [

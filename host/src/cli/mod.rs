@@ -26,6 +26,7 @@ mod sweep_setup;
 mod synth;
 
 pub use error::CliError;
+pub use output_guard::note_stdout_closed_at_start;
 
 use clap::{Parser, Subcommand};
 

@@ -293,22 +293,28 @@ pub fn sweep_stale_temps(dest: &Path) {
     }
 }
 
-/// Standard output must be open: with descriptor 1 closed (`>&-`), Rust
-/// drops every print silently (exit 0, output lost), and the first file
-/// the run opened would take descriptor 1 and receive the prints.
-#[cfg(unix)]
+/// Whether descriptor 1 was closed when the process started, before the
+/// Rust runtime's start-up reopened it on /dev/null (which it does so that
+/// no file the run opens takes descriptor 1): set by the binary
+/// ([`note_stdout_closed_at_start`]), which alone can look that early.
+static STDOUT_CLOSED_AT_START: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
+/// Called by the binary's start-up hook when descriptor 1 was closed.
+pub fn note_stdout_closed_at_start() {
+    STDOUT_CLOSED_AT_START.store(true, std::sync::atomic::Ordering::SeqCst);
+}
+
+/// Standard output must have been open: started with it closed (`>&-`),
+/// every print went to /dev/null and the run ended with exit 0, its
+/// output lost. A reader that closed a pipe (`| head`) is another case,
+/// a quiet success ([`end_on_closed_stdout`]).
 pub fn check_stdout_open() -> Result<(), CliError> {
-    // SAFETY: F_GETFD only queries the descriptor's flags.
-    if unsafe { libc::fcntl(1, libc::F_GETFD) } < 0 {
+    if STDOUT_CLOSED_AT_START.load(std::sync::atomic::Ordering::SeqCst) {
         return Err(CliError::input(
             "standard output is closed (`>&-`?): the results would be lost; redirect it to a file or /dev/null instead",
         ));
     }
-    Ok(())
-}
-
-#[cfg(not(unix))]
-pub fn check_stdout_open() -> Result<(), CliError> {
     Ok(())
 }
 

@@ -211,9 +211,13 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
     }
     check_times(&args)?;
     if let Some(p) = &args.write_log {
-        super::output::check_output_file(p)?;
+        // An earlier --write-log file in the folder is an output, not an input.
+        super::output_guard::declare_output_file(p);
     }
     super::output::check_output_dir(&args.output, "sim")?;
+    if let Some(p) = &args.write_log {
+        super::output::check_output_file(p)?;
+    }
     // A replay ends with the log (a second after its last record) unless
     // the simulated robot stops first.
     let max_time_s = replayed.as_ref().map_or(args.max_time_s, |(log, _, _)| {
