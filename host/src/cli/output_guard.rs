@@ -190,7 +190,7 @@ pub fn refuse_dir_holding_input(dir: &Path) -> Result<(), CliError> {
         };
         if real.starts_with(&dir_real) {
             return Err(CliError::input(format!(
-                "output directory {}: holds {}, an input of this command; writing there could replace or mix with it: name another output directory (or move the input out)",
+                "output directory {}: holds {}, which is also an input of this command; writing there could replace or mix with it: name another output directory (or move the input out)",
                 dir.display(),
                 input.display()
             )));
