@@ -53,6 +53,9 @@ fn pending() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
 pub struct Staging {
     target: PathBuf,
     stage: PathBuf,
+    /// The old folder's permissions, given to the new one as it is swapped
+    /// in (not before: a read-only folder could not be filled).
+    permissions: Option<std::fs::Permissions>,
 }
 
 fn sibling(target: &Path, tag: &str, pid: u32) -> PathBuf {
@@ -83,10 +86,14 @@ impl Staging {
         closing()?;
         std::fs::create_dir(&stage)?;
         p.push(stage.clone());
-        let staging = Staging { target, stage };
+        let permissions = std::fs::metadata(&target).ok().map(|m| m.permissions());
+        let staging = Staging {
+            target,
+            stage,
+            permissions,
+        };
         mark(&staging.stage, &staging.target)?;
-        if let Ok(meta) = std::fs::metadata(&staging.target) {
-            std::fs::set_permissions(&staging.stage, meta.permissions())?;
+        if staging.permissions.is_some() {
             carry_over(&staging.target, &staging.stage, Path::new(""), replaced)?;
         }
         Ok(staging)
@@ -117,13 +124,19 @@ impl Staging {
     pub fn commit(self) -> std::io::Result<()> {
         let mut p = pending();
         closing()?;
-        std::fs::remove_file(self.stage.join(STAGING_MARKER))?;
-        sync_dir(&self.stage);
-        let swapped = if self.target.exists() {
-            swap_in(&self.stage, &self.target)
-        } else {
-            std::fs::rename(&self.stage, &self.target).map(|()| None)
-        };
+        let swapped = std::fs::remove_file(self.stage.join(STAGING_MARKER))
+            .and_then(|()| match &self.permissions {
+                Some(p) => std::fs::set_permissions(&self.stage, p.clone()),
+                None => Ok(()),
+            })
+            .and_then(|()| {
+                sync_dir(&self.stage);
+                if self.target.exists() {
+                    swap_in(&self.stage, &self.target)
+                } else {
+                    std::fs::rename(&self.stage, &self.target).map(|()| None)
+                }
+            });
         match swapped {
             Ok(old) => {
                 if let Some(parent) = self.target.parent() {
@@ -141,8 +154,14 @@ impl Staging {
                 Ok(())
             }
             Err(e) => {
-                // The marker again, so that a kill now leaves a staging
-                // folder the next run recognises; dropping removes it.
+                // Writable and marked again, so that dropping it removes
+                // it and a kill now leaves a folder the next run recognises.
+                #[cfg(unix)]
+                {
+                    use std::os::unix::fs::PermissionsExt;
+                    let writable = std::fs::Permissions::from_mode(0o700);
+                    let _ = std::fs::set_permissions(&self.stage, writable);
+                }
                 let _ = mark(&self.stage, &self.target);
                 Err(e)
             }
@@ -243,7 +262,6 @@ fn carry_over(
         let (src, dst) = (from.join(&rel), to.join(&rel));
         if kind.is_dir() {
             std::fs::create_dir(&dst)?;
-            std::fs::set_permissions(&dst, entry.metadata()?.permissions())?;
             carry_over(from, to, &rel, replaced)?;
         } else if kind.is_symlink() {
             copy_link(&src, &dst)?;

@@ -80,9 +80,11 @@ pub const SUBSET_LARGE: usize = 24;
 /// refits of all the others).
 pub const MIN_EXPONENT: f64 = 1.0;
 pub const MAX_EXPONENT: f64 = 2.0;
-/// From this many cases on, the subsets are timed before the work (a few
-/// tenths of a second); below it the work is short, unless a budget asks.
-pub const ESTIMATE_FROM_CASES: usize = 64;
+/// From this many cases on, the subsets are timed before the work: the two
+/// timed runs cost 32 cases' work, at most 16 % of a run of 200 cases that
+/// grows linearly (less for faster growth); below it the work is short
+/// enough to start unasked, unless a budget asks.
+pub const ESTIMATE_FROM_CASES: usize = 200;
 
 /// `k` cases of `data`, evenly spaced (the same setup and uncertainties).
 pub fn subset(data: &crate::data::Dataset, k: usize) -> crate::data::Dataset {

@@ -47,7 +47,7 @@ pub struct DiagnoseArgs {
     #[command(flatten)]
     pub likelihood: super::likelihood::LikelihoodArgs,
     /// Refuse the diagnosis when its estimated run time (the diagnosis timed on two small subsets
-    /// of the cases, grown to all of them) is longer [default: no limit; from 64 cases the estimate
+    /// of the cases, grown to all of them) is longer [default: no limit; from 200 cases the estimate
     /// is made, and one over 10 s is announced on stderr].
     #[arg(long, value_name = "SECONDS")]
     pub max_seconds: Option<f64>,

@@ -33,7 +33,7 @@ pub struct ReportArgs {
     pub no_physics: bool,
     /// Refuse the report when its estimated run time (the diagnosis timed on two small subsets of
     /// the cases and grown to all, the audit's estimate, the zero-parameter model's first solves)
-    /// is longer [default: no limit; from 64 cases the estimate is made, and one over 10 s is
+    /// is longer [default: no limit; from 200 cases the estimate is made, and one over 10 s is
     /// announced on stderr].
     #[arg(long, value_name = "SECONDS")]
     pub max_seconds: Option<f64>,

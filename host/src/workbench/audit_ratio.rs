@@ -313,3 +313,54 @@ pub fn ratio_test(
         flags,
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Cases whose measured speeds are spread far wider than any member
+    /// of the family could make them: many out-of-range pairs.
+    fn scattered(n: usize) -> Dataset {
+        let mut data = crate::data::paper();
+        let cases = data.cases.clone();
+        data.cases = (0..n)
+            .map(|i| {
+                let mut c = cases[i % cases.len()].clone();
+                c.id = format!("s{i}");
+                let u = c.u_mm_s.as_mut().expect("the paper measured U");
+                u.mean *= 0.3 + 1.4 * (i as f64 * 0.618_034).fract();
+                u.ci_half_width = 1e-3 * u.mean;
+                c
+            })
+            .collect();
+        data
+    }
+
+    #[test]
+    fn out_of_range_pairs_beyond_the_listed_are_counted_not_listed() {
+        let data = scattered(60);
+        let s = AuditSettings {
+            family_samples: 16,
+            ..Default::default()
+        };
+        let (summary, flags) = ratio_test(&Model::base(), &data, &s).unwrap();
+        let listed = flags.iter().filter(|f| f.kind == "ratio-pair").count();
+        let summaries: Vec<&Flag> = flags
+            .iter()
+            .filter(|f| f.kind == "ratio-pairs-not-listed")
+            .collect();
+        assert!(summary.pairs_out_of_range > MAX_LISTED_PAIRS, "{summary:?}");
+        assert!(listed <= 2 * MAX_LISTED_PAIRS, "{listed}");
+        assert!(!summaries.is_empty(), "the rest is counted");
+        let counted: usize = summaries
+            .iter()
+            .map(|f| f.case.split(' ').next().unwrap().parse::<usize>().unwrap())
+            .sum();
+        assert!(
+            listed + counted <= summary.pairs_out_of_range,
+            "{listed} + {counted} of {}",
+            summary.pairs_out_of_range
+        );
+        assert!(flags.len() <= 2 * data.cases.len() + 2 * (MAX_LISTED_PAIRS + 1));
+    }
+}
