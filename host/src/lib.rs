@@ -4,10 +4,12 @@
 //! Tabak & Yesilyurt's in-channel vertical swimming paper (section II.B,
 //! eqs. 1-11), its built-in data (Tables I, II, IV), and the workbench that
 //! compares the model with measurements.
+pub mod atomic_dir;
 pub mod cli;
 pub mod data;
 pub mod effects;
 pub mod format;
+pub mod input_file;
 pub mod model;
 pub mod nonlocal;
 pub mod physics;

@@ -4,6 +4,22 @@ use clap::Parser;
 use std::process::ExitCode;
 use swimbot::cli::{run, Cli};
 
+/// Whether descriptor 1 is open, looked at before the Rust runtime starts
+/// (an ELF constructor): the runtime reopens a closed descriptor 1 on
+/// /dev/null, after which `>&-` looks like `>/dev/null`.
+#[cfg(target_os = "linux")]
+#[used]
+#[link_section = ".init_array"]
+static NOTE_CLOSED_STDOUT: extern "C" fn() = note_closed_stdout;
+
+#[cfg(target_os = "linux")]
+extern "C" fn note_closed_stdout() {
+    // SAFETY: F_GETFD only queries descriptor 1's flags.
+    if unsafe { libc::fcntl(1, libc::F_GETFD) } < 0 {
+        swimbot::cli::note_stdout_closed_at_start();
+    }
+}
+
 fn main() -> ExitCode {
     // A reader that stops early (`| head`) is handled in the CLI
     // (`cli::output_guard::end_on_closed_stdout`): exit 0, as ripgrep does.

@@ -351,7 +351,8 @@ fn outputs_are_checked_first_and_never_left_half_written() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, ["sim.csv", "sim.svg"]);
+    // The files and the marker naming the command that wrote the folder.
+    assert_eq!(names, [".swimbot-output", "sim.csv", "sim.svg"]);
 }
 
 #[test]

@@ -104,7 +104,7 @@ const OVERHEAD_ONE_STEP: f64 = 16.0;
 /// ([`predictions`]) at the model's own timed cost, plus the overhead in
 /// timed predictions of the plain model, plus each geometry's first,
 /// wall-solving prediction once ([`geometries_of`]).
-fn estimate_seconds(
+pub(super) fn estimate_seconds(
     model: &crate::model::Model,
     data: &crate::data::Dataset,
     samples: usize,
@@ -139,7 +139,32 @@ fn estimate_seconds(
     };
     let (family, rest) = predictions(n, samples);
     let work = family * per + rest * (per + overhead * reference);
-    (first_solves + work) / rayon::current_num_threads() as f64
+    (first_solves + work + pair_seconds(n, samples)) / rayon::current_num_threads() as f64
+}
+
+/// CPU seconds of the ratio test's pair loop
+/// ([`crate::workbench::audit_ratio`]): for each quantity, every pair of
+/// cases folds the members' ratios into a range, `n (n - 1) / 2` pairs of
+/// `samples + 1` divisions. Negligible up to a few hundred cases, it is
+/// most of an audit of 10 000 (5e7 pairs a quantity): the estimate that
+/// left it out said 19 s for a run of 131 s. Timed here on the same fold.
+fn pair_seconds(cases: usize, samples: usize) -> f64 {
+    let members = samples + 1;
+    let a: Vec<f64> = (0..members).map(|i| 1.0 + i as f64 * 1e-3).collect();
+    let b: Vec<f64> = (0..members).map(|i| 2.0 - i as f64 * 1e-3).collect();
+    let mut sink = 0.0;
+    let per_pair = super::budget::seconds_per_call(4_096, |i| {
+        let (lo, hi) = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| x / (y + i as f64 * 1e-12))
+            .filter(|x| x.is_finite())
+            .fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)));
+        sink += lo + hi;
+    });
+    std::hint::black_box(sink);
+    let pairs = cases as f64 * (cases as f64 - 1.0) / 2.0;
+    2.0 * pairs * per_pair
 }
 
 /// The distinct geometries the audit predicts a case at: its own, and two

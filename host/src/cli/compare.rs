@@ -73,7 +73,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         )));
     }
     if !args.no_report {
-        super::output::check_output_dir(&args.output)?;
+        super::output::check_output_dir(&args.output, "compare")?;
         crate::report::check_bundle_dir(&args.output, "compare").map_err(CliError::input)?;
     }
     let spinner = crate::progress::spinner(&format!("compare: {}", model.describe()));

@@ -46,6 +46,11 @@ pub struct DiagnoseArgs {
     pub write_effect: Option<std::path::PathBuf>,
     #[command(flatten)]
     pub likelihood: super::likelihood::LikelihoodArgs,
+    /// Refuse the diagnosis when its estimated run time (the diagnosis timed on two small subsets
+    /// of the cases, grown to all of them) is longer [default: no limit; from 200 cases the estimate
+    /// is made, and one over 10 s is announced on stderr].
+    #[arg(long, value_name = "SECONDS")]
+    pub max_seconds: Option<f64>,
 }
 
 /// The spinner `diagnose` reports its stages to (a fn pointer cannot capture it).
@@ -101,6 +106,22 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
         progress: Some(stage),
         ..Default::default()
     };
+    let budget = super::budget::parse_budget(a.max_seconds)?;
+    if budget.is_some() || data.cases.len() >= super::budget::ESTIMATE_FROM_CASES {
+        let quiet = DiagnoseSettings {
+            progress: None,
+            ..settings.clone()
+        };
+        let lik = a.likelihood.get();
+        let estimate = estimate_seconds(&model, &data, &quiet, lik);
+        if let Some(s) = estimate {
+            super::budget::check(
+                &format!("the diagnosis of {} cases", data.cases.len()),
+                s,
+                budget,
+            )?;
+        }
+    }
     // Shown once the work has lasted 2 s (paper-sized data takes less).
     let spinner = crate::progress::spinner(&format!("diagnosing {} cases", data.cases.len()));
     let _ = SPINNER.set(spinner.clone());
@@ -371,4 +392,22 @@ fn ranking_row<'a>(kind: &'static str, c: &'a Candidate) -> RankingRow<'a> {
         at_noise_floor: c.score.at_noise_floor,
         converged: c.converged,
     }
+}
+
+/// The diagnosis's run time, from the diagnosis itself timed on two
+/// subsets of the cases ([`super::budget::extrapolate`]).
+pub(super) fn estimate_seconds(
+    model: &crate::model::Model,
+    data: &crate::data::Dataset,
+    settings: &DiagnoseSettings,
+    lik: crate::workbench::robust::Likelihood,
+) -> Option<f64> {
+    super::budget::extrapolate(data.cases.len(), |k| {
+        let part = super::budget::subset(data, k);
+        let (done, s) = super::budget::timed(|| {
+            crate::workbench::fit::with_likelihood(lik, || diagnose(model, &part, settings))
+        });
+        done.ok()?.ok()?;
+        Some(s)
+    })
 }

@@ -41,7 +41,7 @@ pub fn run(args: LogArgs) -> Result<(), CliError> {
         Some(id) => Some(named_case(&args.data, id)?),
         None => None,
     };
-    super::output::check_output_dir(&args.output)?;
+    super::output::check_output_dir(&args.output, "log")?;
     let (log, bytes, warnings) = read_current(&source, args.earlier).map_err(CliError::input)?;
     for w in &warnings {
         eprintln!("warning: {}: {w}", source.name());

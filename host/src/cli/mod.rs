@@ -26,6 +26,7 @@ mod sweep_setup;
 mod synth;
 
 pub use error::CliError;
+pub use output_guard::note_stdout_closed_at_start;
 
 use clap::{Parser, Subcommand};
 
@@ -81,6 +82,7 @@ pub enum Command {
 /// ([`output_guard`]); a failure to write stdout is an error (exit 2).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     crate::progress::set_quiet(cli.quiet);
+    output_guard::check_stdout_open()?;
     output_guard::install_signal_cleanup();
     output_guard::install_stdout_failure_exit();
     let done = dispatch(cli).and_then(|()| {
@@ -88,7 +90,10 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         output_guard::stdout_written(std::io::stdout().flush(), "the output")
     });
     match &done {
-        Ok(()) => output_guard::keep_new_dirs(),
+        Ok(()) => {
+            output_guard::mark_claimed_dirs();
+            output_guard::keep_new_dirs();
+        }
         Err(_) => output_guard::clean_up(),
     }
     done

@@ -179,6 +179,7 @@ impl AtomicFile {
     pub fn create(dest: &Path) -> Result<AtomicFile, CliError> {
         match check_output_file(dest)? {
             Target::Replace(path) => {
+                guard::sweep_stale_temps(&path);
                 let tmp = temp_sibling(&path);
                 let file = guard::create_temp(&tmp).map_err(|e| cannot_write(dest, &e))?;
                 Ok(AtomicFile {
@@ -263,14 +264,18 @@ pub fn write_all_atomically(files: &[(PathBuf, Vec<u8>)]) -> Result<(), CliError
 
 /// Checks, before any work, that files can be created in `dir` (creating
 /// it if needed, and removing it again if the run fails), so that a long
-/// computation does not end in an I/O error.
-pub fn check_output_dir(dir: &Path) -> Result<(), CliError> {
+/// computation does not end in an I/O error; that it holds none of the
+/// run's inputs and no other command's output ([`guard::claim_dir`]).
+/// Output files named beside it (`--write-log`) are checked first.
+pub fn check_output_dir(dir: &Path, command: &str) -> Result<(), CliError> {
     if dir.exists() && !dir.is_dir() {
         return Err(CliError::input(format!(
             "output directory {}: exists and is not a directory",
             dir.display()
         )));
     }
+    guard::refuse_dir_holding_input(dir)?;
+    guard::claim_dir(dir, command)?;
     guard::create_dir_all(dir).map_err(|e| {
         CliError::input(format!(
             "output directory {}: cannot create it: {e}",
@@ -294,6 +299,7 @@ pub fn not_an_input(path: &Path) -> Result<(), String> {
 pub fn check_output_file(path: &Path) -> Result<Target, CliError> {
     let target = guard::resolve(path)?;
     guard::refuse_if_input(path)?;
+    guard::declare_output_file(path);
     let Target::Replace(file) = &target else {
         // Opening a FIFO to probe it would wait for a reader.
         return Ok(target);
@@ -358,7 +364,7 @@ mod tests {
         // Unwritable destinations are user errors (exit 2).
         let e = write_atomically(&dir.path().join("no/such/dir/x"), b"").unwrap_err();
         assert_eq!(e.exit_code(), 2);
-        assert_eq!(check_output_dir(&p).unwrap_err().exit_code(), 2);
+        assert_eq!(check_output_dir(&p, "test").unwrap_err().exit_code(), 2);
     }
 
     #[test]

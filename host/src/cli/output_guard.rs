@@ -18,18 +18,31 @@
 //! - a directory, a block device or a socket: refused (no command writes a
 //!   disk image or talks to a socket; a block device would be overwritten).
 //!
-//! **Same file as an input**: an output that is, by device and inode, a
-//! file named elsewhere on the command line (`--data X --write-effect X`)
-//! is refused before any work: every input file of every command is named
-//! on its command line, so this needs no list of each command's inputs.
+//! **Inputs are never outputs**: the run's inputs are every existing file
+//! named on its command line (`--data X`, `--flag=X`, a positional log)
+//! that is not a declared output file, and every file it has read
+//! ([`crate::provenance::record_input`]: a CSV's `# setup_file`, effect
+//! files). An output file that is, by device and inode, one of them
+//! (`--data X --write-effect X`) is refused, and so is an output folder
+//! that holds one, after resolving links (`log --data L/trials.toml -o L`
+//! would replace the dataset it just read); the refusal names both.
 //!
-//! **Clean-up**: temporary files and the folders a run created are
-//! registered here; when the run ends with an error, and on SIGINT and
-//! SIGTERM (a thread of the `signal-hook` crate, which then ends the
+//! **Which command wrote a folder**: each output folder gets a marker,
+//! [`MARKER`], naming the command, written when the run succeeds; a
+//! folder whose marker (or report manifest) names another command is
+//! refused ([`claim_dir`]).
+//!
+//! **Clean-up**: temporary files, staging folders
+//! ([`crate::atomic_dir`]) and the folders a run created are registered
+//! here; when the run ends with an error, and on SIGINT, SIGTERM and
+//! SIGHUP (a thread of the `signal-hook` crate, which then ends the
 //! process by the signal's default action), they are removed, folders only
-//! when empty (nothing the user put there is touched).
+//! when empty (nothing the user put there is touched). A temporary file
+//! `.NAME.tmp-PID` left by a run that was killed outright (SIGKILL, power
+//! loss) is removed by the next run writing NAME, when process PID is gone.
 
 use super::CliError;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -104,22 +117,203 @@ fn refuse_if_named(path: &Path, inputs_from: usize) -> Result<(), CliError> {
     let Some(id) = identity(path) else {
         return Ok(());
     };
-    let named = std::env::args_os()
+    let named = named_paths()
+        .iter()
+        .filter(|a| identity(a) == Some(id))
+        .count();
+    let read = crate::provenance::Provenance::capture()
+        .inputs
+        .iter()
+        .any(|i| identity(Path::new(&i.path)) == Some(id));
+    if named >= inputs_from || read {
+        return Err(CliError::input(format!(
+            "output {}: is also an input of this command (the same file); writing it would destroy the input: name another output",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Every argument that may name a file: `--flag=PATH` as well as `--flag PATH`.
+fn named_paths() -> Vec<PathBuf> {
+    std::env::args_os()
         .skip(1)
         .flat_map(|a| {
-            // `--flag=PATH` as well as `--flag PATH`.
             let s = a.to_string_lossy().into_owned();
             let after_eq = s.split_once('=').map(|(_, v)| v.to_string());
             [Some(s), after_eq]
         })
         .flatten()
-        .filter(|a| identity(Path::new(a)) == Some(id))
-        .count();
-    if named >= inputs_from {
-        return Err(CliError::input(format!(
-            "output {}: is also an input of this command (the same file); writing it would destroy the input: name another output",
-            path.display()
-        )));
+        .map(PathBuf::from)
+        .collect()
+}
+
+/// Output files declared so far ([`declare_output_file`]): named on the
+/// command line, but not inputs.
+static OUTPUT_FILES: Mutex<Vec<(u64, u64)>> = Mutex::new(Vec::new());
+
+/// `path` is an output file of this run (e.g. `--write-log D/run.swlog`
+/// beside `-o D`), so an existing file there is no input.
+pub fn declare_output_file(path: &Path) {
+    if let Some(id) = identity(path) {
+        OUTPUT_FILES
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(id);
+    }
+}
+
+/// The run's input files (module docs), as given.
+fn input_files() -> Vec<PathBuf> {
+    let outputs = OUTPUT_FILES
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .clone();
+    let read = crate::provenance::Provenance::capture().inputs;
+    named_paths()
+        .into_iter()
+        .chain(read.into_iter().map(|i| PathBuf::from(i.path)))
+        .filter(|p| std::fs::metadata(p).is_ok_and(|m| !m.is_dir()))
+        .filter(|p| identity(p).is_none_or(|id| !outputs.contains(&id)))
+        .collect()
+}
+
+/// Refuses an output folder that holds one of the run's input files
+/// (module docs), naming both.
+pub fn refuse_dir_holding_input(dir: &Path) -> Result<(), CliError> {
+    let Ok(dir_real) = std::fs::canonicalize(dir) else {
+        return Ok(());
+    };
+    for input in input_files() {
+        let Ok(real) = std::fs::canonicalize(&input) else {
+            continue;
+        };
+        if real.starts_with(&dir_real) {
+            return Err(CliError::input(format!(
+                "output directory {}: holds {}, which is also an input of this command; writing there could replace or mix with it: name another output directory (or move the input out)",
+                dir.display(),
+                input.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The marker file naming the command that wrote an output folder.
+pub const MARKER: &str = ".swimbot-output";
+
+/// Folders to mark as written by a command when the run succeeds.
+static CLAIMS: Mutex<Vec<(PathBuf, String)>> = Mutex::new(Vec::new());
+
+/// Refuses `dir` when its marker, or a report's `manifest.json`, names
+/// another command than `command`; else registers it to be marked as
+/// `command`'s when the run succeeds ([`mark_claimed_dirs`]).
+pub fn claim_dir(dir: &Path, command: &str) -> Result<(), CliError> {
+    let marker = crate::input_file::read_text(&dir.join(MARKER), 4096, "a marker").ok();
+    let manifest = crate::input_file::read_text(&dir.join("manifest.json"), 16 << 20, "a manifest")
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| v.get("command")?.as_str().map(str::to_string));
+    let marked = marker.as_deref().and_then(marker_command);
+    for other in [marked, manifest].into_iter().flatten() {
+        if other != command {
+            return Err(CliError::input(format!(
+                "output directory {}: holds the output of `swimbot {other}`; give this `swimbot {command}` another folder with -o, or remove that one",
+                dir.display()
+            )));
+        }
+    }
+    CLAIMS
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push((dir.to_path_buf(), command.to_string()));
+    Ok(())
+}
+
+/// The command a marker's text names (`written by: swimbot NAME`).
+fn marker_command(text: &str) -> Option<String> {
+    text.lines()
+        .find_map(|l| l.strip_prefix("written by: swimbot "))
+        .map(|c| c.trim().to_string())
+}
+
+/// The run succeeded: mark each claimed folder with its command.
+pub fn mark_claimed_dirs() {
+    let claims = std::mem::take(&mut *CLAIMS.lock().unwrap_or_else(|e| e.into_inner()));
+    for (dir, command) in claims {
+        let path = dir.join(MARKER);
+        let text = format!(
+            "written by: swimbot {command}\n\
+             swimbot refuses to write another command's output into this folder.\n"
+        );
+        if std::fs::read_to_string(&path).is_ok_and(|t| t == text) {
+            continue;
+        }
+        let tmp = dir.join(format!(".{MARKER}.tmp-{}", std::process::id()));
+        let written = std::fs::write(&tmp, &text).and_then(|()| std::fs::rename(&tmp, &path));
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(&tmp);
+            let _ = writeln!(
+                std::io::stderr(),
+                "swimbot: warning: {}: cannot write the marker {MARKER}: {e}",
+                dir.display()
+            );
+        }
+    }
+}
+
+/// Removes `.NAME.tmp-PID` files next to `dest` left by runs that were
+/// killed outright (process PID gone; a regular file of ours by name).
+pub fn sweep_stale_temps(dest: &Path) {
+    let (Some(name), parent) = (dest.file_name(), dest.parent()) else {
+        return;
+    };
+    let parent = match parent {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let prefix = format!(".{}.tmp-", name.to_string_lossy());
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let file = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = file
+            .strip_prefix(&prefix)
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != std::process::id()
+            && e.file_type().is_ok_and(|t| t.is_file())
+            && !crate::atomic_dir::process_alive(pid)
+        {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Whether descriptor 1 was closed when the process started, before the
+/// Rust runtime's start-up reopened it on /dev/null (which it does so that
+/// no file the run opens takes descriptor 1): set by the binary
+/// ([`note_stdout_closed_at_start`]), which alone can look that early.
+static STDOUT_CLOSED_AT_START: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
+/// Called by the binary's start-up hook when descriptor 1 was closed.
+pub fn note_stdout_closed_at_start() {
+    STDOUT_CLOSED_AT_START.store(true, std::sync::atomic::Ordering::SeqCst);
+}
+
+/// Standard output must have been open: started with it closed (`>&-`),
+/// every print went to /dev/null and the run ended with exit 0, its
+/// output lost. A reader that closed a pipe (`| head`) is another case,
+/// a quiet success ([`end_on_closed_stdout`]).
+pub fn check_stdout_open() -> Result<(), CliError> {
+    if STDOUT_CLOSED_AT_START.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(CliError::input(
+            "standard output is closed (`>&-`?): the results would be lost; redirect it to a file or /dev/null instead",
+        ));
     }
     Ok(())
 }
@@ -188,6 +382,7 @@ pub fn keep_new_dirs() {
 /// in new folders (`.NAME.tmp-PID`, written by other writers too) and the
 /// new folders that are then empty.
 pub fn clean_up() {
+    crate::atomic_dir::remove_pending();
     let p = pending();
     for t in &p.temps {
         let _ = std::fs::remove_file(t);
@@ -206,12 +401,13 @@ pub fn clean_up() {
     }
 }
 
-/// SIGINT and SIGTERM clean up, then end the process by the signal's
-/// default action (its exit status still says which signal ended it).
+/// SIGINT, SIGTERM and SIGHUP (a closed terminal) clean up, then end the
+/// process by the signal's default action (its exit status still says
+/// which signal ended it).
 #[cfg(unix)]
 pub fn install_signal_cleanup() {
-    use signal_hook::consts::{SIGINT, SIGTERM};
-    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
         return;
     };
     std::thread::spawn(move || {

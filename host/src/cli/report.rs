@@ -31,6 +31,12 @@ pub struct ReportArgs {
     /// $SWIMBOT_CACHE_DIR or the temporary directory); skip it for a report in about a second.
     #[arg(long)]
     pub no_physics: bool,
+    /// Refuse the report when its estimated run time (the diagnosis timed on two small subsets of
+    /// the cases and grown to all, the audit's estimate, the zero-parameter model's first solves)
+    /// is longer [default: no limit; from 200 cases the estimate is made, and one over 10 s is
+    /// announced on stderr].
+    #[arg(long, value_name = "SECONDS")]
+    pub max_seconds: Option<f64>,
 }
 
 /// The spinner the diagnosis reports its stages to (a fn pointer cannot capture it).
@@ -49,7 +55,7 @@ fn spinner(message: &str) -> ProgressBar {
 pub fn run(a: ReportArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
     let model = a.model.model()?;
-    super::output::check_output_dir(&a.output)?;
+    super::output::check_output_dir(&a.output, "report")?;
     crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
     let to_input = in_data(&a.data.data);
     // Every model on the page must predict every case: a bad case is the
@@ -57,6 +63,17 @@ pub fn run(a: ReportArgs) -> Result<(), CliError> {
     for m in [&model, &preset("paper").expect("preset")] {
         for c in &data.cases {
             m.predict(c).map_err(&to_input)?;
+        }
+    }
+    let budget = super::budget::parse_budget(a.max_seconds)?;
+    if budget.is_some() || data.cases.len() >= super::budget::ESTIMATE_FROM_CASES {
+        let est = estimate_seconds(&model, &data, !a.no_physics);
+        if let Some(s) = est {
+            super::budget::check(
+                &format!("the report of {} cases", data.cases.len()),
+                s,
+                budget,
+            )?;
         }
     }
     let s = spinner("diagnosing");
@@ -126,4 +143,37 @@ fn solve_physics(
     });
     bar.finish_and_clear();
     r
+}
+
+/// The report's run time: the diagnosis ([`super::diagnose::estimate_seconds`]),
+/// the audit ([`super::audit::estimate_seconds`], its default family) and,
+/// with the zero-parameter model, each case's first solve in the tube
+/// (timed on two cases, spread over the cores; cached solves are fast and
+/// so estimated fast). `None` when the diagnosis cannot be timed.
+fn estimate_seconds(
+    model: &crate::model::Model,
+    data: &crate::data::Dataset,
+    physics: bool,
+) -> Option<f64> {
+    let diagnosis = super::diagnose::estimate_seconds(
+        model,
+        data,
+        &DiagnoseSettings::default(),
+        crate::workbench::robust::Likelihood::Gaussian,
+    )?;
+    let audit =
+        super::audit::estimate_seconds(model, data, AuditSettings::default().family_samples);
+    let zero = if physics {
+        let m = preset("physics").expect("preset");
+        let sample = data.cases.len().min(2);
+        let (_, s) = super::budget::timed(|| {
+            for c in &data.cases[..sample] {
+                let _ = m.predict(c);
+            }
+        });
+        s / sample.max(1) as f64 * data.cases.len() as f64 / rayon::current_num_threads() as f64
+    } else {
+        0.0
+    };
+    Some(diagnosis + audit + zero)
 }

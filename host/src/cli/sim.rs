@@ -197,9 +197,8 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         _ if replayed.is_some() => replayed.as_ref().map(|r| r.1.clone()).unwrap_or_default(),
         (Some(s), _) => Script::parse(s).map_err(SimError::from)?,
         (None, Some(p)) => {
-            let text = std::fs::read_to_string(p).map_err(|e| {
-                CliError::input(format!("{}: cannot read the script: {e}", p.display()))
-            })?;
+            let text = crate::input_file::read_text(p, crate::input_file::cap::SCRIPT, "a script")
+                .map_err(|e| CliError::input(format!("{}: the script: {e}", p.display())))?;
             crate::provenance::record_input(p, text.as_bytes());
             Script::parse(&text).map_err(|e| CliError::input(format!("{}: {e}", p.display())))?
         }
@@ -211,7 +210,11 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         ));
     }
     check_times(&args)?;
-    super::output::check_output_dir(&args.output)?;
+    if let Some(p) = &args.write_log {
+        // An earlier --write-log file in the folder is an output, not an input.
+        super::output_guard::declare_output_file(p);
+    }
+    super::output::check_output_dir(&args.output, "sim")?;
     if let Some(p) = &args.write_log {
         super::output::check_output_file(p)?;
     }

@@ -40,7 +40,21 @@ pub struct SynthArgs {
 
 /// Parse "PRESET|COEFFICIENTS + EFFECT + EFFECT...".
 pub fn parse_truth(text: &str) -> Result<Model, CliError> {
-    let mut parts = text.split('+').map(str::trim).filter(|s| !s.is_empty());
+    if text.trim().is_empty() {
+        return Err(CliError::input("--truth is empty"));
+    }
+    // An empty term (`base ++ backflow`, a trailing `+`) is a typo that
+    // may have lost an effect: refused, never skipped.
+    let terms: Vec<&str> = text.split('+').map(str::trim).collect();
+    if let Some(i) = terms.iter().position(|t| t.is_empty()) {
+        return Err(CliError::input(format!(
+            "--truth `{}`: term {} of {} is empty (two `+` in a row, or one at an end); write PRESET + EFFECT + EFFECT",
+            crate::data::limits::echo(text),
+            i + 1,
+            terms.len()
+        )));
+    }
+    let mut parts = terms.into_iter();
     let head = parts
         .next()
         .ok_or_else(|| CliError::input("--truth is empty"))?;

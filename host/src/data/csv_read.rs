@@ -306,8 +306,8 @@ fn side_file(
     setup: &mut toml::Table,
 ) -> Result<toml::Table, DataError> {
     let shown = path.display().to_string();
-    let bytes = std::fs::read(path)
-        .map_err(|e| fail(&shown, None, format!("cannot read the setup file: {e}")))?;
+    let bytes = crate::input_file::read(path, crate::input_file::cap::SETUP_FILE, "a setup file")
+        .map_err(|e| fail(&shown, None, format!("the setup file: {e}")))?;
     crate::provenance::record_input(path, &bytes);
     let text = String::from_utf8_lossy(&bytes);
     let mut side: toml::Table = toml::from_str(&text).map_err(|e| {

@@ -11,8 +11,8 @@ use std::path::Path;
 /// an input of this run ([`crate::provenance`]).
 pub fn load_file(path: &Path) -> Result<Dataset, DataError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path)
-        .map_err(|e| err(&file, None, None, format!("cannot read the file: {e}")))?;
+    let bytes = crate::input_file::read(path, crate::input_file::cap::DATASET, "a dataset")
+        .map_err(|e| err(&file, None, None, e.to_string()))?;
     crate::provenance::record_input(path, &bytes);
     let text = String::from_utf8(bytes)
         .map_err(|e| err(&file, None, None, format!("not UTF-8 text: {e}")))?;
@@ -62,8 +62,8 @@ impl FileFormat {
 pub fn convert_file(path: &Path, to: FileFormat) -> Result<String, DataError> {
     load_file(path)?;
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| err(&file, None, None, format!("cannot read the file: {e}")))?;
+    let text = crate::input_file::read_text(path, crate::input_file::cap::DATASET, "a dataset")
+        .map_err(|e| err(&file, None, None, e.to_string()))?;
     let raw = match FileFormat::of(path) {
         FileFormat::Csv => {
             let dir = path.parent().unwrap_or(Path::new("."));

@@ -89,7 +89,9 @@ pub fn load_effect_files(paths: &[PathBuf]) -> Result<(), UserEffectError> {
 
 /// A registration clash, placed at the clashing name's line in the file.
 fn clash(path: &Path, names: &[String], message: String) -> UserEffectError {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let text =
+        crate::input_file::read_text(path, crate::input_file::cap::EFFECTS, "an effects file")
+            .unwrap_or_default();
     let name = names.iter().find(|n| message.contains(&format!("`{n}`")));
     let line = name
         .and_then(|n| {

@@ -354,18 +354,9 @@ pub fn load_file(path: &std::path::Path) -> Result<Vec<FormulaEffect>, UserEffec
         message,
     };
     let limit = crate::data::limits::MAX_EFFECT_FILE_BYTES;
-    // `take` bounds the read even for a file that grows or a device without a size.
-    let mut text = String::new();
-    std::fs::File::open(path)
-        .and_then(|f| {
-            std::io::Read::read_to_string(&mut std::io::Read::take(f, limit + 1), &mut text)
-        })
-        .map_err(|e| whole(format!("cannot read: {e}")))?;
-    if text.len() as u64 > limit {
-        return Err(whole(format!(
-            "the file is larger than {limit} bytes, the limit of an effects file"
-        )));
-    }
+    // Bounded while reading, even for a file that grows or a device without a size.
+    let text = crate::input_file::read_text(path, limit, "an effects file")
+        .map_err(|e| whole(e.to_string()))?;
     crate::provenance::record_input(path, text.as_bytes());
     let specs = parse(&text, &file)?;
     specs

@@ -4,6 +4,12 @@
 //! command that wrote the folder. Read back from the rendered page, so
 //! the files hold exactly what the page shows.
 //!
+//! The folder is replaced all-or-none ([`crate::atomic_dir`]): an
+//! interrupted run or a full disk leaves the old bundle or the new one,
+//! never a page beside another run's figures. The manifest records each
+//! file's SHA-256, so a reader can check that what it holds is what this
+//! run wrote.
+//!
 //! A folder whose manifest names another command (or that holds an
 //! `index.html` without a manifest) is refused: no command silently
 //! overwrites another command's page.
@@ -19,6 +25,8 @@ pub struct Entry {
     /// `page`, `figure` (SVG), `table-csv` or `table-json`.
     pub kind: String,
     pub caption: String,
+    /// Hex SHA-256 of the file as written (empty until the bytes are final).
+    pub sha256: String,
 }
 
 #[derive(Debug, Serialize)]
@@ -31,7 +39,7 @@ struct Manifest<'a> {
 /// Refuse `dir` when another command's page is in it.
 pub fn check_dir(dir: &Path, command: &str) -> Result<(), String> {
     let manifest = dir.join("manifest.json");
-    match std::fs::read_to_string(&manifest) {
+    match read_manifest(&manifest) {
         Ok(text) => {
             let written_by = serde_json::from_str::<serde_json::Value>(&text)
                 .ok()
@@ -56,6 +64,11 @@ pub fn check_dir(dir: &Path, command: &str) -> Result<(), String> {
         )),
         Err(_) => Ok(()),
     }
+}
+
+/// A manifest read back, bounded ([`crate::input_file`]).
+fn read_manifest(path: &Path) -> Result<String, crate::input_file::ReadError> {
+    crate::input_file::read_text(path, crate::input_file::cap::MANIFEST, "a manifest")
 }
 
 /// The text of `html` with tags removed and the page's entities decoded.
@@ -133,6 +146,7 @@ pub fn files(page: &str) -> (Vec<(String, Vec<u8>)>, Vec<Entry>) {
         file: "index.html".into(),
         kind: "page".into(),
         caption: "the whole page".into(),
+        sha256: String::new(),
     }];
     for fig in elements(page, "figure") {
         let id = attr(fig, "id").unwrap_or("figure");
@@ -151,6 +165,7 @@ pub fn files(page: &str) -> (Vec<(String, Vec<u8>)>, Vec<Entry>) {
                 file: file.clone(),
                 kind: "figure".into(),
                 caption: format!("{title}: panel {} of {}. {caption}", i + 1, svgs.len()),
+                sha256: String::new(),
             });
             files.push((file, format!("{svg}\n").into_bytes()));
         }
@@ -189,6 +204,7 @@ pub fn files(page: &str) -> (Vec<(String, Vec<u8>)>, Vec<Entry>) {
                         file: format!("{stem}.{ext}"),
                         kind: kind.into(),
                         caption: caption.clone(),
+                        sha256: String::new(),
                     });
                     files.push((format!("{stem}.{ext}"), bytes));
                 }
@@ -236,14 +252,14 @@ fn table_json(rows: &[Vec<String>]) -> String {
 /// check that an output is none of the command's input files).
 pub type Guard<'a> = &'a dyn Fn(&Path) -> Result<(), String>;
 
-/// Write `page` and its bundle into `dir` (each file through a temporary
-/// file and a rename); returns the page's path. Every file it would write
-/// or remove passes `guard` first, before any is touched.
+/// Write `page` and its bundle into `dir`, all-or-none (module docs);
+/// returns the page's path. Every file it would write or remove passes
+/// `guard` first, before any is touched.
 pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<PathBuf, String> {
     check_dir(dir, command)?;
     let provenance = crate::provenance::Provenance::capture();
     let page = provenance.into_html(page);
-    let (mut files, entries) = files(&page);
+    let (mut files, mut entries) = files(&page);
     // every file of the bundle can be traced back on its own
     for (rel, bytes) in &mut files {
         if rel.ends_with(".svg") {
@@ -256,6 +272,11 @@ pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<Path
             *bytes = with;
         }
     }
+    let page = page.into_bytes();
+    for e in &mut entries {
+        let bytes = files.iter().find(|f| f.0 == e.file).map_or(&page, |f| &f.1);
+        e.sha256 = crate::provenance::sha256_hex(bytes);
+    }
     let manifest = Manifest {
         command,
         swimbot_version: env!("CARGO_PKG_VERSION"),
@@ -266,7 +287,7 @@ pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<Path
         "manifest.json".into(),
         (serde_json::to_string_pretty(&manifest).expect("serialisable") + "\n").into_bytes(),
     ));
-    files.push(("index.html".into(), page.into_bytes()));
+    files.push(("index.html".into(), page));
     // a page rewritten with fewer figures leaves no stale ones behind; only
     // the files the previous run's manifest lists go (removing the whole
     // folders deleted whatever else a user had put in them)
@@ -274,12 +295,20 @@ pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<Path
     for rel in previous.iter().chain(files.iter().map(|f| &f.0)) {
         guard(&dir.join(rel))?;
     }
-    for rel in previous {
-        let _ = std::fs::remove_file(dir.join(rel));
-    }
+    let replaced: std::collections::HashSet<PathBuf> = previous
+        .iter()
+        .chain(files.iter().map(|f| &f.0))
+        .map(PathBuf::from)
+        .collect();
+    let say = |e: std::io::Error| format!("{}: {e} (the folder is as it was)", dir.display());
+    let staging =
+        crate::atomic_dir::Staging::begin(dir, &|rel| replaced.contains(rel)).map_err(say)?;
     for (rel, bytes) in &files {
-        write_file(&dir.join(rel), bytes)?;
+        staging
+            .write(rel, bytes)
+            .map_err(|e| format!("{}: {e} (the folder is as it was)", dir.join(rel).display()))?;
     }
+    staging.commit().map_err(say)?;
     Ok(dir.join("index.html"))
 }
 
@@ -287,7 +316,7 @@ pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<Path
 /// as `figures/NAME` or `tables/NAME` (anything else a manifest may say,
 /// such as `../x`, is not ours to remove).
 fn previous_files(dir: &Path) -> Vec<String> {
-    let Ok(text) = std::fs::read_to_string(dir.join("manifest.json")) else {
+    let Ok(text) = read_manifest(&dir.join("manifest.json")) else {
         return Vec::new();
     };
     let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) else {
@@ -309,23 +338,6 @@ fn previous_files(dir: &Path) -> Vec<String> {
         })
         .map(str::to_string)
         .collect()
-}
-
-fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let say = |e: std::io::Error| format!("{}: {e}", path.display());
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(say)?;
-    }
-    let name = path
-        .file_name()
-        .map_or("out".into(), |n| n.to_string_lossy());
-    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    std::fs::write(&tmp, bytes)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            say(e)
-        })
 }
 
 #[cfg(test)]

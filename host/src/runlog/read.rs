@@ -12,7 +12,7 @@
 
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 use swimbot_shared::run_log::image::{OLDEST_VERSION, VERSION};
 use swimbot_shared::run_log::{decode, DecodeError, Header, Record, HEADER_LEN};
 
@@ -111,36 +111,72 @@ fn read_bytes(source: &Source) -> Result<Vec<u8>, LogError> {
 
 /// The largest image the robot can hold (a 10-minute run at 10 Hz is
 /// 96 kB) with a wide margin; a bigger file is not a log.
-const MAX_IMAGE_BYTES: u64 = 16 << 20;
+const MAX_IMAGE_BYTES: u64 = crate::input_file::cap::RUN_LOG;
 
+/// Bounded while reading ([`crate::input_file`]): a FIFO or `/dev/zero`
+/// costs at most the cap, never the machine.
 fn read_file(path: &Path) -> Result<Vec<u8>, String> {
-    let len = std::fs::metadata(path)
-        .map_err(|e| format!("cannot read the log file: {e}"))?
-        .len();
-    if len > MAX_IMAGE_BYTES {
-        return Err(format!(
-            "{len} bytes: not a run log (a 10-minute log is about 96 kB)"
-        ));
-    }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read the log file: {e}"))?;
+    let bytes = crate::input_file::read(
+        path,
+        MAX_IMAGE_BYTES,
+        "a run log (a 10-minute log is about 96 kB)",
+    )
+    .map_err(|e| e.to_string())?;
     crate::provenance::record_input(path, &bytes);
     Ok(bytes)
 }
 
+/// Silence on the port longer than this ends the read: the robot answers
+/// at once, and a USB packet is never this late.
+const PORT_SILENCE: Duration = Duration::from_secs(3);
+/// The whole read's deadline is this plus the image's size at
+/// [`PORT_MIN_BYTES_PER_S`]: a device that trickles (one byte every 2 s,
+/// each within [`PORT_SILENCE`]) is dropped when it is due, not read for
+/// ever. USB CDC moves about 1 MB/s; the robot sends its flash at well
+/// over 100 kB/s, so an honest 96 kB log is due after 6 s and arrives in
+/// a fraction of it.
+const PORT_BASE_DEADLINE: Duration = Duration::from_secs(5);
+const PORT_MIN_BYTES_PER_S: f64 = 100_000.0;
+
+/// When an image of `bytes` bytes must have arrived, from `start`.
+fn port_deadline(start: Instant, bytes: u64) -> Instant {
+    start + PORT_BASE_DEADLINE + Duration::from_secs_f64(bytes as f64 / PORT_MIN_BYTES_PER_S)
+}
+
 /// Ask the robot for its log: `LOG\n`, then the header, then the records
-/// the header announces.
+/// the header announces, all before the deadline ([`port_deadline`]).
 fn read_port(name: &str) -> Result<Vec<u8>, String> {
     let mut port = serialport::new(name, 115_200)
-        .timeout(Duration::from_secs(3))
+        .timeout(PORT_SILENCE)
         .open()
         .map_err(|e| format!("cannot open the robot's port: {e}"))?;
     let _ = port.clear(serialport::ClearBuffer::All);
     port.write_all(b"LOG\n")
         .and_then(|()| port.flush())
         .map_err(|e| format!("cannot send the LOG request: {e}"))?;
+    let start = Instant::now();
+    let mut timeout = |p: &mut Box<dyn serialport::SerialPort>, t: Duration| {
+        let _ = p.set_timeout(t.min(PORT_SILENCE));
+    };
+    read_image(&mut port, start, &mut timeout)
+}
+
+/// The image from `port`: header, then the announced records; the whole
+/// read ends by [`port_deadline`]. `set_timeout` bounds each read by the
+/// time left.
+fn read_image<R: Read>(
+    port: &mut R,
+    start: Instant,
+    set_timeout: &mut dyn FnMut(&mut R, Duration),
+) -> Result<Vec<u8>, String> {
     let mut bytes = vec![0u8; HEADER_LEN];
-    port.read_exact(&mut bytes)
-        .map_err(|e| format!("no log header from the robot: {e}"))?;
+    read_exact_by(
+        port,
+        &mut bytes,
+        port_deadline(start, HEADER_LEN as u64),
+        set_timeout,
+    )
+    .map_err(|e| format!("no log header from the robot: {e}"))?;
     let count = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]) as u64;
     let total = HEADER_LEN as u64 + count.saturating_mul(16);
     if &bytes[..4] != b"SWLG" || total > MAX_IMAGE_BYTES {
@@ -148,10 +184,43 @@ fn read_port(name: &str) -> Result<Vec<u8>, String> {
         return Ok(bytes);
     }
     let mut rest = vec![0u8; (total as usize) - HEADER_LEN];
-    port.read_exact(&mut rest)
+    let deadline = port_deadline(start, total);
+    read_exact_by(port, &mut rest, deadline, set_timeout)
         .map_err(|e| format!("the robot sent the header of {count} records, then stopped: {e}"))?;
     bytes.extend_from_slice(&rest);
     Ok(bytes)
+}
+
+/// `read_exact` that gives up at `deadline` however the bytes trickle in.
+fn read_exact_by<R: Read>(
+    r: &mut R,
+    buf: &mut [u8],
+    deadline: Instant,
+    set_timeout: &mut dyn FnMut(&mut R, Duration),
+) -> Result<(), String> {
+    let mut filled = 0;
+    while filled < buf.len() {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return Err(format!(
+                "{filled} of {} bytes arrived before the read's deadline; the port is too slow or not the robot",
+                buf.len()
+            ));
+        }
+        set_timeout(r, left);
+        match r.read(&mut buf[filled..]) {
+            Ok(0) => {
+                return Err(format!(
+                    "the port closed after {filled} of {} bytes",
+                    buf.len()
+                ))
+            }
+            Ok(n) => filled += n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e.to_string()),
+        }
+    }
+    Ok(())
 }
 
 /// Decode an image, with what is wrong said in words.
@@ -160,10 +229,67 @@ pub fn decode_bytes(bytes: &[u8]) -> Result<RunLog, String> {
     if image.is_empty() {
         return Err("the log is empty: no record (was the motor started since power-up?)".into());
     }
+    let records: Vec<Record> = image.records().collect();
+    check_time(&records, u32::from(image.header.sample_period_ms))?;
     Ok(RunLog {
         header: image.header,
-        records: image.records().collect(),
+        records,
     })
+}
+
+/// The longest plausible gap between two records while the motor runs,
+/// in sample periods and at least in ms: the recorder takes a record one
+/// period after the last (a main-loop pass, every 1 ms or sooner, is at
+/// most one pass late), so even a main loop held up by a flash erase
+/// stays far inside it. Between runs of one power-up (the motor stopped,
+/// then started again) any gap is real.
+const MAX_GAP_PERIODS: u64 = 100;
+const MAX_GAP_MS: u64 = 60_000;
+
+/// The motor runs from record `a` to record `b`: `a` is no stop and `b`
+/// no start.
+fn runs_across(a: &Record, b: &Record) -> bool {
+    use swimbot_shared::run_log::Events;
+    let stopped = [
+        Events::STOPPED_COMMAND,
+        Events::STOPPED_MAX_RUN_TIME,
+        Events::STOPPED_LOW_BATTERY,
+        Events::STOPPED_BATTERY_FAULT,
+        Events::USB_CONNECTED,
+    ]
+    .iter()
+    .any(|&e| a.events.contains(e));
+    let started = [Events::STARTED, Events::ON]
+        .iter()
+        .any(|&e| b.events.contains(e));
+    a.duty_per_10k > 0 && !stopped && !started
+}
+
+/// A CRC-valid image can still hold a time that runs backwards (two logs
+/// concatenated) or jumps by days (a corrupted clock): steady windows
+/// would count turns twice or span the jump. Refused, naming the record.
+fn check_time(records: &[Record], period_ms: u32) -> Result<(), String> {
+    let max_gap = (u64::from(period_ms) * MAX_GAP_PERIODS).max(MAX_GAP_MS);
+    for (i, w) in records.windows(2).enumerate() {
+        let (a, b) = (u64::from(w[0].t_ms), u64::from(w[1].t_ms));
+        let (n, m) = (i + 1, i + 2);
+        if b < a {
+            return Err(format!(
+                "record {m} (t = {:.3} s) is earlier than record {n} (t = {:.3} s): time runs backwards, so this is not one run as the robot records it (two logs joined?)",
+                b as f64 * 1e-3,
+                a as f64 * 1e-3
+            ));
+        }
+        if b - a > max_gap && runs_across(&w[0], &w[1]) {
+            return Err(format!(
+                "record {m} (t = {:.3} s) comes {:.3} s after record {n}: the robot records every {period_ms} ms while the motor runs, so a gap over {:.0} s is no real log (a damaged clock?)",
+                b as f64 * 1e-3,
+                (b - a) as f64 * 1e-3,
+                max_gap as f64 * 1e-3
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A decode error in the words a lab needs.
@@ -204,6 +330,52 @@ pub fn describe(e: &DecodeError) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A device that sends one byte per read, `delay` apart.
+    struct Trickle {
+        delay: Duration,
+        next: u8,
+    }
+
+    impl Read for Trickle {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            std::thread::sleep(self.delay);
+            buf[0] = self.next;
+            self.next = self.next.wrapping_add(1);
+            Ok(1)
+        }
+    }
+
+    #[test]
+    fn a_trickling_port_is_dropped_at_the_deadline() {
+        let mut port = Trickle {
+            delay: Duration::from_millis(20),
+            next: 0,
+        };
+        // Started long ago: the deadline has nearly passed.
+        let start = Instant::now() - PORT_BASE_DEADLINE + Duration::from_millis(100);
+        let t = Instant::now();
+        let e = read_image(&mut port, start, &mut |_, _| {}).unwrap_err();
+        assert!(e.contains("before the read's deadline"), "{e}");
+        assert!(t.elapsed() < Duration::from_secs(2), "{:?}", t.elapsed());
+        // The time left is what each read may wait.
+        let mut waits = Vec::new();
+        let mut port = Trickle {
+            delay: Duration::ZERO,
+            next: 0,
+        };
+        let _ = read_exact_by(
+            &mut port,
+            &mut [0u8; 3],
+            Instant::now() + Duration::from_secs(1),
+            &mut |_, t| waits.push(t),
+        );
+        assert_eq!(waits.len(), 3);
+        assert!(
+            waits.iter().all(|w| *w <= Duration::from_secs(1)),
+            "{waits:?}"
+        );
+    }
 
     #[test]
     fn ports_and_files_are_told_apart_by_name() {

@@ -21,8 +21,10 @@ pub struct Difference {
     pub records: usize,
     pub rate_mean_hz: f64,
     pub rate_rms_hz: f64,
-    /// Mean of (sim - log) / log.
-    pub rate_mean_rel: f64,
+    /// Mean of (sim - log) / log over the records whose logged rate is
+    /// not 0; `None` when every logged rate is 0 (a relative difference to
+    /// 0 is no number: printing it gave "+inf %").
+    pub rate_mean_rel: Option<f64>,
     pub duty_mean: f64,
 }
 
@@ -38,7 +40,8 @@ fn sim_at(sim: &Trace, t_s: f64) -> Option<&LogPoint> {
 }
 
 fn difference<'a>(pairs: impl Iterator<Item = (&'a LogPoint, &'a LogPoint)>) -> Option<Difference> {
-    let (mut n, mut d, mut d2, mut rel, mut dd) = (0usize, 0.0, 0.0, 0.0, 0.0);
+    let (mut n, mut d, mut d2, mut dd) = (0usize, 0.0, 0.0, 0.0);
+    let (mut n_rel, mut rel) = (0usize, 0.0);
     for (l, s) in pairs {
         let (Some(lr), Some(sr)) = (l.rate_hz, s.rate_hz) else {
             continue;
@@ -46,7 +49,10 @@ fn difference<'a>(pairs: impl Iterator<Item = (&'a LogPoint, &'a LogPoint)>) -> 
         n += 1;
         d += sr - lr;
         d2 += (sr - lr).powi(2);
-        rel += (sr - lr) / lr;
+        if lr != 0.0 {
+            n_rel += 1;
+            rel += (sr - lr) / lr;
+        }
         dd += s.duty - l.duty;
     }
     (n > 0).then(|| {
@@ -55,7 +61,7 @@ fn difference<'a>(pairs: impl Iterator<Item = (&'a LogPoint, &'a LogPoint)>) -> 
             records: n,
             rate_mean_hz: d / n_f,
             rate_rms_hz: (d2 / n_f).sqrt(),
-            rate_mean_rel: rel / n_f,
+            rate_mean_rel: (n_rel > 0).then(|| rel / n_rel as f64),
             duty_mean: dd / n_f,
         }
     })
@@ -83,10 +89,12 @@ pub fn describe(what: &str, d: &Option<Difference>) -> String {
     match d {
         None => format!("{what}: no record where both measured a rate"),
         Some(d) => format!(
-            "{what} ({} records): rate sim - log {:+.4} Hz ({:+.2} %), RMS {:.4} Hz; duty sim - log {:+.1} points",
+            "{what} ({} records): rate sim - log {:+.4} Hz ({}), RMS {:.4} Hz; duty sim - log {:+.1} points",
             d.records,
             d.rate_mean_hz,
-            100.0 * d.rate_mean_rel,
+            d.rate_mean_rel.map_or("the log's rate is 0 Hz: no relative difference".into(), |r| {
+                format!("{:+.2} %", 100.0 * r)
+            }),
             d.rate_rms_hz,
             100.0 * d.duty_mean
         ),

@@ -89,8 +89,9 @@ const COPPER_KG_M3: f64 = 8960.0;
 impl Robot {
     pub fn load_file(path: &std::path::Path) -> Result<Robot, RobotError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| fail(&file, None, format!("cannot read the file: {e}")))?;
+        let text =
+            crate::input_file::read_text(path, crate::input_file::cap::ROBOT, "a robot file")
+                .map_err(|e| fail(&file, None, e.to_string()))?;
         crate::provenance::record_input(path, text.as_bytes());
         Robot::from_toml(&text, &file)
     }

@@ -106,8 +106,14 @@ pub enum FitError {
     Model(#[from] ModelError),
     #[error("nothing to fit: the dataset has no measured U or Omega_b")]
     NoData,
-    #[error("the fit did not produce a finite chi-square (a prediction failed at every start)")]
-    NoFiniteStart,
+    /// Names the free parameters and their ranges: which one the user
+    /// must narrow is theirs to see.
+    #[error(
+        "the fit did not produce a finite chi-square (a prediction failed at every start) for {0}"
+    )]
+    NoFiniteStart(String),
+    #[error("{0}: its range is too wide to fit (the width overflows a float, or the ends are not finite numbers): give bounds within about 1e300 of each other")]
+    RangeTooWide(String),
 }
 
 /// The fitting problem: the model with its free parameters on the cases.
@@ -331,6 +337,12 @@ pub fn fit_with(
             true,
         )?);
     }
+    for &f in free {
+        let (lo, hi) = bounds(model, f);
+        if !(hi - lo).is_finite() {
+            return Err(FitError::RangeTooWide(describe_free(model, &[f])));
+        }
+    }
     let mut best: Option<(Model, f64, bool)> = None;
     let all_starts = starts(model, free);
     let tried = if multi_start {
@@ -358,10 +370,26 @@ pub fn fit_with(
             best = Some((solved.model, objective, report.termination.was_successful()));
         }
     }
-    let (m, _, ok) = best.ok_or(FitError::NoFiniteStart)?;
+    let (m, _, ok) = best.ok_or_else(|| FitError::NoFiniteStart(describe_free(model, free)))?;
     Ok(super::fit_uncertainty::finish(
         m, free, &cases, likelihood, ok,
     )?)
+}
+
+/// "effect `E`, parameter `p` in [lo, hi]" for each free parameter.
+fn describe_free(model: &Model, free: &[FreeParam]) -> String {
+    free.iter()
+        .map(|&f| {
+            let (lo, hi) = bounds(model, f);
+            let e = &model.effects[f.effect].effect;
+            format!(
+                "effect `{}`, parameter `{}` in [{lo:e}, {hi:e}]",
+                e.name(),
+                e.params()[f.param].name
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// The deviance of `likelihood` (the chi-square for the Gaussian).
