@@ -302,7 +302,10 @@ mod tests {
             done(250, Some(1000), t, "cases"),
             "250 of 1000 cases (25 %), about 0:01:30 left, "
         );
-        assert_eq!(done(0, Some(10), t, ""), "0 of 10 (0 %), time left unknown yet, ");
+        assert_eq!(
+            done(0, Some(10), t, ""),
+            "0 of 10 (0 %), time left unknown yet, "
+        );
         assert_eq!(done(3, None, t, "cases"), "");
         assert_eq!(hms(3725.2), "1:02:06");
     }

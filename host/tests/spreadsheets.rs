@@ -82,7 +82,10 @@ fn a_european_export_compares_byte_for_byte_as_the_original() {
     let dir = tempfile::tempdir().unwrap();
     let original = write(dir.path(), "paper.csv", &paper_csv());
     let export = european_export(&paper_csv());
-    assert!(export.contains("tail-1;15,5;2,5;130;1,05;0,586"), "{export}");
+    assert!(
+        export.contains("tail-1;15,5;2,5;130;1,05;0,586"),
+        "{export}"
+    );
     assert!(export.contains("\r\n") && export.contains(";;"));
     let euro = write(dir.path(), "paper-eu.csv", &export);
     let (want, _) = compare_json(&original, &[]);
@@ -90,7 +93,11 @@ fn a_european_export_compares_byte_for_byte_as_the_original() {
     assert_eq!(got, want);
     // Said once, on stderr: how the file was read.
     let err = stderr(&o);
-    assert_eq!(err.matches("`;` between cells, decimal commas").count(), 1, "{err}");
+    assert_eq!(
+        err.matches("`;` between cells, decimal commas").count(),
+        1,
+        "{err}"
+    );
     // The flag agrees with the detection.
     let (flagged, _) = compare_json(&euro, &["--decimal-comma"]);
     assert_eq!(flagged, want);
@@ -222,11 +229,21 @@ fn a_temperature_column_is_carried_through_and_offered_to_diagnose() {
     // TOML and back: the same dataset, the same comparison.
     let toml = dir.path().join("warm.toml");
     let back = dir.path().join("back.csv");
-    ok(&swimbot(&["convert", path.to_str().unwrap(), "-o", toml.to_str().unwrap()]));
+    ok(&swimbot(&[
+        "convert",
+        path.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]));
     let text = std::fs::read_to_string(&toml).unwrap();
     assert!(text.contains("recorded = { temperature_c = "), "{text}");
     assert!(text.contains("labels = { "), "{text}");
-    ok(&swimbot(&["convert", toml.to_str().unwrap(), "-o", back.to_str().unwrap()]));
+    ok(&swimbot(&[
+        "convert",
+        toml.to_str().unwrap(),
+        "-o",
+        back.to_str().unwrap(),
+    ]));
     for p in [&toml, &back] {
         assert_eq!(compare_json(p, &[]).0, compare_json(&path, &[]).0);
     }
@@ -242,7 +259,11 @@ fn a_column_one_typo_from_a_field_is_refused_not_recorded() {
     );
     let o = swimbot(&["compare", "--no-report", "--data", path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("did you mean `wavelength_mm`"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("did you mean `wavelength_mm`"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -258,7 +279,10 @@ fn a_csv_over_the_case_limit_is_refused_while_it_is_read() {
     let o = swimbot(&["compare", "--no-report", "--data", path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let e = stderr(&o);
-    assert!(e.contains("big.csv: row 10003") && e.contains("at most 10000"), "{e}");
+    assert!(
+        e.contains("big.csv: row 10003") && e.contains("at most 10000"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -291,12 +315,19 @@ fn bad_cells_name_file_row_case_and_field_in_few_words() {
         "# wire_diameter_mm = 1.0\n# channel_diameter_mm = 35\n# channel_length_mm = 350\n# viscosity_pa_s = 3.5\n# density_kg_m3 = 985\n# body_diameter_mm = 20\n# body_length_mm = 50\n# wavelength_mm = 15\n# amplitude_mm = 2.5\n# tail_length_mm = 130\n# frequency_hz = 1\nid,u_mm_s,omega_body_hz\n",
     );
     for i in 0..800 {
-        trials += &format!("a,{},{}\n", 0.5 + 1e-3 * f64::from(i % 7), if i == 0 { "inf" } else { "0.1" });
+        trials += &format!(
+            "a,{},{}\n",
+            0.5 + 1e-3 * f64::from(i % 7),
+            if i == 0 { "inf" } else { "0.1" }
+        );
     }
     let path = write(dir.path(), "trials.csv", &trials);
     let e = swimbot::data::load_file(&path).unwrap_err().to_string();
     assert!(e.contains("rows 13-812"), "{e}");
-    assert!(e.contains("omega_body_trials_hz") && e.contains("non-finite"), "{e}");
+    assert!(
+        e.contains("omega_body_trials_hz") && e.contains("non-finite"),
+        "{e}"
+    );
     assert!(e.len() < 300, "{} characters: {e}", e.len());
 
     // A long cell is echoed at most ~120 characters.
@@ -311,6 +342,9 @@ fn bad_cells_name_file_row_case_and_field_in_few_words() {
         .replace("\ntail-6,", "\ntail-6,,");
     let path = write(dir.path(), "long.csv", &bad);
     let e = swimbot::data::load_file(&path).unwrap_err().to_string();
-    assert!(e.contains("body_profile") && e.contains("characters in all"), "{e}");
+    assert!(
+        e.contains("body_profile") && e.contains("characters in all"),
+        "{e}"
+    );
     assert!(e.len() < 400, "{} characters: {e}", e.len());
 }

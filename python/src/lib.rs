@@ -109,8 +109,8 @@ fn load(py: Python<'_>, path: std::path::PathBuf, decimal_comma: bool) -> PyResu
 #[pyo3(signature = (text, name, decimal_comma = false))]
 fn from_csv(text: &str, name: &str, decimal_comma: bool) -> PyResult<Dataset> {
     let options = ReadOptions { decimal_comma };
-    let loaded = data::read_csv_str(text, name, std::path::Path::new("."), &options)
-        .map_err(data_err)?;
+    let loaded =
+        data::read_csv_str(text, name, std::path::Path::new("."), &options).map_err(data_err)?;
     Ok(Dataset {
         inner: loaded.dataset,
         note: loaded.note,
@@ -233,10 +233,18 @@ fn sweep<'py>(
     let model = a.model.model().map_err(cli_err)?;
     let base = template.map_or_else(data::paper, |d| d.inner.clone());
     let mut t: Case = match &case {
-        Some(id) => base.cases.iter().find(|c| &c.id == id).cloned().ok_or_else(|| {
-            let ids: Vec<&str> = base.cases.iter().map(|c| c.id.as_str()).collect();
-            SwimbotError::new_err(format!("case: no case `{id}` in the data; cases: {}", ids.join(", ")))
-        })?,
+        Some(id) => base
+            .cases
+            .iter()
+            .find(|c| &c.id == id)
+            .cloned()
+            .ok_or_else(|| {
+                let ids: Vec<&str> = base.cases.iter().map(|c| c.id.as_str()).collect();
+                SwimbotError::new_err(format!(
+                    "case: no case `{id}` in the data; cases: {}",
+                    ids.join(", ")
+                ))
+            })?,
         None => base.cases[0].clone(),
     };
     t.u_mm_s = None;
@@ -244,7 +252,10 @@ fn sweep<'py>(
     let cols = [
         ("wavelength_mm", floats(wavelength_mm, n, "wavelength_mm")?),
         ("amplitude_mm", floats(amplitude_mm, n, "amplitude_mm")?),
-        ("tail_length_mm", floats(tail_length_mm, n, "tail_length_mm")?),
+        (
+            "tail_length_mm",
+            floats(tail_length_mm, n, "tail_length_mm")?,
+        ),
         ("frequency_hz", floats(frequency_hz, n, "frequency_hz")?),
     ];
     let at = |i: usize| {
@@ -267,8 +278,7 @@ fn sweep<'py>(
             .into_par_iter()
             .map(|i| {
                 let c = at(i);
-                data::limits::check_case(&c)
-                    .map_err(|(f, m)| format!("geometry {i}: {f}: {m}"))?;
+                data::limits::check_case(&c).map_err(|(f, m)| format!("geometry {i}: {f}: {m}"))?;
                 let p = model
                     .predict(&c)
                     .map_err(|e| format!("geometry {i}: {e}"))?;

@@ -107,9 +107,14 @@ impl Kind {
         let shown = super::limits::echo(cell);
         let number = |cell: &str| {
             if decimal_comma && super::csv_dialect::is_decimal_point(cell) {
-                return Err(format!("`{shown}` has a decimal point, but the file writes decimal commas"));
+                return Err(format!(
+                    "`{shown}` has a decimal point, but the file writes decimal commas"
+                ));
             }
-            number(&super::csv_dialect::number_text(cell, decimal_comma), decimal_comma)
+            number(
+                &super::csv_dialect::number_text(cell, decimal_comma),
+                decimal_comma,
+            )
         };
         match self {
             Kind::Text => Ok(V::String(cell.to_string())),
@@ -156,7 +161,10 @@ mod tests {
 
     #[test]
     fn cells_are_read_by_their_kind() {
-        assert_eq!(Kind::Flag.read("TRUE", false), Ok(toml::Value::Boolean(true)));
+        assert_eq!(
+            Kind::Flag.read("TRUE", false),
+            Ok(toml::Value::Boolean(true))
+        );
         assert!(Kind::Flag
             .read("yes", false)
             .unwrap_err()
@@ -168,14 +176,22 @@ mod tests {
             .read("0,586", false)
             .unwrap_err()
             .contains("--decimal-comma"));
-        assert_eq!(Kind::Number.read("0,586", true), Ok(toml::Value::Float(0.586)));
+        assert_eq!(
+            Kind::Number.read("0,586", true),
+            Ok(toml::Value::Float(0.586))
+        );
         assert!(Kind::Number.read("0.586", true).is_err());
-        assert_eq!(Kind::Uncertainty.read("0,5", true), Ok(toml::Value::Float(0.5)));
+        assert_eq!(
+            Kind::Uncertainty.read("0,5", true),
+            Ok(toml::Value::Float(0.5))
+        );
         assert_eq!(
             Kind::Uncertainty.read("2%", false),
             Ok(toml::Value::String("2%".into()))
         );
-        let profile = Kind::Inline.read("[[20.0, 12.0], [30, 20]]", false).unwrap();
+        let profile = Kind::Inline
+            .read("[[20.0, 12.0], [30, 20]]", false)
+            .unwrap();
         assert_eq!(profile.as_array().map(Vec::len), Some(2));
         assert!(Kind::Inline.read("[[20.0, 12.0]", false).is_err());
         let long = format!("[[{}", "1.0, ".repeat(200));

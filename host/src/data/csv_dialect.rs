@@ -188,7 +188,10 @@ mod tests {
         assert_eq!(decimal_comma(cells.into_iter(), &plain), Ok(true));
         let mixed = [(3, "1.5"), (4, "0,5")];
         let e = decimal_comma(mixed.into_iter(), &plain).unwrap_err();
-        assert!(e.contains("row 4 (`0,5`)") && e.contains("row 3 (`1.5`)"), "{e}");
+        assert!(
+            e.contains("row 4 (`0,5`)") && e.contains("row 3 (`1.5`)"),
+            "{e}"
+        );
         let forced = ReadOptions {
             decimal_comma: true,
         };
@@ -210,7 +213,10 @@ mod tests {
             header_line(r##""# source = ""Tables I";" II""";;"##, &euro),
             r##"# source = "Tables I, II""##
         );
-        assert_eq!(header_line("# viscosity_pa_s = 3,5;;", &euro), "# viscosity_pa_s = 3.5");
+        assert_eq!(
+            header_line("# viscosity_pa_s = 3,5;;", &euro),
+            "# viscosity_pa_s = 3.5"
+        );
         let plain = Dialect {
             separator: b',',
             decimal_comma: false,

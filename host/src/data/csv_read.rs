@@ -59,7 +59,13 @@ fn ranges(rows: &[u64]) -> String {
     let shown: Vec<String> = spans
         .iter()
         .take(MAX_RANGES)
-        .map(|&(lo, hi)| if lo == hi { lo.to_string() } else { format!("{lo}-{hi}") })
+        .map(|&(lo, hi)| {
+            if lo == hi {
+                lo.to_string()
+            } else {
+                format!("{lo}-{hi}")
+            }
+        })
         .collect();
     let mut out = shown.join(", ");
     if spans.len() > MAX_RANGES {
@@ -224,7 +230,9 @@ fn records(
         if record.iter().all(str::is_empty) {
             continue;
         }
-        let id = id_column.and_then(|i| record.get(i)).filter(|s| !s.is_empty());
+        let id = id_column
+            .and_then(|i| record.get(i))
+            .filter(|s| !s.is_empty());
         let trials = match id {
             Some(id) => {
                 let n = ids.entry(id.to_string()).or_insert(0);
@@ -337,7 +345,11 @@ fn classify(columns: &mut [Column], records: &[(u64, csv::StringRecord)], decima
                 .parse::<f64>()
                 .is_ok()
         });
-        *column = if numeric { Column::Recorded } else { Column::Label };
+        *column = if numeric {
+            Column::Recorded
+        } else {
+            Column::Label
+        };
     }
 }
 
@@ -365,7 +377,10 @@ fn note(file: &str, dialect: &Dialect, names: &[String], columns: &[Column]) -> 
     }
     let labels = list(Column::Label);
     if !labels.is_empty() {
-        parts.push(format!("labels (text, carried through): {}", labels.join(", ")));
+        parts.push(format!(
+            "labels (text, carried through): {}",
+            labels.join(", ")
+        ));
     }
     let empty = list(Column::Unknown);
     if !empty.is_empty() {
@@ -502,7 +517,12 @@ impl Group {
             }
         }
         for (k, sum, count) in recorded {
-            insert_in(&mut case, RECORDED, &k, toml::Value::Float(sum / f64::from(count)));
+            insert_in(
+                &mut case,
+                RECORDED,
+                &k,
+                toml::Value::Float(sum / f64::from(count)),
+            );
         }
         Ok(case)
     }

@@ -103,7 +103,8 @@ fn top_and_setup(raw: &toml::Table) -> Vec<(String, toml::Value)> {
             .clone()
             .into_iter()
             .partition(|(k, _)| k == "recorded" || k == "labels");
-        let mut keys: Vec<(String, toml::Value)> = flatten(&rest).into_iter().chain(tables).collect();
+        let mut keys: Vec<(String, toml::Value)> =
+            flatten(&rest).into_iter().chain(tables).collect();
         keys.sort_by_key(|(k, _)| order_of(k));
         out.extend(keys);
     }
@@ -130,7 +131,11 @@ fn flatten(case: &toml::Table) -> toml::Table {
             toml::Value::Table(t) if k == "labels" => {
                 for (u, x) in t {
                     let numeric = x.as_str().is_some_and(|s| s.trim().parse::<f64>().is_ok());
-                    let name = if numeric { format!("labels.{u}") } else { u.clone() };
+                    let name = if numeric {
+                        format!("labels.{u}")
+                    } else {
+                        u.clone()
+                    };
                     flat.insert(name, x.clone());
                 }
             }

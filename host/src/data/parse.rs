@@ -95,13 +95,19 @@ pub(super) fn parse_table(
         Some(_) => return Err(err(file, None, Some("case"), "must be a list of cases")),
         None => Vec::new(),
     };
-    let mut raw: RawDataset = toml::Value::Table(table.clone())
-        .try_into()
-        .map_err(|e: toml::de::Error| {
-            let setup = table.get("setup").and_then(toml::Value::as_table);
-            let field = setup.and_then(failing_key).map(|k| format!("setup.{k}"));
-            err(file, None, field.as_deref(), e.message().trim_end().to_string())
-        })?;
+    let mut raw: RawDataset =
+        toml::Value::Table(table.clone())
+            .try_into()
+            .map_err(|e: toml::de::Error| {
+                let setup = table.get("setup").and_then(toml::Value::as_table);
+                let field = setup.and_then(failing_key).map(|k| format!("setup.{k}"));
+                err(
+                    file,
+                    None,
+                    field.as_deref(),
+                    e.message().trim_end().to_string(),
+                )
+            })?;
     raw.cases = cases
         .into_iter()
         .enumerate()

@@ -54,10 +54,18 @@ impl Recorded {
                 let x = match v {
                     toml::Value::Float(x) => *x,
                     toml::Value::Integer(i) => *i as f64,
-                    _ => return Err((format!("recorded.{name}"), "must be a number (text goes in `labels`)".into())),
+                    _ => {
+                        return Err((
+                            format!("recorded.{name}"),
+                            "must be a number (text goes in `labels`)".into(),
+                        ))
+                    }
                 };
                 if !x.is_finite() {
-                    return Err((format!("recorded.{name}"), format!("must be a finite number, got {x}")));
+                    return Err((
+                        format!("recorded.{name}"),
+                        format!("must be a finite number, got {x}"),
+                    ));
                 }
                 set(&mut out.values, name, x);
             }
@@ -148,7 +156,10 @@ mod tests {
         assert_eq!(r.value("rig"), Some(1.5));
         assert_eq!(r.label("date"), Some("2024-05-02"));
         let json = serde_json::to_string(&r).unwrap();
-        assert_eq!(json, r#"{"rig":1.5,"temperature_c":21.5,"date":"2024-05-02"}"#);
+        assert_eq!(
+            json,
+            r#"{"rig":1.5,"temperature_c":21.5,"date":"2024-05-02"}"#
+        );
 
         let text = table("t = \"warm\"");
         let e = Recorded::from_tables((None, None), (Some(&text), None)).unwrap_err();

@@ -51,7 +51,13 @@ pub fn trends(data: &Dataset, cmp: &Comparison) -> Vec<Trend> {
         let ys: Vec<f64> = pts.iter().map(|(_, e)| *e).collect();
         let library = super::discovery::search::usable_features(data)
             .into_iter()
-            .map(|(f, _)| (Cow::from(f.name), Cow::from(f.id), column(data, |c| f.of(c))));
+            .map(|(f, _)| {
+                (
+                    Cow::from(f.name),
+                    Cow::from(f.id),
+                    column(data, |c| f.of(c)),
+                )
+            });
         let recorded = crate::data::recorded::features(data)
             .into_iter()
             .map(|(id, xs)| (Cow::from(format!("{id} (recorded)")), Cow::from(id), xs));
