@@ -5,7 +5,9 @@
 //! ([`Delayed`]: a quick run does not flash a bar). Anywhere else (a file, a pipe, a
 //! notebook cell's `!swimbot ...`), where indicatif would draw nothing,
 //! [`PlainLines`] turns its redraws into a plain line every 5 s, without
-//! escape codes, once the work has lasted 2 s. `--quiet` silences both
+//! escape codes, once the work has lasted 2 s: `k of N units (p %), about
+//! H:MM:SS left` (the rest extrapolated at the mean rate so far) once the
+//! work has a length, and the elapsed time. `--quiet` silences both
 //! ([`set_quiet`]). `SWIMBOT_PROGRESS_MS=N` sets both the 2 s and the 5 s
 //! to N milliseconds (tests; a sparser log).
 //!
@@ -74,7 +76,7 @@ fn make(total: Option<u64>, message: &str, unit: &str) -> ProgressBar {
         Mode::Terminal => {
             let t = match total {
                 Some(_) => format!("{{spinner}} {{msg}} {{bar:30}} {{pos}}/{{len}} {unit} ({{elapsed}}, {{eta}} left)"),
-                None => "{spinner} {msg} ({elapsed})".to_string(),
+                None => "{spinner} {msg} ({done}{elapsed})".to_string(),
             };
             let term = Delayed {
                 term: console::Term::stderr(),
@@ -84,13 +86,9 @@ fn make(total: Option<u64>, message: &str, unit: &str) -> ProgressBar {
         }
         Mode::Plain => {
             let (grace, interval) = timing();
-            let t = match total {
-                // Hours:minutes:seconds: `{elapsed}` rounds to whole minutes past 60 s.
-                Some(_) => {
-                    format!("{{msg}}: {{pos}}/{{len}} {unit} ({{percent}} %), {{elapsed_precise}}")
-                }
-                None => "{msg}: {elapsed_precise}".to_string(),
-            };
+            // `{done}`: how far along and the expected rest, once the work
+            // has a length (a spinner's caller may give it one later).
+            let t = "{msg}: {done}{elapsed_precise} elapsed".to_string();
             let lines = PlainLines::new(grace, interval);
             (
                 ProgressDrawTarget::term_like(Box::new(lines)),
@@ -100,12 +98,46 @@ fn make(total: Option<u64>, message: &str, unit: &str) -> ProgressBar {
         }
     };
     let bar = ProgressBar::with_draw_target(total, target);
+    let unit = unit.to_string();
     if let Ok(style) = ProgressStyle::with_template(&template) {
-        bar.set_style(style);
+        bar.set_style(style.with_key(
+            "done",
+            move |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = w.write_str(&done(s.pos(), s.len(), s.elapsed(), &unit));
+            },
+        ));
     }
     bar.set_message(message.to_string());
     bar.enable_steady_tick(tick);
     bar
+}
+
+/// `k of N unit (p %), about H:MM:SS left, `: the rest extrapolated at the
+/// mean rate so far (hours:minutes:seconds, as `elapsed_precise`); empty
+/// without a length.
+fn done(pos: u64, len: Option<u64>, elapsed: Duration, unit: &str) -> String {
+    let Some(len) = len.filter(|&n| n > 0) else {
+        return String::new();
+    };
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    let percent = 100 * pos.min(len) / len;
+    let left = if pos == 0 {
+        "time left unknown yet".to_string()
+    } else {
+        let rest = elapsed.as_secs_f64() * (len.saturating_sub(pos)) as f64 / pos as f64;
+        format!("about {} left", hms(rest))
+    };
+    format!("{pos} of {len}{unit} ({percent} %), {left}, ")
+}
+
+/// Seconds as `H:MM:SS`, rounded up (a rest is never shown as 0 early).
+fn hms(seconds: f64) -> String {
+    let s = seconds.max(0.0).ceil() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }
 
 /// The terminal, drawn on only from a given time: before it, indicatif's
@@ -262,6 +294,21 @@ impl TermLike for PlainLines {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_plain_line_says_how_far_along_and_the_expected_rest() {
+        let t = Duration::from_secs(30);
+        assert_eq!(
+            done(250, Some(1000), t, "cases"),
+            "250 of 1000 cases (25 %), about 0:01:30 left, "
+        );
+        assert_eq!(
+            done(0, Some(10), t, ""),
+            "0 of 10 (0 %), time left unknown yet, "
+        );
+        assert_eq!(done(3, None, t, "cases"), "");
+        assert_eq!(hms(3725.2), "1:02:06");
+    }
 
     #[test]
     fn plain_lines_wait_for_the_grace_period_then_print_once_per_interval() {

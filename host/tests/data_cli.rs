@@ -188,7 +188,9 @@ fn progress_lines_reach_a_redirected_stderr_and_quiet_silences_them() {
         .collect();
     assert!(!lines.is_empty(), "no progress lines in: {log}");
     assert!(
-        lines.iter().any(|l| l.contains("/16000 geometries")),
+        lines
+            .iter()
+            .any(|l| l.contains(" of 16000 geometries (") && l.contains(" left, ")),
         "{log}"
     );
     assert!(!log.contains('\u{1b}'), "escape codes in: {log:?}");

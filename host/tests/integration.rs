@@ -43,6 +43,7 @@ mod robust;
 mod run_log;
 mod run_log_lost;
 mod sim;
+mod spreadsheets;
 mod tail_compat;
 mod tail_tube;
 mod uncertainty;

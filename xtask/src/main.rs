@@ -11,6 +11,7 @@ use std::process::{Command, ExitCode};
 
 mod background;
 mod layout;
+mod python;
 mod size;
 mod steps;
 
@@ -104,9 +105,12 @@ fn test_steps(root: &Path, steps: &mut Steps) -> Result<(), String> {
         )
     });
 
+    let pyenv = python::start_venv(root, &logs);
+
     steps.begin("rustfmt");
     run(root, "cargo", &["fmt", "--all", "--", "--check"])?;
-    host_clippy_and_tests(root, steps)?;
+    let lint = host_clippy_and_tests(root, steps)?;
+    python::test(root, steps, pyenv, &lint)?;
     steps.begin("shared crate builds for the RP2040 (no_std, thumbv6m)");
     // In the firmware's profile: the firmware build below then reuses this
     // very library and its dependencies instead of building them again.
@@ -143,7 +147,10 @@ fn test_steps(root: &Path, steps: &mut Steps) -> Result<(), String> {
 /// same driver lints exactly those crates while it builds them, so the
 /// dependencies are compiled once (as the tests need them) instead of a
 /// second time in check mode, and the workspace crates once, not twice.
-fn host_clippy_and_tests(root: &Path, steps: &mut Steps) -> Result<(), String> {
+///
+/// Returns the settings that lint as these builds do, for the Python
+/// extension's build (python/ is left out here: maturin builds it, once).
+fn host_clippy_and_tests(root: &Path, steps: &mut Steps) -> Result<python::Lint, String> {
     let driver = clippy_driver()?;
     let cold = cold_build(root);
     if cold {
@@ -181,11 +188,33 @@ fn host_clippy_and_tests(root: &Path, steps: &mut Steps) -> Result<(), String> {
         "--workspace",
         "--exclude",
         "firmware",
+        "--exclude",
+        "swimbot-python",
         "--all-targets",
         "--no-run",
     ])?;
     steps.begin("host tests (unit, integration, doc tests; examples compile)");
-    with_clippy(&["test", "--workspace", "--exclude", "firmware"])
+    with_clippy(&[
+        "test",
+        "--workspace",
+        "--exclude",
+        "firmware",
+        "--exclude",
+        "swimbot-python",
+    ])?;
+    let mut lint = vec![
+        ("RUSTC_WORKSPACE_WRAPPER", driver.into_os_string()),
+        (
+            "CLIPPY_ARGS",
+            "-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__".into(),
+        ),
+    ];
+    let mut configs = Vec::new();
+    if cold {
+        lint.push(("CARGO_INCREMENTAL", "0".into()));
+        configs.extend(COLD_CODEGEN_UNITS.iter().map(|c| c.to_string()));
+    }
+    Ok(python::Lint { env: lint, configs })
 }
 
 /// Codegen units of the workspace crates in a cold build (see `cold_build`).

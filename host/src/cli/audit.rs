@@ -34,6 +34,25 @@ pub struct AuditArgs {
 }
 
 pub fn run(a: AuditArgs) -> Result<(), CliError> {
+    let data = a.data.load()?;
+    let spinner = crate::progress::spinner("audit");
+    let report = audited(&a, &data)?;
+    spinner.finish_and_clear();
+    match a.format {
+        TableJsonCsv::Json => print_json(&report),
+        TableJsonCsv::Csv => print_csv(&report.flags)?,
+        TableJsonCsv::Table => print_table(&report),
+    }
+    Ok(())
+}
+
+/// `audit`'s work on `data` with the flags in `a` (its `--data` is not
+/// read). The Python package calls it too, so that its numbers are the
+/// command's.
+pub fn audited(
+    a: &AuditArgs,
+    data: &crate::data::Dataset,
+) -> Result<crate::workbench::audit::Audit, CliError> {
     if !(16..=100_000).contains(&a.family_samples) {
         return Err(CliError::input(format!(
             "--family-samples must be between 16 and 100000, got {}",
@@ -41,7 +60,7 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
         )));
     }
     let budget = super::budget::parse_budget(a.max_seconds)?;
-    let data = a.data.load()?;
+    let data = data.clone();
     let model = a.model.model()?;
     super::budget::check(
         &format!("the audit of {} cases", data.cases.len()),
@@ -53,15 +72,7 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
         seed: a.seed,
         likelihood: a.likelihood.get(),
     };
-    let spinner = crate::progress::spinner("audit");
-    let report = audit(&model, &data, &settings)?;
-    spinner.finish_and_clear();
-    match a.format {
-        TableJsonCsv::Json => print_json(&report),
-        TableJsonCsv::Csv => print_csv(&report.flags)?,
-        TableJsonCsv::Table => print_table(&report),
-    }
-    Ok(())
+    Ok(audit(&model, &data, &settings)?)
 }
 
 /// The audit's predictions per case beyond the family's `samples + 1`

@@ -50,10 +50,20 @@ pub fn preset_effects(m: &ModelArgs) -> usize {
     crate::model::preset(m.preset.as_deref().unwrap_or("base")).map_or(0, |p| p.effects.len())
 }
 
-pub fn run(args: CompareArgs) -> Result<(), CliError> {
-    let data = args.data.load()?;
+/// What `compare` computes, before anything is printed or written: the
+/// user's path (its last step is the comparison) and the Monte-Carlo
+/// checks of the input bands. The Python package calls it too, so that
+/// its numbers are the command's.
+pub struct Compared {
+    pub path: Path,
+    pub checks: Vec<MonteCarloCheck>,
+}
+
+/// `compare`'s work on `data` with the flags in `args` (its `--data` is
+/// not read: the caller loaded the data).
+pub fn compared(args: &CompareArgs, data: &crate::data::Dataset) -> Result<Compared, CliError> {
     let model = args.model.model()?;
-    let declared = has_input_uncertainty(&data);
+    let declared = has_input_uncertainty(data);
     let cheap = affordable(&model);
     if declared && !cheap && !args.input_uncertainty {
         eprintln!("note: input-uncertainty bands skipped: this model's solves are costly (non-local tail or wall-resolved effects); --input-uncertainty computes them (two solves per uncertain input per case)");
@@ -72,17 +82,12 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
             args.mc_draws
         )));
     }
-    if !args.no_report {
-        super::output::check_output_dir(&args.output, "compare")?;
-        crate::report::check_bundle_dir(&args.output, "compare").map_err(CliError::input)?;
-    }
-    let spinner = crate::progress::spinner(&format!("compare: {}", model.describe()));
     let to_input = super::model_args::in_data(&args.data.data);
     // The path is computed once; the table, the JSON and the page print it.
-    let mut path = user_path(&model, preset_effects(&args.model), &data).map_err(&to_input)?;
+    let mut path = user_path(&model, preset_effects(&args.model), data).map_err(&to_input)?;
     let mut checks = Vec::new();
     if has_inputs {
-        let bands = bands(&model, &data)?;
+        let bands = bands(&model, data)?;
         if mc_draws >= 2 {
             for (case, b) in data.cases.iter().zip(&bands) {
                 if !case.inputs.is_empty() {
@@ -92,9 +97,20 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         }
         let last = path.steps.last_mut().expect("a path has its start");
         if last.comparison.summary_combined.is_none() {
-            last.comparison = last.comparison.clone().with_bands(&data, &bands);
+            last.comparison = last.comparison.clone().with_bands(data, &bands);
         }
     }
+    Ok(Compared { path, checks })
+}
+
+pub fn run(args: CompareArgs) -> Result<(), CliError> {
+    let data = args.data.load()?;
+    if !args.no_report {
+        super::output::check_output_dir(&args.output, "compare")?;
+        crate::report::check_bundle_dir(&args.output, "compare").map_err(CliError::input)?;
+    }
+    let spinner = crate::progress::spinner("compare");
+    let Compared { path, checks } = compared(&args, &data)?;
     let cmp = path.last().comparison.clone();
     spinner.set_message("compare: writing the report");
     super::output::check_finite("comparison", &cmp)?;

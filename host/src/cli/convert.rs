@@ -4,7 +4,7 @@
 //! the written file opens with its provenance as `#` comments.
 
 use super::CliError;
-use crate::data::{convert_file, FileFormat};
+use crate::data::{convert_file_with, FileFormat, ReadOptions};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -19,6 +19,9 @@ pub struct ConvertArgs {
     /// Format to write [default: from the output's extension, else the other one of the input's].
     #[arg(long, value_enum)]
     pub to: Option<ToArg>,
+    /// The CSV writes numbers with a decimal comma (0,586) [default: detected from the cells].
+    #[arg(long)]
+    pub decimal_comma: bool,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,7 +53,10 @@ pub fn run(a: ConvertArgs) -> Result<(), CliError> {
             )));
         }
     }
-    let body = convert_file(&a.input, to)?;
+    let options = ReadOptions {
+        decimal_comma: a.decimal_comma,
+    };
+    let body = convert_file_with(&a.input, to, &options)?;
     let text = crate::provenance::Provenance::capture().comment_block() + &body;
     match &a.output {
         Some(out) => super::output::write_atomically(out, text.as_bytes()),

@@ -3,6 +3,7 @@
 use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, print_csv, print_json, TableJsonCsv};
 use super::CliError;
+use crate::data::Dataset;
 use crate::format::{fmt_estimate, fmt_sig};
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
 use crate::workbench::discovery::Located;
@@ -62,7 +63,11 @@ fn stage(message: &str) {
     }
 }
 
-pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
+/// `diagnose`'s work on `data` with the flags in `a` (its `--data` is not
+/// read): the diagnosis and the data it judged (with the input
+/// uncertainty folded in if asked). The Python package calls it too, so
+/// that its numbers are the command's.
+pub fn diagnosed(a: &DiagnoseArgs, data: Dataset) -> Result<(Diagnosis, Dataset), CliError> {
     if !(a.level > 0.5 && a.level < 1.0) {
         return Err(CliError::input(format!(
             "--level must be between 0.5 and 1, got {}",
@@ -75,10 +80,6 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
             a.margin
         )));
     }
-    if let Some(path) = &a.write_effect {
-        super::output::check_output_file(path)?;
-    }
-    let data = a.data.load()?;
     if data.cases.len() < 2 {
         // Cross-validation leaves a case out; with one case there is nothing
         // to predict it from, and every one-parameter effect fits its two
@@ -122,14 +123,24 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
             )?;
         }
     }
-    // Shown once the work has lasted 2 s (paper-sized data takes less).
-    let spinner = crate::progress::spinner(&format!("diagnosing {} cases", data.cases.len()));
-    let _ = SPINNER.set(spinner.clone());
     let lik = a.likelihood.get();
     let d = crate::workbench::fit::with_likelihood(lik, || diagnose(&model, &data, &settings))
         .map_err(|e| CliError::failure(format!("could not start the worker threads: {e}")))?
         .map_err(CliError::input)?;
     super::output::check_finite("diagnosis", &d)?;
+    Ok((d, data))
+}
+
+pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
+    if let Some(path) = &a.write_effect {
+        super::output::check_output_file(path)?;
+    }
+    let data = a.data.load()?;
+    // Shown once the work has lasted 2 s (paper-sized data takes less).
+    let spinner = crate::progress::spinner(&format!("diagnosing {} cases", data.cases.len()));
+    let _ = SPINNER.set(spinner.clone());
+    let (d, data) = diagnosed(&a, data)?;
+    let lik = a.likelihood.get();
     spinner.finish_and_clear();
     // The file the user asked for is written before stdout is touched: a
     // reader that stops early (`| head`) ends the process by SIGPIPE while

@@ -27,8 +27,25 @@ pub struct FitArgs {
     pub likelihood: super::likelihood::LikelihoodArgs,
 }
 
-pub fn run(a: FitArgs) -> Result<(), CliError> {
-    let data = a.data.load()?;
+/// What `fit` computes, before anything is printed: the fit, the
+/// comparison of the calibrated model on every case, the lone-case test.
+/// The Python package calls it too, so that its numbers are the command's.
+pub struct Fitted {
+    pub result: crate::workbench::fit::FitResult,
+    pub all: crate::workbench::compare::Comparison,
+    pub lone: Option<crate::workbench::robust::LoneCase>,
+}
+
+impl Fitted {
+    /// `fit --format json`'s document (without the provenance block).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({ "fit": self.result, "comparison": self.all, "lone_case": self.lone })
+    }
+}
+
+/// `fit`'s work on `data` with the flags in `a` (its `--data` is not read).
+pub fn fitted(a: &FitArgs, data: &crate::data::Dataset) -> Result<Fitted, CliError> {
+    let data = data.clone();
     let model = a.model.model()?;
     if a.model.effects.is_empty() {
         return Err(CliError::input(
@@ -103,9 +120,15 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
     // The same lone-case test as diagnose and audit (workbench::robust).
     let lone = crate::workbench::robust::lone_case(&result.model, &data, 0.95)
         .map_err(super::model_args::in_data(&a.data.data))?;
+    Ok(Fitted { result, all, lone })
+}
+
+pub fn run(a: FitArgs) -> Result<(), CliError> {
+    let data = a.data.load()?;
+    let Fitted { result, all, lone } = fitted(&a, &data)?;
     match a.format {
         TableJsonCsv::Json => {
-            print_json(&serde_json::json!({ "fit": result, "comparison": all, "lone_case": lone }));
+            print_json(&Fitted { result, all, lone }.to_json());
             return Ok(());
         }
         TableJsonCsv::Csv => return print_csv(&result.estimates),

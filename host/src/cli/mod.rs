@@ -28,6 +28,16 @@ mod synth;
 pub use error::CliError;
 pub use output_guard::note_stdout_closed_at_start;
 
+/// The commands' work without their printing, for the Python package
+/// (python/): the same flags (parsed by [`Cli`]), the same numbers.
+pub mod api {
+    pub use super::audit::audited;
+    pub use super::compare::{compared, Compared};
+    pub use super::diagnose::diagnosed;
+    pub use super::fit::{fitted, Fitted};
+    pub use super::likelihood::diagnosis_json;
+}
+
 use clap::{Parser, Subcommand};
 
 #[derive(Parser, Debug)]

@@ -228,12 +228,18 @@ pub struct DataArgs {
     /// Dataset, TOML or CSV (docs/data-format.md) [default: the paper's built-in data].
     #[arg(long, value_name = "FILE")]
     pub data: Option<PathBuf>,
+    /// The CSV writes numbers with a decimal comma (0,586) [default: detected from the cells].
+    #[arg(long)]
+    pub decimal_comma: bool,
 }
 
 impl DataArgs {
     /// The dataset, or the built-in paper data.
     pub fn load(&self) -> Result<Dataset, CliError> {
-        load_data(&self.data)
+        let options = data::ReadOptions {
+            decimal_comma: self.decimal_comma,
+        };
+        load_data_with(&self.data, &options)
     }
 }
 
@@ -252,8 +258,24 @@ pub fn in_data(path: &Option<PathBuf>) -> impl Fn(crate::model::ModelError) -> C
 
 /// `path` or the built-in paper data.
 pub fn load_data(path: &Option<PathBuf>) -> Result<Dataset, CliError> {
+    load_data_with(path, &data::ReadOptions::default())
+}
+
+/// [`load_data`] with what the user said of a CSV's dialect; what the
+/// reader took as what (a spreadsheet's dialect, recorded columns) is
+/// said once, on stderr.
+pub fn load_data_with(
+    path: &Option<PathBuf>,
+    options: &data::ReadOptions,
+) -> Result<Dataset, CliError> {
     match path {
-        Some(p) => Ok(data::load_file(p)?),
+        Some(p) => {
+            let loaded = data::read_file(p, options)?;
+            if let Some(note) = loaded.note {
+                eprintln!("note: {note}");
+            }
+            Ok(loaded.dataset)
+        }
         None => {
             crate::provenance::record_named("<built-in paper data>", data::PAPER_TOML.as_bytes());
             Ok(data::paper())

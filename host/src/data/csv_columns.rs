@@ -99,20 +99,34 @@ pub fn order_of(name: &str) -> usize {
 }
 
 impl Kind {
-    /// The raw value of a non-empty cell, or what is wrong with it.
-    pub fn read(self, cell: &str) -> Result<toml::Value, String> {
+    /// The raw value of a non-empty cell, or what is wrong with it (the
+    /// cell echoed at most [`super::limits::MAX_ECHO_CHARS`] characters).
+    /// Under a decimal comma, `0,586` is a number.
+    pub fn read(self, cell: &str, decimal_comma: bool) -> Result<toml::Value, String> {
         use toml::Value as V;
+        let shown = super::limits::echo(cell);
+        let number = |cell: &str| {
+            if decimal_comma && super::csv_dialect::is_decimal_point(cell) {
+                return Err(format!(
+                    "`{shown}` has a decimal point, but the file writes decimal commas"
+                ));
+            }
+            number(
+                &super::csv_dialect::number_text(cell, decimal_comma),
+                decimal_comma,
+            )
+        };
         match self {
             Kind::Text => Ok(V::String(cell.to_string())),
             Kind::Flag => match cell.to_ascii_lowercase().as_str() {
                 "true" => Ok(V::Boolean(true)),
                 "false" => Ok(V::Boolean(false)),
-                _ => Err(format!("`{cell}` is not true or false")),
+                _ => Err(format!("`{shown}` is not true or false")),
             },
             Kind::Count => cell
                 .parse::<u32>()
                 .map(|n| V::Integer(i64::from(n)))
-                .map_err(|_| format!("`{cell}` is not a whole number >= 0")),
+                .map_err(|_| format!("`{shown}` is not a whole number >= 0")),
             Kind::Number => number(cell),
             Kind::Uncertainty if cell.ends_with('%') => Ok(V::String(cell.to_string())),
             Kind::Uncertainty => number(cell),
@@ -120,18 +134,25 @@ impl Kind {
                 .ok()
                 .and_then(|mut t| t.remove("v"))
                 .ok_or_else(|| {
-                    format!("`{cell}` is not a TOML value like [[20.0, 12.0], [30.0, 20.0]]")
+                    format!("`{shown}` is not a TOML value like [[20.0, 12.0], [30.0, 20.0]]")
                 }),
         }
     }
 }
 
-fn number(cell: &str) -> Result<toml::Value, String> {
+fn number(cell: &str, decimal_comma: bool) -> Result<toml::Value, String> {
     // Rust's parser also takes `nan` and `inf`: the validator then names
     // them ("must be a finite number"), rather than "not a number".
-    cell.parse::<f64>()
-        .map(toml::Value::Float)
-        .map_err(|_| format!("`{cell}` is not a number"))
+    cell.parse::<f64>().map(toml::Value::Float).map_err(|_| {
+        let shown = super::limits::echo(cell);
+        if !decimal_comma && super::csv_dialect::is_decimal_comma(cell) {
+            format!("`{shown}` is not a number with a decimal point; if the file writes decimal commas, pass --decimal-comma")
+        } else if decimal_comma && super::csv_dialect::is_decimal_point(cell) {
+            format!("`{shown}` has a decimal point, but the file writes decimal commas")
+        } else {
+            format!("`{shown}` is not a number")
+        }
+    })
 }
 
 #[cfg(test)]
@@ -140,25 +161,42 @@ mod tests {
 
     #[test]
     fn cells_are_read_by_their_kind() {
-        assert_eq!(Kind::Flag.read("TRUE"), Ok(toml::Value::Boolean(true)));
+        assert_eq!(
+            Kind::Flag.read("TRUE", false),
+            Ok(toml::Value::Boolean(true))
+        );
         assert!(Kind::Flag
-            .read("yes")
+            .read("yes", false)
             .unwrap_err()
             .contains("true or false"));
-        assert_eq!(Kind::Count.read("5"), Ok(toml::Value::Integer(5)));
-        assert!(Kind::Count.read("-1").is_err() && Kind::Count.read("2.5").is_err());
-        assert_eq!(Kind::Number.read("35"), Ok(toml::Value::Float(35.0)));
+        assert_eq!(Kind::Count.read("5", false), Ok(toml::Value::Integer(5)));
+        assert!(Kind::Count.read("-1", false).is_err() && Kind::Count.read("2.5", false).is_err());
+        assert_eq!(Kind::Number.read("35", false), Ok(toml::Value::Float(35.0)));
         assert!(Kind::Number
-            .read("0,586")
+            .read("0,586", false)
             .unwrap_err()
-            .contains("not a number"));
+            .contains("--decimal-comma"));
         assert_eq!(
-            Kind::Uncertainty.read("2%"),
+            Kind::Number.read("0,586", true),
+            Ok(toml::Value::Float(0.586))
+        );
+        assert!(Kind::Number.read("0.586", true).is_err());
+        assert_eq!(
+            Kind::Uncertainty.read("0,5", true),
+            Ok(toml::Value::Float(0.5))
+        );
+        assert_eq!(
+            Kind::Uncertainty.read("2%", false),
             Ok(toml::Value::String("2%".into()))
         );
-        let profile = Kind::Inline.read("[[20.0, 12.0], [30, 20]]").unwrap();
+        let profile = Kind::Inline
+            .read("[[20.0, 12.0], [30, 20]]", false)
+            .unwrap();
         assert_eq!(profile.as_array().map(Vec::len), Some(2));
-        assert!(Kind::Inline.read("[[20.0, 12.0]").is_err());
+        assert!(Kind::Inline.read("[[20.0, 12.0]", false).is_err());
+        let long = format!("[[{}", "1.0, ".repeat(200));
+        let e = Kind::Inline.read(&long, false).unwrap_err();
+        assert!(e.len() < 300 && e.contains("characters in all"), "{e}");
         assert_eq!(kind_of("uncertainty.amplitude_mm"), Some(Kind::Uncertainty));
         assert_eq!(kind_of("uncertainty."), None);
         assert_eq!(kind_of("u_trials_mm_s"), None);

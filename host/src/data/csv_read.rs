@@ -10,11 +10,19 @@
 //! interval, and every other cell must agree between them.
 //!
 //! The `csv` crate reads the rows (quoting, line numbers); this module only
-//! maps them to keys. Rows are numbered as a spreadsheet shows them: the
+//! maps them to keys. A spreadsheet's export is read as it is: a UTF-8
+//! BOM, CRLF line ends, `;` or tabs between cells and decimal commas
+//! ([`super::csv_dialect`]). A column that is no dataset field is a
+//! recorded variable if all its cells are numbers, a label if not
+//! ([`super::recorded`]); the trial rows of a case carry the mean of a
+//! recorded number. Rows are numbered as a spreadsheet shows them: the
 //! file's line numbers, from 1.
 
 use super::csv_columns::{kind_of, Kind, CASE_ONLY_COLUMNS, TRIAL_COLUMNS, UNCERTAINTY_PREFIX};
+use super::csv_dialect::{self, Dialect, ReadOptions};
+use super::limits::{MAX_CASES, MAX_TRIALS};
 use super::DataError;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// Where each case of a CSV dataset is written, for error messages.
@@ -23,18 +31,47 @@ pub struct Rows {
     cases: Vec<Vec<u64>>,
 }
 
+/// At most this many row ranges are listed for a case (`rows 3-9, 12`):
+/// a case of 800 trial rows must not push its field and reason out of a
+/// message.
+const MAX_RANGES: usize = 4;
+
 impl Rows {
-    /// `FILE: row N` or `FILE: rows N, M, ...` of case `i`.
+    /// `FILE: row N` or `FILE: rows 3-9, 12` of case `i`.
     pub fn describe(&self, i: usize) -> String {
         match self.cases.get(i).map(Vec::as_slice) {
             Some([one]) => format!("{}: row {one}", self.file),
-            Some(rows) if !rows.is_empty() => {
-                let list: Vec<String> = rows.iter().map(u64::to_string).collect();
-                format!("{}: rows {}", self.file, list.join(", "))
-            }
+            Some(rows) if !rows.is_empty() => format!("{}: rows {}", self.file, ranges(rows)),
             _ => self.file.clone(),
         }
     }
+}
+
+/// `3-9, 12, 15-20`, cut after [`MAX_RANGES`] ranges with the count.
+fn ranges(rows: &[u64]) -> String {
+    let mut spans: Vec<(u64, u64)> = Vec::new();
+    for &r in rows {
+        match spans.last_mut() {
+            Some((_, hi)) if *hi + 1 == r => *hi = r,
+            _ => spans.push((r, r)),
+        }
+    }
+    let shown: Vec<String> = spans
+        .iter()
+        .take(MAX_RANGES)
+        .map(|&(lo, hi)| {
+            if lo == hi {
+                lo.to_string()
+            } else {
+                format!("{lo}-{hi}")
+            }
+        })
+        .collect();
+    let mut out = shown.join(", ");
+    if spans.len() > MAX_RANGES {
+        out.push_str(&format!(", ... ({} rows in all)", rows.len()));
+    }
+    out
 }
 
 /// An error at `at` (file and row), in a column if given.
@@ -42,7 +79,7 @@ fn fail(at: impl Into<String>, column: Option<&str>, message: impl Into<String>)
     let at = at.into();
     DataError {
         file: match column {
-            Some(c) => format!("{at}: column `{c}`"),
+            Some(c) => format!("{at}: column `{}`", super::limits::echo(c)),
             None => at,
         },
         case: None,
@@ -51,48 +88,72 @@ fn fail(at: impl Into<String>, column: Option<&str>, message: impl Into<String>)
     }
 }
 
+/// A CSV dataset as the raw tables of the TOML format.
+pub struct Read {
+    pub table: toml::Table,
+    pub rows: Rows,
+    /// What was taken as what, when it was not the format's own
+    /// (the dialect, recorded variables, labels): one line to show once.
+    pub note: Option<String>,
+}
+
 /// The raw tables of a CSV dataset and where each case is written. `dir`
 /// is where a `setup_file` named in the header is looked for.
-pub fn read(text: &str, file: &str, dir: &Path) -> Result<(toml::Table, Rows), DataError> {
+pub fn read(text: &str, file: &str, dir: &Path, options: &ReadOptions) -> Result<Read, DataError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let (mut top, skipped) = header(text, file, dir)?;
+    let skipped = text.lines().take_while(|l| is_header_line(l)).count();
     // The rows start below the header block. No comment character is set
     // for them: an id may start with `#` (`#3`, the parser's name for an
     // unnamed case), and a spreadsheet does not quote it.
     let body: String = text.split_inclusive('\n').skip(skipped).collect();
+    let separator = csv_dialect::separator(body.lines().next().unwrap_or(""));
     let mut reader = csv::ReaderBuilder::new()
+        .delimiter(separator)
         .trim(csv::Trim::All)
         .from_reader(body.as_bytes());
     let names: Vec<String> = reader
         .headers()
-        .map_err(|e| csv_error(file, skipped, &e))?
+        .map_err(|e| csv_error(file, skipped, &e, separator))?
         .iter()
         .map(str::to_string)
         .collect();
-    let kinds = column_kinds(file, &names)?;
+    let mut columns = column_kinds(file, &names)?;
+    let records = records(file, skipped, &mut reader, &names, separator)?;
+    let numeric = |k: &Column| matches!(k, Column::Field(Kind::Number | Kind::Uncertainty));
+    let known = cells(&records, &columns, numeric);
+    let decimal = if known.is_empty() {
+        // No number field in the rows: the recorded columns tell.
+        let unknown = cells(&records, &columns, |k| *k == Column::Unknown);
+        csv_dialect::decimal_comma(unknown.into_iter(), options)
+    } else {
+        csv_dialect::decimal_comma(known.into_iter(), options)
+    };
+    let dialect = Dialect {
+        separator,
+        decimal_comma: decimal.map_err(|m| fail(file, None, m))?,
+    };
+    classify(&mut columns, &records, dialect.decimal_comma);
+    let (mut top, _) = header(text, skipped, file, dir, &dialect)?;
     let mut groups: Vec<Group> = Vec::new();
-    for record in reader.records() {
-        let record = record.map_err(|e| csv_error(file, skipped, &e))?;
-        let line = record.position().map_or(0, |p| p.line()) + skipped as u64;
-        let at = format!("{file}: row {line}");
-        let mut row = toml::Table::new();
-        for ((cell, name), kind) in record.iter().zip(&names).zip(&kinds) {
-            if !cell.is_empty() {
-                let value = kind.read(cell).map_err(|m| fail(&at, Some(name), m))?;
-                insert(&mut row, name, value);
-            }
-        }
+    let mut by_id: HashMap<String, usize> = HashMap::new();
+    for (line, record) in &records {
+        let row = row_table(file, *line, record, &names, &columns, dialect.decimal_comma)?;
         // Spreadsheets leave rows of empty cells (`,,,`) at the end.
         if row.is_empty() {
             continue;
         }
         let id = row.get("id").and_then(|v| v.as_str()).map(str::to_string);
-        match groups.iter_mut().find(|g| id.is_some() && g.id == id) {
-            Some(g) => g.rows.push((line, row)),
-            None => groups.push(Group {
-                id,
-                rows: vec![(line, row)],
-            }),
+        match id.as_ref().and_then(|id| by_id.get(id)) {
+            Some(&g) => groups[g].rows.push((*line, row)),
+            None => {
+                if let Some(id) = &id {
+                    by_id.insert(id.clone(), groups.len());
+                }
+                groups.push(Group {
+                    id,
+                    rows: vec![(*line, row)],
+                });
+            }
         }
     }
     if groups.is_empty() {
@@ -117,12 +178,233 @@ pub fn read(text: &str, file: &str, dir: &Path) -> Result<(toml::Table, Rows), D
         "case".into(),
         toml::Value::Array(cases.into_iter().map(toml::Value::Table).collect()),
     );
-    Ok((top, rows))
+    let note = note(file, &dialect, &names, &columns);
+    Ok(Read {
+        table: top,
+        rows,
+        note,
+    })
 }
 
-/// The kind of every column; an unknown or repeated name is an error.
-fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Kind>, DataError> {
+/// The non-empty cells `(row, cell)` of the columns that `pick` takes.
+fn cells<'a>(
+    records: &'a [(u64, csv::StringRecord)],
+    columns: &[Column],
+    pick: impl Fn(&Column) -> bool,
+) -> Vec<(u64, &'a str)> {
+    records
+        .iter()
+        .flat_map(|(line, r)| {
+            r.iter()
+                .zip(columns)
+                .filter(|(c, k)| !c.is_empty() && pick(k))
+                .map(|(c, _)| (*line, c))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// A line of the `# key = value` block (a spreadsheet may quote it).
+fn is_header_line(line: &str) -> bool {
+    let t = line.trim();
+    t.is_empty() || t.starts_with('#') || t.starts_with("\"#")
+}
+
+/// The data rows with their line numbers, refused as soon as they hold
+/// more cases than a dataset may have: a file of a million rows is
+/// refused in milliseconds, not after reading it all.
+fn records(
+    file: &str,
+    skipped: usize,
+    reader: &mut csv::Reader<&[u8]>,
+    names: &[String],
+    separator: u8,
+) -> Result<Vec<(u64, csv::StringRecord)>, DataError> {
+    let id_column = names.iter().position(|n| n == "id");
+    let mut ids: HashMap<String, u32> = HashMap::new();
+    let mut cases = 0usize;
+    let mut out = Vec::new();
+    for record in reader.records() {
+        let record = record.map_err(|e| csv_error(file, skipped, &e, separator))?;
+        let line = record.position().map_or(0, |p| p.line()) + skipped as u64;
+        if record.iter().all(str::is_empty) {
+            continue;
+        }
+        let id = id_column
+            .and_then(|i| record.get(i))
+            .filter(|s| !s.is_empty());
+        let trials = match id {
+            Some(id) => {
+                let n = ids.entry(id.to_string()).or_insert(0);
+                *n += 1;
+                *n
+            }
+            None => 1,
+        };
+        if trials == 1 {
+            cases += 1;
+        }
+        if cases > MAX_CASES {
+            return Err(fail(
+                format!("{file}: row {line}"),
+                None,
+                format!("more than {MAX_CASES} cases (this row starts case {cases}); at most {MAX_CASES} are allowed: split the file"),
+            ));
+        }
+        if trials > MAX_TRIALS {
+            return Err(fail(
+                format!("{file}: row {line}"),
+                Some("id"),
+                format!("more than {MAX_TRIALS} trial rows of case `{}`; at most {MAX_TRIALS} are allowed", super::limits::echo(id.unwrap_or_default())),
+            ));
+        }
+        out.push((line, record));
+    }
+    Ok(out)
+}
+
+/// One row's cells as raw TOML values (empty cells left out).
+fn row_table(
+    file: &str,
+    line: u64,
+    record: &csv::StringRecord,
+    names: &[String],
+    columns: &[Column],
+    decimal_comma: bool,
+) -> Result<toml::Table, DataError> {
+    let at = format!("{file}: row {line}");
+    let id = names
+        .iter()
+        .position(|n| n == "id")
+        .and_then(|i| record.get(i))
+        .filter(|s| !s.is_empty());
+    let mut row = toml::Table::new();
+    for ((cell, name), column) in record.iter().zip(names).zip(columns) {
+        if cell.is_empty() {
+            continue;
+        }
+        let (kind, name) = match column {
+            Column::Field(kind) => (*kind, name.as_str()),
+            Column::Recorded => (Kind::Number, name.as_str()),
+            Column::Label => (Kind::Text, name.as_str()),
+            Column::Unknown => continue,
+        };
+        let value = kind.read(cell, decimal_comma).map_err(|m| DataError {
+            case: id.map(super::limits::echo),
+            ..fail(&at, Some(name), m)
+        })?;
+        match column {
+            Column::Recorded => insert_in(&mut row, RECORDED, bare(name, RECORDED), value),
+            Column::Label => insert_in(&mut row, LABELS, bare(name, LABELS), value),
+            _ => insert(&mut row, name, value),
+        }
+    }
+    Ok(row)
+}
+
+/// What a column is: a dataset field, or a recorded variable (numbers,
+/// offered to `diagnose`) or a label (text, carried) that the model does
+/// not read. `Unknown` until the cells have been seen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Column {
+    Field(Kind),
+    Recorded,
+    Label,
+    Unknown,
+}
+
+/// The table of recorded numbers, and its column prefix that forces it.
+const RECORDED: &str = "recorded";
+/// The table of labels, and its column prefix that forces it.
+const LABELS: &str = "labels";
+
+/// `recorded.x` -> `x` (the prefix only forces the kind).
+fn bare<'a>(name: &'a str, table: &str) -> &'a str {
+    name.strip_prefix(table)
+        .and_then(|n| n.strip_prefix('.'))
+        .unwrap_or(name)
+}
+
+/// An unknown column whose every cell is a number is recorded, any other
+/// a label; a column with no cells is left out.
+fn classify(columns: &mut [Column], records: &[(u64, csv::StringRecord)], decimal_comma: bool) {
+    for (i, column) in columns.iter_mut().enumerate() {
+        if *column != Column::Unknown {
+            continue;
+        }
+        let mut cells = records
+            .iter()
+            .filter_map(|(_, r)| r.get(i))
+            .filter(|c| !c.is_empty())
+            .peekable();
+        if cells.peek().is_none() {
+            continue;
+        }
+        let numeric = cells.all(|c| {
+            csv_dialect::number_text(c, decimal_comma)
+                .parse::<f64>()
+                .is_ok()
+        });
+        *column = if numeric {
+            Column::Recorded
+        } else {
+            Column::Label
+        };
+    }
+}
+
+/// The one line that says what was taken as what, if anything was not
+/// the format's own.
+fn note(file: &str, dialect: &Dialect, names: &[String], columns: &[Column]) -> Option<String> {
+    let list = |want: Column| -> Vec<String> {
+        names
+            .iter()
+            .zip(columns)
+            .filter(|(_, c)| **c == want)
+            .map(|(n, _)| super::limits::echo(n))
+            .collect()
+    };
+    let mut parts = Vec::new();
+    if !dialect.is_plain() {
+        parts.push(format!("read with {}", dialect.describe()));
+    }
+    let recorded = list(Column::Recorded);
+    if !recorded.is_empty() {
+        parts.push(format!(
+            "recorded variables (numbers the model does not read, offered to diagnose): {}",
+            recorded.join(", ")
+        ));
+    }
+    let labels = list(Column::Label);
+    if !labels.is_empty() {
+        parts.push(format!(
+            "labels (text, carried through): {}",
+            labels.join(", ")
+        ));
+    }
+    let empty = list(Column::Unknown);
+    if !empty.is_empty() {
+        parts.push(format!("left out (no cells): {}", empty.join(", ")));
+    }
+    (!parts.is_empty()).then(|| format!("{file}: {}", parts.join("; ")))
+}
+
+/// The kind of every column; a repeated name, a name that is close to a
+/// field's (a typo would silently become a recorded variable) or a row
+/// of names that no separator split is an error.
+fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Column>, DataError> {
     let at = format!("{file}: header row");
+    let known: Vec<&str> = super::csv_columns::COLUMNS.iter().map(|c| c.0).collect();
+    if let [only] = names {
+        if kind_of(only).is_none() {
+            let shown = super::limits::echo(only);
+            return Err(fail(
+                &at,
+                None,
+                format!("the column names `{shown}` are one column: no `,`, `;` or tab separates them; save the sheet as CSV with one of these between cells"),
+            ));
+        }
+    }
     names
         .iter()
         .enumerate()
@@ -130,18 +412,27 @@ fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Kind>, DataError> {
             if names[..i].contains(name) {
                 return Err(fail(&at, Some(name), "the column is given twice"));
             }
-            kind_of(name).ok_or_else(|| {
-                let known: Vec<&str> = super::csv_columns::COLUMNS.iter().map(|c| c.0).collect();
-                let why = if name.is_empty() {
-                    "a column without a name".to_string()
-                } else {
-                    format!(
-                        "`{name}` is not a dataset field; columns are {} and uncertainty.KEY (one row per trial replaces u_trials_mm_s and omega_body_trials_hz)",
-                        known.join(", ")
-                    )
-                };
-                fail(&at, Some(name), why)
-            })
+            if let Some(kind) = kind_of(name) {
+                return Ok(Column::Field(kind));
+            }
+            let why = if name.is_empty() {
+                Some("a column without a name".to_string())
+            } else if ["u_trials_mm_s", "omega_body_trials_hz", "uncertainty", RECORDED, LABELS]
+                .contains(&name.as_str())
+            {
+                Some(format!("`{name}` has no column: one row per trial replaces u_trials_mm_s and omega_body_trials_hz, uncertainty.KEY columns the uncertainty table, and any other column is a recorded variable"))
+            } else {
+                known
+                    .iter()
+                    .find(|k| strsim::damerau_levenshtein(k, name) <= 2)
+                    .map(|k| format!("`{}` is not a dataset field: did you mean `{k}`? (a column that is no field is kept as a recorded variable; name it `{RECORDED}.NAME` to keep it so)", super::limits::echo(name)))
+            };
+            match why {
+                Some(why) => Err(fail(&at, Some(name), why)),
+                None if name.starts_with("recorded.") => Ok(Column::Recorded),
+                None if name.starts_with("labels.") => Ok(Column::Label),
+                None => Ok(Column::Unknown),
+            }
         })
         .collect()
 }
@@ -149,17 +440,20 @@ fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Kind>, DataError> {
 /// `uncertainty.KEY` goes into the case's `uncertainty` table.
 fn insert(row: &mut toml::Table, name: &str, value: toml::Value) {
     match name.strip_prefix(UNCERTAINTY_PREFIX) {
-        Some(key) => {
-            let table = row
-                .entry("uncertainty")
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-            if let toml::Value::Table(t) = table {
-                t.insert(key.to_string(), value);
-            }
-        }
+        Some(key) => insert_in(row, "uncertainty", key, value),
         None => {
             row.insert(name.to_string(), value);
         }
+    }
+}
+
+/// `value` as `key` of the row's sub-table `table`.
+fn insert_in(row: &mut toml::Table, table: &str, key: &str, value: toml::Value) {
+    let t = row
+        .entry(table)
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+    if let toml::Value::Table(t) = t {
+        t.insert(key.to_string(), value);
     }
 }
 
@@ -179,6 +473,9 @@ impl Group {
         }
         let id = self.id.unwrap_or_default();
         let mut trials: Vec<Vec<toml::Value>> = vec![Vec::new(); TRIAL_COLUMNS.len()];
+        // A recorded number may change from trial to trial (the oil warms
+        // up): the case carries its mean.
+        let mut recorded: Vec<(String, f64, u32)> = Vec::new();
         let mut take_trials = |line: u64, row: &mut toml::Table| -> Result<(), DataError> {
             for column in CASE_ONLY_COLUMNS {
                 if row.contains_key(column) {
@@ -191,6 +488,15 @@ impl Group {
             }
             for (slot, (column, _)) in trials.iter_mut().zip(TRIAL_COLUMNS) {
                 slot.extend(row.remove(column));
+            }
+            if let Some(toml::Value::Table(t)) = row.remove(RECORDED) {
+                for (k, v) in t {
+                    let x = v.as_float().unwrap_or(f64::NAN);
+                    match recorded.iter_mut().find(|(n, _, _)| *n == k) {
+                        Some((_, sum, count)) => (*sum, *count) = (*sum + x, *count + 1),
+                        None => recorded.push((k, x, 1)),
+                    }
+                }
             }
             Ok(())
         };
@@ -210,6 +516,14 @@ impl Group {
                 case.insert(key.to_string(), toml::Value::Array(values));
             }
         }
+        for (k, sum, count) in recorded {
+            insert_in(
+                &mut case,
+                RECORDED,
+                &k,
+                toml::Value::Float(sum / f64::from(count)),
+            );
+        }
         Ok(case)
     }
 }
@@ -228,13 +542,19 @@ fn first_difference(a: &toml::Table, b: &toml::Table) -> Option<String> {
         })
 }
 
-fn csv_error(file: &str, skipped: usize, e: &csv::Error) -> DataError {
+fn csv_error(file: &str, skipped: usize, e: &csv::Error, separator: u8) -> DataError {
     let line = e.position().map(|p| p.line() + skipped as u64);
     let at = line.map_or(file.to_string(), |l| format!("{file}: row {l}"));
+    // A decimal comma in an unquoted cell splits it in two under `,`.
+    let hint = if separator == b',' {
+        " (a decimal comma in a cell that is not in quotes splits it in two: quote it, \"0,586\", or write the file with `;` between cells)"
+    } else {
+        ""
+    };
     let message = match e.kind() {
         csv::ErrorKind::UnequalLengths {
             expected_len, len, ..
-        } => format!("{len} cells where the header row has {expected_len} columns"),
+        } => format!("{len} cells where the header row has {expected_len} columns{hint}"),
         _ => format!("not a readable CSV: {e}"),
     };
     fail(at, None, message)
@@ -242,16 +562,19 @@ fn csv_error(file: &str, skipped: usize, e: &csv::Error) -> DataError {
 
 /// The `# key = value` block above the header row, line numbers kept, as
 /// the dataset's top-level table with its `setup`, and its number of lines.
-fn header(text: &str, file: &str, dir: &Path) -> Result<(toml::Table, usize), DataError> {
+fn header(
+    text: &str,
+    skipped: usize,
+    file: &str,
+    dir: &Path,
+    dialect: &Dialect,
+) -> Result<(toml::Table, usize), DataError> {
     let mut block = String::new();
     let mut lines = 0;
-    for line in text.lines() {
-        let trimmed = line.trim();
-        if !(trimmed.is_empty() || trimmed.starts_with('#')) {
-            break;
-        }
+    for line in text.lines().take(skipped) {
+        let line = csv_dialect::header_line(line, dialect);
         lines += 1;
-        let body = trimmed.trim_start_matches('#').trim();
+        let body = line.trim_start_matches('#').trim();
         // Other `#` lines (notes, the provenance of a written file) are comments.
         if is_key_value(body) {
             block.push_str(body);

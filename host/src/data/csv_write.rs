@@ -97,7 +97,14 @@ fn top_and_setup(raw: &toml::Table) -> Vec<(String, toml::Value)> {
         .filter_map(|k| raw.get(*k).map(|v| (k.to_string(), v.clone())))
         .collect();
     if let Some(toml::Value::Table(setup)) = raw.get("setup") {
-        let mut keys: Vec<(String, toml::Value)> = flatten(setup).into_iter().collect();
+        // The setup's recorded variables stay tables (`# recorded = { .. }`):
+        // a header line is a key of the setup, not a column.
+        let (tables, rest): (toml::Table, toml::Table) = setup
+            .clone()
+            .into_iter()
+            .partition(|(k, _)| k == "recorded" || k == "labels");
+        let mut keys: Vec<(String, toml::Value)> =
+            flatten(&rest).into_iter().chain(tables).collect();
         keys.sort_by_key(|(k, _)| order_of(k));
         out.extend(keys);
     }
@@ -112,6 +119,24 @@ fn flatten(case: &toml::Table) -> toml::Table {
             toml::Value::Table(t) if k == "uncertainty" => {
                 for (u, x) in t {
                     flat.insert(format!("{UNCERTAINTY_PREFIX}{u}"), x.clone());
+                }
+            }
+            toml::Value::Table(t) if k == "recorded" => {
+                for (u, x) in t {
+                    flat.insert(u.clone(), x.clone());
+                }
+            }
+            // A label that reads as a number (a robot `7`) keeps its
+            // prefix, which makes the reader take it as text again.
+            toml::Value::Table(t) if k == "labels" => {
+                for (u, x) in t {
+                    let numeric = x.as_str().is_some_and(|s| s.trim().parse::<f64>().is_ok());
+                    let name = if numeric {
+                        format!("labels.{u}")
+                    } else {
+                        u.clone()
+                    };
+                    flat.insert(name, x.clone());
                 }
             }
             _ => {

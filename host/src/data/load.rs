@@ -2,14 +2,30 @@
 //! as an input of the run ([`crate::provenance`]), and the conversion
 //! between the two formats (`swimbot convert`).
 
+use super::csv_dialect::ReadOptions;
 use super::parse::{err, parse_str, parse_table};
 use super::{csv_read, csv_write, DataError, Dataset};
 use std::path::Path;
+
+/// A dataset as read, with what the reader took as what when it was not
+/// the format's own (a spreadsheet's dialect, recorded variables): one
+/// line for the user to see once.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    pub dataset: Dataset,
+    pub note: Option<String>,
+}
 
 /// Read and validate a dataset file: CSV (`.csv`, docs/data-format.md)
 /// or TOML (any other name). The file's path and SHA-256 are recorded as
 /// an input of this run ([`crate::provenance`]).
 pub fn load_file(path: &Path) -> Result<Dataset, DataError> {
+    read_file(path, &ReadOptions::default()).map(|l| l.dataset)
+}
+
+/// [`load_file`] with what the caller knows of a CSV's dialect, and the
+/// note on what was taken as what.
+pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Loaded, DataError> {
     let file = path.display().to_string();
     let bytes = crate::input_file::read(path, crate::input_file::cap::DATASET, "a dataset")
         .map_err(|e| err(&file, None, None, e.to_string()))?;
@@ -18,18 +34,38 @@ pub fn load_file(path: &Path) -> Result<Dataset, DataError> {
         .map_err(|e| err(&file, None, None, format!("not UTF-8 text: {e}")))?;
     if is_csv(path) {
         let dir = path.parent().unwrap_or(Path::new("."));
-        let (table, rows) = csv_read::read(&text, &file, dir)?;
-        parse_table(table, &file, &|i| rows.describe(i)).map_err(|mut e| {
-            // The TOML wording of where a missing key may go, for a CSV.
-            e.message = e.message.replace(
-                "(set it in the case or in [setup])",
-                "(give it a column, or a `# key = value` line above the column names)",
-            );
-            e
-        })
+        read_csv_str(&text, &file, dir, options)
     } else {
-        parse_str(&text, &file)
+        let dataset = parse_str(text.strip_prefix('\u{feff}').unwrap_or(&text), &file)?;
+        Ok(Loaded {
+            dataset,
+            note: None,
+        })
     }
+}
+
+/// CSV text -> dataset; `file` names it in messages, `dir` is where a
+/// `setup_file` is looked for.
+pub fn read_csv_str(
+    text: &str,
+    file: &str,
+    dir: &Path,
+    options: &ReadOptions,
+) -> Result<Loaded, DataError> {
+    let read = csv_read::read(text, file, dir, options)?;
+    let rows = read.rows;
+    let dataset = parse_table(read.table, file, &|i| rows.describe(i)).map_err(|mut e| {
+        // The TOML wording of where a missing key may go, for a CSV.
+        e.message = e.message.replace(
+            "(set it in the case or in [setup])",
+            "(give it a column, or a `# key = value` line above the column names)",
+        );
+        e
+    })?;
+    Ok(Loaded {
+        dataset,
+        note: read.note,
+    })
 }
 
 /// A `.csv` name (any case) is a CSV dataset; anything else is TOML.
@@ -60,16 +96,25 @@ impl FileFormat {
 /// block, raw trials, uncertainties as written) carried over unchanged,
 /// so that reading the result gives the same [`Dataset`].
 pub fn convert_file(path: &Path, to: FileFormat) -> Result<String, DataError> {
-    load_file(path)?;
+    convert_file_with(path, to, &ReadOptions::default())
+}
+
+/// [`convert_file`] with what the caller knows of a CSV's dialect.
+pub fn convert_file_with(
+    path: &Path,
+    to: FileFormat,
+    options: &ReadOptions,
+) -> Result<String, DataError> {
+    read_file(path, options)?;
     let file = path.display().to_string();
     let text = crate::input_file::read_text(path, crate::input_file::cap::DATASET, "a dataset")
         .map_err(|e| err(&file, None, None, e.to_string()))?;
     let raw = match FileFormat::of(path) {
         FileFormat::Csv => {
             let dir = path.parent().unwrap_or(Path::new("."));
-            csv_read::read(&text, &file, dir)?.0
+            csv_read::read(&text, &file, dir, options)?.table
         }
-        FileFormat::Toml => toml::from_str(&text)
+        FileFormat::Toml => toml::from_str(text.strip_prefix('\u{feff}').unwrap_or(&text))
             .map_err(|e| err(&file, None, None, format!("not a valid dataset: {e}")))?,
     };
     match to {

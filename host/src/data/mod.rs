@@ -5,6 +5,7 @@
 
 pub mod body_inputs;
 pub mod csv_columns;
+mod csv_dialect;
 mod csv_read;
 mod csv_write;
 pub mod limits;
@@ -12,12 +13,17 @@ mod load;
 mod parse;
 mod profile;
 pub mod quantities;
+pub mod recorded;
 pub mod uncertainty;
 mod write;
 
-pub use load::{convert_file, is_csv, load_file, FileFormat};
+pub use csv_dialect::ReadOptions;
+pub use load::{
+    convert_file, convert_file_with, is_csv, load_file, read_csv_str, read_file, FileFormat, Loaded,
+};
 pub use parse::parse_str;
 pub use profile::PROFILE_TOLERANCE;
+pub use recorded::Recorded;
 pub use write::to_toml;
 
 use crate::physics::geometry::{Body, Channel, Coupler, Handedness, Helix};
@@ -119,6 +125,9 @@ pub struct Case {
     pub omega_body_hz: Option<Measured>,
     /// Input uncertainties and recording conventions ([`uncertainty`]).
     pub inputs: uncertainty::CaseInputs,
+    /// What the lab recorded beside the case that the model does not read
+    /// ([`recorded`]): numbers offered to `diagnose`, labels carried.
+    pub recorded: Recorded,
 }
 
 impl Case {

@@ -4,6 +4,7 @@
 //! first turned into the same raw tables by [`super::csv_read`], so both
 //! formats share every check.
 
+use super::recorded::Recorded;
 use super::uncertainty::{merge_tables, AmplitudeConvention, CaseInputs};
 use super::{Case, DataError, Dataset, Measured, Orientation};
 use crate::physics::geometry::Handedness;
@@ -59,6 +60,9 @@ struct RawCase {
     chord_length_mm: Option<f64>,
     chord_fixed: Option<bool>,
     amplitude_convention: Option<AmplitudeConvention>,
+    // What the lab recorded beside the case (data/recorded.rs).
+    recorded: Option<toml::Table>,
+    labels: Option<toml::Table>,
 }
 
 /// Parse and validate dataset text; `file` names it in error messages.
@@ -78,16 +82,77 @@ fn not_a_dataset(file: &str, e: &toml::de::Error) -> DataError {
 }
 
 /// Validate the raw tables of a dataset. `locate(i)` names where case `i`
-/// is written (the file, or the file and its rows for a CSV).
+/// is written (the file, or the file and its rows for a CSV). Each case is
+/// read on its own, so that a bad value (`handedness = "lefty"`) names its
+/// case, its rows and its field.
 pub(super) fn parse_table(
-    table: toml::Table,
+    mut table: toml::Table,
     file: &str,
     locate: &dyn Fn(usize) -> String,
 ) -> Result<Dataset, DataError> {
-    let raw: RawDataset = toml::Value::Table(table)
-        .try_into()
-        .map_err(|e| not_a_dataset(file, &e))?;
+    let cases = match table.remove("case") {
+        Some(toml::Value::Array(cases)) => cases,
+        Some(_) => return Err(err(file, None, Some("case"), "must be a list of cases")),
+        None => Vec::new(),
+    };
+    let mut raw: RawDataset =
+        toml::Value::Table(table.clone())
+            .try_into()
+            .map_err(|e: toml::de::Error| {
+                let setup = table.get("setup").and_then(toml::Value::as_table);
+                let field = setup.and_then(failing_key).map(|k| format!("setup.{k}"));
+                err(
+                    file,
+                    None,
+                    field.as_deref(),
+                    e.message().trim_end().to_string(),
+                )
+            })?;
+    raw.cases = cases
+        .into_iter()
+        .enumerate()
+        .map(|(i, case)| raw_case(case, i, locate))
+        .collect::<Result<_, _>>()?;
     validate(raw, file, locate)
+}
+
+/// One case's raw table, its errors at its rows, with its id and field.
+fn raw_case(
+    case: toml::Value,
+    i: usize,
+    locate: &dyn Fn(usize) -> String,
+) -> Result<RawCase, DataError> {
+    let table = match case {
+        toml::Value::Table(t) => t,
+        _ => return Err(err(&locate(i), None, None, "a case must be a table")),
+    };
+    let id = table
+        .get("id")
+        .and_then(toml::Value::as_str)
+        .map_or_else(|| format!("#{}", i + 1), str::to_string);
+    toml::Value::Table(table.clone())
+        .try_into()
+        .map_err(|e: toml::de::Error| {
+            let field = failing_key(&table);
+            err(
+                &locate(i),
+                Some(&id),
+                field.as_deref(),
+                e.message().trim_end().to_string(),
+            )
+        })
+}
+
+/// The first key of a case table that is wrong on its own (serde's error
+/// on a whole table does not name the key of a bad value).
+fn failing_key(table: &toml::Table) -> Option<String> {
+    table
+        .iter()
+        .find(|(k, v)| {
+            let one = toml::Table::from_iter([((*k).clone(), (*v).clone())]);
+            toml::Value::Table(one).try_into::<RawCase>().is_err()
+        })
+        .map(|(k, _)| k.clone())
 }
 
 fn validate(
@@ -107,11 +172,14 @@ fn validate(
         return Err(err(file, None, Some("case"), n));
     }
     let mut cases = Vec::with_capacity(raw.cases.len());
+    // A set, not a scan of the cases so far: 10^4 cases would take 5 10^7
+    // comparisons.
+    let mut ids = std::collections::HashSet::with_capacity(raw.cases.len());
     for (i, rc) in raw.cases.iter().enumerate() {
         let at = locate(i);
         let case = resolve(&at, i, &raw.setup, rc)?;
         super::limits::check_case(&case).map_err(|(f, m)| err(&at, Some(&case.id), Some(f), m))?;
-        if cases.iter().any(|c: &Case| c.id == case.id) {
+        if !ids.insert(case.id.clone()) {
             return Err(err(&at, Some(&case.id), Some("id"), "duplicate case id"));
         }
         cases.push(case);
@@ -345,6 +413,11 @@ fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, D
             confidence,
         )?,
         inputs: CaseInputs::default(),
+        recorded: Recorded::from_tables(
+            (s.recorded.as_ref(), s.labels.as_ref()),
+            (c.recorded.as_ref(), c.labels.as_ref()),
+        )
+        .map_err(|(field, message)| r.fail(&field, message))?,
         id,
     };
     let case = with_inputs(&r, s, c, case)?;
@@ -458,7 +531,13 @@ mod tests {
             .unwrap_or_default();
         let keys: Vec<&str> = e.split('`').skip(3).step_by(2).collect();
         assert!(keys.len() > 20, "{e}");
-        let without_column = ["u_trials_mm_s", "omega_body_trials_hz", "uncertainty"];
+        let without_column = [
+            "u_trials_mm_s",
+            "omega_body_trials_hz",
+            "uncertainty",
+            "recorded",
+            "labels",
+        ];
         let mut want: Vec<&str> = keys
             .into_iter()
             .filter(|k| !without_column.contains(k))

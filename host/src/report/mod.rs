@@ -27,6 +27,9 @@ mod yours;
 
 pub use crate::format::fmt_sig;
 pub use story::{StoryInput, ZeroParam};
+// The page's figures of one comparison, for the Python package's HTML.
+pub use parity::parity;
+pub use residuals::residual_plots;
 
 /// Refuse `dir` before any work when another command's page is in it.
 pub fn check_bundle_dir(dir: &std::path::Path, command: &str) -> Result<(), String> {

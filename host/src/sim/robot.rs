@@ -248,6 +248,7 @@ impl Robot {
             u_mm_s: None,
             omega_body_hz: None,
             inputs: Default::default(),
+            recorded: Default::default(),
         };
         if setup.body_diameter_mm >= setup.channel_diameter_mm {
             return Err(fail(

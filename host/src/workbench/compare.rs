@@ -41,6 +41,10 @@ pub struct CaseComparison {
     /// Error in combined standard errors (measurement and inputs in quadrature).
     pub u_err_sigma_combined: Option<f64>,
     pub omega_err_sigma_combined: Option<f64>,
+    /// What the lab recorded beside the case (temperature, date, ...),
+    /// carried so that a residual can be read against it.
+    #[serde(skip_serializing_if = "crate::data::Recorded::is_empty")]
+    pub recorded: crate::data::Recorded,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -250,6 +254,7 @@ pub fn compare(
             omega_dominant_input: None,
             u_err_sigma_combined: None,
             omega_err_sigma_combined: None,
+            recorded: case.recorded.clone(),
         });
         all.extend(res.into_iter().map(|(_, r)| r));
     }

@@ -6,11 +6,13 @@
 //! ([`super::discovery`]) then tests laws in it at each place of the model.
 //! Recorded setup fields and their groups (viscosity, Reynolds number, ...)
 //! are in the library when they vary in the data and are not a monotone
-//! function of a feature already in it.
+//! function of a feature already in it; so are the lab's recorded numbers
+//! ([`crate::data::recorded`]: the oil's temperature, ...).
 
 use super::compare::{Comparison, Quantity};
 use crate::data::{Case, Dataset};
 use serde::Serialize;
+use std::borrow::Cow;
 
 pub use crate::data::quantities::FEATURES;
 
@@ -18,10 +20,11 @@ pub use crate::data::quantities::FEATURES;
 #[derive(Debug, Clone, Serialize)]
 pub struct Trend {
     pub quantity: Quantity,
-    /// The feature's formula in the paper's symbols.
-    pub feature: &'static str,
-    /// Its id in [`crate::data::quantities`].
-    pub feature_id: &'static str,
+    /// The feature's formula in the paper's symbols, or a recorded
+    /// variable's name with `(recorded)`.
+    pub feature: Cow<'static, str>,
+    /// Its id in [`crate::data::quantities`], or the recorded name.
+    pub feature_id: Cow<'static, str>,
     /// Pearson correlation over the cases.
     pub r: f64,
     /// Least-squares slope of the relative error per unit feature.
@@ -33,26 +36,38 @@ pub struct Trend {
 pub fn trends(data: &Dataset, cmp: &Comparison) -> Vec<Trend> {
     let mut out = Vec::new();
     for q in [Quantity::U, Quantity::Omega] {
-        let pts: Vec<(&Case, f64)> = data
+        let pts: Vec<(usize, f64)> = cmp
             .cases
             .iter()
-            .zip(&cmp.cases)
-            .filter_map(|(c, k)| match q {
-                Quantity::U => k.u_rel_err.map(|e| (c, e)),
-                Quantity::Omega => k.omega_rel_err.map(|e| (c, e)),
+            .enumerate()
+            .filter_map(|(i, k)| match q {
+                Quantity::U => k.u_rel_err.map(|e| (i, e)),
+                Quantity::Omega => k.omega_rel_err.map(|e| (i, e)),
             })
             .collect();
         if pts.len() < 3 {
             continue;
         }
-        for (f, _) in super::discovery::search::usable_features(data) {
-            let xs: Vec<f64> = pts.iter().map(|(c, _)| f.of(c)).collect();
-            let ys: Vec<f64> = pts.iter().map(|(_, e)| *e).collect();
+        let ys: Vec<f64> = pts.iter().map(|(_, e)| *e).collect();
+        let library = super::discovery::search::usable_features(data)
+            .into_iter()
+            .map(|(f, _)| {
+                (
+                    Cow::from(f.name),
+                    Cow::from(f.id),
+                    column(data, |c| f.of(c)),
+                )
+            });
+        let recorded = crate::data::recorded::features(data)
+            .into_iter()
+            .map(|(id, xs)| (Cow::from(format!("{id} (recorded)")), Cow::from(id), xs));
+        for (feature, feature_id, all) in library.chain(recorded) {
+            let xs: Vec<f64> = pts.iter().map(|(i, _)| all[*i]).collect();
             if let Some((r, slope)) = pearson(&xs, &ys) {
                 out.push(Trend {
                     quantity: q,
-                    feature: f.name,
-                    feature_id: f.id,
+                    feature,
+                    feature_id,
                     r,
                     slope,
                 });
@@ -61,6 +76,10 @@ pub fn trends(data: &Dataset, cmp: &Comparison) -> Vec<Trend> {
     }
     out.sort_by(|a, b| b.r.abs().total_cmp(&a.r.abs()));
     out
+}
+
+fn column(data: &Dataset, f: impl Fn(&Case) -> f64) -> Vec<f64> {
+    data.cases.iter().map(f).collect()
 }
 
 fn pearson(x: &[f64], y: &[f64]) -> Option<(f64, f64)> {

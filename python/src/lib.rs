@@ -1,0 +1,312 @@
+//! `swimbot._swimbot`: the Python extension module over the swimbot
+//! library. It is thin on purpose: the commands' flags are parsed by the
+//! CLI's own parser (so a bad flag gets the CLI's message) and their work
+//! is the CLI's (`swimbot::cli::api`), so that every number equals the
+//! command's JSON. The Python package (`python/swimbot/__init__.py`) wraps
+//! it in keyword arguments, result objects, pandas and HTML.
+//!
+//! Arrays cross the boundary as bytes of native-endian `f64` (numpy's
+//! `tobytes` and `frombuffer`): the limited API (abi3) has no buffer
+//! protocol before Python 3.11, and a copy costs nanoseconds against a
+//! model evaluation's microsecond.
+//!
+//! Process-wide state of the library that a long-lived interpreter meets:
+//! the provenance's list of inputs grows with every file read (the results
+//! here leave the provenance block out, so it never shows), and effect
+//! files given with `--effect-file` stay registered for the process.
+
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use rayon::prelude::*;
+use swimbot::cli::{api, Cli, CliError, Command};
+use swimbot::data::{self, Case, DataError, ReadOptions};
+
+create_exception!(
+    _swimbot,
+    SwimbotError,
+    PyValueError,
+    "Bad input: the message names the file, the case and the field, as the CLI's does."
+);
+
+fn data_err(e: DataError) -> PyErr {
+    SwimbotError::new_err(e.to_string())
+}
+
+fn cli_err(e: CliError) -> PyErr {
+    SwimbotError::new_err(e.to_string())
+}
+
+/// A validated dataset: the paper's or a lab's.
+#[pyclass(module = "swimbot._swimbot", frozen)]
+#[derive(Clone)]
+struct Dataset {
+    inner: data::Dataset,
+    note: Option<String>,
+}
+
+#[pymethods]
+impl Dataset {
+    /// The dataset's name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name.clone()
+    }
+    /// Where the measurements come from.
+    #[getter]
+    fn source(&self) -> String {
+        self.inner.source.clone()
+    }
+    /// The case ids, in the file's order.
+    #[getter]
+    fn ids(&self) -> Vec<String> {
+        self.inner.cases.iter().map(|c| c.id.clone()).collect()
+    }
+    /// What the reader took as what (dialect, recorded columns), if not the format's own.
+    #[getter]
+    fn note(&self) -> Option<String> {
+        self.note.clone()
+    }
+    fn __len__(&self) -> usize {
+        self.inner.cases.len()
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "swimbot.Dataset({:?}, {} cases)",
+            self.inner.name,
+            self.inner.cases.len()
+        )
+    }
+}
+
+/// The paper's built-in dataset.
+#[pyfunction]
+fn paper() -> Dataset {
+    Dataset {
+        inner: data::paper(),
+        note: None,
+    }
+}
+
+/// A dataset file, CSV or TOML (docs/data-format.md).
+#[pyfunction]
+#[pyo3(signature = (path, decimal_comma = false))]
+fn load(py: Python<'_>, path: std::path::PathBuf, decimal_comma: bool) -> PyResult<Dataset> {
+    let options = ReadOptions { decimal_comma };
+    let loaded = py
+        .allow_threads(|| data::read_file(&path, &options))
+        .map_err(data_err)?;
+    Ok(Dataset {
+        inner: loaded.dataset,
+        note: loaded.note,
+    })
+}
+
+/// A dataset from CSV text (what `Dataset.from_pandas` writes); `name`
+/// stands for the file in messages.
+#[pyfunction]
+#[pyo3(signature = (text, name, decimal_comma = false))]
+fn from_csv(text: &str, name: &str, decimal_comma: bool) -> PyResult<Dataset> {
+    let options = ReadOptions { decimal_comma };
+    let loaded =
+        data::read_csv_str(text, name, std::path::Path::new("."), &options).map_err(data_err)?;
+    Ok(Dataset {
+        inner: loaded.dataset,
+        note: loaded.note,
+    })
+}
+
+/// The CLI's parse of `swimbot COMMAND ARGS...`, its message on error.
+fn parse(command: &str, args: Vec<String>) -> PyResult<Command> {
+    use clap::Parser;
+    let argv = ["swimbot".to_string(), command.to_string()]
+        .into_iter()
+        .chain(args);
+    Cli::try_parse_from(argv)
+        .map(|cli| cli.command)
+        .map_err(|e| SwimbotError::new_err(e.render().to_string()))
+}
+
+fn json<T: serde::Serialize>(value: &T) -> PyResult<String> {
+    serde_json::to_string(value).map_err(|e| SwimbotError::new_err(e.to_string()))
+}
+
+/// The report's figures of a comparison (parity of U and Omega_b, the
+/// strongest residual trends), as SVG text.
+fn figures(data: &data::Dataset, cmp: &swimbot::workbench::compare::Comparison) -> Vec<String> {
+    use swimbot::report::{parity, residual_plots};
+    [parity(cmp, false), parity(cmp, true)]
+        .into_iter()
+        .chain(residual_plots(data, cmp))
+        .filter_map(Result::ok)
+        .collect()
+}
+
+/// `compare --format json` (without the provenance block) and the figures.
+#[pyfunction]
+fn compare(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<(String, Vec<String>)> {
+    let Command::Compare(a) = parse("compare", args)? else {
+        unreachable!("parsed as compare")
+    };
+    let ds = &data.inner;
+    py.allow_threads(|| {
+        let c = api::compared(&a, ds).map_err(cli_err)?;
+        let cmp = &c.path.last().comparison;
+        Ok((json(cmp)?, figures(ds, cmp)))
+    })
+}
+
+/// `diagnose --format json` (without the provenance block).
+#[pyfunction]
+fn diagnose(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<String> {
+    let Command::Diagnose(a) = parse("diagnose", args)? else {
+        unreachable!("parsed as diagnose")
+    };
+    let ds = data.inner.clone();
+    py.allow_threads(|| {
+        let (d, ds) = api::diagnosed(&a, ds).map_err(cli_err)?;
+        json(&api::diagnosis_json(&d, &ds, a.likelihood.get()).map_err(cli_err)?)
+    })
+}
+
+/// `fit --format json` (without the provenance block) and the figures of
+/// the calibrated model's comparison.
+#[pyfunction]
+fn fit(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<(String, Vec<String>)> {
+    let Command::Fit(a) = parse("fit", args)? else {
+        unreachable!("parsed as fit")
+    };
+    let ds = &data.inner;
+    py.allow_threads(|| {
+        let f = api::fitted(&a, ds).map_err(cli_err)?;
+        Ok((json(&f.to_json())?, figures(ds, &f.all)))
+    })
+}
+
+/// `audit --format json` (without the provenance block).
+#[pyfunction]
+fn audit(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<String> {
+    let Command::Audit(a) = parse("audit", args)? else {
+        unreachable!("parsed as audit")
+    };
+    let ds = &data.inner;
+    py.allow_threads(|| json(&api::audited(&a, ds).map_err(cli_err)?))
+}
+
+fn floats(bytes: Option<&[u8]>, n: usize, name: &str) -> PyResult<Option<Vec<f64>>> {
+    let Some(b) = bytes else { return Ok(None) };
+    if b.len() != 8 * n {
+        return Err(SwimbotError::new_err(format!(
+            "{name}: {} bytes for {n} values",
+            b.len()
+        )));
+    }
+    Ok(Some(
+        b.chunks_exact(8)
+            .map(|c| f64::from_ne_bytes(c.try_into().expect("8 bytes")))
+            .collect(),
+    ))
+}
+
+/// The model's U (mm/s) and Omega_b (Hz) at `n` geometries: each column
+/// (native f64 bytes, `n` values) replaces the template case's field, an
+/// absent one keeps it. Parallel, the GIL released; the first bad
+/// geometry is an error naming its index and field.
+#[pyfunction]
+#[pyo3(signature = (n, args, template = None, case = None, wavelength_mm = None, amplitude_mm = None, tail_length_mm = None, frequency_hz = None))]
+#[allow(clippy::too_many_arguments)]
+fn sweep<'py>(
+    py: Python<'py>,
+    n: usize,
+    args: Vec<String>,
+    template: Option<&Dataset>,
+    case: Option<String>,
+    wavelength_mm: Option<&[u8]>,
+    amplitude_mm: Option<&[u8]>,
+    tail_length_mm: Option<&[u8]>,
+    frequency_hz: Option<&[u8]>,
+) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>)> {
+    let Command::Compare(a) = parse("compare", args)? else {
+        unreachable!("parsed as compare")
+    };
+    let model = a.model.model().map_err(cli_err)?;
+    let base = template.map_or_else(data::paper, |d| d.inner.clone());
+    let mut t: Case = match &case {
+        Some(id) => base
+            .cases
+            .iter()
+            .find(|c| &c.id == id)
+            .cloned()
+            .ok_or_else(|| {
+                let ids: Vec<&str> = base.cases.iter().map(|c| c.id.as_str()).collect();
+                SwimbotError::new_err(format!(
+                    "case: no case `{id}` in the data; cases: {}",
+                    ids.join(", ")
+                ))
+            })?,
+        None => base.cases[0].clone(),
+    };
+    t.u_mm_s = None;
+    t.omega_body_hz = None;
+    let cols = [
+        ("wavelength_mm", floats(wavelength_mm, n, "wavelength_mm")?),
+        ("amplitude_mm", floats(amplitude_mm, n, "amplitude_mm")?),
+        (
+            "tail_length_mm",
+            floats(tail_length_mm, n, "tail_length_mm")?,
+        ),
+        ("frequency_hz", floats(frequency_hz, n, "frequency_hz")?),
+    ];
+    let at = |i: usize| {
+        let mut c = t.clone();
+        for (name, col) in &cols {
+            if let Some(v) = col {
+                let slot = match *name {
+                    "wavelength_mm" => &mut c.wavelength_mm,
+                    "amplitude_mm" => &mut c.amplitude_mm,
+                    "tail_length_mm" => &mut c.tail_length_mm,
+                    _ => &mut c.frequency_hz,
+                };
+                *slot = v[i];
+            }
+        }
+        c
+    };
+    let out: Result<Vec<(f64, f64)>, String> = py.allow_threads(|| {
+        (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let c = at(i);
+                data::limits::check_case(&c).map_err(|(f, m)| format!("geometry {i}: {f}: {m}"))?;
+                let p = model
+                    .predict(&c)
+                    .map_err(|e| format!("geometry {i}: {e}"))?;
+                Ok((p.u_mm_s, p.omega_body_hz))
+            })
+            .collect()
+    });
+    let out = out.map_err(SwimbotError::new_err)?;
+    let bytes = |f: fn(&(f64, f64)) -> f64| -> Vec<u8> {
+        out.iter().flat_map(|p| f(p).to_ne_bytes()).collect()
+    };
+    Ok((
+        PyBytes::new(py, &bytes(|p| p.0)),
+        PyBytes::new(py, &bytes(|p| p.1)),
+    ))
+}
+
+#[pymodule]
+fn _swimbot(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("SwimbotError", m.py().get_type::<SwimbotError>())?;
+    m.add_class::<Dataset>()?;
+    m.add_function(wrap_pyfunction!(paper, m)?)?;
+    m.add_function(wrap_pyfunction!(load, m)?)?;
+    m.add_function(wrap_pyfunction!(from_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(audit, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,408 @@
+"""swimbot from Python: the resistive-force-theory model of a helical-tail
+swimming robot, compared with a lab's measurements.
+
+Every number comes from the Rust library through the CLI's own code
+(``swimbot._swimbot``), so ``result.to_dict()`` equals the command's
+``--format json`` output (its provenance block left out)::
+
+    import swimbot
+    ds = swimbot.load("host/data/paper.csv")        # CSV or TOML
+    cmp = swimbot.compare(ds, effects=["tail-confinement"])
+    cmp.mare, cmp.chi2_reduced
+    cmp.to_pandas()                                  # one row per case
+    u, omega = swimbot.sweep(wavelength_mm=np.linspace(8, 16, 100),
+                             amplitude_mm=2.5, tail_length_mm=88)
+
+pandas is optional: only ``to_pandas`` and ``Dataset.from_pandas`` need it.
+Bad input raises :class:`SwimbotError` with the CLI's message (file, case,
+field).
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+import warnings
+from typing import Any, Iterable, Mapping, Optional, Sequence
+
+from . import _swimbot
+from ._swimbot import SwimbotError
+
+__all__ = [
+    "SwimbotError",
+    "Dataset",
+    "load",
+    "paper",
+    "compare",
+    "diagnose",
+    "fit",
+    "audit",
+    "sweep",
+    "Comparison",
+    "Diagnosis",
+    "Fit",
+    "Audit",
+]
+
+
+class Dataset:
+    """A validated dataset: a setup and, per case, a tail geometry, its
+    tail rate and (optionally) the measured speed and body rotation."""
+
+    def __init__(self, inner: "_swimbot.Dataset"):
+        self._inner = inner
+
+    @property
+    def name(self) -> str:
+        return self._inner.name
+
+    @property
+    def source(self) -> str:
+        return self._inner.source
+
+    @property
+    def ids(self) -> list:
+        """The case ids, in the file's order."""
+        return list(self._inner.ids)
+
+    @property
+    def note(self) -> Optional[str]:
+        """What the reader took as what (a spreadsheet's dialect, recorded
+        columns), when it was not the format's own."""
+        return self._inner.note
+
+    def __len__(self) -> int:
+        return len(self._inner)
+
+    def __repr__(self) -> str:
+        return repr(self._inner)
+
+    @classmethod
+    def from_pandas(
+        cls,
+        df: Any,
+        setup: Optional[Mapping[str, Any]] = None,
+        name: str = "<pandas>",
+    ) -> "Dataset":
+        """A dataset from a DataFrame with the CSV format's columns (one row
+        per case, or per trial with a shared ``id``; docs/data-format.md)
+        and ``setup`` as the ``[setup]`` defaults. Columns that are no
+        dataset field are kept as recorded variables (numbers) or labels."""
+        lines = [f"# name = {_toml(name)}"]
+        for key, value in (setup or {}).items():
+            lines.append(f"# {key} = {_toml(value)}")
+        text = "\n".join(lines) + "\n" + df.to_csv(index=False, float_format="%r")
+        return cls(_noted(_swimbot.from_csv(text, name)))
+
+
+def _toml(value: Any) -> str:
+    """A Python value as a TOML value (numbers, text, booleans, lists)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(float(value)) if isinstance(value, float) else str(value)
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, Mapping):
+        return "{ " + ", ".join(f"{k} = {_toml(v)}" for k, v in value.items()) + " }"
+    if isinstance(value, Iterable):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    raise SwimbotError(f"setup: {value!r} is not a number, text, boolean or list")
+
+
+def _noted(inner: "_swimbot.Dataset") -> "_swimbot.Dataset":
+    if inner.note:
+        warnings.warn(inner.note, stacklevel=3)
+    return inner
+
+
+def load(path: Any, decimal_comma: bool = False) -> Dataset:
+    """Read a dataset file: CSV (``.csv``; ``,`` ``;`` or tab between cells,
+    decimal commas detected or forced with ``decimal_comma``) or TOML."""
+    return Dataset(_noted(_swimbot.load(str(path), decimal_comma)))
+
+
+def paper() -> Dataset:
+    """The paper's six tails (built in)."""
+    return Dataset(_swimbot.paper())
+
+
+def _data(ds: Optional[Dataset]) -> "_swimbot.Dataset":
+    if ds is None:
+        return _swimbot.paper()
+    if isinstance(ds, Dataset):
+        return ds._inner
+    return load(ds)._inner
+
+
+def _model_args(preset: Optional[str], effects: Sequence[str], effect_files: Sequence[Any]) -> list:
+    if isinstance(effects, str):
+        effects = [effects]
+    args = []
+    if preset is not None:
+        args += ["--preset", preset]
+    for e in effects:
+        args += ["--effect", e]
+    for f in effect_files:
+        args += ["--effect-file", str(f)]
+    return args
+
+
+class _Result:
+    """A command's result: its JSON document as a dict, plus views."""
+
+    _title = "swimbot"
+
+    def __init__(self, document: str, figures: Sequence[str] = ()):
+        self._dict = json.loads(document)
+        self._figures = list(figures)
+
+    def to_dict(self) -> dict:
+        """The command's ``--format json`` document (without the provenance block)."""
+        return json.loads(json.dumps(self._dict))
+
+    @property
+    def figures(self) -> list:
+        """The report's figures (SVG text)."""
+        return list(self._figures)
+
+    def _rows(self) -> list:
+        return []
+
+    def to_pandas(self):
+        """One row per case (pandas needed)."""
+        import pandas as pd
+
+        return pd.DataFrame(self._rows())
+
+    def _repr_html_(self) -> str:
+        rows = self._rows()
+        parts = [f"<h4>{html.escape(self._title)}</h4>", self._summary_html()]
+        if rows:
+            cols = list(rows[0].keys())
+            head = "".join(f"<th>{html.escape(c)}</th>" for c in cols)
+            body = "".join(
+                "<tr>" + "".join(f"<td>{_cell(r.get(c))}</td>" for c in cols) + "</tr>"
+                for r in rows
+            )
+            parts.append(f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+        parts += [f"<div>{svg}</div>" for svg in self._figures]
+        return "\n".join(parts)
+
+    def _summary_html(self) -> str:
+        return ""
+
+
+def _cell(v: Any) -> str:
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    if v is None:
+        return ""
+    return html.escape(str(v))
+
+
+class Comparison(_Result):
+    """``swimbot compare``: model against measurement, per case and in summary."""
+
+    _title = "swimbot compare"
+
+    @property
+    def mare(self) -> float:
+        """Mean absolute relative error over the measured quantities."""
+        return self._dict["summary"]["mare"]
+
+    @property
+    def chi2_reduced(self) -> float:
+        """Reduced chi-square against the measurement's standard errors."""
+        return self._dict["summary"]["chi2_reduced"]
+
+    @property
+    def model(self) -> str:
+        return self._dict["model"]
+
+    def _rows(self) -> list:
+        rows = []
+        for c in self._dict["cases"]:
+            row = {k: v for k, v in c.items() if k != "recorded"}
+            row.update(c.get("recorded", {}))
+            rows.append(row)
+        return rows
+
+    def _summary_html(self) -> str:
+        return (
+            f"<p>model: {html.escape(self.model)}; MARE {self.mare:.4g}; "
+            f"reduced chi-square {self.chi2_reduced:.4g}</p>"
+        )
+
+
+class Diagnosis(_Result):
+    """``swimbot diagnose``: where the model fails and which effect closes the gap."""
+
+    _title = "swimbot diagnose"
+
+    @property
+    def trends(self) -> list:
+        """Residual trends against the features, strongest first."""
+        return self._dict.get("trends", [])
+
+    @property
+    def verdict(self) -> Any:
+        return self._dict.get("verdict")
+
+    def _rows(self) -> list:
+        return [
+            {k: t.get(k) for k in ("quantity", "feature", "feature_id", "r", "slope")}
+            for t in self.trends
+        ]
+
+
+class Fit(_Result):
+    """``swimbot fit``: effect parameters calibrated on the data."""
+
+    _title = "swimbot fit"
+
+    @property
+    def estimates(self) -> list:
+        return self._dict["fit"]["estimates"]
+
+    @property
+    def comparison(self) -> dict:
+        return self._dict["comparison"]
+
+    @property
+    def mare(self) -> float:
+        return self._dict["comparison"]["summary"]["mare"]
+
+    @property
+    def chi2_reduced(self) -> float:
+        return self._dict["comparison"]["summary"]["chi2_reduced"]
+
+    def _rows(self) -> list:
+        return Comparison(json.dumps(self.comparison))._rows()
+
+    def _summary_html(self) -> str:
+        items = "".join(
+            f"<li>{html.escape(str(e.get('effect')))}.{html.escape(str(e.get('name')))} = "
+            f"{_cell(e.get('value'))} ± {_cell(e.get('ci95'))}</li>"
+            for e in self.estimates
+        )
+        return f"<ul>{items}</ul>"
+
+
+class Audit(_Result):
+    """``swimbot audit``: checks of the data themselves."""
+
+    _title = "swimbot audit"
+
+    @property
+    def flags(self) -> list:
+        return self._dict.get("flags", [])
+
+    def _rows(self) -> list:
+        return [dict(f) for f in self.flags]
+
+
+def compare(
+    ds: Optional[Dataset] = None,
+    preset: Optional[str] = None,
+    effects: Sequence[str] = (),
+    effect_files: Sequence[Any] = (),
+    input_uncertainty: bool = False,
+    mc_draws: int = 300,
+) -> Comparison:
+    """``swimbot compare`` on ``ds`` (default: the paper's data)."""
+    args = _model_args(preset, effects, effect_files) + ["--mc-draws", str(mc_draws)]
+    if input_uncertainty:
+        args.append("--input-uncertainty")
+    return Comparison(*_swimbot.compare(_data(ds), args))
+
+
+def diagnose(
+    ds: Optional[Dataset] = None,
+    preset: Optional[str] = None,
+    effects: Sequence[str] = (),
+    effect_files: Sequence[Any] = (),
+    discovery: bool = True,
+    pairs: bool = True,
+    input_uncertainty: bool = False,
+    extra_args: Sequence[str] = (),
+) -> Diagnosis:
+    """``swimbot diagnose`` on ``ds``; ``extra_args`` are further CLI flags."""
+    args = _model_args(preset, effects, effect_files) + list(extra_args)
+    if not discovery:
+        args.append("--no-discovery")
+    if not pairs:
+        args.append("--no-pairs")
+    if input_uncertainty:
+        args.append("--input-uncertainty")
+    return Diagnosis(_swimbot.diagnose(_data(ds), args))
+
+
+def fit(
+    ds: Optional[Dataset] = None,
+    effects: Sequence[str] = (),
+    preset: Optional[str] = None,
+    effect_files: Sequence[Any] = (),
+    cases: Sequence[str] = (),
+) -> Fit:
+    """``swimbot fit``: calibrate ``effects``' free parameters on ``ds``."""
+    args = _model_args(preset, effects, effect_files)
+    for c in cases:
+        args += ["--cases", c]
+    return Fit(*_swimbot.fit(_data(ds), args))
+
+
+def audit(
+    ds: Optional[Dataset] = None,
+    preset: Optional[str] = None,
+    effects: Sequence[str] = (),
+    family_samples: Optional[int] = None,
+    seed: Optional[int] = None,
+) -> Audit:
+    """``swimbot audit``: geometry consistency, ratio tests, influence, outliers."""
+    args = _model_args(preset, effects, ())
+    if family_samples is not None:
+        args += ["--family-samples", str(family_samples)]
+    if seed is not None:
+        args += ["--seed", str(seed)]
+    return Audit(_swimbot.audit(_data(ds), args))
+
+
+def sweep(
+    wavelength_mm: Any = None,
+    amplitude_mm: Any = None,
+    tail_length_mm: Any = None,
+    frequency_hz: Any = None,
+    *,
+    data: Optional[Dataset] = None,
+    case: Optional[str] = None,
+    preset: Optional[str] = None,
+    effects: Sequence[str] = (),
+):
+    """The model's swimming speed U (mm/s) and body rotation rate Omega_b
+    (Hz) over numpy arrays of geometries, broadcast together; a field not
+    given is the template case's (``case`` of ``data``, default the
+    paper's first case). Returns ``(u_mm_s, omega_body_hz)`` in the
+    broadcast shape. Parallel, with the GIL released."""
+    import numpy as np
+
+    given = {
+        "wavelength_mm": wavelength_mm,
+        "amplitude_mm": amplitude_mm,
+        "tail_length_mm": tail_length_mm,
+        "frequency_hz": frequency_hz,
+    }
+    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in given.items() if v is not None}
+    shape = np.broadcast_shapes(*(a.shape for a in arrays.values())) if arrays else ()
+    n = int(math.prod(shape))
+    columns = {
+        k: np.ascontiguousarray(np.broadcast_to(a, shape)).ravel().tobytes()
+        for k, a in arrays.items()
+    }
+    template = data._inner if isinstance(data, Dataset) else None
+    u, omega = _swimbot.sweep(
+        n, _model_args(preset, effects, ()), template, case, **columns
+    )
+    as_array = lambda b: np.frombuffer(b, dtype=np.float64).reshape(shape)
+    return as_array(u), as_array(omega)

@@ -1,0 +1,172 @@
+"""The Python package against the CLI: the same numbers, the same messages.
+
+The CLI binary is ``$SWIMBOT_BIN`` or the workspace's ``target/debug/swimbot``
+(``scripts/test`` builds it before it runs this suite).
+"""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import swimbot
+
+ROOT = Path(__file__).resolve().parents[2]
+PAPER_CSV = ROOT / "host" / "data" / "paper.csv"
+PAPER_TOML = ROOT / "host" / "data" / "paper.toml"
+
+
+def cli_binary() -> str:
+    path = os.environ.get("SWIMBOT_BIN") or str(ROOT / "target" / "debug" / "swimbot")
+    assert Path(path).exists(), f"no swimbot binary at {path}: build it, or set SWIMBOT_BIN"
+    return path
+
+
+def cli_json(*args) -> dict:
+    out = subprocess.run(
+        [cli_binary(), *args, "--format", "json"], capture_output=True, text=True, check=True
+    )
+    doc = json.loads(out.stdout)
+    doc.pop("swimbot")  # the provenance block
+    return doc
+
+
+def european(text: str) -> str:
+    """The CSV as a decimal-comma spreadsheet saves it: `;`, commas in
+    numbers, a BOM, CRLF (the `#` lines are text and kept)."""
+    lines = []
+    for line in text.splitlines():
+        if line.startswith("#"):
+            lines.append(line.replace(",", ";"))
+            continue
+        cells = []
+        for c in line.split(","):
+            try:
+                float(c)
+                cells.append(c.replace(".", ","))
+            except ValueError:
+                cells.append(c)
+        lines.append(";".join(cells))
+    return "\ufeff" + "\r\n".join(lines) + "\r\n"
+
+
+def test_load_reads_csv_and_toml_alike():
+    a, b = swimbot.load(PAPER_CSV), swimbot.load(PAPER_TOML)
+    assert a.ids == b.ids == ["tail-1", "tail-2", "tail-3", "tail-4", "tail-5", "tail-6"]
+    assert len(a) == 6 and a.note is None
+    assert swimbot.compare(a).to_dict() == swimbot.compare(b).to_dict()
+
+
+def test_compare_equals_the_cli_json():
+    cmp = swimbot.compare(swimbot.load(PAPER_CSV))
+    want = cli_json("compare", "--no-report", "--data", str(PAPER_CSV))
+    assert cmp.to_dict() == want
+    assert cmp.mare == want["summary"]["mare"]
+    assert cmp.chi2_reduced == want["summary"]["chi2_reduced"]
+    with_effect = swimbot.compare(effects=["tail-confinement"], preset="base")
+    want = cli_json(
+        "compare", "--no-report", "--preset", "base", "--effect", "tail-confinement"
+    )
+    assert with_effect.to_dict() == want
+    assert with_effect.mare != cmp.mare
+
+
+def test_a_european_export_gives_the_same_numbers(tmp_path):
+    path = tmp_path / "paper-eu.csv"
+    path.write_text(european(PAPER_CSV.read_text()), encoding="utf-8", newline="")
+    with pytest.warns(UserWarning, match="decimal commas"):
+        ds = swimbot.load(path)
+    assert swimbot.compare(ds).to_dict() == swimbot.compare(swimbot.load(PAPER_CSV)).to_dict()
+
+
+def test_diagnose_fit_and_audit_equal_the_cli_json():
+    ds = swimbot.load(PAPER_CSV)
+    d = swimbot.diagnose(ds, discovery=False)
+    assert d.to_dict() == cli_json("diagnose", "--no-discovery", "--data", str(PAPER_CSV))
+    assert d.trends and {"quantity", "feature_id", "r"} <= set(d.trends[0])
+    f = swimbot.fit(ds, effects=["tail-confinement"])
+    assert f.to_dict() == cli_json("fit", "--effect", "tail-confinement", "--data", str(PAPER_CSV))
+    assert f.estimates[0]["name"] == "gamma"
+    a = swimbot.audit(ds, family_samples=16)
+    assert a.to_dict() == cli_json("audit", "--family-samples", "16", "--data", str(PAPER_CSV))
+
+
+def test_results_show_as_tables_and_the_reports_figures():
+    cmp = swimbot.compare()
+    page = cmp._repr_html_()
+    assert "<table>" in page and page.count("<svg") >= 2 and "tail-6" in page
+    df = cmp.to_pandas()
+    assert list(df["id"]) == swimbot.paper().ids
+    assert df["u_pred_mm_s"].tolist() == [c["u_pred_mm_s"] for c in cmp.to_dict()["cases"]]
+
+
+def test_from_pandas_with_a_setup_and_a_recorded_column():
+    import pandas as pd
+
+    rows = pd.read_csv(PAPER_CSV, comment="#")
+    setup_lines = [l[2:] for l in PAPER_CSV.read_text().splitlines() if " = " in l and l.startswith("# ")]
+    setup = {}
+    for line in setup_lines:
+        key, value = line.split(" = ", 1)
+        if key in ("name", "source") or key.startswith("uncertainty.") or key == "body_profile":
+            continue
+        setup[key] = json.loads(value.lower()) if value not in ("true", "false") else value == "true"
+    setup["body_profile"] = [[10.0, 20.0], [30.0, 18.0], [10.0, 20.0]]
+    rows["temperature_c"] = [20.0, 21.0, 22.5, 23.0, 24.0, 25.5]
+    with pytest.warns(UserWarning, match="temperature_c"):
+        ds = swimbot.Dataset.from_pandas(rows, setup=setup, name="lab")
+    cmp = swimbot.compare(ds)
+    base = swimbot.compare(swimbot.load(PAPER_CSV))
+    assert [c["u_pred_mm_s"] for c in cmp.to_dict()["cases"]] == [
+        c["u_pred_mm_s"] for c in base.to_dict()["cases"]
+    ]
+    assert cmp.to_pandas()["temperature_c"].tolist() == rows["temperature_c"].tolist()
+    trends = swimbot.diagnose(ds, discovery=False).trends
+    assert any(t["feature_id"] == "temperature_c" for t in trends)
+
+
+def test_sweep_broadcasts_and_equals_compare():
+    ds = swimbot.paper()
+    cmp = swimbot.compare(ds).to_dict()["cases"]
+    toml = PAPER_CSV.read_text().splitlines()
+    rows = [l.split(",") for l in toml if l.startswith("tail-")]
+    lam, amp, length, f = (np.array([float(r[i]) for r in rows]) for i in (1, 2, 3, 4))
+    u, omega = swimbot.sweep(lam, amp, length, f)
+    assert u.tolist() == [c["u_pred_mm_s"] for c in cmp]
+    assert omega.tolist() == [c["omega_pred_hz"] for c in cmp]
+    u, omega = swimbot.sweep(np.linspace(8, 16, 5)[:, None], np.array([2.0, 2.5, 3.0]), 88.0)
+    assert u.shape == omega.shape == (5, 3)
+    assert np.all(np.isfinite(u)) and np.all(u > 0)
+
+
+def test_errors_carry_the_clis_message(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text(PAPER_CSV.read_text().replace("tail-3,16,", "tail-3,-16,"))
+    with pytest.raises(swimbot.SwimbotError) as e:
+        swimbot.load(bad)
+    msg = str(e.value)
+    for needle in ["bad.csv", "tail-3", "wavelength_mm", "positive"]:
+        assert needle in msg
+    with pytest.raises(swimbot.SwimbotError, match="no-such-effect"):
+        swimbot.compare(effects=["no-such-effect"])
+    with pytest.raises(swimbot.SwimbotError, match="geometry 1"):
+        swimbot.sweep(wavelength_mm=[10.0, -1.0], amplitude_mm=2.5, tail_length_mm=88)
+    assert issubclass(swimbot.SwimbotError, ValueError)
+
+
+def test_repeated_calls_do_not_drift():
+    first = swimbot.compare(effects=["tail-confinement"]).to_dict()
+    for _ in range(3):
+        swimbot.diagnose(discovery=False)
+        assert swimbot.compare(effects=["tail-confinement"]).to_dict() == first
+
+
+def test_pandas_is_optional_at_import():
+    code = "import sys; sys.modules['pandas'] = None; import swimbot; print(swimbot.compare().mare)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert float(out.stdout) == swimbot.compare().mare
