@@ -100,12 +100,12 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
         .map_err(super::model_args::in_data(&a.data.data))?;
     super::output::check_finite("fit", &result)?;
     super::output::check_finite("comparison", &all)?;
-    // The same lone-case test as diagnose and audit (workbench::robust).
-    let lone = crate::workbench::robust::lone_case(&result.model, &data, 0.95)
+    // The same bad-run test as diagnose and audit (workbench::data_quality).
+    let lone = crate::workbench::data_quality::bad_runs::bad_runs(&result.model, &data, 0.95)
         .map_err(super::model_args::in_data(&a.data.data))?;
     match a.format {
         TableJsonCsv::Json => {
-            print_json(&serde_json::json!({ "fit": result, "comparison": all, "lone_case": lone }));
+            print_json(&serde_json::json!({ "fit": result, "comparison": all, "bad_runs": lone }));
             return Ok(());
         }
         TableJsonCsv::Csv => return print_csv(&result.estimates),

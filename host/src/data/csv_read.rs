@@ -271,7 +271,7 @@ fn header(text: &str, file: &str, dir: &Path) -> Result<(toml::Table, usize), Da
         )
     })?;
     let mut top = toml::Table::new();
-    for key in ["name", "source"] {
+    for key in ["name", "source", "rig"] {
         if let Some(v) = setup.remove(key) {
             top.insert(key.into(), v);
         }

@@ -12,6 +12,7 @@ mod load;
 mod parse;
 mod profile;
 pub mod quantities;
+pub mod rig;
 pub mod uncertainty;
 mod write;
 
@@ -53,6 +54,8 @@ pub struct Dataset {
     pub name: String,
     pub source: String,
     pub cases: Vec<Case>,
+    /// What the rig can run (`[rig]`; empty when the file states nothing).
+    pub rig: rig::RigLimits,
 }
 
 /// A measured mean with its confidence interval.
