@@ -140,7 +140,11 @@ pub fn diagnose(
     if verdict.kind != VerdictKind::NoneNeeded {
         let found = verdict.located.first().map(|l| &l.model);
         let limits = super::experiments::design::limits_note(data, model, found);
-        verdict.note.push_str(&limits);
+        if !limits.is_empty() {
+            let kept = verdict.note.trim_end_matches('.').len();
+            verdict.note.truncate(kept);
+            verdict.note.push_str(&limits);
+        }
     }
     Ok(Diagnosis {
         baseline,

@@ -23,10 +23,14 @@
 //! **No structure.** An effect the model misses also raises the residuals
 //! of some cases, but it orders them by the design: the residuals on `S`
 //! share a sign, or follow a feature. The finding is kept only when the
-//! signs on `S` are those of a fair coin (two-sided binomial test at 1 %
-//! per quantity) and no recorded field or derived group has a Spearman
+//! signs on `S`, and on all cases, are those of a fair coin (two-sided
+//! binomial test at 1 % per quantity) and no recorded field or derived group has a Spearman
 //! correlation with the residuals beyond its 1 % limit (Bonferroni over
 //! the features and the two quantities).
+//!
+//! **Power.** The test is made on at least [`MIN_CASES`] cases, and a
+//! factor above [`MAX_PARTIAL_FACTOR`] is reported only when the widened
+//! intervals bring the model to the noise floor.
 //!
 //! **Factor.** `k` maximises the Student-t likelihood of the residuals on
 //! `S` scaled by `1/k` (a one-dimensional golden-section search); it is
@@ -54,6 +58,16 @@ pub const FALSE_ALARM: f64 = 0.01;
 /// The smallest set of cases whose intervals are judged together: fewer
 /// are a few bad runs ([`super::outliers`]).
 pub const MIN_SET_FRACTION: f64 = 0.2;
+
+/// The fewest cases the test is made on: with fewer, the sign and trend
+/// guards cannot tell an effect the model misses from intervals stated too
+/// narrow (six cases that share a sign pass a 1 % sign test).
+pub const MIN_CASES: usize = 12;
+
+/// The largest factor reported when the widened intervals still leave
+/// the model above the noise floor: beyond it the excess is not a
+/// misstated interval but a model that misses.
+pub const MAX_PARTIAL_FACTOR: f64 = 4.0;
 
 /// Monte Carlo draws of the statistic's null distribution.
 pub const DRAWS: usize = 1000;
@@ -185,7 +199,7 @@ fn null_limit(shape: &[usize]) -> f64 {
 /// is the noise floor's quantile.
 pub fn calibrate(obs: &[Obs], data: &Dataset, level: f64) -> Option<IntervalFinding> {
     let n_cases = data.cases.len();
-    if n_cases < 5 || obs.len() < 6 {
+    if n_cases < MIN_CASES {
         return None;
     }
     let chi2: f64 = obs.iter().map(|o| o.z * o.z).sum();
@@ -226,6 +240,9 @@ pub fn calibrate(obs: &[Obs], data: &Dataset, level: f64) -> Option<IntervalFind
         })
         .sum();
     let n = obs.len() as f64;
+    if widened > floor && factor > MAX_PARTIAL_FACTOR {
+        return None;
+    }
     Some(IntervalFinding {
         cases: set.iter().map(|&i| data.cases[i].id.clone()).collect(),
         factor,
@@ -268,12 +285,13 @@ fn scale_factor(obs: &[&Obs]) -> f64 {
 /// The **No structure** guard (module docs).
 fn unstructured(obs: &[Obs], data: &Dataset, set: &[usize]) -> bool {
     for q in [Quantity::U, Quantity::Omega] {
-        let signs: Vec<bool> = obs
-            .iter()
-            .filter(|o| o.quantity == q && set.contains(&o.case))
-            .map(|o| o.z > 0.0)
-            .collect();
-        if !fair_coin(&signs) {
+        let of = |in_set: bool| -> Vec<bool> {
+            obs.iter()
+                .filter(|o| o.quantity == q && (!in_set || set.contains(&o.case)))
+                .map(|o| o.z > 0.0)
+                .collect()
+        };
+        if !fair_coin(&of(true)) || !fair_coin(&of(false)) {
             return false;
         }
     }
