@@ -178,7 +178,7 @@ fn suggestions_stay_inside_the_rig_and_one_tube_is_named_as_a_limit() {
     }
     let note = swimbot::workbench::experiments::design::limits_note(&d, &a, Some(&b));
     assert!(note.contains("cannot separate a wall effect"), "{note}");
-    assert!(note.contains("50 mm tube the rig has"), "{note}");
+    assert!(note.contains("in the 50 mm tube the rig has"), "{note}");
     assert!(note.contains("standard errors"), "{note}");
 }
 
@@ -191,19 +191,20 @@ fn a_rig_block_is_read_from_toml_and_csv_headers() {
     d.rig.channel_diameter_mm = Some(vec![28.0, 35.0]);
     let back = data::parse_str(&data::to_toml(&d), "d.toml").unwrap();
     assert_eq!(back.rig, d.rig);
+    // TOML -> CSV (the rig as `# rig.KEY` header lines) -> the same rig.
     let dir = tempfile::tempdir().unwrap();
+    let toml_path = dir.path().join("d.toml");
+    std::fs::write(&toml_path, data::to_toml(&d)).unwrap();
+    let text = data::convert_file(&toml_path, data::FileFormat::Csv).unwrap();
+    assert!(text.contains("# rig.frequency_hz = [0.8, 2.4]"), "{text}");
     let csv = dir.path().join("d.csv");
-    let rows: String = "id,wavelength_mm,amplitude_mm,tail_length_mm,wire_diameter_mm,frequency_hz,u_mm_s,u_ci_mm_s\n\
-        a,10,2,30,0.5,1.0,0.2,0.01\n"
-        .into();
-    let head = "# channel_diameter_mm = 31.75\n# rig.frequency_hz = [0.5, 2.0]\n# rig.channel_diameter_mm = [31.75, 40.0]\n";
-    std::fs::write(&csv, format!("{head}{rows}")).unwrap();
-    let read = data::load_file(&csv);
-    let read = read.unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(read.rig.frequency_hz, Some((0.5, 2.0)));
-    assert_eq!(read.rig.channel_diameter_mm, Some(vec![31.75, 40.0]));
+    std::fs::write(&csv, &text).unwrap();
+    let read = data::load_file(&csv).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(read.rig, d.rig);
+    // A reversed range: exit code 2, the field named.
     let bad = dir.path().join("bad.csv");
-    std::fs::write(&bad, format!("# rig.frequency_hz = [2.0, 0.5]\n{rows}")).unwrap();
+    let reversed = text.replace("[0.8, 2.4]", "[2.4, 0.8]");
+    std::fs::write(&bad, reversed).unwrap();
     let o = swimbot(&["diagnose", "--data", bad.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("rig.frequency_hz"), "{}", stderr(&o));

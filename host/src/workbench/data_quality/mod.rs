@@ -3,9 +3,10 @@
 //! first, sets the bad runs aside and judges what it locates on the
 //! intervals this module trusts.
 //!
-//! Order: bad runs first ([`bad_runs`]: named only when without them the
-//! model fits the rest to the noise); else the intervals ([`intervals`]);
-//! when those are widened, the bad runs again on the widened intervals.
+//! Order: the intervals first ([`intervals`]), judged without the runs the
+//! generalized ESD puts beyond their limits ([`outliers`]); then the bad
+//! runs ([`bad_runs`]: named only when without them the model fits the
+//! rest to the noise), on the widened intervals when those were widened.
 //! Each test's false-alarm rate is stated in its module (1 % per dataset).
 
 pub mod bad_runs;
@@ -53,15 +54,24 @@ pub fn assess(
     level: f64,
 ) -> Result<(DataQuality, Option<Dataset>), ModelError> {
     let obs = observations(model, data)?;
-    if let Some(b) = bad_runs::bad_runs_of(&obs, data, level) {
+    // The intervals are judged without the runs the ESD puts beyond their
+    // limits: a few bad runs must not read as intervals too narrow.
+    let beyond = outliers::esd(&obs, data, outliers::FALSE_ALARM);
+    let rest: Vec<_> = obs
+        .iter()
+        .filter(|o| {
+            !beyond
+                .iter()
+                .any(|j| j.obs.case == o.case && j.obs.quantity == o.quantity)
+        })
+        .copied()
+        .collect();
+    let Some(found) = intervals::calibrate(&rest, data, level) else {
         let q = DataQuality {
             intervals: None,
-            bad_runs: Some(b),
+            bad_runs: bad_runs::bad_runs_of(&obs, data, level),
         };
         return Ok((q, None));
-    }
-    let Some(found) = intervals::calibrate(&obs, data, level) else {
-        return Ok((DataQuality::default(), None));
     };
     let widened = widen(data, &found);
     let bad = bad_runs::bad_runs(model, &widened, level)?;

@@ -15,7 +15,7 @@
 
 use super::rig::{feasible, Field, Rig};
 use crate::data::Dataset;
-use crate::format::fmt_sig;
+use crate::format::{fmt_sig, fmt_trim};
 use crate::model::Model;
 use serde::Serialize;
 
@@ -48,7 +48,7 @@ impl DesignLimit {
         format!(
             "every case has {} = {}, so this design cannot separate {}; {}{predicted}",
             self.field,
-            fmt_sig(self.value, 4),
+            fmt_trim(self.value, 4),
             self.cannot_separate,
             self.experiment
         )
@@ -82,7 +82,7 @@ pub fn limits(data: &Dataset, found: Option<(&Model, &Model)>) -> Vec<DesignLimi
             Some(t) => (
                 format!(
                     "a second tube would: run a case in the {} mm tube the rig has",
-                    fmt_sig(t, 4)
+                    fmt_trim(t, 4)
                 ),
                 found.and_then(|(f, b)| second_tube(data, f, b, t)),
             ),
