@@ -31,8 +31,8 @@ mod drawn;
 
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::time::Instant;
-use swimbot::data::{paper, Dataset};
 use swimbot::data::quantities::by_id;
+use swimbot::data::{paper, Dataset};
 use swimbot::effects::correction::{Form, LocatedCorrection};
 use swimbot::effects::place::Place;
 use swimbot::effects::EffectInstance;
@@ -148,7 +148,11 @@ fn one_tube(seed: u64) -> (Model, Dataset) {
         }
     }
     design.cases = cases;
-    let second = if tube > 39.0 { tube - 10.0 } else { tube + 10.0 };
+    let second = if tube > 39.0 {
+        tube - 10.0
+    } else {
+        tube + 10.0
+    };
     design.rig.channel_diameter_mm = Some(vec![tube, second]);
     let truth = Model::base().with_effect(law(
         "tail.drag",
@@ -226,8 +230,8 @@ fn main() {
         truly += wrong.len();
         blamed += q.bad_runs.is_some() as u32;
         located += !d.verdict.located.is_empty() as u32;
-        right += (q.intervals.is_some() && q.bad_runs.is_none() && d.verdict.located.is_empty())
-            as u32;
+        right +=
+            (q.intervals.is_some() && q.bad_runs.is_none() && d.verdict.located.is_empty()) as u32;
         if verbose {
             eprintln!("narrow {s}: {} wrong; {}", wrong.len(), d.verdict.note);
         }

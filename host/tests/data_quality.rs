@@ -22,7 +22,13 @@ fn diagnose_json(d: &Dataset) -> serde_json::Value {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("d.toml");
     std::fs::write(&path, data::to_toml(d)).unwrap();
-    let o = swimbot(&["diagnose", "--data", path.to_str().unwrap(), "--format", "json"]);
+    let o = swimbot(&[
+        "diagnose",
+        "--data",
+        path.to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     serde_json::from_str(&stdout(&o)).unwrap()
 }
@@ -90,13 +96,19 @@ fn intervals_too_narrow_on_half_the_cases_are_named_not_a_lone_case() {
         .iter()
         .map(|c| c.as_str().unwrap())
         .collect();
-    let right = named.iter().filter(|c| wrong.iter().any(|w| w == *c)).count();
+    let right = named
+        .iter()
+        .filter(|c| wrong.iter().any(|w| w == *c))
+        .count();
     assert!(2 * right > named.len(), "{right} of {named:?} truly narrow");
     let k = q["intervals"]["factor"].as_f64().unwrap();
     assert!((1.4..3.0).contains(&k), "factor {k}");
     assert!(v["verdict"]["located"].as_array().unwrap().is_empty());
     let note = v["verdict"]["note"].as_str().unwrap();
-    assert!(note.starts_with("the stated intervals look too narrow by ~"), "{note}");
+    assert!(
+        note.starts_with("the stated intervals look too narrow by ~"),
+        "{note}"
+    );
 }
 
 /// Honest null data: over twenty draws (seeds 923-942) of the rich design,

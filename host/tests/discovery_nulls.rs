@@ -62,10 +62,11 @@ fn one_bad_run_is_named_and_needs_no_effect() {
     let v = &d.verdict;
     assert_eq!(v.kind, VerdictKind::NoneNeeded, "{}", v.note);
     assert_eq!(
-        d.data_quality
-            .bad_runs
-            .as_ref()
-            .map(|l| l.runs.iter().map(|r| r.case.as_str()).collect::<Vec<_>>()),
+        d.data_quality.bad_runs.as_ref().map(|l| l
+            .runs
+            .iter()
+            .map(|r| r.case.as_str())
+            .collect::<Vec<_>>()),
         Some(vec![id.as_str()]),
         "{}",
         v.note

@@ -47,7 +47,9 @@ pub fn parse(table: Option<toml::Table>, file: &str) -> Result<RigLimits, DataEr
         match key.as_str() {
             "channel_diameter_mm" => {
                 if numbers.is_empty() {
-                    return Err(fail("lists no tube: give at least one inner diameter".into()));
+                    return Err(fail(
+                        "lists no tube: give at least one inner diameter".into(),
+                    ));
                 }
                 rig.channel_diameter_mm = Some(numbers);
             }
@@ -55,7 +57,9 @@ pub fn parse(table: Option<toml::Table>, file: &str) -> Result<RigLimits, DataEr
                 let range = match numbers[..] {
                     [lo, hi] if lo <= hi => (lo, hi),
                     [lo, hi] => {
-                        return Err(fail(format!("[{lo}, {hi}]: the minimum exceeds the maximum")))
+                        return Err(fail(format!(
+                            "[{lo}, {hi}]: the minimum exceeds the maximum"
+                        )))
                     }
                     _ => return Err(fail("must be `[min, max]`, two numbers".into())),
                 };

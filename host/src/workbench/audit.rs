@@ -125,7 +125,9 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
             .iter()
             .any(|f| f.kind == "outlier" && f.case == l.case)
         {
-            let also = combined_runs.as_ref().is_some_and(|c| c.names_case(&l.case));
+            let also = combined_runs
+                .as_ref()
+                .is_some_and(|c| c.names_case(&l.case));
             let note = if also {
                 ""
             } else {

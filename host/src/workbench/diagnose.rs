@@ -101,20 +101,21 @@ pub fn diagnose(
     } else {
         Vec::new()
     };
-    let (discovery, remainder) = if s.discover && !baseline.at_noise_floor && !quality.explains_all() {
-        say("searching beyond the catalogue: place x feature x form");
-        let reference = super::discovery::Reference {
-            chi2: baseline.chi2,
-            k: 0,
-            floor: &floor,
+    let (discovery, remainder) =
+        if s.discover && !baseline.at_noise_floor && !quality.explains_all() {
+            say("searching beyond the catalogue: place x feature x form");
+            let reference = super::discovery::Reference {
+                chi2: baseline.chi2,
+                k: 0,
+                floor: &floor,
+            };
+            let d = super::discovery::discover(model, data, &reference, &s.discovery)?;
+            say("locating what the best catalogue effects leave");
+            let r = super::verdict::remainders(data, &baseline, &ranking, &d, &floor, s)?;
+            (Some(d), r)
+        } else {
+            (None, None)
         };
-        let d = super::discovery::discover(model, data, &reference, &s.discovery)?;
-        say("locating what the best catalogue effects leave");
-        let r = super::verdict::remainders(data, &baseline, &ranking, &d, &floor, s)?;
-        (Some(d), r)
-    } else {
-        (None, None)
-    };
     let mut verdict = match quality.explains_all() {
         true => super::stagewise_verdict::data_quality_verdict(&baseline),
         false => {

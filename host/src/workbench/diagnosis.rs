@@ -3,11 +3,11 @@
 //! commands and the page print (see [`super::diagnose`] for the method).
 
 use super::compare::Comparison;
-use super::experiments::separation::Suggestion;
+use super::data_quality::DataQuality;
 use super::discovery::{Discovery, DiscoverySettings, Located};
+use super::experiments::separation::Suggestion;
 use super::features::Trend;
 use super::fit::Estimate;
-use super::data_quality::DataQuality;
 use super::score::FitScore;
 use crate::model::Model;
 use serde::Serialize;

@@ -2,9 +2,9 @@
 //! the page print them, and the sentences of each kind. What is decided is
 //! in [`super::verdict`] (a [`Decision`]) and [`super::stagewise`].
 
-use super::experiments::separation::Suggestion;
 use super::diagnosis::{Baseline, DiagnoseSettings, Verdict, VerdictKind};
 use super::discovery::Located;
+use super::experiments::separation::Suggestion;
 use super::stagewise::{Level, Path};
 use super::verdict::{Decision, Evidence};
 

@@ -19,11 +19,11 @@
 //! then not told from the largest residuals of a missing effect.
 
 use super::outliers::{esd, Judged, FALSE_ALARM};
+use crate::data::Dataset;
 use crate::format::fmt_sig;
+use crate::model::{Model, ModelError};
 use crate::workbench::noise::chi2_noise_floor;
 use crate::workbench::robust::{observations, Obs};
-use crate::data::Dataset;
-use crate::model::{Model, ModelError};
 use serde::Serialize;
 
 /// One bad run: a case's quantity beyond its limit.
@@ -122,7 +122,11 @@ pub fn bad_runs_of(obs: &[Obs], data: &Dataset, level: f64) -> Option<BadRuns> {
     let chi2: f64 = obs.iter().map(|o| o.z * o.z).sum();
     let named = esd(obs, data, FALSE_ALARM);
     let (named, rule, false_alarm) = if named.is_empty() {
-        (vec![excess_run(obs, chi2, data, level)?], "excess", 1.0 - level)
+        (
+            vec![excess_run(obs, chi2, data, level)?],
+            "excess",
+            1.0 - level,
+        )
     } else {
         (named, "esd", FALSE_ALARM)
     };
@@ -133,7 +137,10 @@ pub fn bad_runs_of(obs: &[Obs], data: &Dataset, level: f64) -> Option<BadRuns> {
     };
     let rest: Vec<&Obs> = obs.iter().filter(|o| !is_named(o)).collect();
     let without: f64 = rest.iter().map(|o| o.z * o.z).sum();
-    let dofs: Vec<f64> = rest.iter().map(|o| f64::from(o.trials.max(2) - 1)).collect();
+    let dofs: Vec<f64> = rest
+        .iter()
+        .map(|o| f64::from(o.trials.max(2) - 1))
+        .collect();
     let floor_rest = chi2_noise_floor(&dofs, 0, level)?;
     (without <= floor_rest).then(|| BadRuns {
         runs: named

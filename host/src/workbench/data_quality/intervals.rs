@@ -298,7 +298,12 @@ fn unstructured(obs: &[Obs], data: &Dataset, set: &[usize]) -> bool {
     let features: Vec<Vec<f64>> = FEATURES
         .iter()
         .chain(FIELDS)
-        .map(|f| data.cases.iter().map(|c| (f.value)(c)).collect::<Vec<f64>>())
+        .map(|f| {
+            data.cases
+                .iter()
+                .map(|c| (f.value)(c))
+                .collect::<Vec<f64>>()
+        })
         .filter(|v: &Vec<f64>| v.iter().any(|x| *x != v[0]))
         .collect();
     let tests = (2 * features.len()).max(1);
@@ -340,7 +345,11 @@ fn spearman_p(x: &[f64], y: &[f64]) -> f64 {
     let (rx, ry) = (ranks(x), ranks(y));
     let n = x.len() as f64;
     let mean = (n + 1.0) / 2.0;
-    let cov: f64 = rx.iter().zip(&ry).map(|(a, b)| (a - mean) * (b - mean)).sum();
+    let cov: f64 = rx
+        .iter()
+        .zip(&ry)
+        .map(|(a, b)| (a - mean) * (b - mean))
+        .sum();
     let vx: f64 = rx.iter().map(|a| (a - mean).powi(2)).sum();
     let vy: f64 = ry.iter().map(|b| (b - mean).powi(2)).sum();
     if vx == 0.0 || vy == 0.0 {

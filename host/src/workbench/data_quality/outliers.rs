@@ -45,9 +45,9 @@
 //! variances); Z. Šidák, J. Am. Stat. Assoc. 62 (1967) 626; K. L. Lange,
 //! R. J. A. Little & J. M. G. Taylor, J. Am. Stat. Assoc. 84 (1989) 881.
 
+use crate::data::{Case, Dataset};
 use crate::workbench::compare::Quantity;
 use crate::workbench::robust::Obs;
-use crate::data::{Case, Dataset};
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 /// The stated false-alarm rate per dataset of the bad-run test (1 %).
@@ -206,7 +206,8 @@ pub fn esd(obs: &[Obs], data: &Dataset, alpha: f64) -> Vec<Judged> {
                 }
             };
         }
-        let Some(at) = (0..left.len()).max_by(|&a, &b| left[a].excess().total_cmp(&left[b].excess()))
+        let Some(at) =
+            (0..left.len()).max_by(|&a, &b| left[a].excess().total_cmp(&left[b].excess()))
         else {
             break;
         };

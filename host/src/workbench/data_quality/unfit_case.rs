@@ -9,12 +9,12 @@
 //! 20 000 draws); the limit is the one-bad-run test's
 //! ([`super::outliers::limit`], a false-alarm rate of 1 % per dataset).
 
+use crate::data::Case;
+use crate::data::Dataset;
 use crate::workbench::audit_influence::Finding;
 use crate::workbench::compare::case_residuals;
 use crate::workbench::fit::FitResult;
 use crate::workbench::noise::{chi2_noise_floor, error_dofs};
-use crate::data::Case;
-use crate::data::Dataset;
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 

@@ -123,7 +123,8 @@ pub fn limits(data: &Dataset, found: Option<(&Model, &Model)>) -> Vec<DesignLimi
         out.push(DesignLimit {
             field: "viscosity_pa_s",
             value: v,
-            cannot_separate: "an effect of the oil's viscosity (or of a Reynolds number) from a constant one",
+            cannot_separate:
+                "an effect of the oil's viscosity (or of a Reynolds number) from a constant one",
             experiment: "a second oil would".to_string(),
             predicted_in_sigma: None,
         });

@@ -128,7 +128,12 @@ pub fn best_discriminating_case(data: &Dataset, a: &Model, b: &Model) -> Option<
             };
             for (q, x, y, m) in [
                 ("U", pa.u_mm_s, pb.u_mm_s, c.u_mm_s),
-                ("Omega_b", pa.omega_body_hz, pb.omega_body_hz, c.omega_body_hz),
+                (
+                    "Omega_b",
+                    pa.omega_body_hz,
+                    pb.omega_body_hz,
+                    c.omega_body_hz,
+                ),
             ] {
                 let rel = (x - y).abs() / (0.5 * (x.abs() + y.abs())).max(1e-300);
                 if !rel.is_finite() {
