@@ -54,6 +54,7 @@ pub fn diagnose(
     // follows is judged on the intervals trusted ([`super::data_quality`]).
     let (quality, widened) = super::data_quality::assess(model, data, s.level)?;
     let data = widened.as_ref().unwrap_or(data);
+    let searchable = !quality.explains_all();
     let cmp = compare(model, data, 0)?;
     let dofs = error_dofs(data);
     let n = cmp.summary.n;
@@ -101,21 +102,20 @@ pub fn diagnose(
     } else {
         Vec::new()
     };
-    let (discovery, remainder) =
-        if s.discover && !baseline.at_noise_floor && !quality.explains_all() {
-            say("searching beyond the catalogue: place x feature x form");
-            let reference = super::discovery::Reference {
-                chi2: baseline.chi2,
-                k: 0,
-                floor: &floor,
-            };
-            let d = super::discovery::discover(model, data, &reference, &s.discovery)?;
-            say("locating what the best catalogue effects leave");
-            let r = super::verdict::remainders(data, &baseline, &ranking, &d, &floor, s)?;
-            (Some(d), r)
-        } else {
-            (None, None)
+    let (discovery, remainder) = if s.discover && !baseline.at_noise_floor && searchable {
+        say("searching beyond the catalogue: place x feature x form");
+        let reference = super::discovery::Reference {
+            chi2: baseline.chi2,
+            k: 0,
+            floor: &floor,
         };
+        let d = super::discovery::discover(model, data, &reference, &s.discovery)?;
+        say("locating what the best catalogue effects leave");
+        let r = super::verdict::remainders(data, &baseline, &ranking, &d, &floor, s)?;
+        (Some(d), r)
+    } else {
+        (None, None)
+    };
     let mut verdict = match quality.explains_all() {
         true => super::stagewise_verdict::data_quality_verdict(&baseline),
         false => {
