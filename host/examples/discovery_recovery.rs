@@ -367,7 +367,11 @@ fn main() {
             place_ok += place_right as u32;
             feat_ok += feat_right as u32;
             if let Some(id) = &spoiled {
-                named += d.lone_case.as_ref().is_some_and(|l| &l.case == id) as u32;
+                named += d
+                    .data_quality
+                    .bad_runs
+                    .as_ref()
+                    .is_some_and(|l| l.names_case(id)) as u32;
             }
             if let Some(l) = first {
                 fractions.push(l.explained_fraction.unwrap_or(f64::NAN));

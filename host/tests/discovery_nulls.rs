@@ -62,13 +62,17 @@ fn one_bad_run_is_named_and_needs_no_effect() {
     let v = &d.verdict;
     assert_eq!(v.kind, VerdictKind::NoneNeeded, "{}", v.note);
     assert_eq!(
-        d.lone_case.as_ref().map(|l| l.case.as_str()),
-        Some(id.as_str()),
+        d.data_quality.bad_runs.as_ref().map(|l| l
+            .runs
+            .iter()
+            .map(|r| r.case.as_str())
+            .collect::<Vec<_>>()),
+        Some(vec![id.as_str()]),
         "{}",
         v.note
     );
     assert!(
-        v.note.contains("one case stands out") && v.note.contains(&id),
+        v.note.contains("one run stands out") && v.note.contains(&id),
         "{}",
         v.note
     );

@@ -10,8 +10,8 @@ use nalgebra::Matrix6;
 use swimbot::data::{Case, Dataset};
 use swimbot::effects::{parse_effect_spec, Effect, EffectInstance};
 use swimbot::model::Model;
-use swimbot::workbench::design::median_rel_se;
 use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, VerdictKind};
+use swimbot::workbench::experiments::separation::median_rel_se;
 use swimbot::workbench::synth::{generate, varied_design, SynthSettings};
 
 const SEEDS: [u64; 2] = [11, 12];

@@ -14,6 +14,7 @@ mod cli_body;
 mod data;
 mod data_cli;
 mod data_csv;
+mod data_quality;
 mod discovery_features;
 mod discovery_joint;
 mod discovery_located;

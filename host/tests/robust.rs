@@ -87,9 +87,9 @@ fn one_bad_run_does_not_drag_the_student_t_fit() {
 }
 
 fn lone(d: &Dataset) -> Option<String> {
-    swimbot::workbench::robust::lone_case(&Model::base(), d, 0.95)
+    swimbot::workbench::data_quality::bad_runs::bad_runs(&Model::base(), d, 0.95)
         .unwrap()
-        .map(|l| l.case)
+        .map(|l| l.runs[0].case.clone())
 }
 
 /// Null data on the rich design (84 quantities, five trials each): at a
@@ -132,7 +132,7 @@ fn one_bad_run_is_named_at_the_stated_false_alarm_rate() {
 fn the_sidak_limit_has_its_false_alarm_rate() {
     use rand::SeedableRng;
     use rand_distr::{Distribution, StudentT};
-    use swimbot::workbench::outlier::limit;
+    use swimbot::workbench::data_quality::outliers::limit;
     let mut rng = rand::rngs::StdRng::seed_from_u64(5);
     for (nu, n) in [(4.0, 84), (336.0, 84), (4.0, 12)] {
         let t = StudentT::new(nu).unwrap();
@@ -154,7 +154,7 @@ fn the_sidak_limit_has_its_false_alarm_rate() {
 /// scatter of the others is not.
 #[test]
 fn a_common_trial_scatter_is_told_from_an_uneven_one() {
-    use swimbot::workbench::outlier::bartlett_p;
+    use swimbot::workbench::data_quality::outliers::bartlett_p;
     let even: Vec<(f64, f64)> = (0..40)
         .map(|i| (0.02 * (1.0 + 0.01 * (i % 5) as f64), 4.0))
         .collect();

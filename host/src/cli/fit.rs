@@ -28,18 +28,18 @@ pub struct FitArgs {
 }
 
 /// What `fit` computes, before anything is printed: the fit, the
-/// comparison of the calibrated model on every case, the lone-case test.
+/// comparison of the calibrated model on every case, the bad-run test.
 /// The Python package calls it too, so that its numbers are the command's.
 pub struct Fitted {
     pub result: crate::workbench::fit::FitResult,
     pub all: crate::workbench::compare::Comparison,
-    pub lone: Option<crate::workbench::robust::LoneCase>,
+    pub lone: Option<crate::workbench::data_quality::bad_runs::BadRuns>,
 }
 
 impl Fitted {
     /// `fit --format json`'s document (without the provenance block).
     pub fn to_json(&self) -> serde_json::Value {
-        serde_json::json!({ "fit": self.result, "comparison": self.all, "lone_case": self.lone })
+        serde_json::json!({ "fit": self.result, "comparison": self.all, "bad_runs": self.lone })
     }
 }
 
@@ -117,8 +117,8 @@ pub fn fitted(a: &FitArgs, data: &crate::data::Dataset) -> Result<Fitted, CliErr
         .map_err(super::model_args::in_data(&a.data.data))?;
     super::output::check_finite("fit", &result)?;
     super::output::check_finite("comparison", &all)?;
-    // The same lone-case test as diagnose and audit (workbench::robust).
-    let lone = crate::workbench::robust::lone_case(&result.model, &data, 0.95)
+    // The same bad-run test as diagnose and audit (workbench::data_quality).
+    let lone = crate::workbench::data_quality::bad_runs::bad_runs(&result.model, &data, 0.95)
         .map_err(super::model_args::in_data(&a.data.data))?;
     Ok(Fitted { result, all, lone })
 }

@@ -594,7 +594,7 @@ fn header(
         )
     })?;
     let mut top = toml::Table::new();
-    for key in ["name", "source"] {
+    for key in ["name", "source", "rig"] {
         if let Some(v) = setup.remove(key) {
             top.insert(key.into(), v);
         }

@@ -78,6 +78,10 @@ pub fn to_toml(raw: &toml::Table) -> String {
             write_keys(&mut out, t);
         }
     }
+    if let Some(toml::Value::Table(rig)) = raw.get("rig") {
+        let _ = writeln!(out, "\n[rig]");
+        write_keys(&mut out, rig);
+    }
     out
 }
 
@@ -107,6 +111,10 @@ fn top_and_setup(raw: &toml::Table) -> Vec<(String, toml::Value)> {
             flatten(&rest).into_iter().chain(tables).collect();
         keys.sort_by_key(|(k, _)| order_of(k));
         out.extend(keys);
+    }
+    // What the rig can run, as `rig.KEY` header lines.
+    if let Some(toml::Value::Table(rig)) = raw.get("rig") {
+        out.extend(rig.iter().map(|(k, v)| (format!("rig.{k}"), v.clone())));
     }
     out
 }

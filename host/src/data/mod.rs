@@ -14,6 +14,7 @@ mod parse;
 mod profile;
 pub mod quantities;
 pub mod recorded;
+pub mod rig;
 pub mod uncertainty;
 mod write;
 
@@ -59,6 +60,8 @@ pub struct Dataset {
     pub name: String,
     pub source: String,
     pub cases: Vec<Case>,
+    /// What the rig can run (`[rig]`; empty when the file states nothing).
+    pub rig: rig::RigLimits,
 }
 
 /// A measured mean with its confidence interval.

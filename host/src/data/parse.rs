@@ -19,6 +19,7 @@ struct RawDataset {
     setup: RawCase,
     #[serde(default, rename = "case")]
     cases: Vec<RawCase>,
+    rig: Option<toml::Table>,
 }
 
 /// Every key a case may carry; `[setup]` takes the same keys as defaults.
@@ -188,6 +189,7 @@ fn validate(
         name: raw.name.unwrap_or_else(|| "unnamed".into()),
         source: raw.source.unwrap_or_default(),
         cases,
+        rig: super::rig::parse(raw.rig, file)?,
     })
 }
 

@@ -104,6 +104,7 @@ pub fn to_toml(data: &Dataset) -> String {
             );
         }
     }
+    out.push_str(&super::rig::to_toml(&data.rig));
     out
 }
 

@@ -168,7 +168,8 @@ pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
 /// normal variable with the data's median relative standard error,
 /// `sqrt(2/pi)` times it. Changes of MARE below it are noise.
 pub fn noise_mare(data: &Dataset) -> f64 {
-    crate::workbench::design::median_rel_se(data) * (2.0 / std::f64::consts::PI).sqrt()
+    crate::workbench::experiments::separation::median_rel_se(data)
+        * (2.0 / std::f64::consts::PI).sqrt()
 }
 
 fn class(c: Change) -> &'static str {

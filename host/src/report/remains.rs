@@ -103,7 +103,12 @@ pub fn section(data: &Dataset, d: Option<&Diagnosis>, audit: Option<&Audit>) -> 
                     &rows,
                 ));
             }
-            if let Some(g) = &d.verdict.suggestion {
+            if let Some(g) = d.verdict.suggestion.as_ref().filter(|g| g.same_model) {
+                h.push_str(&format!(
+                    "<p>No measurement of U or Omega_b separates the leading explanations: they are the same model (their predictions agree to {:.0e} on every design the rig can run).</p>",
+                    g.rel_difference
+                ));
+            } else if let Some(g) = &d.verdict.suggestion {
                 h.push_str(&format!(
                     "<p>To tell the leading explanations apart, measure {} with {}: their {} \
                      differ by {} there, about {} standard errors.</p>",

@@ -49,6 +49,7 @@ pub fn dataset_toml(base: &Case, pooled: &[Pooled], source: &str) -> String {
         name: format!("{} from the run log", base.id),
         source: source.to_string(),
         cases: cases(base, pooled),
+        rig: Default::default(),
     };
     let mut head = String::new();
     let _ = writeln!(

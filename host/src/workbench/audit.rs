@@ -19,7 +19,7 @@
 //!    case drives the best-supported effect or its fitted value; which case
 //!    no candidate fitted on the others can predict; and a case that stands
 //!    alone under the model ([`super::robust`]: its residual beyond the
-//!    one-bad-run limit of [`super::outlier`], set at a false-alarm rate of
+//!    one-bad-run limit of [`super::data_quality::outliers`], set at a false-alarm rate of
 //!    1 % per dataset, and the others at the noise floor without it),
 //!    judged in measurement standard errors as `diagnose` judges it.
 //!
@@ -112,16 +112,22 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
     let (influence, influence_flags) =
         super::audit_influence::influence(model, &combined, s.likelihood);
     flags.extend(influence_flags);
-    // One case alone above the noise floor ([`super::robust`]), judged in
-    // measurement standard errors as `diagnose` judges it; an error when it
-    // stands alone with the inputs' uncertainty combined too, else a warning.
-    if let Some(l) = super::robust::lone_case(model, data, 0.95)? {
+    // The bad runs ([`super::data_quality::bad_runs`]), judged in
+    // measurement standard errors as `diagnose` judges them; an error when a
+    // run's case stands out with the inputs' uncertainty combined too, else
+    // a warning.
+    let bad_runs = super::data_quality::bad_runs::bad_runs;
+    let combined_runs = bad_runs(model, &combined, 0.95)?;
+    let named = bad_runs(model, data, 0.95)?;
+    for l in named.iter().flat_map(|b| &b.runs) {
+        let all = named.as_ref().expect("a run comes from a finding");
         if !flags
             .iter()
             .any(|f| f.kind == "outlier" && f.case == l.case)
         {
-            let also =
-                super::robust::lone_case(model, &combined, 0.95)?.is_some_and(|c| c.case == l.case);
+            let also = combined_runs
+                .as_ref()
+                .is_some_and(|c| c.names_case(&l.case));
             let note = if also {
                 ""
             } else {
@@ -130,7 +136,7 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
             flags.push(Flag {
                 case: l.case.clone(),
                 kind: "outlier".into(),
-                detail: format!("{}: {}{note}", l.case, l.sentence()),
+                detail: format!("{}: {}{note}", l.case, all.sentence()),
                 severity: if also {
                     Severity::Error
                 } else {

@@ -21,7 +21,7 @@
 //! reaches the noise floor on the other cases (chi-square below the 95 %
 //! quantile a perfect model shows, [`super::noise`]) and every such
 //! candidate misses the case by more than the limit of the one-bad-run
-//! test ([`super::outlier::limit`], its own Student-t degrees of freedom,
+//! test ([`super::data_quality::outliers::limit`], its own Student-t degrees of freedom,
 //! a false-alarm rate of 1 % per dataset) in combined standard errors: the
 //! others agree with a model, this case with none.
 //! When no candidate fits the others, the case cannot be called an outlier
@@ -39,7 +39,7 @@
 
 use super::audit::Flag;
 use super::audit_loo::{leave_one_out, FullFit, LooMethod};
-use super::audit_outlier::{outlier, NoiseFloors};
+use super::data_quality::unfit_case::{outlier, NoiseFloors};
 use super::fit::{fit_with, free_params_of, FitResult};
 use super::noise::error_dofs;
 use super::robust::Likelihood;

@@ -50,6 +50,11 @@ pub fn diagnose(
             p(m)
         }
     };
+    // The data first: bad runs, intervals that look too narrow; what
+    // follows is judged on the intervals trusted ([`super::data_quality`]).
+    let (quality, widened) = super::data_quality::assess(model, data, s.level)?;
+    let data = widened.as_ref().unwrap_or(data);
+    let searchable = !quality.explains_all();
     let cmp = compare(model, data, 0)?;
     let dofs = error_dofs(data);
     let n = cmp.summary.n;
@@ -68,8 +73,6 @@ pub fn diagnose(
         at_noise_floor: floor0.is_some_and(|f| cmp.summary.chi2 <= f),
         t_deviance: super::robust::t_deviance_of(model, data)?,
     };
-    // Also at the floor: a run beyond the one-bad-run limit is named.
-    let lone_case = super::robust::lone_case(model, data, s.level)?;
     let trends = trends(data, &cmp);
     let base_len = model.effects.len();
     say("fitting the catalogue's effects");
@@ -99,7 +102,7 @@ pub fn diagnose(
     } else {
         Vec::new()
     };
-    let (discovery, remainder) = if s.discover && !baseline.at_noise_floor && lone_case.is_none() {
+    let (discovery, remainder) = if s.discover && !baseline.at_noise_floor && searchable {
         say("searching beyond the catalogue: place x feature x form");
         let reference = super::discovery::Reference {
             chi2: baseline.chi2,
@@ -113,9 +116,9 @@ pub fn diagnose(
     } else {
         (None, None)
     };
-    let verdict = match &lone_case {
-        Some(lone) => super::stagewise_verdict::lone_case_verdict(&baseline, lone),
-        None => {
+    let mut verdict = match quality.explains_all() {
+        true => super::stagewise_verdict::data_quality_verdict(&baseline),
+        false => {
             let evidence = super::verdict::Evidence {
                 data,
                 base: &baseline,
@@ -134,6 +137,16 @@ pub fn diagnose(
             v
         }
     };
+    super::data_quality::say_first(&quality, &mut verdict.note);
+    if verdict.kind != VerdictKind::NoneNeeded {
+        let found = verdict.located.first().map(|l| &l.model);
+        let limits = super::experiments::design::limits_note(data, model, found);
+        if !limits.is_empty() {
+            let kept = verdict.note.trim_end_matches('.').len();
+            verdict.note.truncate(kept);
+            verdict.note.push_str(&limits);
+        }
+    }
     Ok(Diagnosis {
         baseline,
         comparison: cmp,
@@ -142,7 +155,7 @@ pub fn diagnose(
         pairs,
         discovery,
         remainder,
-        lone_case,
+        data_quality: quality,
         verdict,
     })
 }

@@ -3,11 +3,11 @@
 //! commands and the page print (see [`super::diagnose`] for the method).
 
 use super::compare::Comparison;
-use super::design::Suggestion;
+use super::data_quality::DataQuality;
 use super::discovery::{Discovery, DiscoverySettings, Located};
+use super::experiments::separation::Suggestion;
 use super::features::Trend;
 use super::fit::Estimate;
-use super::robust::LoneCase;
 use super::score::FitScore;
 use crate::model::Model;
 use serde::Serialize;
@@ -160,9 +160,10 @@ pub struct Diagnosis {
     /// The search on top of the catalogue effect that explains most, when
     /// one explains most but not all of the excess.
     pub remainder: Option<Remainder>,
-    /// A single case whose removal brings the model to the noise floor
-    /// ([`super::robust`]), when the model is above it.
-    pub lone_case: Option<LoneCase>,
+    /// What the data say about themselves, stated before anything is
+    /// located: bad runs, intervals that look too narrow
+    /// ([`super::data_quality`]).
+    pub data_quality: DataQuality,
     pub verdict: Verdict,
 }
 

@@ -1,5 +1,4 @@
-//! The robust likelihood: residuals judged as Student-t variables, and the
-//! test for a single case that stands alone.
+//! The robust likelihood: residuals judged as Student-t variables.
 //!
 //! A residual divided by a standard error estimated from `n` trials is
 //! Student-t with `nu = n - 1` degrees of freedom ([`super::noise`]), so
@@ -15,22 +14,10 @@
 //! page read the same statistics); `diagnose` ranks every candidate, law
 //! and step by the AICc of the deviance it minimised ([`super::score`])
 //! and requires every step to lower both the chi-square and `D_t` by its
-//! charge; `fit`, `diagnose` and `audit` use the same test for a lone case.
+//! charge.
 //!
-//! **A case stands alone** when, for a model:
-//! (a) its residual is beyond the limit of the t model's one-bad-run test
-//! at a false-alarm rate of 1 % per dataset ([`super::outlier`]: about 4
-//! standard errors of the trial scatter the cases share, when they share
-//! one), and
-//! (a') the data are above the noise floor and the case's largest residual
-//! is beyond the two-sided 1 % Student-t quantile of its own trials
-//! (`t_{0.995, nu}` = 4.60 for five trials): the excess is this case's;
-//! and in either case
-//! (b) without that case the chi-square is at or below the noise floor of
-//! the remaining quantities (the same quantile,
-//! [`super::noise::chi2_noise_floor`]).
-//! Then no effect is needed for the other cases, and the one case is what
-//! to check or re-measure.
+//! The bad runs a model names, judged in this likelihood, are
+//! [`super::data_quality::bad_runs`]'s.
 //!
 //! References: K. L. Lange, R. J. A. Little & J. M. G. Taylor, "Robust
 //! statistical modeling using the t distribution", J. Am. Stat. Assoc. 84
@@ -38,11 +25,9 @@
 //! (2009), ch. 4.
 
 use super::compare::{case_residuals, Quantity};
-use super::noise::{chi2_noise_floor, error_dofs};
 use crate::data::{Case, Dataset};
 use crate::model::{Model, ModelError};
 use rayon::prelude::*;
-use serde::Serialize;
 
 /// One normalised residual with its degrees of freedom.
 #[derive(Debug, Clone, Copy)]
@@ -209,135 +194,6 @@ pub fn deviance_of(model: &Model, data: &Dataset, lik: Likelihood) -> Result<f64
         .iter()
         .map(|o| lik.deviance_one(o.z, o.trials))
         .sum())
-}
-
-/// A case that stands alone (module docs), with the numbers behind it.
-#[derive(Debug, Clone, Serialize)]
-pub struct LoneCase {
-    pub case: String,
-    /// `U` or `Omega_b`: its residual furthest beyond its limit.
-    pub quantity: &'static str,
-    /// That residual in the case's own standard errors.
-    pub z: f64,
-    /// The same residual in the standard errors it is judged in: pooled
-    /// over the cases when they share one trial scatter, else its own.
-    pub z_judged: f64,
-    /// Whether `z_judged` is over a pooled standard error.
-    pub pooled: bool,
-    /// The limit `|z_judged|` exceeds.
-    pub threshold: f64,
-    /// `limit`: beyond the one-bad-run limit ([`super::outlier`]);
-    /// `excess`: the data are above the noise floor only by this case
-    /// (module docs, (a')).
-    pub rule: &'static str,
-    /// The false-alarm rate per dataset of the rule on a right model:
-    /// the limit's (1 %), or the floor's (5 %) for `excess`.
-    pub false_alarm: f64,
-    pub chi2_reduced_with: f64,
-    pub chi2_reduced_without: f64,
-    /// The noise floor (reduced) of the quantities without the case.
-    pub floor_reduced_without: f64,
-}
-
-impl LoneCase {
-    /// One sentence for the terminal and the audit.
-    pub fn sentence(&self) -> String {
-        let limit = |z: String| {
-            format!(
-                "{z}, beyond the limit {:.2} that a right model exceeds somewhere in {} % of datasets",
-                self.threshold,
-                100.0 * self.false_alarm
-            )
-        };
-        let why = match (self.rule, self.pooled) {
-            ("excess", _) => format!(
-                "{:.1} of its own standard errors off, beyond the 1 % Student-t quantile {:.2} of its trials, and the data are above the noise floor by this case alone",
-                self.z, self.threshold
-            ),
-            (_, true) => limit(format!(
-                "{:.1} standard errors of the trial scatter the cases share off ({:.1} of its own)",
-                self.z_judged, self.z
-            )),
-            _ => limit(format!("{:.1} of its own standard errors off", self.z)),
-        };
-        format!(
-            "one case stands out: {}'s {} is {why}; without it the model fits the other cases to the noise (reduced chi-square {} -> {}, floor {}): check this case's record or re-measure it",
-            self.case,
-            self.quantity,
-            crate::format::fmt_sig(self.chi2_reduced_with, 3),
-            crate::format::fmt_sig(self.chi2_reduced_without, 3),
-            crate::format::fmt_sig(self.floor_reduced_without, 3)
-        )
-    }
-}
-
-/// The case that stands alone under `model`, if one does; `level` is the
-/// noise floor's quantile (0.95 in every command).
-pub fn lone_case(
-    model: &Model,
-    data: &Dataset,
-    level: f64,
-) -> Result<Option<LoneCase>, ModelError> {
-    let obs = observations(model, data)?;
-    Ok(lone_case_of(&obs, data, level))
-}
-
-/// [`lone_case`] from residuals already computed.
-pub fn lone_case_of(obs: &[Obs], data: &Dataset, level: f64) -> Option<LoneCase> {
-    let n = obs.len();
-    if n < 3 || data.cases.len() < 3 {
-        return None;
-    }
-    let judged = super::outlier::judge(obs, data, super::outlier::FALSE_ALARM);
-    let chi2: f64 = obs.iter().map(|o| o.z * o.z).sum();
-    let (worst, rule, false_alarm) = match super::outlier::worst_beyond(&judged) {
-        Some(w) => (w, "limit", super::outlier::FALSE_ALARM),
-        None => (excess_case(obs, chi2, data, level)?, "excess", 1.0 - level),
-    };
-    let bad = worst.obs.case;
-    let without: f64 = obs
-        .iter()
-        .filter(|o| o.case != bad)
-        .map(|o| o.z * o.z)
-        .sum();
-    let mut rest = data.clone();
-    rest.cases.remove(bad);
-    let n_rest = obs.iter().filter(|o| o.case != bad).count();
-    let floor_rest = chi2_noise_floor(&error_dofs(&rest), 0, level)?;
-    (without <= floor_rest).then(|| LoneCase {
-        case: data.cases[bad].id.clone(),
-        quantity: worst.obs.quantity.label(),
-        z: worst.obs.z,
-        z_judged: worst.z,
-        pooled: worst.pooled,
-        threshold: worst.limit,
-        rule,
-        false_alarm,
-        chi2_reduced_with: chi2 / n as f64,
-        chi2_reduced_without: without / n_rest.max(1) as f64,
-        floor_reduced_without: floor_rest / n_rest.max(1) as f64,
-    })
-}
-
-/// Rule (a'): the data are above the floor and the largest residual is
-/// beyond the two-sided 1 % Student-t quantile of its own trials.
-fn excess_case(
-    obs: &[Obs],
-    chi2: f64,
-    data: &Dataset,
-    level: f64,
-) -> Option<super::outlier::Judged> {
-    let big = obs.iter().max_by(|a, b| a.z.abs().total_cmp(&b.z.abs()))?;
-    let threshold = crate::stats::student_t_quantile(0.99, big.trials);
-    if big.z.abs() <= threshold || chi2 <= chi2_noise_floor(&error_dofs(data), 0, level)? {
-        return None;
-    }
-    Some(super::outlier::Judged {
-        obs: *big,
-        z: big.z,
-        limit: threshold,
-        pooled: false,
-    })
 }
 
 #[cfg(test)]

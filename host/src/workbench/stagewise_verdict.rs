@@ -68,13 +68,14 @@ fn put_path(path: &Path, v: &mut Verdict, base: &Baseline) {
     v.note = super::verdict_text::stagewise_note(base, path, last);
 }
 
-/// `none-needed` because one case stands alone ([`super::robust`]).
-pub fn lone_case_verdict(base: &Baseline, lone: &super::robust::LoneCase) -> Verdict {
+/// `none-needed` because bad runs or intervals stated too narrow account
+/// for the whole excess ([`super::data_quality`]); its sentences are put
+/// in front of the note by the caller.
+pub fn data_quality_verdict(base: &Baseline) -> Verdict {
     verdict_of(
         VerdictKind::NoneNeeded,
         format!(
-            "none needed: {}; without it no effect is needed (reduced chi-square {} on all cases against a noise floor of {})",
-            lone.sentence(),
+            "none needed: no effect is needed beyond what the data's own quality explains (reduced chi-square {} on all quantities as judged, noise floor {})",
             fmt(base.chi2_reduced),
             fmt(base.noise_floor_chi2_reduced)
         ),

@@ -29,9 +29,9 @@
 //!
 //! Reference: Burnham & Anderson (2002), sec. 2.6 (AICc differences).
 
-use super::design::{best_discriminating_case, Suggestion};
 use super::diagnosis::{Baseline, Candidate, DiagnoseSettings, Remainder, Verdict};
 use super::discovery::{discover, explained_fraction, Discovery, Located, Reference};
+use super::experiments::separation::{best_discriminating_case, Suggestion};
 use super::fit::FitError;
 use crate::data::Dataset;
 

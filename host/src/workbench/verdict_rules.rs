@@ -53,7 +53,7 @@ pub fn parsimonious<'a>(
 /// |relative error| of a normal variable, `2 sqrt(2/pi)` times the median
 /// relative standard error (the factor 2 allows for five-trial SEs).
 fn noise_mare(data: &Dataset) -> f64 {
-    2.0 * super::design::median_rel_se(data) * (2.0 / std::f64::consts::PI).sqrt()
+    2.0 * super::experiments::separation::median_rel_se(data) * (2.0 / std::f64::consts::PI).sqrt()
 }
 
 /// Whether a located correction is a finding: at the noise floor, or (an

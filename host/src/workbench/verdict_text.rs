@@ -2,9 +2,9 @@
 //! the page print them, and the sentences of each kind. What is decided is
 //! in [`super::verdict`] (a [`Decision`]) and [`super::stagewise`].
 
-use super::design::Suggestion;
 use super::diagnosis::{Baseline, DiagnoseSettings, Verdict, VerdictKind};
 use super::discovery::Located;
+use super::experiments::separation::Suggestion;
 use super::stagewise::{Level, Path};
 use super::verdict::{Decision, Evidence};
 
@@ -28,10 +28,7 @@ pub fn frac(x: Option<f64>) -> String {
 
 /// "; to tell them apart, measure ..." for a discriminating case.
 pub fn hint(g: &Suggestion) -> String {
-    format!(
-        "; to tell them apart, measure {} with {} ({} differs by {:.0} %, about {:.0} standard errors)",
-        g.base_case, g.change, g.quantity, 100.0 * g.rel_difference, g.in_sigma
-    )
+    g.hint()
 }
 
 /// The note of a stagewise verdict: every step in order with what it

@@ -76,7 +76,7 @@ pub fn interpret_on(
                 && matches!(family(q), Family::TailWall | Family::BodyWall) =>
         {
             format!(
-                "{} {} with {}; the channel is the same in every case, so this is a dependence on the helix or body geometry in it, not on the wall",
+                "{} {} with {}; the channel is the same in every case, so this design cannot tell a wall effect from a dependence on the helix or body geometry in it (a second tube would)",
                 place.meaning(),
                 if rising { "rising" } else { "falling" },
                 q.name

@@ -1,19 +1,20 @@
-//! The audit's outlier check ([`super::audit_influence`], module docs,
+//! The audit's check for a case no candidate fits
+//! ([`crate::workbench::audit_influence`], module docs,
 //! **Outliers**): a case that every candidate fitting the others to the
 //! noise misses by more than the one-bad-run limit; and the noise floors
 //! and limits it needs, each drawn once for every case left out.
 //!
 //! The floor is the 95 % quantile of a perfect model's chi-square over the
-//! quantities left ([`super::noise::chi2_noise_floor`], a Monte Carlo of
+//! quantities left ([`crate::workbench::noise::chi2_noise_floor`], a Monte Carlo of
 //! 20 000 draws); the limit is the one-bad-run test's
-//! ([`super::outlier::limit`], a false-alarm rate of 1 % per dataset).
+//! ([`super::outliers::limit`], a false-alarm rate of 1 % per dataset).
 
-use super::audit_influence::Finding;
-use super::compare::case_residuals;
-use super::fit::FitResult;
-use super::noise::{chi2_noise_floor, error_dofs};
 use crate::data::Case;
 use crate::data::Dataset;
+use crate::workbench::audit_influence::Finding;
+use crate::workbench::compare::case_residuals;
+use crate::workbench::fit::FitResult;
+use crate::workbench::noise::{chi2_noise_floor, error_dofs};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -26,14 +27,14 @@ type DofHistogram = Vec<(u64, usize)>;
 /// and depends only on the histogram of the degrees of freedom and `k`, so
 /// each distinct one is drawn once (in parallel), not once per case; with
 /// equal trials everywhere leaving any case out gives the same histogram.
-pub(super) struct NoiseFloors {
+pub(crate) struct NoiseFloors {
     floors: HashMap<(DofHistogram, usize), Option<f64>>,
-    pub(super) limits: HashMap<u32, f64>,
+    pub(crate) limits: HashMap<u32, f64>,
 }
 
 impl NoiseFloors {
     /// For every case left out and every `k` of `ks`.
-    pub(super) fn new(data: &Dataset, ks: &[usize], n_all: usize) -> NoiseFloors {
+    pub(crate) fn new(data: &Dataset, ks: &[usize], n_all: usize) -> NoiseFloors {
         let all = error_dofs(data);
         let keys: HashSet<(DofHistogram, usize)> = data
             .cases
@@ -68,7 +69,7 @@ impl NoiseFloors {
                 let nu = f64::from(t.max(2) - 1);
                 (
                     t,
-                    super::outlier::limit(nu, n_all, super::outlier::FALSE_ALARM),
+                    super::outliers::limit(nu, n_all, super::outliers::FALSE_ALARM),
                 )
             })
             .collect();
@@ -76,7 +77,7 @@ impl NoiseFloors {
     }
 
     /// The floor with `case` left out.
-    pub(super) fn floor(&self, all: &[f64], case: &crate::data::Case, k: usize) -> Option<f64> {
+    pub(crate) fn floor(&self, all: &[f64], case: &crate::data::Case, k: usize) -> Option<f64> {
         let h = histogram(all, &error_dofs_of(case));
         self.floors.get(&(h, k)).copied().flatten()
     }
@@ -106,7 +107,7 @@ fn histogram(all: &[f64], left_out: &[f64]) -> DofHistogram {
 }
 
 /// The outlier check of one case against the candidates fitted without it.
-pub(super) fn outlier(
+pub(crate) fn outlier(
     case: &Case,
     fitted: &[(&str, &FitResult)],
     all_dofs: &[f64],
@@ -129,7 +130,7 @@ pub(super) fn outlier(
         let (q, r) = case_residuals(case, &p)
             .into_iter()
             .max_by(|a, b| a.1.normalised().abs().total_cmp(&b.1.normalised().abs()))?;
-        let m = if q == super::compare::Quantity::U {
+        let m = if q == crate::workbench::compare::Quantity::U {
             case.u_mm_s
         } else {
             case.omega_body_hz
