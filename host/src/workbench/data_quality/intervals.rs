@@ -203,7 +203,7 @@ pub fn calibrate(obs: &[Obs], data: &Dataset, level: f64) -> Option<IntervalFind
         return None;
     }
     let chi2: f64 = obs.iter().map(|o| o.z * o.z).sum();
-    let dofs: Vec<f64> = obs.iter().map(|o| nu(o)).collect();
+    let dofs: Vec<f64> = obs.iter().map(nu).collect();
     let floor = chi2_noise_floor(&dofs, 0, level)?;
     if chi2 <= floor {
         return None;
