@@ -46,7 +46,10 @@ fn spinner(message: &str) -> ProgressBar {
     crate::progress::spinner(message)
 }
 
-pub fn run(a: ReportArgs) -> Result<(), CliError> {
+pub fn run(a: ReportArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
+    if let Some(s) = super::study::active_study(study, &a.data, &a.model)? {
+        return run_study(&a, &s);
+    }
     let data = a.data.load()?;
     let model = a.model.model()?;
     super::output::check_output_dir(&a.output)?;
@@ -126,4 +129,22 @@ fn solve_physics(
     });
     bar.finish_and_clear();
     r
+}
+
+/// Inside a study: the study's page, rendered from the study file alone.
+fn run_study(a: &ReportArgs, s: &crate::study::Study) -> Result<(), CliError> {
+    super::output::check_output_dir(&a.output)?;
+    crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
+    let path =
+        crate::report::write_study(&a.output, s, &super::output::not_an_input).map_err(|e| {
+            CliError::input(format!("writing the report to {}: {e}", a.output.display()))
+        })?;
+    println!("{}", path.display());
+    eprintln!(
+        "report: wrote {} from the study {} ({} step(s))",
+        path.display(),
+        s.path().display(),
+        s.steps().len()
+    );
+    Ok(())
 }
