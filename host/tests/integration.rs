@@ -40,6 +40,7 @@ mod robust;
 mod run_log;
 mod run_log_lost;
 mod sim;
+mod study;
 mod tail_compat;
 mod tail_tube;
 mod uncertainty;

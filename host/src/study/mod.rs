@@ -509,3 +509,6 @@ fn resolve(study: &Path, data: &Path) -> PathBuf {
         study.parent().unwrap_or(Path::new("")).join(data)
     }
 }
+
+#[cfg(test)]
+mod tests;
