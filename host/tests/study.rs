@@ -49,9 +49,13 @@ fn the_loop_on_the_paper_data_lowers_the_error_at_every_step_with_one_set_of_num
     ok(d, &["diagnose", "--write-effect", "found.toml"]);
     assert!(d.join("found.toml").is_file(), "diagnose located nothing");
     let add = ok(d, &["add", "found.toml"]);
-    assert!(add.contains("earlier steps held at their values: body-correction"), "{add}");
+    assert!(
+        add.contains("earlier steps held at their values: body-correction"),
+        "{add}"
+    );
     assert!(!add.contains("±?"), "{add}");
-    let json: serde_json::Value = serde_json::from_str(&ok(d, &["steps", "--format", "json"])).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&ok(d, &["steps", "--format", "json"])).unwrap();
     let steps = json["step"].as_array().unwrap();
     assert_eq!(steps.len(), 2);
     let mut mare = json["start"]["stats"]["mare"].as_f64().unwrap();
@@ -80,7 +84,11 @@ fn the_loop_on_the_paper_data_lowers_the_error_at_every_step_with_one_set_of_num
     for (i, s) in steps.iter().enumerate() {
         assert!(page.contains(&format!("id=\"step-{}\"", i + 1)));
         let after = s["after"]["stats"]["mare"].as_f64().unwrap();
-        assert!(page.contains(&format!("<td>{}</td>", pc(after))), "step {}", i + 1);
+        assert!(
+            page.contains(&format!("<td>{}</td>", pc(after))),
+            "step {}",
+            i + 1
+        );
         for p in s["param"].as_array().unwrap() {
             let v = p["value"].as_f64().unwrap();
             assert!(page.contains(&swimbot::format::fmt_sig(v, 4)), "{p}");
@@ -105,10 +113,16 @@ fn the_loop_on_the_paper_data_lowers_the_error_at_every_step_with_one_set_of_num
     // applied to other data with the parameters held: its own numbers
     let applied = ok(d, &["steps", "--data", "my-lab.csv", "--format", "json"]);
     let applied: serde_json::Value = serde_json::from_str(&applied).unwrap();
-    assert_eq!(applied["steps"][1]["after"]["stats"]["mare"].as_f64().unwrap(), mare);
+    assert_eq!(
+        applied["steps"][1]["after"]["stats"]["mare"]
+            .as_f64()
+            .unwrap(),
+        mare
+    );
     // undo leaves one step
     ok(d, &["undo"]);
-    let json: serde_json::Value = serde_json::from_str(&ok(d, &["steps", "--format", "json"])).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&ok(d, &["steps", "--format", "json"])).unwrap();
     assert_eq!(json["step"].as_array().unwrap().len(), 1);
 }
 
@@ -119,10 +133,18 @@ fn a_changed_dataset_stops_every_study_command_with_exit_2() {
     ok(d, &["init", "--data", "my-lab.csv"]);
     let text = std::fs::read_to_string(d.join("my-lab.csv")).unwrap();
     std::fs::write(d.join("my-lab.csv"), text.replacen("0.586", "0.587", 1)).unwrap();
-    for args in [&["steps"][..], &["add", "backflow"], &["compare", "--no-report"]] {
+    for args in [
+        &["steps"][..],
+        &["add", "backflow"],
+        &["compare", "--no-report"],
+    ] {
         let o = run_in(d, args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
-        assert!(stderr(&o).contains("changed since the study was made"), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("changed since the study was made"),
+            "{}",
+            stderr(&o)
+        );
     }
     // re-pinned by starting again
     ok(d, &["init", "--force", "--data", "my-lab.csv"]);
@@ -134,7 +156,11 @@ fn study_commands_outside_a_study_say_how_to_start_one() {
     let dir = tempfile::tempdir().unwrap();
     let o = run_in(dir.path(), &["add", "backflow"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("swimbot init --data FILE"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("swimbot init --data FILE"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

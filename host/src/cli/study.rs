@@ -267,6 +267,9 @@ fn print_table(s: &Study) {
     );
     if let Some(d) = &f.first_diagnosis {
         println!("first diagnosis: {} — {}", d.verdict, d.note);
+        if s.steps().is_empty() {
+            print_proposals(d);
+        }
     }
     println!(
         "{}",
@@ -281,8 +284,18 @@ fn print_table(s: &Study) {
         );
     }
     match s.last_diagnosis() {
+        Some(_) if s.steps().is_empty() => {}
         Some(d) => {
             println!("diagnose now: {} — {}", d.verdict, d.note);
+            print_proposals(d);
+        }
+        None => println!("diagnose now: not run"),
+    }
+}
+
+fn print_proposals(d: &crate::study::DiagnosisRecord) {
+    {
+        {
             for p in &d.proposals {
                 match &p.law {
                     Some(_) => println!(
@@ -293,7 +306,6 @@ fn print_table(s: &Study) {
                 }
             }
         }
-        None => println!("diagnose now: not run"),
     }
 }
 

@@ -222,7 +222,10 @@ fn cell_json(text: &str) -> serde_json::Value {
         .ok()
         .filter(|v| v.is_finite())
         .and_then(serde_json::Number::from_f64)
-        .map_or_else(|| serde_json::Value::String(text.to_string()), serde_json::Value::Number)
+        .map_or_else(
+            || serde_json::Value::String(text.to_string()),
+            serde_json::Value::Number,
+        )
 }
 
 /// Rows as a JSON array of objects keyed by the header's texts.

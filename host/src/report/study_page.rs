@@ -401,12 +401,15 @@ fn parity(before: &[CaseRow], after: &[CaseRow], omega: bool) -> Result<String, 
             });
             all.extend([obs, pred]);
         }
+        // The measured interval is drawn once, on the points after the
+        // step; the points before are named by case in the figure's notes
+        // as the labelled ones are.
         let s = if measured {
-            Series::measured(label, color, pts)
+            Series::measured(label, color, pts).x_errors(xe).labels(ids)
         } else {
-            Series::model(label, color, pts)
+            Series::model(label, color, pts).names(ids)
         };
-        series.push(s.x_errors(xe).labels(ids));
+        series.push(s);
     }
     let mut chart = Chart::new(
         &format!("Parity: {q}"),

@@ -42,11 +42,18 @@ fn a_step_lowers_the_error_and_survives_the_file_round_trip() {
     s.add(catalogue("backflow"), &ao).unwrap();
     let step = &s.steps()[0];
     assert_eq!(step.before.mare, start);
-    assert!(step.after.stats.mare < start, "{} !< {start}", step.after.stats.mare);
+    assert!(
+        step.after.stats.mare < start,
+        "{} !< {start}",
+        step.after.stats.mare
+    );
     // every free parameter has an interval or a reason, never "±?"
     for p in &step.params {
         match p.status.as_str() {
-            "fitted" => assert!(p.lo.unwrap() <= p.value && p.value <= p.hi.unwrap(), "{p:?}"),
+            "fitted" => assert!(
+                p.lo.unwrap() <= p.value && p.value <= p.hi.unwrap(),
+                "{p:?}"
+            ),
             "fixed" => assert!(p.reason.is_some()),
             _ => {}
         }
@@ -78,7 +85,10 @@ fn an_effect_twice_and_an_existing_study_are_refused() {
     let mut s = Study::init(&path, &data, &io).unwrap();
     s.add(catalogue("backflow"), &ao).unwrap();
     let e = s.add(catalogue("backflow"), &ao).unwrap_err();
-    assert!(e.to_string().contains("already in the model (step 1)"), "{e}");
+    assert!(
+        e.to_string().contains("already in the model (step 1)"),
+        "{e}"
+    );
     assert!(matches!(
         Study::init(&path, &data, &io),
         Err(StudyError::Exists { .. })
@@ -133,7 +143,8 @@ fn a_step_that_raises_the_error_is_refused_unless_forced() {
 fn a_newer_schema_says_so() {
     let e = StudyFile::parse("schema = 99\n", std::path::Path::new("s.toml")).unwrap_err();
     assert!(e.to_string().contains("schema 99"), "{e}");
-    let e = StudyFile::parse("schema = 1\nbogus = 3\n", std::path::Path::new("s.toml")).unwrap_err();
+    let e =
+        StudyFile::parse("schema = 1\nbogus = 3\n", std::path::Path::new("s.toml")).unwrap_err();
     assert!(matches!(e, StudyError::Format { .. }), "{e}");
 }
 
