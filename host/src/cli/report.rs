@@ -26,7 +26,7 @@ pub struct ReportArgs {
     /// manifest.json; a directory another command wrote is refused.
     #[arg(short, long, default_value = super::output::DEFAULT_REPORT_DIR)]
     pub output: PathBuf,
-    /// Skip section 5, the best model without a fitted parameter (`--preset physics`): its first
+    /// Skip the section on the best model without a fitted parameter (`--preset physics`): its first
     /// run solves every tail inside the tube (tens of seconds on 2 cores, then cached in
     /// $SWIMBOT_CACHE_DIR or the temporary directory); skip it for a report in about a second.
     #[arg(long)]

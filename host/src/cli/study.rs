@@ -61,7 +61,8 @@ pub struct StepsArgs {
     #[arg(long, value_enum, default_value = "table")]
     pub format: TableJsonCsv,
     /// Apply the study to other data, every parameter held at the study's
-    /// values (calibrated on the study's data, predicting these).
+    /// values (calibrated on the study's data, predicting these) [default: none, the study's own
+    /// data as recorded].
     #[arg(long, value_name = "NEW.csv")]
     pub data: Option<PathBuf>,
 }
