@@ -20,4 +20,5 @@ pub mod robot;
 pub mod runlog;
 pub mod sim;
 pub mod stats;
+pub mod study;
 pub mod workbench;

@@ -45,6 +45,7 @@ mod run_log;
 mod run_log_lost;
 mod sim;
 mod spreadsheets;
+mod study;
 mod tail_compat;
 mod tail_tube;
 mod uncertainty;

@@ -21,6 +21,7 @@ mod output;
 mod output_guard;
 mod report;
 mod sim;
+mod study;
 mod sweep;
 mod sweep_setup;
 mod synth;
@@ -53,6 +54,11 @@ pub struct Cli {
     /// No progress lines or bars on stderr (errors and notes still print).
     #[arg(short, long, global = true)]
     pub quiet: bool,
+    /// The study file to read and write [default: swimbot-study.toml in the working directory,
+    /// when there is one]. Inside a study, compare, diagnose, fit, audit and report work on the
+    /// study's data and current model without --data or model flags.
+    #[arg(long, global = true, value_name = "FILE")]
+    pub study: Option<std::path::PathBuf>,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -85,6 +91,14 @@ pub enum Command {
     Convert(convert::ConvertArgs),
     /// The robot's run log (file or USB port): steady windows, a dataset's trials, the trace figure.
     Log(log::LogArgs),
+    /// Start a study: the model you build step by step on one dataset, in swimbot-study.toml.
+    Init(study::InitArgs),
+    /// Add an effect to the study: calibrate it on top of the current model, print before -> after.
+    Add(study::AddArgs),
+    /// The study on one screen: data, each step with before -> after, what diagnose says now.
+    Steps(study::StepsArgs),
+    /// Remove the study's last step.
+    Undo(study::UndoArgs),
 }
 
 /// Run a parsed command line. A run that fails (or is interrupted by
@@ -110,19 +124,36 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
 }
 
 fn dispatch(cli: Cli) -> Result<(), CliError> {
+    let st = &cli.study;
     match cli.command {
-        Command::Compare(a) => compare::run(a),
-        Command::Audit(a) => audit::run(a),
+        Command::Compare(mut a) => {
+            study::fill_from_study(st, &mut a.data, &mut a.model)?;
+            compare::run(a)
+        }
+        Command::Audit(mut a) => {
+            study::fill_from_study(st, &mut a.data, &mut a.model)?;
+            audit::run(a)
+        }
         Command::Helix(a) => helix::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Effects(a) => effects::run(a),
-        Command::Diagnose(a) => diagnose::run(a),
-        Command::Fit(a) => fit::run(a),
+        Command::Diagnose(mut a) => {
+            study::fill_from_study(st, &mut a.data, &mut a.model)?;
+            diagnose::run(a)
+        }
+        Command::Fit(mut a) => {
+            study::fill_from_study(st, &mut a.data, &mut a.model)?;
+            fit::run(a)
+        }
         Command::Synth(a) => synth::run(a),
-        Command::Report(a) => report::run(a),
+        Command::Report(a) => report::run(a, st),
         Command::Sim(a) => sim::run(a),
         Command::Body(a) => body::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Log(a) => log::run(a),
+        Command::Init(a) => study::run_init(a, st),
+        Command::Add(a) => study::run_add(a, st),
+        Command::Steps(a) => study::run_steps(a, st),
+        Command::Undo(a) => study::run_undo(a, st),
     }
 }

@@ -26,7 +26,7 @@ pub struct ReportArgs {
     /// manifest.json; a directory another command wrote is refused.
     #[arg(short, long, default_value = super::output::DEFAULT_REPORT_DIR)]
     pub output: PathBuf,
-    /// Skip section 5, the best model without a fitted parameter (`--preset physics`): its first
+    /// Skip the section on the best model without a fitted parameter (`--preset physics`): its first
     /// run solves every tail inside the tube (tens of seconds on 2 cores, then cached in
     /// $SWIMBOT_CACHE_DIR or the temporary directory); skip it for a report in about a second.
     #[arg(long)]
@@ -52,7 +52,10 @@ fn spinner(message: &str) -> ProgressBar {
     crate::progress::spinner(message)
 }
 
-pub fn run(a: ReportArgs) -> Result<(), CliError> {
+pub fn run(a: ReportArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
+    if let Some(s) = super::study::active_study(study, &a.data, &a.model)? {
+        return run_study(&a, &s);
+    }
     let data = a.data.load()?;
     let model = a.model.model()?;
     super::output::check_output_dir(&a.output, "report")?;
@@ -176,4 +179,22 @@ fn estimate_seconds(
         0.0
     };
     Some(diagnosis + audit + zero)
+}
+
+/// Inside a study: the study's page, rendered from the study file alone.
+fn run_study(a: &ReportArgs, s: &crate::study::Study) -> Result<(), CliError> {
+    super::output::check_output_dir(&a.output, "report")?;
+    crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
+    let path =
+        crate::report::write_study(&a.output, s, &super::output::not_an_input).map_err(|e| {
+            CliError::input(format!("writing the report to {}: {e}", a.output.display()))
+        })?;
+    println!("{}", path.display());
+    eprintln!(
+        "report: wrote {} from the study {} ({} step(s))",
+        path.display(),
+        s.path().display(),
+        s.steps().len()
+    );
+    Ok(())
 }

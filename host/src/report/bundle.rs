@@ -231,6 +231,19 @@ fn svg_title(svg: &str) -> String {
     best.map(|t| text_of(t)).unwrap_or_default()
 }
 
+/// A cell as JSON: a number when its text is one (a column of values
+/// reads as numbers, not strings), else its text.
+fn cell_json(text: &str) -> serde_json::Value {
+    text.parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .and_then(serde_json::Number::from_f64)
+        .map_or_else(
+            || serde_json::Value::String(text.to_string()),
+            serde_json::Value::Number,
+        )
+}
+
 /// Rows as a JSON array of objects keyed by the header's texts.
 fn table_json(rows: &[Vec<String>]) -> String {
     let Some((head, body)) = rows.split_first() else {
@@ -241,7 +254,7 @@ fn table_json(rows: &[Vec<String>]) -> String {
         .map(|r| {
             head.iter()
                 .zip(r)
-                .map(|(k, v)| (k.clone(), serde_json::Value::String(v.clone())))
+                .map(|(k, v)| (k.clone(), cell_json(v)))
                 .collect()
         })
         .collect();

@@ -55,7 +55,14 @@ pub fn amplitude_groups(data: &Dataset) -> Vec<(f64, Vec<&Case>)> {
 fn x_range(cases: &[&Case]) -> (f64, f64) {
     let lo = cases.iter().map(|c| c.n_waves()).fold(f64::MAX, f64::min);
     let hi = cases.iter().map(|c| c.n_waves()).fold(f64::MIN, f64::max);
-    let pad = (0.1 * (hi - lo)).max(0.003 * hi);
+    // Cases that share one N_lambda have no span to pad: a tenth of the
+    // value on each side gives ticks one can read (0.3 % of it drew a
+    // 3.99-4.01 axis).
+    let pad = if hi - lo <= 1e-9 * hi.abs() {
+        0.1 * hi.abs().max(1.0)
+    } else {
+        (0.1 * (hi - lo)).max(0.003 * hi)
+    };
     (lo - pad, hi + pad)
 }
 
@@ -270,6 +277,16 @@ mod tests {
         let span = 3.818 - 3.733;
         assert!(lo > 3.70 && hi < 3.86, "{lo}-{hi}");
         assert!(hi - lo < 2.0 * span);
+    }
+
+    #[test]
+    fn cases_sharing_one_n_lambda_get_an_axis_one_can_read() {
+        let data = crate::data::paper();
+        let one = [&data.cases[0], &data.cases[0]];
+        let n = data.cases[0].n_waves();
+        let (lo, hi) = x_range(&one);
+        assert!(lo < n && n < hi);
+        assert!((hi - lo) / n > 0.15, "{lo}-{hi}");
     }
 
     #[test]

@@ -22,6 +22,7 @@ pub mod plots;
 mod remains;
 mod residuals;
 pub mod story;
+mod study_page;
 mod wording;
 mod yours;
 
@@ -73,4 +74,14 @@ pub fn write_report(
         },
         guard,
     )
+}
+
+/// Write the page of a study into `dir` with its bundle: a renderer of
+/// the study file, computing nothing ([`study_page`]).
+pub fn write_study(
+    dir: &std::path::Path,
+    study: &crate::study::Study,
+    guard: bundle::Guard,
+) -> Result<std::path::PathBuf, String> {
+    bundle::write(dir, "report", &study_page::page(study), guard)
 }

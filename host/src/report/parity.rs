@@ -30,6 +30,7 @@ pub fn parity_of(models: &[(&str, RGBColor, &Comparison)], omega: bool) -> Resul
         let mut pts = Vec::new();
         let mut x_err = Vec::new();
         let mut labels = Vec::new();
+        let mut names = Vec::new();
         for k in &cmp.cases {
             let (obs, ci, pred, sd) = if omega {
                 (
@@ -44,6 +45,7 @@ pub fn parity_of(models: &[(&str, RGBColor, &Comparison)], omega: bool) -> Resul
             let Some(obs) = obs else { continue };
             pts.push((obs, pred, 2.0 * sd.unwrap_or(0.0)));
             x_err.push(ci.unwrap_or(0.0));
+            names.push(k.id.clone());
             labels.push(if i + 1 == models.len() {
                 k.id.clone()
             } else {
@@ -57,7 +59,7 @@ pub fn parity_of(models: &[(&str, RGBColor, &Comparison)], omega: bool) -> Resul
         } else {
             Series::model(*label, *color, pts)
         };
-        series.push(s.x_errors(x_err).labels(labels));
+        series.push(s.x_errors(x_err).labels(labels).names(names));
     }
     let log = Axis::spans_decade(all.into_iter());
     let mut chart = Chart::new(

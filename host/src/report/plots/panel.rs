@@ -90,6 +90,7 @@ fn geometry<'a>(c: &Chart, series: &'a [Series], map: &Map) -> Geometry<'a> {
                 s.labels
                     .get(i)
                     .filter(|l| !l.is_empty())
+                    .or_else(|| s.names.get(i).filter(|l| !l.is_empty()))
                     .cloned()
                     .unwrap_or_else(|| format!("point {}", i + 1))
             };

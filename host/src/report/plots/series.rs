@@ -19,6 +19,10 @@ pub struct Series {
     pub hollow: bool,
     /// Text next to each point (empty strings: none).
     pub labels: Vec<String>,
+    /// Each point's name where a note on the figure must name it (a bar
+    /// its marker hides), when it carries no label: the same case is then
+    /// named the same in every series.
+    pub names: Vec<String>,
     /// Horizontal error half-widths, one per point (empty: none).
     pub x_err: Vec<f64>,
     /// Dashed line (with `line`).
@@ -38,6 +42,7 @@ impl Series {
             line: false,
             hollow: false,
             labels: Vec::new(),
+            names: Vec::new(),
             x_err: Vec::new(),
             dashed: false,
             dodge: 0.0,
@@ -72,6 +77,12 @@ impl Series {
     /// Text next to each point (e.g. the case ids).
     pub fn labels(mut self, labels: Vec<String>) -> Self {
         self.labels = labels;
+        self
+    }
+
+    /// Names of the points for the figure's notes, not drawn (see [`Self::names`]).
+    pub fn names(mut self, names: Vec<String>) -> Self {
+        self.names = names;
         self
     }
 

@@ -1,0 +1,110 @@
+//! What a step adds, written out in full in the study: the effect's name,
+//! its physical statement, its reference, its formula in the paper's
+//! notation, and for a user effect (a law `diagnose --write-effect` wrote,
+//! or one of the user's own) the whole effects-file definition, so that the
+//! study opens on any machine without the file it came from.
+
+use crate::effects::formula::{to_toml, FormulaEffect};
+use crate::effects::{by_name, user_file, Effect};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A step's effect, as the study stores it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Definition {
+    /// The effect's name (`swimbot effects` lists the catalogue's).
+    pub name: String,
+    /// `catalogue` (compiled in) or `user` (its definition below).
+    pub kind: String,
+    /// The physics in one line.
+    pub statement: String,
+    /// Where the physics comes from.
+    pub reference: String,
+    /// The law, `place = formula` per place, for a user effect; the
+    /// catalogue effects state theirs in `statement`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub formula: Vec<String>,
+    /// A user effect's definition as an effects file (docs/effects-format.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub definition: Option<String>,
+}
+
+/// The source label user effects from a study are registered under: the
+/// same for every study, so that opening a study twice is one effect.
+const SOURCE: &str = "a study's step";
+
+impl Definition {
+    /// A catalogue effect by name.
+    pub fn of_catalogue(effect: &'static dyn Effect) -> Self {
+        Definition {
+            name: effect.name().to_string(),
+            kind: "catalogue".into(),
+            statement: effect.statement().to_string(),
+            reference: effect.reference().to_string(),
+            formula: Vec::new(),
+            definition: None,
+        }
+    }
+
+    /// A user effect read from an effects file: `NAME` chooses among
+    /// several (one effect in the file needs none).
+    pub fn of_file(path: &Path, name: Option<&str>) -> Result<Self, String> {
+        let effects = user_file::load_file(path).map_err(|e| e.to_string())?;
+        let names: Vec<&str> = effects.iter().map(|e| e.spec().name.as_str()).collect();
+        let chosen = match name {
+            Some(n) => effects.iter().find(|e| e.spec().name == n).ok_or_else(|| {
+                format!(
+                    "{} has no effect `{n}`; it has: {}",
+                    path.display(),
+                    names.join(", ")
+                )
+            })?,
+            None if effects.len() == 1 => &effects[0],
+            None => {
+                return Err(format!(
+                    "{} holds {} effects ({}); choose one with {}#NAME",
+                    path.display(),
+                    effects.len(),
+                    names.join(", "),
+                    path.display()
+                ))
+            }
+        };
+        let mut spec = chosen.spec().clone();
+        // What it was fitted on top of is the study's business now: the
+        // step records the model beneath it.
+        spec.base.clear();
+        Ok(Definition {
+            name: spec.name.clone(),
+            kind: "user".into(),
+            statement: spec.statement.clone(),
+            reference: spec.reference.clone(),
+            formula: spec
+                .places
+                .iter()
+                .map(|(p, f)| format!("{} = {f}", p.name()))
+                .collect(),
+            definition: Some(to_toml(&[spec])),
+        })
+    }
+
+    /// The effect it defines, registering a user effect first.
+    pub fn effect(&self) -> Result<&'static dyn Effect, String> {
+        if let Some(text) = &self.definition {
+            let specs = user_file::parse(text, SOURCE).map_err(|e| e.to_string())?;
+            let spec = specs
+                .into_iter()
+                .find(|s| s.name == self.name)
+                .ok_or_else(|| format!("the definition does not define `{}`", self.name))?;
+            let effect = FormulaEffect::new(spec, SOURCE)
+                .map_err(|e| format!("the formula at {}: {:?}", e.place.name(), e.error))?;
+            crate::effects::register_user_effects(vec![effect])?;
+        }
+        by_name(&self.name).ok_or_else(|| {
+            format!(
+                "no effect `{}` in this swimbot (`swimbot effects` lists them)",
+                self.name
+            )
+        })
+    }
+}

@@ -1,0 +1,92 @@
+//! What `diagnose` said of the study's model at one moment, kept in the
+//! study: the verdict, its note, and what it proposed to add (catalogue
+//! effects by name, located laws as `place = formula` with the name
+//! `diagnose --write-effect` gives them). The page shows the first
+//! diagnosis, the one that proposed each step, and the final one, from
+//! these records.
+
+use crate::data::Dataset;
+use crate::model::Model;
+use crate::workbench::diagnose::{diagnose, DiagnoseSettings, Diagnosis, VerdictKind};
+use crate::workbench::discovery::write::effect_name;
+use crate::workbench::robust::Likelihood;
+use serde::{Deserialize, Serialize};
+
+/// One thing a diagnosis proposes to add.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Proposal {
+    /// The catalogue effect, or the name `--write-effect` gives the law.
+    pub name: String,
+    /// `place = formula`, for a located law.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub law: Option<String>,
+    /// In words, with its fitted values.
+    pub text: String,
+    /// Share of the excess chi-square (above the noise floor) it removes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub explains: Option<f64>,
+}
+
+/// A diagnosis, as the study keeps it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiagnosisRecord {
+    /// `none-needed`, `identified`, `located`, `indistinguishable`, `unexplained`.
+    pub verdict: String,
+    /// The verdict in words.
+    pub note: String,
+    #[serde(default, rename = "proposal", skip_serializing_if = "Vec::is_empty")]
+    pub proposals: Vec<Proposal>,
+}
+
+impl DiagnosisRecord {
+    /// Keep what the study needs of `d`.
+    pub fn of(d: &Diagnosis) -> Self {
+        let mut proposals = Vec::new();
+        if d.verdict.kind != VerdictKind::NoneNeeded {
+            if let Some(e) = &d.verdict.effect {
+                proposals.push(Proposal {
+                    name: e.clone(),
+                    law: None,
+                    text: format!("the catalogue effect {e}"),
+                    explains: d.verdict.effect_explained_fraction,
+                });
+            }
+            for l in &d.verdict.located {
+                proposals.push(Proposal {
+                    name: effect_name(l),
+                    law: Some(format!("{} = {}", l.place, l.formula)),
+                    text: format!("{}: {}", l.describe(), l.interpretation),
+                    explains: l.explained_fraction,
+                });
+            }
+        }
+        DiagnosisRecord {
+            verdict: d.verdict.kind.name().to_string(),
+            note: d.verdict.note.clone(),
+            proposals,
+        }
+    }
+
+    /// Diagnose `model` on `data` with the study's likelihood.
+    pub fn run(model: &Model, data: &Dataset, likelihood: Likelihood) -> Result<Self, String> {
+        let settings = DiagnoseSettings::default();
+        let d =
+            crate::workbench::fit::with_likelihood(likelihood, || diagnose(model, data, &settings))
+                .map_err(|e| format!("could not start the worker threads: {e}"))?
+                .map_err(|e| e.to_string())?;
+        Ok(Self::of(&d))
+    }
+
+    /// The proposal an added effect answers: the same name, or for a user
+    /// effect the same law at the same place.
+    pub fn proposal_for(&self, name: &str, formula: &[String]) -> Option<&Proposal> {
+        self.proposals.iter().find(|p| {
+            p.name == name
+                || p.law
+                    .as_ref()
+                    .is_some_and(|l| formula.iter().any(|f| f == l))
+        })
+    }
+}

@@ -1,0 +1,80 @@
+//! What can go wrong with a study, as data: the file, the step and the
+//! field each error concerns, so that a caller (the command line, a Python
+//! binding) can say where without parsing a message.
+
+use std::path::PathBuf;
+
+/// A study error. Every variant names the study file it concerns.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// The file cannot be read or written.
+    #[error("{file}: {message}")]
+    Io { file: PathBuf, message: String },
+    /// The file is not a study this version understands: a TOML error, an
+    /// unknown field, a schema version from elsewhere.
+    #[error("{file}: field `{field}`: {message}")]
+    Format {
+        file: PathBuf,
+        field: String,
+        message: String,
+    },
+    /// No study file where one was looked for.
+    #[error("{file}: no study here; start one with `swimbot init --data FILE`")]
+    NotFound { file: PathBuf },
+    /// `init` would overwrite a study.
+    #[error("{file}: a study is already here; `swimbot init --force` starts it again (its steps are lost), or give another file with --study")]
+    Exists { file: PathBuf },
+    /// The dataset's bytes are not the ones the study was built on.
+    #[error("{file}: the dataset {data} changed since the study was made (SHA-256 {expected}, now {found}): its steps were calibrated on other numbers. Start the study again on the new data with `swimbot init --force --data {data}`, or restore the file")]
+    DatasetChanged {
+        file: PathBuf,
+        data: PathBuf,
+        expected: String,
+        found: String,
+    },
+    /// The dataset cannot be loaded.
+    #[error("{file}: dataset: {message}")]
+    Data { file: PathBuf, message: String },
+    /// A step cannot be rebuilt (its effect unknown, a definition that no
+    /// longer parses, a parameter the effect does not have).
+    #[error("{file}: step {step} (`{effect}`), field `{field}`: {message}")]
+    Step {
+        file: PathBuf,
+        step: usize,
+        effect: String,
+        field: String,
+        message: String,
+    },
+    /// The effect to add is not known or cannot join the model.
+    #[error("{file}: cannot add `{effect}`: {message}")]
+    Effect {
+        file: PathBuf,
+        effect: String,
+        message: String,
+    },
+    /// The step was calibrated but makes the error rise; `add --force`
+    /// records it anyway.
+    #[error("{file}: `{effect}` makes the error rise: MARE {before_pct:.2} % -> {after_pct:.2} % (chi-square {chi2_before:.4} -> {chi2_after:.4}); not added (add --force records it anyway)")]
+    ErrorRises {
+        file: PathBuf,
+        effect: String,
+        before_pct: f64,
+        after_pct: f64,
+        chi2_before: f64,
+        chi2_after: f64,
+    },
+    /// `undo` with no step.
+    #[error("{file}: no step to undo")]
+    NothingToUndo { file: PathBuf },
+    /// The model cannot predict a case, or the fit failed.
+    #[error("{file}: {message}")]
+    Model { file: PathBuf, message: String },
+}
+
+impl StudyError {
+    /// Whether the user's input is at fault (exit code 2) rather than the
+    /// machine (a failed write: exit code 1).
+    pub fn is_input(&self) -> bool {
+        !matches!(self, StudyError::Io { .. })
+    }
+}

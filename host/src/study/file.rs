@@ -1,0 +1,212 @@
+//! The study file: TOML, human-readable, with a schema version, written
+//! atomically (a temporary file beside it, then a rename, so that a crash
+//! leaves the old study or the new one, never half of one).
+//! docs/study.md documents every field.
+
+use super::definition::Definition;
+use super::diagnosis::DiagnosisRecord;
+use super::error::StudyError;
+use super::snapshot::{Snapshot, Stats};
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// The schema this version writes and reads.
+pub const SCHEMA: u32 = 1;
+
+/// The name `init` gives the study in the working directory, and the file
+/// the commands look for there.
+pub const DEFAULT_FILE: &str = "swimbot-study.toml";
+
+/// The whole file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudyFile {
+    pub schema: u32,
+    /// The swimbot that started the study.
+    pub swimbot_version: String,
+    /// When it was started, RFC 3339 UTC.
+    pub created_utc: String,
+    pub dataset: DatasetRef,
+    pub model: BaseModel,
+    /// The base model on the data, before any step.
+    pub start: Snapshot,
+    /// What `diagnose` said of the base model.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_diagnosis: Option<DiagnosisRecord>,
+    #[serde(default, rename = "step")]
+    pub steps: Vec<StepRecord>,
+}
+
+/// The data the study is calibrated on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DatasetRef {
+    /// As given to `init`, relative to the study file's folder when it was
+    /// given relative.
+    pub path: PathBuf,
+    /// SHA-256 of its bytes: a changed file is refused.
+    pub sha256: String,
+    /// The dataset's own name.
+    pub name: String,
+}
+
+/// What the steps start from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BaseModel {
+    /// A named model (`base`, `paper`, `paper-lighthill`, `physics`).
+    pub preset: String,
+    /// What every fit minimises: `gaussian` (chi-square) or `student-t`.
+    pub likelihood: String,
+}
+
+/// One parameter of a step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParamRecord {
+    /// The effect it belongs to.
+    pub effect: String,
+    pub name: String,
+    pub unit: String,
+    pub value: f64,
+    /// `fitted` (calibrated, with its 95 % interval), `fixed` (held at
+    /// `value`, `reason` says why) or `setting` (not a free parameter).
+    pub status: String,
+    /// 95 % interval, for a fitted parameter.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lo: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hi: Option<f64>,
+    /// The fit ended on the parameter's bound.
+    #[serde(default)]
+    pub at_bound: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// One step: an effect added on top of the steps before it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepRecord {
+    pub effect: Definition,
+    /// `held` (earlier steps kept their values) or `all` (refitted jointly).
+    pub refit: String,
+    /// This step's parameters, every one of them.
+    #[serde(rename = "param")]
+    pub params: Vec<ParamRecord>,
+    /// Earlier steps' parameters a joint refit changed (their new values).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub refitted: Vec<ParamRecord>,
+    /// What the calibration says in words (held, reduced, at a bound).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+    /// The model before, as recorded in the study (the previous step's after).
+    pub before: Stats,
+    pub after: Snapshot,
+    /// The diagnosis that proposed it, when it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub proposed_by: Option<String>,
+    /// What `diagnose` says of the model with this step.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub diagnosis_after: Option<DiagnosisRecord>,
+    /// Recorded with `add --force` although the error rose.
+    #[serde(default)]
+    pub forced: bool,
+    pub swimbot_version: String,
+    pub date_utc: String,
+}
+
+impl StudyFile {
+    /// Read and check a study file.
+    pub fn read(path: &Path) -> Result<Self, StudyError> {
+        let text = std::fs::read_to_string(path).map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => StudyError::NotFound {
+                file: path.to_path_buf(),
+            },
+            _ => StudyError::Format {
+                file: path.to_path_buf(),
+                field: "(file)".into(),
+                message: format!("cannot read it: {e}"),
+            },
+        })?;
+        Self::parse(&text, path)
+    }
+
+    /// Parse a study's text; `path` names it in errors.
+    pub fn parse(text: &str, path: &Path) -> Result<Self, StudyError> {
+        // The schema first, so that a newer study says so rather than
+        // failing on a field this version does not know.
+        let schema = text
+            .parse::<toml::Table>()
+            .ok()
+            .and_then(|t| t.get("schema")?.as_integer());
+        if let Some(s) = schema.filter(|s| *s != i64::from(SCHEMA)) {
+            return Err(StudyError::Format {
+                file: path.to_path_buf(),
+                field: "schema".into(),
+                message: format!(
+                    "schema {s}; this swimbot ({}) reads schema {SCHEMA}",
+                    env!("CARGO_PKG_VERSION")
+                ),
+            });
+        }
+        toml::from_str(text).map_err(|e| {
+            let field = e
+                .message()
+                .split('`')
+                .nth(1)
+                .unwrap_or("(syntax)")
+                .to_string();
+            let at = e
+                .span()
+                .map(|s| {
+                    let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
+                    format!("line {line}: ")
+                })
+                .unwrap_or_default();
+            StudyError::Format {
+                file: path.to_path_buf(),
+                field,
+                message: format!("{at}{}", e.message().trim()),
+            }
+        })
+    }
+
+    /// The file's text.
+    pub fn to_text(&self) -> String {
+        let body = toml::to_string(self).expect("a study serialises to TOML");
+        format!(
+            "# swimbot study: the model built step by step on one dataset.\n\
+             # Written by swimbot; read by every swimbot command run in this folder.\n\
+             # Fields: docs/study.md. Edit with `swimbot add` and `swimbot undo`.\n\n{body}"
+        )
+    }
+
+    /// Write atomically: a temporary file in the same folder, flushed to
+    /// disk, renamed over `path`.
+    pub fn write(&self, path: &Path) -> Result<(), StudyError> {
+        let io = |e: std::io::Error| StudyError::Io {
+            file: path.to_path_buf(),
+            message: format!("cannot write it: {e}"),
+        };
+        let dir = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let name = path
+            .file_name()
+            .map_or("study".into(), |n| n.to_string_lossy().into_owned());
+        let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+        let result = (|| {
+            let mut f = std::fs::File::create(&tmp)?;
+            f.write_all(self.to_text().as_bytes())?;
+            f.sync_all()?;
+            std::fs::rename(&tmp, path)
+        })();
+        if result.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        result.map_err(io)
+    }
+}

@@ -1,0 +1,514 @@
+//! The study: the user's model as one file that every command reads and
+//! writes, as `Cargo.toml` is for cargo. It pins the dataset (path and
+//! SHA-256), names the base model and the likelihood, and keeps the
+//! ordered steps, each an effect added on top of the ones before with its
+//! definition (formula, statement, reference), its calibrated parameters
+//! with 95 % intervals, the model's statistics before and after (MARE,
+//! cross-validated MARE, chi-square, noise floor), the diagnosis that
+//! proposed it and the one after it, the swimbot version and the date.
+//!
+//! [`Study`] is the library's whole interface: [`Study::init`],
+//! [`Study::open`], [`Study::add`], [`Study::undo`], [`Study::steps`],
+//! [`Study::model`] and [`Study::apply_to`] (the study's models with their
+//! parameters held, on other data). No command-line type appears in it;
+//! the CLI (`swimbot init`, `add`, `steps`, `undo`) and the page are thin
+//! layers over it. The file format is in docs/study.md.
+
+mod calibrate;
+pub mod definition;
+pub mod diagnosis;
+mod error;
+pub mod file;
+pub mod snapshot;
+
+pub use definition::Definition;
+pub use diagnosis::DiagnosisRecord;
+pub use error::StudyError;
+pub use file::{StepRecord, StudyFile, DEFAULT_FILE, SCHEMA};
+pub use snapshot::{CaseRow, Snapshot, Stats};
+
+use crate::data::Dataset;
+use crate::effects::EffectInstance;
+use crate::model::{preset, Model};
+use crate::workbench::robust::Likelihood;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The options of [`Study::init`].
+#[derive(Debug, Clone)]
+pub struct InitOptions {
+    /// The base model's preset (`base` by default).
+    pub preset: String,
+    pub likelihood: Likelihood,
+    /// Replace a study already at the path.
+    pub force: bool,
+    /// Run `diagnose` on the base model and keep what it says (true).
+    pub diagnose: bool,
+}
+
+impl Default for InitOptions {
+    fn default() -> Self {
+        InitOptions {
+            preset: "base".into(),
+            likelihood: Likelihood::Gaussian,
+            force: false,
+            diagnose: true,
+        }
+    }
+}
+
+/// The options of [`Study::add`].
+#[derive(Debug, Clone)]
+pub struct AddOptions {
+    /// Refit every step's parameters jointly (false: earlier steps held).
+    pub refit_all: bool,
+    /// Record the step even if the error rises.
+    pub force: bool,
+    /// Run `diagnose` on the new model and keep what it says (true).
+    pub diagnose: bool,
+}
+
+impl Default for AddOptions {
+    fn default() -> Self {
+        AddOptions {
+            refit_all: false,
+            force: false,
+            diagnose: true,
+        }
+    }
+}
+
+/// An open study: its file, where it is, and its dataset (checked against
+/// the pinned SHA-256).
+#[derive(Debug, Clone)]
+pub struct Study {
+    path: PathBuf,
+    file: StudyFile,
+    data: Dataset,
+}
+
+/// The study's models on other data, parameters held.
+#[derive(Debug, Clone, Serialize)]
+pub struct Application {
+    pub dataset: String,
+    pub start: Snapshot,
+    /// One per step, in order: the model up to and with it.
+    pub steps: Vec<AppliedStep>,
+}
+
+/// One step on other data.
+#[derive(Debug, Clone, Serialize)]
+pub struct AppliedStep {
+    pub effect: String,
+    pub after: Snapshot,
+}
+
+/// `name` of a likelihood as the study file writes it.
+pub fn likelihood_name(l: Likelihood) -> &'static str {
+    match l {
+        Likelihood::Gaussian => "gaussian",
+        _ => "student-t",
+    }
+}
+
+fn likelihood_of(name: &str) -> Option<Likelihood> {
+    match name {
+        "gaussian" => Some(Likelihood::Gaussian),
+        "student-t" => Some(Likelihood::StudentT),
+        _ => None,
+    }
+}
+
+fn now_utc() -> String {
+    humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string()
+}
+
+impl Study {
+    /// The study file to use: `explicit`, else [`DEFAULT_FILE`] in `dir`
+    /// when there is one.
+    pub fn locate(explicit: Option<&Path>, dir: &Path) -> Option<PathBuf> {
+        match explicit {
+            Some(p) => Some(p.to_path_buf()),
+            None => Some(dir.join(DEFAULT_FILE)).filter(|p| p.is_file()),
+        }
+    }
+
+    /// Start a study at `path` on the dataset at `data_path`: the base
+    /// model's comparison (and diagnosis) recorded, the file written.
+    pub fn init(path: &Path, data_path: &Path, o: &InitOptions) -> Result<Study, StudyError> {
+        if path.exists() && !o.force {
+            return Err(StudyError::Exists {
+                file: path.to_path_buf(),
+            });
+        }
+        let (data, sha256) = load_pinned(path, data_path)?;
+        let model = preset(&o.preset).ok_or_else(|| StudyError::Format {
+            file: path.to_path_buf(),
+            field: "model.preset".into(),
+            message: format!(
+                "unknown preset `{}`; known: {}",
+                crate::data::limits::echo(&o.preset),
+                crate::model::PRESETS
+                    .iter()
+                    .map(|p| p.0)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        })?;
+        let model_err = |m: String| StudyError::Model {
+            file: path.to_path_buf(),
+            message: m,
+        };
+        let start = Snapshot::of(&model, &data, &[]).map_err(|e| model_err(e.to_string()))?;
+        let first_diagnosis = if o.diagnose {
+            Some(DiagnosisRecord::run(&model, &data, o.likelihood).map_err(model_err)?)
+        } else {
+            None
+        };
+        let file = StudyFile {
+            schema: SCHEMA,
+            swimbot_version: env!("CARGO_PKG_VERSION").into(),
+            created_utc: now_utc(),
+            dataset: file::DatasetRef {
+                path: stored_path(path, data_path),
+                sha256,
+                name: data.name.clone(),
+            },
+            model: file::BaseModel {
+                preset: o.preset.clone(),
+                likelihood: likelihood_name(o.likelihood).into(),
+            },
+            start,
+            first_diagnosis,
+            steps: Vec::new(),
+        };
+        file.write(path)?;
+        Ok(Study {
+            path: path.to_path_buf(),
+            file,
+            data,
+        })
+    }
+
+    /// Open the study at `path`: its dataset loaded and checked against
+    /// the pinned SHA-256, every step's effect rebuilt.
+    pub fn open(path: &Path) -> Result<Study, StudyError> {
+        let file = StudyFile::read(path)?;
+        let data_path = resolve(path, &file.dataset.path);
+        let (data, sha256) = load_pinned(path, &data_path)?;
+        if sha256 != file.dataset.sha256 {
+            return Err(StudyError::DatasetChanged {
+                file: path.to_path_buf(),
+                data: data_path,
+                expected: file.dataset.sha256.clone(),
+                found: sha256,
+            });
+        }
+        let study = Study {
+            path: path.to_path_buf(),
+            file,
+            data,
+        };
+        study.likelihood()?;
+        study.model()?;
+        Ok(study)
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    pub fn file(&self) -> &StudyFile {
+        &self.file
+    }
+
+    pub fn dataset(&self) -> &Dataset {
+        &self.data
+    }
+
+    /// The dataset's path as the study resolves it.
+    pub fn dataset_path(&self) -> PathBuf {
+        resolve(&self.path, &self.file.dataset.path)
+    }
+
+    pub fn steps(&self) -> &[StepRecord] {
+        &self.file.steps
+    }
+
+    pub fn likelihood(&self) -> Result<Likelihood, StudyError> {
+        likelihood_of(&self.file.model.likelihood).ok_or_else(|| StudyError::Format {
+            file: self.path.clone(),
+            field: "model.likelihood".into(),
+            message: format!(
+                "`{}` is not a likelihood: gaussian or student-t",
+                crate::data::limits::echo(&self.file.model.likelihood)
+            ),
+        })
+    }
+
+    /// The model now: the base with every step.
+    pub fn model(&self) -> Result<Model, StudyError> {
+        self.model_upto(self.file.steps.len())
+    }
+
+    /// The base model alone.
+    pub fn base_model(&self) -> Result<Model, StudyError> {
+        self.model_upto(0)
+    }
+
+    /// The base with the first `k` steps, each at its values then (a later
+    /// joint refit's values apply from its step on).
+    pub fn model_upto(&self, k: usize) -> Result<Model, StudyError> {
+        let mut model = preset(&self.file.model.preset).ok_or_else(|| StudyError::Format {
+            file: self.path.clone(),
+            field: "model.preset".into(),
+            message: format!(
+                "unknown preset `{}`",
+                crate::data::limits::echo(&self.file.model.preset)
+            ),
+        })?;
+        for (i, s) in self.file.steps[..k.min(self.file.steps.len())]
+            .iter()
+            .enumerate()
+        {
+            let err = |field: &str, message: String| StudyError::Step {
+                file: self.path.clone(),
+                step: i + 1,
+                effect: s.effect.name.clone(),
+                field: field.into(),
+                message,
+            };
+            let effect = s.effect.effect().map_err(|m| err("effect", m))?;
+            let mut inst = EffectInstance::default_of(effect);
+            set_values(&mut inst, &s.params).map_err(|m| err("param", m))?;
+            model.effects.push(inst);
+            for r in &s.refitted {
+                let e = model
+                    .effects
+                    .iter_mut()
+                    .find(|e| e.name() == r.effect)
+                    .ok_or_else(|| err("refitted", format!("no earlier step `{}`", r.effect)))?;
+                set_values(e, std::slice::from_ref(r)).map_err(|m| err("refitted", m))?;
+            }
+        }
+        Ok(model)
+    }
+
+    /// The statistics of the model now (the last step's after, or the start's).
+    pub fn current(&self) -> &Snapshot {
+        self.file
+            .steps
+            .last()
+            .map_or(&self.file.start, |s| &s.after)
+    }
+
+    /// What `diagnose` said last (after the last step, or of the base).
+    pub fn last_diagnosis(&self) -> Option<&DiagnosisRecord> {
+        match self.file.steps.last() {
+            Some(s) => s.diagnosis_after.as_ref(),
+            None => self.file.first_diagnosis.as_ref(),
+        }
+    }
+
+    /// Add `def` as a new step: calibrate it on top of the current model,
+    /// refuse it when the error (MARE) rises unless `o.force`, record it
+    /// and write the file.
+    pub fn add(&mut self, def: Definition, o: &AddOptions) -> Result<&StepRecord, StudyError> {
+        let eff_err = |m: String| StudyError::Effect {
+            file: self.path.clone(),
+            effect: def.name.clone(),
+            message: m,
+        };
+        let effect = def.effect().map_err(eff_err)?;
+        let before_model = self.model()?;
+        if let Some(i) = before_model
+            .effects
+            .iter()
+            .position(|e| e.name() == def.name)
+        {
+            let first = before_model.effects.len() - self.file.steps.len();
+            let where_ = match i.checked_sub(first) {
+                Some(k) => format!("step {}", k + 1),
+                None => format!("the `{}` preset", self.file.model.preset),
+            };
+            return Err(eff_err(format!("it is already in the model ({where_})")));
+        }
+        if !before_model.can_take(effect) {
+            let mut with = before_model.clone();
+            with.effects.push(EffectInstance::default_of(effect));
+            let why = with
+                .check_tail_compat()
+                .err()
+                .unwrap_or_else(|| "it conflicts with the model".into());
+            return Err(eff_err(why));
+        }
+        let first_step = before_model.effects.len() - self.file.steps.len();
+        let mut model = before_model.clone();
+        model.effects.push(EffectInstance::default_of(effect));
+        let lik = self.likelihood()?;
+        let model_err = |m: String| StudyError::Model {
+            file: self.path.clone(),
+            message: format!("`{}`: {m}", def.name),
+        };
+        let c = calibrate::calibrate(model, first_step, o.refit_all, &self.data, lik)
+            .map_err(model_err)?;
+        let after =
+            Snapshot::of(&c.model, &self.data, &c.fitted).map_err(|e| model_err(e.to_string()))?;
+        if !after.is_finite() {
+            return Err(model_err(
+                "the calibrated model predicts a non-finite value".into(),
+            ));
+        }
+        let before = self.current().stats;
+        if after.stats.mare > before.mare && !o.force {
+            return Err(StudyError::ErrorRises {
+                file: self.path.clone(),
+                effect: def.name.clone(),
+                before_pct: 100.0 * before.mare,
+                after_pct: 100.0 * after.stats.mare,
+                chi2_before: before.chi2,
+                chi2_after: after.stats.chi2,
+            });
+        }
+        let proposed_by = self.last_diagnosis().and_then(|d| {
+            d.proposal_for(&def.name, &def.formula).map(|p| {
+                format!(
+                    "diagnose ({}) on the model before this step: {}",
+                    d.verdict, p.text
+                )
+            })
+        });
+        let diagnosis_after = if o.diagnose {
+            Some(DiagnosisRecord::run(&c.model, &self.data, lik).map_err(model_err)?)
+        } else {
+            None
+        };
+        let forced = after.stats.mare > before.mare;
+        self.file.steps.push(StepRecord {
+            effect: def,
+            refit: if o.refit_all { "all" } else { "held" }.into(),
+            params: c.params,
+            refitted: c.refitted,
+            notes: c.notes,
+            before,
+            after,
+            proposed_by,
+            diagnosis_after,
+            forced,
+            swimbot_version: env!("CARGO_PKG_VERSION").into(),
+            date_utc: now_utc(),
+        });
+        if let Err(e) = self.file.write(&self.path) {
+            self.file.steps.pop();
+            return Err(e);
+        }
+        Ok(self.file.steps.last().expect("just pushed"))
+    }
+
+    /// Remove the last step (and what its joint refit changed) and write
+    /// the file; returns the removed step.
+    pub fn undo(&mut self) -> Result<StepRecord, StudyError> {
+        let last = self
+            .file
+            .steps
+            .pop()
+            .ok_or_else(|| StudyError::NothingToUndo {
+                file: self.path.clone(),
+            })?;
+        if let Err(e) = self.file.write(&self.path) {
+            self.file.steps.push(last);
+            return Err(e);
+        }
+        Ok(last)
+    }
+
+    /// The study's models (the base, then each step) on `data` with every
+    /// parameter held at the study's values: calibrated on the study's
+    /// data, predicting these.
+    pub fn apply_to(&self, data: &Dataset) -> Result<Application, StudyError> {
+        let err = |m: String| StudyError::Model {
+            file: self.path.clone(),
+            message: format!("{}: {m}", data.name),
+        };
+        let start = Snapshot::of(&self.base_model()?, data, &[]).map_err(|e| err(e.to_string()))?;
+        let mut steps = Vec::new();
+        for (k, s) in self.file.steps.iter().enumerate() {
+            let m = self.model_upto(k + 1)?;
+            steps.push(AppliedStep {
+                effect: s.effect.name.clone(),
+                after: Snapshot::of(&m, data, &[]).map_err(|e| err(e.to_string()))?,
+            });
+        }
+        Ok(Application {
+            dataset: data.name.clone(),
+            start,
+            steps,
+        })
+    }
+}
+
+/// Set `inst`'s parameters from records, by name.
+fn set_values(inst: &mut EffectInstance, records: &[file::ParamRecord]) -> Result<(), String> {
+    for r in records {
+        let specs = inst.effect.params();
+        let i = specs.iter().position(|p| p.name == r.name).ok_or_else(|| {
+            format!(
+                "`{}` has no parameter `{}`",
+                inst.name(),
+                crate::data::limits::echo(&r.name)
+            )
+        })?;
+        let p = specs[i];
+        if !(r.value.is_finite() && r.value >= p.min && r.value <= p.max) {
+            return Err(format!(
+                "{}.{} = {} is outside its range {}..={}",
+                inst.name(),
+                p.name,
+                r.value,
+                p.min,
+                p.max
+            ));
+        }
+        inst.values[i] = r.value;
+    }
+    Ok(())
+}
+
+/// The dataset and the SHA-256 of its bytes.
+fn load_pinned(study: &Path, data_path: &Path) -> Result<(Dataset, String), StudyError> {
+    let bytes = std::fs::read(data_path).map_err(|e| StudyError::Data {
+        file: study.to_path_buf(),
+        message: format!("cannot read {}: {e}", data_path.display()),
+    })?;
+    let data = crate::data::load_file(data_path).map_err(|e| StudyError::Data {
+        file: study.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    Ok((data, crate::provenance::sha256_hex(&bytes)))
+}
+
+/// The dataset path to store: relative to the study's folder when both
+/// are relative paths (the study and its data then move together).
+fn stored_path(study: &Path, data: &Path) -> PathBuf {
+    if data.is_absolute() {
+        return data.to_path_buf();
+    }
+    let dir = study.parent().unwrap_or(Path::new(""));
+    let (Ok(d), Ok(f)) = (std::path::absolute(dir), std::path::absolute(data)) else {
+        return data.to_path_buf();
+    };
+    f.strip_prefix(&d)
+        .map_or_else(|_| f.clone(), Path::to_path_buf)
+}
+
+/// The stored dataset path, relative to the study's folder.
+fn resolve(study: &Path, data: &Path) -> PathBuf {
+    if data.is_absolute() {
+        data.to_path_buf()
+    } else {
+        study.parent().unwrap_or(Path::new("")).join(data)
+    }
+}
+
+#[cfg(test)]
+mod tests;
