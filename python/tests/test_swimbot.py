@@ -110,7 +110,7 @@ def test_from_pandas_with_a_setup_and_a_recorded_column():
 
     rows = pd.read_csv(PAPER_CSV, comment="#")
     setup_lines = [
-        l[2:] for l in PAPER_CSV.read_text().splitlines() if re.match(r"# [a-z_.]+ = ", l)
+        l[2:] for l in PAPER_CSV.read_text().splitlines() if re.match(r"# [a-z0-9_.]+ = ", l)
     ]
     setup = {}
     for line in setup_lines:
