@@ -249,6 +249,9 @@ fn sweep<'py>(
     };
     t.u_mm_s = None;
     t.omega_body_hz = None;
+    // What only the data's statistics read: not cloned per geometry.
+    t.inputs = Default::default();
+    t.recorded = Default::default();
     let cols = [
         ("wavelength_mm", floats(wavelength_mm, n, "wavelength_mm")?),
         ("amplitude_mm", floats(amplitude_mm, n, "amplitude_mm")?),

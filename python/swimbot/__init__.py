@@ -92,7 +92,7 @@ class Dataset:
         lines = [f"# name = {_toml(name)}"]
         for key, value in (setup or {}).items():
             lines.append(f"# {key} = {_toml(value)}")
-        text = "\n".join(lines) + "\n" + df.to_csv(index=False, float_format="%r")
+        text = "\n".join(lines) + "\n" + df.to_csv(index=False, float_format="%.17g")
         return cls(_noted(_swimbot.from_csv(text, name)))
 
 

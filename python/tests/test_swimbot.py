@@ -6,6 +6,7 @@ The CLI binary is ``$SWIMBOT_BIN`` or the workspace's ``target/debug/swimbot``
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -108,7 +109,9 @@ def test_from_pandas_with_a_setup_and_a_recorded_column():
     import pandas as pd
 
     rows = pd.read_csv(PAPER_CSV, comment="#")
-    setup_lines = [l[2:] for l in PAPER_CSV.read_text().splitlines() if " = " in l and l.startswith("# ")]
+    setup_lines = [
+        l[2:] for l in PAPER_CSV.read_text().splitlines() if re.match(r"# [a-z0-9_.]+ = ", l)
+    ]
     setup = {}
     for line in setup_lines:
         key, value = line.split(" = ", 1)
