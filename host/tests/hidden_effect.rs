@@ -204,7 +204,11 @@ fn twin_effects_on_a_narrow_design_are_called_indistinguishable_with_a_test_that
     // mimic it with two parameters. A 0-parameter and 2-parameter twin then
     // differ only by the AICc penalty; with a loose margin they must be
     // reported as indistinguishable, with a separating experiment.
-    let paper = swimbot::data::paper();
+    // The lab has two more tubes: confinement depends on the tube and the
+    // rescaling does not, so a run in another tube separates them, inside
+    // what the rig can run.
+    let mut paper = swimbot::data::paper();
+    paper.rig.channel_diameter_mm = Some(vec![25.0, 35.0, 50.0]);
     let data = generate(
         &truth_with("body-confinement"),
         &paper,

@@ -190,15 +190,18 @@ fn fresh_tails_and_seeds_meet_the_same_requirement() {
 }
 
 /// A sensor that fails mid-run stops the motor: B's wire broken
-/// (disconnected), A and B swapped (reversed), no edges at all (stalled,
-/// after the 5 s stall time), each within the time its detection needs.
+/// (disconnected), A and B swapped (reversed), no edges at all while the
+/// motor is driven (a jam to the motor supervisor, which cannot tell a
+/// silent sensor from a seized rotor: 1.75 s of drive with no rotation,
+/// before the controller's 5 s stall time), each within the time its
+/// detection needs.
 #[test]
 fn a_failing_sensor_stops_the_motor() {
     let robot = default_robot();
     for (failure, fault, within_s) in [
         (Failure::ChannelStuck, SensorFault::Disconnected, 1.0),
         (Failure::Swapped, SensorFault::Reversed, 0.5),
-        (Failure::Silent, SensorFault::Stalled, 5.1),
+        (Failure::Silent, SensorFault::Jammed, 2.0),
     ] {
         let mut rate = RateRun::new(vec![(0, 1.0)]);
         rate.failure = Some((8.0, failure));
