@@ -436,7 +436,10 @@ pub fn fill_from_study(
     let first = m.effects.len() - s.steps().len();
     data.data = Some(s.dataset_path());
     model.preset = Some(s.file().model.preset.clone());
-    model.effects = m.effects[first..].iter().map(exact_spec).collect();
+    model.effects = m.effects[first..]
+        .iter()
+        .map(crate::workbench::discovery::write::exact_spec)
+        .collect();
     eprintln!(
         "note: the study {}: {} with {} step(s)",
         s.path().display(),
@@ -476,19 +479,4 @@ pub fn active_study(
         return Ok(None);
     }
     Ok(Some(Study::open(&path)?))
-}
-
-/// `NAME:k=v,...` with every value at full precision (Rust's shortest
-/// round-trip form), so that the model rebuilt from it is the study's.
-fn exact_spec(e: &crate::effects::EffectInstance) -> String {
-    let params = e.effect.params();
-    if params.is_empty() {
-        return e.name().to_string();
-    }
-    let kv: Vec<String> = params
-        .iter()
-        .zip(&e.values)
-        .map(|(p, v)| format!("{}={v}", p.name))
-        .collect();
-    format!("{}:{}", e.name(), kv.join(","))
 }
