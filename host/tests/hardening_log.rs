@@ -2,7 +2,7 @@
 //! of 0 in every record gives no "inf %", and a time that runs backwards
 //! (two logs joined) or jumps by weeks is refused naming the record.
 
-use crate::common::{stderr, stdout, swimbot};
+use crate::common::{stderr, stdout, swimbot, write_simulated_log};
 use std::path::Path;
 use swimbot_shared::run_log::Record;
 
@@ -13,20 +13,7 @@ fn s(p: &Path) -> &str {
 /// The records of a short simulated run (rate-controlled 0.6 Hz).
 fn simulated_records(dir: &Path) -> Vec<Record> {
     let log = dir.join("base.swlog");
-    let o = swimbot(&[
-        "sim",
-        "--tail",
-        "3",
-        "--rate-hz",
-        "0.6",
-        "--script",
-        "on@0s,off@12s",
-        "--write-log",
-        s(&log),
-        "-o",
-        s(&dir.join("sim")),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    write_simulated_log(&log, &dir.join("sim"));
     swimbot::runlog::read::decode_bytes(&std::fs::read(&log).unwrap())
         .unwrap()
         .records

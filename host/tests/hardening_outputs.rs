@@ -4,7 +4,7 @@
 //! folder another command wrote is refused; a closed stdout is an error;
 //! SIGHUP and killed runs leave no temporary file behind the next run.
 
-use crate::common::{stderr, stdout, swimbot};
+use crate::common::{stderr, stdout, swimbot, write_simulated_log};
 use std::path::Path;
 use std::process::Command;
 
@@ -12,29 +12,11 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// A short simulated run log (rate-controlled, 0.6 Hz, Off at 12 s).
-fn write_log(path: &Path, out: &Path) {
-    let o = swimbot(&[
-        "sim",
-        "--tail",
-        "3",
-        "--rate-hz",
-        "0.6",
-        "--script",
-        "on@0s,off@12s",
-        "--write-log",
-        s(path),
-        "-o",
-        s(out),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-}
-
 #[test]
 fn an_input_inside_the_output_folder_is_refused_naming_both() {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("base.swlog");
-    write_log(&log, &dir.path().join("sim"));
+    write_simulated_log(&log, &dir.path().join("sim"));
     let l = dir.path().join("L");
     let o = swimbot(&["log", s(&log), "--case", "tail-3", "-o", s(&l)]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -84,8 +66,8 @@ fn an_input_inside_the_output_folder_is_refused_naming_both() {
     // An output file named beside the folder is no input: allowed.
     let sim = dir.path().join("S");
     let again = sim.join("run.swlog");
-    write_log(&again, &sim);
-    write_log(&again, &sim);
+    write_simulated_log(&again, &sim);
+    write_simulated_log(&again, &sim);
 }
 
 /// Each file the manifest lists has the SHA-256 it records.
@@ -248,7 +230,7 @@ fn a_folder_another_command_wrote_is_refused() {
     let o = swimbot(&["compare", "-o", s(&r)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let log = dir.path().join("run.swlog");
-    write_log(&log, &dir.path().join("sim2"));
+    write_simulated_log(&log, &dir.path().join("sim2"));
     for (args, who) in [
         (vec!["log", s(&log), "-o", s(&r)], "swimbot compare"),
         (

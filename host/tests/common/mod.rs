@@ -22,3 +22,22 @@ pub fn stdout(o: &Output) -> String {
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
+
+/// Writes a short simulated run log to `path` (rate-controlled 0.6 Hz,
+/// On at 0 s, Off at 12 s), the simulation's other outputs in `out`.
+pub fn write_simulated_log(path: &std::path::Path, out: &std::path::Path) {
+    let o = swimbot(&[
+        "sim",
+        "--tail",
+        "3",
+        "--rate-hz",
+        "0.6",
+        "--script",
+        "on@0s,off@12s",
+        "--write-log",
+        path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
