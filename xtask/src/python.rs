@@ -50,6 +50,7 @@ pub fn test(root: &Path, steps: &mut Steps, venv: Background, lint: &Lint) -> Re
     steps.begin("Python environment: fetched in the background");
     venv.finish()?;
     steps.begin("Python extension (maturin, dev profile, clippy) and pytest");
+    features_agree(root)?;
     let bin = root.join(VENV).join("bin");
     let wheels = root.join("target/wheels");
     let _ = std::fs::remove_dir_all(&wheels);
@@ -106,4 +107,73 @@ fn status(mut c: Command, what: &str) -> Result<(), String> {
     } else {
         Err(format!("{what} failed ({s})"))
     }
+}
+
+/// The extension's dependencies resolve to the features the host test
+/// build gave them, so maturin reuses that build (python/Cargo.toml says
+/// which features it names for this). A crate that drifts is named here
+/// instead of silently compiling half the graph again.
+fn features_agree(root: &Path) -> Result<(), String> {
+    let host = resolved_features(
+        root,
+        &[
+            "--workspace",
+            "--exclude",
+            "firmware",
+            "--exclude",
+            "swimbot-python",
+            "-e",
+            "normal,build,dev",
+        ],
+    )?;
+    let extension = resolved_features(root, &["-p", "swimbot-python", "-e", "normal,build"])?;
+    let drift: Vec<String> = extension
+        .iter()
+        .filter_map(|(package, features)| {
+            let in_host = host.get(package)?;
+            (in_host != features).then(|| {
+                format!("{package}: host test build [{in_host}], extension alone [{features}]")
+            })
+        })
+        .collect();
+    if drift.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "the Python extension's dependencies resolve to other features than the host test \
+             build's, so maturin would compile them again; give python/Cargo.toml the host's \
+             features:\n  {}",
+            drift.join("\n  ")
+        ))
+    }
+}
+
+/// Each package of `cargo tree ARGS` with its resolved features.
+fn resolved_features(
+    root: &Path,
+    args: &[&str],
+) -> Result<std::collections::BTreeMap<String, String>, String> {
+    let out = Command::new("cargo")
+        .args(["tree", "--prefix", "none", "-f", "{p}|{f}"])
+        .args(args)
+        .current_dir(root)
+        .output()
+        .map_err(|e| format!("cannot start `cargo tree`: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "`cargo tree {}` failed: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    Ok(String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|line| {
+            let (package, features) = line.split_once('|')?;
+            // "name vX.Y.Z (path)" and repeats marked "(*)": the name and version.
+            let mut words = package.split_whitespace();
+            let id = format!("{} {}", words.next()?, words.next()?);
+            Some((id, features.trim_end_matches(" (*)").to_string()))
+        })
+        .collect())
 }
