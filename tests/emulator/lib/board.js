@@ -371,6 +371,24 @@ export class Board {
       this.usb.lastRxAt = this.nowNs;
     };
     this.usb.cdc = cdc;
+    // rp2040js raises BUS_RESET when its 10 ms reset ends but leaves the
+    // line state at SE0 and, until the firmware clears BUS_RESET, CONNECTED
+    // clear. A B1 chip behind a hub looks the same (RP2040-E5), except that
+    // the idle bus after the reset reads J: rp2040-hal's `rp2040-e5`
+    // workaround waits for that J, forces it through GPIO15, and sees
+    // CONNECTED (rp2040js sets it on the USB_MUXING write). The line state
+    // J is set here with the end of the reset, so that path runs.
+    if (!usbc.swimbotLineStateJ) {
+      usbc.swimbotLineStateJ = true;
+      const updated = usbc.sieStatusUpdated.bind(usbc);
+      usbc.sieStatusUpdated = () => {
+        const BUS_RESET = 1 << 19;
+        const LINE_STATE = 3 << 2;
+        const J = 1 << 2;
+        if (usbc.sieStatus & BUS_RESET && (usbc.sieStatus & LINE_STATE) === 0) usbc.sieStatus |= J;
+        updated();
+      };
+    }
     // The firmware enables its USB controller at boot, before any cable: the
     // host's bus reset, which rp2040js's CDC host sends when the controller
     // is enabled, comes now, as when a cable is plugged in.
@@ -465,7 +483,13 @@ export class Board {
         // while the timer, PWM and watchdog run on. An interrupt the
         // firmware left unmasked is taken (below), as on the chip, where the
         // ROM's wait loop is interrupted; masked, an edge stays latched.
-        clock.tick(Math.min(this.stallEndNs, tAbs) - this.nowNs);
+        // In the clock's own time base: `stallEndNs - nowNs` mixes the
+        // offset (seconds, after a power-up) with the clock's fraction of a
+        // nanosecond, and rounded to 0 there while `clock.nanos < end` still
+        // held, a loop that never advanced (seen once the passes' timing
+        // shifted by a few cycles). At least a picosecond: always progress.
+        const stallEnd = this.stallEndNs - this.timeOffsetNs;
+        clock.tick(Math.max(Math.min(stallEnd, end) - clock.nanos, 1e-3));
         continue;
       }
       if (this.stallEndNs > this.nowNs && core.IPSR === 0) core.interruptsUpdated = true; // enter it now
