@@ -348,13 +348,23 @@ fn log(out: &PassOutput, level: &mut BatteryLevel, led_mode: &mut LedMode) -> bo
 }
 
 /// `fault-test` images only: the emulator writes `SWIMBOT_FAULT_TEST`
-/// (found by its symbol) to make the main loop hang (1) or panic (2).
+/// (found by its symbol) to make the main loop hang (1), panic (2) or
+/// overflow its stack (3).
 #[cfg(feature = "fault-test")]
 mod fault_test {
     use core::sync::atomic::{AtomicU32, Ordering};
 
     #[no_mangle]
     static SWIMBOT_FAULT_TEST: AtomicU32 = AtomicU32::new(0);
+
+    /// Recurses until the stack runs off the bottom of RAM (flip-link puts
+    /// it there), 64 bytes a frame; `black_box` keeps every frame real.
+    #[allow(unconditional_recursion)]
+    #[inline(never)]
+    fn overflow(depth: u32) -> u32 {
+        let frame = core::hint::black_box([depth; 16]);
+        overflow(depth + 1).wrapping_add(frame[(depth & 15) as usize])
+    }
 
     pub fn act() {
         match SWIMBOT_FAULT_TEST.load(Ordering::Relaxed) {
@@ -364,6 +374,10 @@ mod fault_test {
                 loop {}
             }
             2 => panic!("fault-test: forced panic"),
+            3 => {
+                defmt::warn!("fault-test: unbounded recursion");
+                overflow(0);
+            }
             _ => {}
         }
     }
