@@ -15,8 +15,19 @@
 //! C SDK's `flash_range_erase`/`flash_range_program` (connect, exit XIP,
 //! erase or program, flush the cache, re-enter XIP) and the assembly that
 //! of rp2040-flash (MIT/Apache-2.0), so no call leaves RAM in between.
-//! Re-entering XIP with the ROM's `flash_enter_cmd_xip` gives the same
-//! plain 03h read mode as the board's boot2 (`BOOT_LOADER_GENERIC_03H`).
+//!
+//! XIP is re-entered by running a RAM copy of the image's own boot2
+//! (`BOOT2_RAM`), as pico-sdk's `flash_enable_xip_via_boot2` and
+//! embassy-rp do, not the ROM's `flash_enter_cmd_xip`: that one sets the
+//! SSI's clock divider and read command to its own slow defaults, so after
+//! the first flash write every cache miss would have cost more than at
+//! boot. boot2 returns to its caller when called with a non-zero LR (its
+//! `exit_from_boot2`), and its code is position-independent.
+//!
+//! The flash chip's 64-bit unique ID (command 4Bh, W25Q16JV 8.2.31) is
+//! read once at boot (`unique_id`), the same way (the C SDK's
+//! `flash_get_unique_id`): from RAM, with XIP off and chip select forced
+//! by the QSPI pad's override.
 //!
 //! With the `emulator` feature (no boot ROM in the emulator's route (b))
 //! the ROM functions do not exist: programs and erases do nothing there.
@@ -56,7 +67,7 @@ fn rom_op(offset: u32, erase_len: u32, data: Option<&[u8; PAGE_LEN]>) {
         erase: (erase_len > 0).then(rom_data::flash_range_erase::ptr),
         program: data.map(|_| rom_data::flash_range_program::ptr()),
         flush: rom_data::flash_flush_cache::ptr(),
-        enter_xip: rom_data::flash_enter_cmd_xip::ptr(),
+        enter_xip: boot2_in_ram(),
     };
     let (ptr, len) = match data {
         Some(d) => (d.as_ptr(), PAGE_LEN as u32),
@@ -107,6 +118,103 @@ fn with_only_ir_interrupt(op: impl FnOnce()) {
     });
 }
 
+/// boot2 (256 bytes, the last 4 its CRC), copied to RAM with `.data`
+/// at reset: re-run after each flash operation to re-enter XIP with
+/// boot2's own SSI settings. Word-aligned for the Thumb code in it.
+#[cfg(not(feature = "emulator"))]
+#[repr(C, align(4))]
+struct Boot2([u8; 256]);
+
+#[cfg(not(feature = "emulator"))]
+#[link_section = ".data.boot2_copy"]
+static BOOT2_RAM: Boot2 = Boot2(crate::BOOT2_IMAGE);
+
+/// `BOOT2_RAM`'s entry as a function (Thumb bit set).
+#[cfg(not(feature = "emulator"))]
+fn boot2_in_ram() -> unsafe extern "C" fn() {
+    let entry = core::ptr::addr_of!(BOOT2_RAM) as usize | 1;
+    // SAFETY: the address of boot2's first instruction, in RAM; boot2
+    // returns to its caller (non-zero LR).
+    unsafe { core::mem::transmute::<usize, unsafe extern "C" fn()>(entry) }
+}
+
+/// The flash chip's unique ID (command 4Bh: four dummy bytes, then eight
+/// ID bytes). Called once at boot, interrupts masked, before anything
+/// else could fetch from flash.
+#[cfg(not(feature = "emulator"))]
+pub fn unique_id() -> [u8; 8] {
+    use rp2040_hal::rom_data;
+    let f = IdFunctions {
+        connect: rom_data::connect_internal_flash::ptr(),
+        exit_xip: rom_data::flash_exit_xip::ptr(),
+        flush: rom_data::flash_flush_cache::ptr(),
+        enter_xip: boot2_in_ram(),
+    };
+    let mut buf = [0u8; 13];
+    buf[0] = 0x4b;
+    // SAFETY: interrupts masked and the other core asleep, so nothing
+    // fetches from flash until `ram_unique_id` has re-entered XIP; it runs
+    // from RAM and calls only the ROM and the RAM boot2.
+    cortex_m::interrupt::free(|_| unsafe { ram_unique_id(&f, buf.as_mut_ptr(), buf.len()) });
+    let mut id = [0u8; 8];
+    id.copy_from_slice(&buf[5..]);
+    id
+}
+
+/// The emulator's image has no ROM: a fixed ID.
+#[cfg(feature = "emulator")]
+pub fn unique_id() -> [u8; 8] {
+    [0; 8]
+}
+
+#[cfg(not(feature = "emulator"))]
+#[repr(C)]
+struct IdFunctions {
+    connect: unsafe extern "C" fn(),
+    exit_xip: unsafe extern "C" fn(),
+    flush: unsafe extern "C" fn(),
+    enter_xip: unsafe extern "C" fn(),
+}
+
+/// The command exchange of pico-sdk's `flash_do_cmd`: chip select forced
+/// low through IO_QSPI's SS pad override, `len` bytes of `buf` sent, the
+/// same number received into it (at most 14 in flight: the SSI's FIFOs are
+/// 16 deep), chip select high again. Only volatile accesses and calls
+/// through `f`, so nothing here is fetched from flash (checked in the
+/// disassembly: no `bl` to flash).
+#[cfg(not(feature = "emulator"))]
+#[inline(never)]
+#[link_section = ".data.ram_func"]
+unsafe fn ram_unique_id(f: &IdFunctions, buf: *mut u8, len: usize) {
+    const SS_CTRL: *mut u32 = 0x4001_800c as *mut u32; // IO_QSPI GPIO_QSPI_SS_CTRL
+    const OUTOVER_MASK: u32 = 3 << 8;
+    const OUTOVER_LOW: u32 = 2 << 8;
+    const OUTOVER_HIGH: u32 = 3 << 8;
+    const SSI_SR: *const u32 = 0x1800_0028 as *const u32;
+    const SSI_DR0: *mut u32 = 0x1800_0060 as *mut u32;
+    const TFNF: u32 = 1 << 1;
+    const RFNE: u32 = 1 << 3;
+    (f.connect)();
+    (f.exit_xip)();
+    let ss = core::ptr::read_volatile(SS_CTRL) & !OUTOVER_MASK;
+    core::ptr::write_volatile(SS_CTRL, ss | OUTOVER_LOW);
+    let (mut tx, mut rx) = (0usize, 0usize);
+    while rx < len {
+        let sr = core::ptr::read_volatile(SSI_SR);
+        if sr & TFNF != 0 && tx < len && tx - rx < 14 {
+            core::ptr::write_volatile(SSI_DR0, u32::from(core::ptr::read_volatile(buf.add(tx))));
+            tx += 1;
+        }
+        if sr & RFNE != 0 && rx < tx {
+            core::ptr::write_volatile(buf.add(rx), core::ptr::read_volatile(SSI_DR0) as u8);
+            rx += 1;
+        }
+    }
+    core::ptr::write_volatile(SS_CTRL, ss | OUTOVER_HIGH);
+    (f.flush)();
+    (f.enter_xip)();
+}
+
 #[cfg(feature = "emulator")]
 fn rom_op(_offset: u32, _erase_len: u32, _data: Option<&[u8; PAGE_LEN]>) {}
 
@@ -146,7 +254,7 @@ unsafe fn ram_op(offset: u32, data: *const u8, len: u32, f: *const RomFunctions)
         "ldr r4, [{f}, #16]",
         "blx r4", // flash_flush_cache()
         "ldr r4, [{f}, #20]",
-        "blx r4", // flash_enter_cmd_xip()
+        "blx r4", // boot2 (RAM copy): XIP as at boot
         f = in(reg) f,
         in("r0") offset,
         in("r2") data,

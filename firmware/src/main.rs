@@ -8,10 +8,14 @@
 //! point forces the gate low and resets (`safety`).
 #![no_std]
 #![no_main]
+// The `hil` image stops in `hil::run`: what follows it is never used there.
+#![cfg_attr(feature = "hil", allow(unused, unreachable_code))]
 
 mod battery_adc;
 mod board;
 mod flash;
+#[cfg(feature = "hil")]
+mod hil;
 mod ir;
 mod motor;
 mod pairing;
@@ -30,9 +34,14 @@ use fugit::ExtU32;
 use hal::gpio::PinState;
 use hal::pac;
 
+/// The second-stage bootloader: the flash chip's read mode (plain 03h
+/// reads, the one every flash chip supports). `flash` re-runs a RAM copy
+/// of it after each flash write.
+pub const BOOT2_IMAGE: [u8; 256] = rp2040_boot2::BOOT_LOADER_GENERIC_03H;
+
 #[link_section = ".boot2"]
 #[used]
-pub static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_GENERIC_03H;
+pub static BOOT2: [u8; 256] = BOOT2_IMAGE;
 
 // Log lines carry the 1 MHz timer's microseconds. Read through the PAC
 // (TIMERAWL/H, no latching side effects): the HAL's Timer is owned by the
@@ -55,8 +64,13 @@ fn main() -> ! {
     let mut p = pac::Peripherals::take().unwrap();
     let mut cortex = pac::CorePeripherals::take().unwrap();
     let sio = hal::Sio::new(p.SIO);
+    // Before anything could be fetched from flash behind our back
+    // (interrupts are still off): the serial number of the USB port.
+    let flash_id = flash::unique_id();
     let pins = hal::gpio::Pins::new(p.IO_BANK0, p.PADS_BANK0, sio.gpio_bank0, &mut p.RESETS);
     let motor_pin = pins.gpio16.into_push_pull_output_in_state(PinState::Low);
+    // Keep the load switch (if the board has one) closed: see `board`.
+    let power_hold = pins.gpio22.into_push_pull_output_in_state(PinState::High);
 
     let reason = p.WATCHDOG.reason().read();
     let (watchdog_reset, forced_reset) = (reason.timer().bit_is_set(), reason.force().bit_is_set());
@@ -67,6 +81,7 @@ fn main() -> ! {
         &mut watchdog,
         &mut cortex.SCB,
     );
+    power::rosc_off();
     let clocks = &power.clocks;
     let sys_hz = hal::Clock::freq(&clocks.system_clock).to_Hz();
     if watchdog_reset {
@@ -95,9 +110,12 @@ fn main() -> ! {
         p.USBCTRL_DPRAM,
         &mut p.RESETS,
         pins.gpio24.into_floating_input(),
+        flash_id,
     );
 
     power.keep_resets(p.RESETS);
+    #[cfg(feature = "hil")]
+    hil::run(&mut power, &mut watchdog);
     watchdog.start((board::WATCHDOG_MS * 1_000).micros());
     safety::watchdog_runs_under_debugger();
     defmt::info!(
@@ -110,6 +128,7 @@ fn main() -> ! {
         battery,
         led,
         hall_power,
+        power_hold,
         timer,
         power,
         usb,

@@ -7,7 +7,6 @@ use rp2040_hal::gpio::{
     bank0::Gpio16, FunctionPwm, FunctionSioOutput, OutputDriveStrength, OutputSlewRate, Pin,
     PullDown,
 };
-use rp2040_hal::pac;
 use rp2040_hal::pwm::{FreeRunning, Pwm0, Slice};
 use swimbot_shared::{Duty, PwmTiming};
 
@@ -91,11 +90,4 @@ impl Motor {
             Motor::Disabled(_) => None,
         }
     }
-}
-
-/// Slice 0's counter, read through the PAC: the HAL has no accessor.
-pub fn counter() -> u16 {
-    // SAFETY: a read of a read-only view of the counter; no side effects.
-    let pwm = unsafe { &*pac::PWM::ptr() };
-    pwm.ch(0).ctr().read().ctr().bits()
 }

@@ -15,9 +15,10 @@
 //! them. Before it: motor off (the caller's condition), the system clock
 //! moved to the crystal, the clocks fed by the USB PLL stopped, both PLLs
 //! stopped (the sequence of the C SDK's `sleep_run_from_xosc` and
-//! `sleep_goto_dormant_until_pin`). After the wake: crystal stable, PLLs
-//! relocked, the boot's clock tree restored (125 MHz system, 48 MHz ADC),
-//! so the PWM divider and every timing stay valid. The 1 MHz timer stops
+//! `sleep_goto_dormant_until_pin`). After the wake the chip runs on the
+//! stable crystal (`Speed::Crystal`) until the next pass asks for the
+//! boot's tree (125 MHz system, 48 MHz ADC) and the PLLs relock, before
+//! any duty is applied, so the PWM divider and every timing stay valid. The 1 MHz timer stops
 //! during DORMANT (its tick comes from the crystal): time simply resumes.
 //!
 //! Two wake-ups (the IO bank's DORMANT_WAKE_INTE, RP2040 datasheet 2.19.3
@@ -109,23 +110,75 @@ const EDGE_LOW: u32 = 2;
 const IR_WAKE: WakeEvent = WakeEvent::new(board::IR_GPIO, EDGE_LOW);
 const VBUS_WAKE: WakeEvent = WakeEvent::new(board::VBUS_SENSE_GPIO, LEVEL_HIGH);
 
-/// The clock tree and what it is built from, kept so that DORMANT can take
-/// it down and put it back.
+/// How fast the chip runs between passes.
+#[derive(Clone, Copy, PartialEq, Eq, defmt::Format)]
+pub enum Speed {
+    /// The boot's tree: 125 MHz system (PLL_SYS), 48 MHz USB and ADC
+    /// (PLL_USB). Whenever the motor may run: its PWM divider and the
+    /// ADC's mid-pulse timing are set for it.
+    Full,
+    /// USB suspended: the system clock on the 12 MHz crystal, PLL_SYS off;
+    /// PLL_USB keeps clk_usb, which the controller needs to see the host
+    /// resume the bus.
+    UsbSuspended,
+    /// Everything on the crystal (system, peripherals, ADC), both PLLs
+    /// off: the state DORMANT is entered from and left in. Usable between
+    /// idle passes too (`run::speed_after` explains why it is not).
+    Crystal,
+}
+
+/// The clock tree and what it is built from, kept so that the idle speeds
+/// and DORMANT can take it down and put it back.
 pub struct Power {
     pub clocks: ClocksManager,
     xosc: Option<CrystalOscillator<Stable>>,
-    pll_sys: Option<PhaseLockedLoop<Locked, PLL_SYS>>,
-    pll_usb: Option<PhaseLockedLoop<Locked, PLL_USB>>,
+    pll_sys: Pll<PLL_SYS>,
+    pll_usb: Pll<PLL_USB>,
     /// Handed over once every peripheral is out of reset (`keep_resets`).
     resets: Option<RESETS>,
     usb_awake: bool,
+    speed: Speed,
+}
+
+/// A PLL, running or stopped (its typestate as a value).
+enum Pll<P: rp2040_hal::pll::PhaseLockedLoopDevice> {
+    Locked(PhaseLockedLoop<Locked, P>),
+    Off(PhaseLockedLoop<Disabled, P>),
+    Gone,
+}
+
+impl<P: rp2040_hal::pll::PhaseLockedLoopDevice> Pll<P> {
+    fn stop(&mut self) {
+        if let Pll::Locked(p) = core::mem::replace(self, Pll::Gone) {
+            *self = Pll::Off(p.disable());
+        }
+    }
+
+    /// Relock a stopped PLL; a PLL that does not relock is a panic: the
+    /// fail-safe handler keeps the motor off and resets.
+    fn start(&mut self, resets: &mut RESETS) {
+        if let Pll::Off(p) = core::mem::replace(self, Pll::Gone) {
+            match start_pll_blocking(p, resets) {
+                Ok(p) => *self = Pll::Locked(p),
+                Err(_) => panic!("a PLL did not relock"),
+            }
+        }
+    }
+
+    fn locked(&self) -> Option<&PhaseLockedLoop<Locked, P>> {
+        match self {
+            Pll::Locked(p) => Some(p),
+            _ => None,
+        }
+    }
 }
 
 impl Power {
     /// rp2040-hal's `init_clocks_and_plls` (125 MHz system, 48 MHz USB and
-    /// ADC), keeping the crystal and the PLLs for DORMANT; then the sleep
-    /// clock gates, applied by SLEEPDEEP. A clock that does not start is a
-    /// panic: the fail-safe handler keeps the motor off and resets.
+    /// ADC), keeping the crystal and the PLLs for the idle speeds and
+    /// DORMANT; then the sleep clock gates, applied by SLEEPDEEP. A clock
+    /// that does not start is a panic: the fail-safe handler keeps the
+    /// motor off and resets.
     pub fn start(
         (xosc, clocks, pll_sys, pll_usb): (XOSC, CLOCKS, PLL_SYS, PLL_USB),
         resets: &mut RESETS,
@@ -148,10 +201,11 @@ impl Power {
         Self {
             clocks,
             xosc: Some(xosc),
-            pll_sys: Some(pll_sys),
-            pll_usb: Some(pll_usb),
+            pll_sys: Pll::Locked(pll_sys),
+            pll_usb: Pll::Locked(pll_usb),
             resets: None,
             usb_awake: false,
+            speed: Speed::Full,
         }
     }
 
@@ -168,75 +222,124 @@ impl Power {
         self.usb_awake = awake;
     }
 
-    /// The reset controller, needed to restart the PLLs after DORMANT.
+    /// The reset controller, needed to restart the PLLs.
     pub fn keep_resets(&mut self, resets: RESETS) {
         self.resets = Some(resets);
     }
 
-    /// Go DORMANT until the IR pin falls or VBUS is present (the name is
-    /// the IR-only one's, as `run.rs` calls it); return with the boot's
-    /// clock tree running again. The next pass handles the cause as any
-    /// pass does: the IR edge is queued by its interrupt, VBUS is read.
-    /// `false` (nothing done) if the tree is not complete.
-    pub fn dormant_until_wake(&mut self) -> bool {
-        if self.resets.is_none() {
-            return false;
+    pub fn speed(&self) -> Speed {
+        self.speed
+    }
+
+    /// Run at `speed` from now on. Going up relocks the PLLs first (the
+    /// PLL's lock takes tens of microseconds; the caller does this before
+    /// it drives the motor); going down moves every clock off a PLL before
+    /// stopping it (RP2040 datasheet 2.15.3.2: glitchless muxes for
+    /// clk_sys and clk_ref; the aux sources are switched with the clock
+    /// briefly stopped, as `configure_clock` does). Nothing is done before
+    /// `keep_resets`.
+    pub fn set_speed(&mut self, speed: Speed) {
+        if speed == self.speed || self.resets.is_none() {
+            return;
         }
-        let (Some(xosc), Some(pll_sys), Some(pll_usb)) =
-            (self.xosc.take(), self.pll_sys.take(), self.pll_usb.take())
-        else {
-            return false;
+        self.full_speed();
+        if speed != Speed::Full {
+            self.slow_down(speed == Speed::UsbSuspended);
+        }
+        self.speed = speed;
+    }
+
+    /// The boot's tree again, from any speed.
+    fn full_speed(&mut self) {
+        let Some(resets) = self.resets.as_mut() else {
+            return;
+        };
+        if self.pll_sys.locked().is_some() && self.pll_usb.locked().is_some() {
+            return;
+        }
+        self.pll_sys.start(resets);
+        self.pll_usb.start(resets);
+        let (Some(xosc), Some(pll_sys), Some(pll_usb)) = (
+            self.xosc.as_ref(),
+            self.pll_sys.locked(),
+            self.pll_usb.locked(),
+        ) else {
+            panic!("the clock tree is incomplete");
+        };
+        if self.clocks.init_default(xosc, pll_sys, pll_usb).is_err() {
+            panic!("the clock tree did not come back");
+        }
+        self.speed = Speed::Full;
+    }
+
+    /// From the boot's tree: clk_sys (and clk_peri with it) on clk_ref,
+    /// the crystal; PLL_SYS stopped; unless `keep_usb`, clk_adc on the
+    /// crystal too (a conversion then takes 96 x 83 ns = 8 us instead of
+    /// 2 us: the motor is off, so there is no pulse to fit it in), clk_usb
+    /// and clk_rtc stopped and PLL_USB stopped.
+    fn slow_down(&mut self, keep_usb: bool) {
+        let Some(xosc) = self.xosc.as_ref() else {
+            return;
         };
         let freq = xosc.operating_frequency();
-        // clk_sys from clk_ref (the crystal), so the PLLs can stop.
         let _ = self
             .clocks
             .system_clock
             .configure_clock(&self.clocks.reference_clock, freq);
-        self.clocks.usb_clock.disable();
-        self.clocks.adc_clock.disable();
-        self.clocks.rtc_clock.disable();
-        let pll_sys = pll_sys.disable();
-        let pll_usb = pll_usb.disable();
+        let _ = self
+            .clocks
+            .peripheral_clock
+            .configure_clock(&self.clocks.system_clock, freq);
+        self.pll_sys.stop();
+        if !keep_usb {
+            let _ = self.clocks.adc_clock.configure_clock(xosc, freq);
+            self.clocks.usb_clock.disable();
+            self.clocks.rtc_clock.disable();
+            self.pll_usb.stop();
+        }
+    }
+
+    /// Go DORMANT until the IR pin falls or VBUS is present; return on the
+    /// crystal (`Speed::Crystal`: the caller's next pass picks the speed it
+    /// needs). The next pass handles the cause as any pass does: the IR
+    /// edge is queued by its interrupt, VBUS is read. `false` (nothing
+    /// done) if the tree is not complete.
+    pub fn dormant_until_wake(&mut self) -> bool {
+        if self.resets.is_none() || self.xosc.is_none() {
+            return false;
+        }
+        self.set_speed(Speed::Crystal);
+        let Some(xosc) = self.xosc.take() else {
+            return false;
+        };
         set_wake(true);
         // SAFETY: the system clock runs from the crystal and both PLLs are
         // stopped (`dormant`'s precondition); the wake-ups are enabled.
+        // DORMANT stops the crystal; the ring oscillator is already off
+        // (the boot's tree never uses it and `setup_xosc_blocking` leaves
+        // it as the ROM left it: see `rosc_off`).
         let unstable = unsafe { xosc.dormant() };
         let token = loop {
             if let Ok(token) = unstable.await_stabilization() {
                 break token;
             }
         };
-        let xosc = unstable.get_stable(token);
+        self.xosc = Some(unstable.get_stable(token));
         set_wake(false);
-        self.restore(xosc, pll_sys, pll_usb);
         true
     }
+}
 
-    fn restore(
-        &mut self,
-        xosc: CrystalOscillator<Stable>,
-        pll_sys: PhaseLockedLoop<Disabled, PLL_SYS>,
-        pll_usb: PhaseLockedLoop<Disabled, PLL_USB>,
-    ) {
-        // A PLL that does not relock leaves the chip on the crystal, motor
-        // off: a panic here resets it through `safety`, the safe outcome.
-        let Some(resets) = self.resets.as_mut() else {
-            panic!("DORMANT without the reset controller");
-        };
-        let (Ok(pll_sys), Ok(pll_usb)) = (
-            start_pll_blocking(pll_sys, resets),
-            start_pll_blocking(pll_usb, resets),
-        ) else {
-            panic!("a PLL did not relock after DORMANT");
-        };
-        if self.clocks.init_default(&xosc, &pll_sys, &pll_usb).is_err() {
-            panic!("the clock tree did not come back after DORMANT");
-        }
-        self.xosc = Some(xosc);
-        self.pll_sys = Some(pll_sys);
-        self.pll_usb = Some(pll_usb);
-    }
+/// Stop the ring oscillator, which the boot ROM started and ran the chip
+/// on until the crystal took over: nothing here uses it afterwards, and
+/// left running it draws in every state, DORMANT included (it is a
+/// separate oscillator: XOSC's DORMANT does not stop it). RP2040
+/// datasheet 2.17.8 (ROSC CTRL.ENABLE, the magic value 0xd1e to disable).
+pub fn rosc_off() {
+    // SAFETY: the system and reference clocks run from the crystal (after
+    // `Power::start`); a write of ROSC's CTRL only.
+    let rosc = unsafe { &*pac::ROSC::ptr() };
+    rosc.ctrl().modify(|_, w| w.enable().disable());
 }
 
 fn set_wake(enabled: bool) {

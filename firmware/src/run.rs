@@ -26,11 +26,13 @@ use crate::flash::LogRegion;
 use crate::ir;
 use crate::motor::Motor;
 use crate::pairing::{self, PairingStore};
-use crate::power::Power;
+use crate::power::{Power, Speed};
 use crate::sleep;
 use crate::usb::Usb;
 use embedded_hal::digital::OutputPin;
-use rp2040_hal::gpio::{bank0::Gpio12, bank0::Gpio25, FunctionSioOutput, Pin, PullDown};
+use rp2040_hal::gpio::{
+    bank0::Gpio12, bank0::Gpio22, bank0::Gpio25, FunctionSioOutput, Pin, PullDown,
+};
 use rp2040_hal::watchdog::ScratchRegister;
 use rp2040_hal::{Timer, Watchdog};
 use swimbot_shared::run_log::{Events, LogStore, Record, Recorder};
@@ -44,6 +46,16 @@ const _: () = assert!(
 
 pub type LedPin = Pin<Gpio25, FunctionSioOutput, PullDown>;
 pub type HallPowerPin = Pin<Gpio12, FunctionSioOutput, PullDown>;
+pub type PowerHoldPin = Pin<Gpio22, FunctionSioOutput, PullDown>;
+const _: () = assert!(
+    board::POWER_HOLD_GPIO == 22,
+    "the typed power-hold pin is GPIO22"
+);
+
+/// How long the chip waits, fed, for its own supply to go after it opened
+/// the load switch; still running after that, it has no switch (or USB or
+/// a charger powers it) and goes DORMANT instead.
+const POWER_OFF_WAIT_MS: u32 = 50;
 
 // The four registers named one by one, not mapped over an array of
 // `ScratchRegister`s: through `map`/`zip` the HAL's eight-way match was
@@ -74,6 +86,7 @@ pub struct Robot {
     pub battery: BatterySense,
     pub led: LedPin,
     pub hall_power: HallPowerPin,
+    pub power_hold: PowerHoldPin,
     pub timer: Timer,
     pub power: Power,
     pub usb: Usb,
@@ -192,6 +205,11 @@ impl Robot {
             let out = main_loop.pass(now_us, ir::drain(), ir::drain_hall(), || {
                 battery.read(motor.timing())
             });
+            let speed = speed_after(&out, usb, self.usb.suspended());
+            if speed != self.power.speed() {
+                defmt::info!("clocks: {}", speed);
+                self.power.set_speed(speed);
+            }
             self.motor.set(out.duty);
             let _ = self.hall_power.set_state(out.hall_power.into());
             if let Some(latched) = out.latch_changed {
@@ -227,14 +245,56 @@ impl Robot {
             if out.may_go_dormant {
                 // Motor off (the condition), LED dark, until an IR edge.
                 let _ = self.led.set_low();
+                if level == BatteryLevel::Cutoff {
+                    self.power_off(watchdog);
+                }
                 defmt::info!("dormant until an IR edge or VBUS");
                 self.power.dormant_until_wake();
+                let _ = self.power_hold.set_high();
+                main_loop.woke();
                 defmt::info!("awake");
                 watchdog.feed();
                 continue;
             }
             sleep::until_next_event(out.next_pass_in_us.unwrap_or(board::WAKE_PERIOD_US));
         }
+    }
+}
+
+impl Robot {
+    /// The cell is below its cut-off and the robot idle: open the load
+    /// switch, so that a stored robot stops drawing its cell. Returns (after
+    /// `POWER_OFF_WAIT_MS`, fed) only if the chip is still powered.
+    #[inline(never)]
+    fn power_off(&mut self, watchdog: &mut Watchdog) {
+        defmt::warn!("battery: cut-off while idle: opening the load switch");
+        let _ = self.power_hold.set_low();
+        let until = self.timer.get_counter().ticks() + u64::from(POWER_OFF_WAIT_MS) * 1_000;
+        while self.timer.get_counter().ticks() < until {
+            watchdog.feed();
+        }
+        defmt::warn!("still powered: no load switch (or USB); DORMANT instead");
+    }
+}
+
+/// The clock speed the pass's decision needs: the crystal with the USB
+/// clock kept while the bus is suspended (motor off: USB holds it off),
+/// else the boot's full tree. Set before the duty is applied, so a motor
+/// never starts on the crystal.
+///
+/// Not `Speed::Crystal` between idle passes: measured in the emulator
+/// (rp2040js derives clk_sys from the clock registers), a pass at 12 MHz
+/// takes ten times as long, so the core was asleep 82.8 % of an idle
+/// second instead of 98 %, and an On queued during a block erase gave its
+/// first pulse 2.5 ms after the erase instead of within 1 ms. Whether the
+/// PLLs' saving outweighs that needs the board's currents (bring-up
+/// checklist); DORMANT, the long idle, is entered from the crystal.
+fn speed_after(out: &PassOutput, usb: bool, suspended: bool) -> Speed {
+    let motor_idle = out.duty.raw() == 0 && !out.hall_power && out.next_pass_in_us.is_none();
+    if motor_idle && usb && suspended {
+        Speed::UsbSuspended
+    } else {
+        Speed::Full
     }
 }
 
@@ -288,13 +348,23 @@ fn log(out: &PassOutput, level: &mut BatteryLevel, led_mode: &mut LedMode) -> bo
 }
 
 /// `fault-test` images only: the emulator writes `SWIMBOT_FAULT_TEST`
-/// (found by its symbol) to make the main loop hang (1) or panic (2).
+/// (found by its symbol) to make the main loop hang (1), panic (2) or
+/// overflow its stack (3).
 #[cfg(feature = "fault-test")]
 mod fault_test {
     use core::sync::atomic::{AtomicU32, Ordering};
 
     #[no_mangle]
     static SWIMBOT_FAULT_TEST: AtomicU32 = AtomicU32::new(0);
+
+    /// Recurses until the stack runs off the bottom of RAM (flip-link puts
+    /// it there), 64 bytes a frame; `black_box` keeps every frame real.
+    #[allow(unconditional_recursion)]
+    #[inline(never)]
+    fn overflow(depth: u32) -> u32 {
+        let frame = core::hint::black_box([depth; 16]);
+        overflow(depth + 1).wrapping_add(frame[(depth & 15) as usize])
+    }
 
     pub fn act() {
         match SWIMBOT_FAULT_TEST.load(Ordering::Relaxed) {
@@ -304,6 +374,10 @@ mod fault_test {
                 loop {}
             }
             2 => panic!("fault-test: forced panic"),
+            3 => {
+                defmt::warn!("fault-test: unbounded recursion");
+                overflow(0);
+            }
             _ => {}
         }
     }

@@ -1,30 +1,61 @@
-//! The run log's readout over USB: a CDC-ACM serial port ([`device`], on
-//! the USB controller's registers) that answers the requests of
-//! `swimbot_shared::run_log` (`LOG`: the log image; `INFO`: one line).
+//! The run log's readout over USB: a CDC-ACM serial port (usb-device with
+//! usbd-serial's `CdcAcmClass` on rp2040-hal's `UsbBus`) that answers the
+//! requests of `swimbot_shared::run_log` (`LOG`: the log image; `INFO`: one
+//! line).
 //!
-//! VBUS is sensed on GPIO24 (the Pico's divider from the USB connector).
-//! While it is present the main loop tells the pass, which holds the motor
-//! off and refuses On, forbids flash erases (the host would time out) and
-//! DORMANT; the USB clock is kept running in sleep, and the USB interrupt
-//! wakes the core (its handler only masks itself; the main loop polls the
-//! device and unmasks it), so each pass serves the port. An image is
-//! streamed from flash in 64-byte packets as the host takes them.
+//! The descriptor is the composite form (device class 0xEF/0x02/0x01, an
+//! interface association around the two CDC interfaces), as TinyUSB and
+//! pico-sdk declare a CDC port: Windows 10/11 load usbser.sys for it without
+//! an INF, Linux binds cdc_acm and macOS AppleUSBCDCACM. The serial number
+//! is the flash chip's 64-bit unique ID (`flash::unique_id`, read at boot),
+//! so two robots on one PC keep their port names.
+//!
+//! VBUS is sensed on GPIO24 (the Pico's divider from the USB connector):
+//! the D+ pull-up is on only while it is present (a board on battery does
+//! not announce itself to a dead bus, and an unplugged cable leaves the
+//! controller detached). The controller's own VBUS detect is forced on
+//! (the Pico does not route VBUS to it); GPIO24 decides.
+//!
+//! While VBUS is present the main loop tells the pass, which holds the
+//! motor off and refuses On, forbids flash erases (the host would time
+//! out) and DORMANT; the USB clock is kept running in sleep, and the USB
+//! interrupt wakes the core (its handler only masks itself; the main loop
+//! polls the device and unmasks it), so each pass serves the port. A
+//! suspended bus (the PC asleep, no SOF for 3 ms) is reported by
+//! `suspended`: the main loop then holds the motor off as well and the
+//! power module drops the system clock to the crystal (USB 2.0 7.2.3: at
+//! most 2.5 mA from the bus). An image is streamed from flash in 64-byte
+//! packets as the host takes them.
+//!
+//! RP2040-E5 (B0/B1 chips enumerating behind a hub): rp2040-hal's
+//! `rp2040-e5` workaround borrows GPIO15, the IR receiver's pin, for about
+//! 1 ms after each bus reset (it forces the line state J through that
+//! pad). Only with a cable in, when the motor is held off; an IR frame in
+//! that millisecond may be lost, never turned into a command (the NEC
+//! decoder checks every frame's inverted bytes).
 
 use crate::board;
 use crate::flash::LogRegion;
+use rp2040_hal::clocks::{ClocksManager, UsbClock};
 use rp2040_hal::gpio::{bank0::Gpio24, FunctionSioInput, Pin, PullNone};
 use rp2040_hal::pac::{self, interrupt, RESETS, USBCTRL_DPRAM, USBCTRL_REGS};
+use rp2040_hal::usb::UsbBus;
 use swimbot_shared::run_log::readout::{info_line, Line, UNKNOWN_ANSWER};
 use swimbot_shared::run_log::store::{LogFlash, LogStore, ReadoutImage};
 use swimbot_shared::run_log::{Request, RequestReader};
-
-mod device;
-
-use device::CdcDevice;
+use usb_device::class_prelude::UsbBusAllocator;
+use usb_device::device::{
+    StringDescriptors, UsbDevice, UsbDeviceBuilder, UsbDeviceState, UsbVidPid,
+};
+use usb_device::UsbError;
+use usbd_serial::CdcAcmClass;
 
 const _: () = assert!(board::VBUS_SENSE_GPIO == 24, "the typed pin is GPIO24");
 
 pub type VbusPin = Pin<Gpio24, FunctionSioInput, PullNone>;
+
+/// Every endpoint's packet size (control and bulk): full speed's largest.
+const MAX_PACKET: u16 = 64;
 
 /// What is being sent.
 enum Answer {
@@ -35,7 +66,9 @@ enum Answer {
 
 pub struct Usb {
     vbus: VbusPin,
-    device: CdcDevice,
+    device: UsbDevice<'static, UsbBus>,
+    port: CdcAcmClass<'static, UsbBus>,
+    pulled_up: bool,
     /// The last packet sent was a full one: end the answer with a
     /// zero-length packet.
     zlp_due: bool,
@@ -43,28 +76,93 @@ pub struct Usb {
     answer: Answer,
 }
 
+/// The serial number's text: 16 hex digits of the flash chip's unique ID.
+fn serial_text(id: [u8; 8]) -> &'static str {
+    static mut TEXT: [u8; 16] = [0; 16];
+    const HEX: &[u8; 16] = b"0123456789ABCDEF";
+    // SAFETY: called once, from `Usb::new` (which takes the peripherals it
+    // needs by value, so it cannot run twice), before anything reads TEXT.
+    let text = unsafe { &mut *core::ptr::addr_of_mut!(TEXT) };
+    for (i, b) in id.iter().enumerate() {
+        text[2 * i] = HEX[usize::from(b >> 4)];
+        text[2 * i + 1] = HEX[usize::from(b & 0xf)];
+    }
+    // Hex digits only: always UTF-8.
+    core::str::from_utf8(text).unwrap_or("0")
+}
+
+/// The USB clock's token `UsbBus::new` asks for, as proof that clk_usb is
+/// configured. The firmware's `ClocksManager` stays whole in `Power`
+/// (DORMANT stops and restores clk_usb through it), so the token is made
+/// from a second manager over the same registers: its constructor only
+/// clears CLK_SYS_RESUS_CTRL, which nothing here uses, and `UsbBus` only
+/// keeps the token.
+fn usb_clock_token() -> UsbClock {
+    // SAFETY: see above; no clock is configured through this manager.
+    ClocksManager::new(unsafe { pac::CLOCKS::steal() }).usb_clock
+}
+
 impl Usb {
-    /// The controller reset and on the bus (pulled up); served from the
-    /// first pass with VBUS present.
+    /// The controller up and the port built; the D+ pull-up follows VBUS
+    /// from here on. `serial` is the flash chip's unique ID.
     pub fn new(
         regs: USBCTRL_REGS,
         dpram: USBCTRL_DPRAM,
         resets: &mut RESETS,
         vbus: VbusPin,
+        serial: [u8; 8],
     ) -> Self {
+        let bus = UsbBus::new(regs, dpram, usb_clock_token(), true, resets);
+        // `singleton!` is `None` only on a second call; there is one.
+        let alloc: &'static UsbBusAllocator<UsbBus> =
+            cortex_m::singleton!(: UsbBusAllocator<UsbBus> = UsbBusAllocator::new(bus)).unwrap();
+        let port = CdcAcmClass::new(alloc, MAX_PACKET);
+        let strings = StringDescriptors::default()
+            .manufacturer("swimbot")
+            .product(board::USB_PRODUCT)
+            .serial_number(serial_text(serial));
+        // Neither builder step can fail with these constants (one string
+        // set; 64 is a valid control packet size).
+        let device = UsbDeviceBuilder::new(alloc, UsbVidPid(board::USB_VID, board::USB_PID))
+            .composite_with_iads()
+            .strings(&[strings])
+            .unwrap()
+            .max_packet_size_0(MAX_PACKET as u8)
+            .unwrap()
+            .max_power(100)
+            .unwrap()
+            .build();
+        // `build` switched the pull-up on (`UsbBus::enable`): off until VBUS.
+        set_pullup(false);
         Self {
             vbus,
-            device: CdcDevice::new(regs, dpram, resets),
+            device,
+            port,
+            pulled_up: false,
             reader: RequestReader::new(),
             answer: Answer::None,
             zlp_due: false,
         }
     }
 
-    /// VBUS present (a USB cable powers the board).
+    /// VBUS present (a USB cable powers the board); the pull-up follows.
     pub fn connected(&mut self) -> bool {
         use embedded_hal::digital::InputPin;
-        self.vbus.is_high().unwrap_or(true)
+        let vbus = self.vbus.is_high().unwrap_or(true);
+        if vbus != self.pulled_up {
+            set_pullup(vbus);
+            self.pulled_up = vbus;
+            if !vbus {
+                self.answer = Answer::None;
+                self.zlp_due = false;
+            }
+        }
+        vbus
+    }
+
+    /// The host has suspended the bus (or never resumed it).
+    pub fn suspended(&self) -> bool {
+        self.device.state() == UsbDeviceState::Suspend
     }
 
     /// Serve the port: take requests, send what is due. `foreign` and
@@ -73,10 +171,14 @@ impl Usb {
     #[inline(never)]
     pub fn serve(&mut self, store: &LogStore, flash: &LogRegion, foreign: u32, paired: Option<u8>) {
         let mut feed = || flash.feed();
-        self.device.poll();
-        let mut buf = [0u8; 64];
-        loop {
-            let n = self.device.read(&mut buf);
+        self.device.poll(&mut [&mut self.port]);
+        if self.device.state() != UsbDeviceState::Configured {
+            // A reset or an unplugged cable ends what was being sent.
+            self.answer = Answer::None;
+            self.zlp_due = false;
+        }
+        let mut buf = [0u8; MAX_PACKET as usize];
+        while let Ok(n) = self.port.read_packet(&mut buf) {
             if n == 0 {
                 break;
             }
@@ -109,41 +211,58 @@ impl Usb {
         unsafe { pac::NVIC::unmask(pac::Interrupt::USBCTRL_IRQ) };
     }
 
+    /// Queue one packet on the bulk IN endpoint; false if the host has not
+    /// taken the last one yet.
+    fn write(&mut self, data: &[u8]) -> bool {
+        !matches!(self.port.write_packet(data), Err(UsbError::WouldBlock))
+    }
+
     /// One packet per call when the IN endpoint is free (the host takes
     /// one per 1 ms frame or faster; the USB interrupt wakes the next pass).
     fn send(&mut self, flash: &impl LogFlash) {
-        let mut chunk = [0u8; 64];
-        {
-            let n = match &self.answer {
-                Answer::None if self.zlp_due => {
-                    if self.device.write(&[]) {
-                        self.zlp_due = false;
-                    }
-                    return;
+        let mut chunk = [0u8; MAX_PACKET as usize];
+        let n = match &self.answer {
+            Answer::None if self.zlp_due => {
+                if self.write(&[]) {
+                    self.zlp_due = false;
                 }
-                Answer::None => return,
-                Answer::Image { image, pos } => image.read(flash, *pos, &mut chunk),
-                Answer::Text { line, pos } => {
-                    let rest = &line[(*pos).min(line.len())..];
-                    let n = rest.len().min(chunk.len());
-                    chunk[..n].copy_from_slice(&rest[..n]);
-                    n
-                }
-            };
-            if n == 0 {
-                self.answer = Answer::None;
                 return;
             }
-            if !self.device.write(&chunk[..n]) {
-                return; // the host has not taken the last packet yet
+            Answer::None => return,
+            Answer::Image { image, pos } => image.read(flash, *pos, &mut chunk),
+            Answer::Text { line, pos } => {
+                let rest = &line[(*pos).min(line.len())..];
+                let n = rest.len().min(chunk.len());
+                chunk[..n].copy_from_slice(&rest[..n]);
+                n
             }
-            self.zlp_due = n == chunk.len();
-            match &mut self.answer {
-                Answer::Image { pos, .. } | Answer::Text { pos, .. } => *pos += n,
-                Answer::None => {}
-            }
+        };
+        if n == 0 {
+            self.answer = Answer::None;
+            return;
+        }
+        if !self.write(&chunk[..n]) {
+            return; // the host has not taken the last packet yet
+        }
+        self.zlp_due = n == chunk.len();
+        match &mut self.answer {
+            Answer::Image { pos, .. } | Answer::Text { pos, .. } => *pos += n,
+            Answer::None => {}
         }
     }
+}
+
+/// The D+ pull-up (SIE_CTRL.PULLUP_EN, RP2040 datasheet 4.1.4): the
+/// device's presence on the bus. `UsbBus` switches it on once, in
+/// `enable`; it is left to VBUS here.
+fn set_pullup(on: bool) {
+    // SAFETY: one bit of SIE_CTRL, changed in a critical section so that
+    // it cannot interleave with `UsbBus`'s own read-modify-writes, which
+    // run in critical sections too.
+    critical_section::with(|_| {
+        let regs = unsafe { &*pac::USBCTRL_REGS::ptr() };
+        regs.sie_ctrl().modify(|_, w| w.pullup_en().bit(on));
+    });
 }
 
 #[interrupt]

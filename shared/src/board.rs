@@ -190,6 +190,17 @@ const _: () = assert!(whole_blocks(LOG_LAYOUT.slot_len) && whole_blocks(LOG_FLAS
 /// USB VBUS sense: the Pico's GPIO24 reads VBUS through a divider (high
 /// while a USB cable powers the board). USB connected = the motor off.
 pub const VBUS_SENSE_GPIO: u8 = 24;
+/// Power hold: driven high from the first instruction of `main`, it keeps
+/// the board's load switch closed (a P-channel MOSFET or a TPS22917-class
+/// switch between the cell and the regulator, its enable pulled down, a
+/// push-button or the charger's 5 V in parallel with this pin to turn it
+/// on). Driven low once the cut-off has latched and the robot is idle: the
+/// switch opens and the cell feeds only the switch's leakage (about 1 uA)
+/// and the divider's 90 uA if it sits before the switch (it should sit
+/// after it). A Pico without the switch ignores the pin and goes DORMANT
+/// as before. GPIO22: free on the Pico's header.
+pub const POWER_HOLD_GPIO: u8 = 22;
+
 /// USB IDs of the readout port: pid.codes' shared CDC-ACM pair
 /// (0x16C0/0x27DD, the one `usbd-serial`'s examples use), enough for a
 /// lab's serial port; the host finds the port by the product string.
@@ -268,6 +279,7 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
         (tag(b"VBUS"), VBUS_SENSE_GPIO as u32),
         (tag(b"VMAX"), SUPERVISOR.max_motor_mv),
         (tag(b"JAMW"), SUPERVISOR.jam.window_us / 1_000),
+        (tag(b"PHGP"), POWER_HOLD_GPIO as u32),
     ];
     let mut out = [0u32; 2 + 2 * EXPORT_PAIRS];
     out[0] = tag(b"SWBD");
@@ -280,7 +292,7 @@ pub const EXPORT: [u32; 2 + 2 * EXPORT_PAIRS] = {
     }
     out
 };
-pub const EXPORT_PAIRS: usize = 42;
+pub const EXPORT_PAIRS: usize = 43;
 
 #[cfg(test)]
 mod tests {

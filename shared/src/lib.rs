@@ -27,7 +27,6 @@ pub mod reset_memory;
 pub mod run_log;
 pub mod set_point;
 pub mod supervisor;
-pub mod usb_cdc;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
 pub use command::{Command, KeyMap, Remote, RemoteEvent};

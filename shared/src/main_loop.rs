@@ -160,6 +160,14 @@ impl<C: MotorControl> MainLoop<C> {
         self.remote.set_paired(address);
     }
 
+    /// The chip has just woken from DORMANT (its timer stood still, so the
+    /// sample schedule does not know time passed): the next pass reads
+    /// the battery, whatever the schedule says. A stored robot's cell is
+    /// thus checked on every wake-up, before anything else is decided.
+    pub fn woke(&mut self) {
+        self.next_sample_us = None;
+    }
+
     /// USB is connected (VBUS present): from the next pass the motor is
     /// held off, and On does nothing, until it is disconnected.
     pub fn set_usb_connected(&mut self, connected: bool) {

@@ -36,6 +36,11 @@ fn main() -> ExitCode {
         Some("test") => test_all(&root),
         Some("size") => firmware_size(&root, &mut Steps::new()),
         Some("fw") => build_firmware(&root, &mut Steps::new()),
+        Some("hil") => {
+            #[path = "hil.rs"]
+            mod hil;
+            hil::run(&root)
+        }
         _ => {
             eprintln!("usage: cargo xtask <test|size|fw>");
             return ExitCode::from(2);

@@ -49,6 +49,19 @@ fn samples_on_schedule_and_starts_on_a_frame() {
 }
 
 #[test]
+fn a_wake_from_dormant_reads_the_cell_at_once() {
+    let mut m = MainLoop::new(false);
+    idle(&mut m, 0, 10_000, 3_900);
+    // The timer stood still in DORMANT: the next pass is 1 us later on it.
+    m.woke();
+    let o = m.pass(10_001, [], [], || counts(3_100));
+    assert_eq!(o.sample, Some(counts(3_100)), "no reading on the wake-up");
+    // Then the schedule again: every 20 ms from the wake-up's reading.
+    assert!(m.pass(29_000, [], [], || counts(3_100)).sample.is_none());
+    assert!(m.pass(30_001, [], [], || counts(3_100)).sample.is_some());
+}
+
+#[test]
 fn another_robot_samples_on_its_own_period() {
     let cfg = MainLoopConfig {
         sample_period_us: 5_000,

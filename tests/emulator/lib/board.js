@@ -98,6 +98,7 @@ export class Board {
     this.irEdgeTimes = [];
     this.asleep = []; // { from, to } absolute ns, one per stretch the core spent in WFI/WFE
     this.dormantStretches = []; // { from, to } absolute ns: crystal stopped, every clock frozen
+    this.lockups = []; // { t, address, why }: the core locked up (see `busFault`)
     this.adcReads = []; // { t, pin, phase, v } one per battery conversion
     this.irLevel = true; // TSOP output idles high
     this.cell = new Cell(4.0);
@@ -155,6 +156,7 @@ export class Board {
     const previous = this.mcu;
     if (previous) this.timeOffsetNs += this.clock.nanos;
     const mcu = new RP2040(); // with its own SimulationClock (simulated nanoseconds)
+    this.lockedUp = null; // a reset ends a lockup
     this.clock = mcu.clock;
     mcu.logger = this.logger;
     mcu.peripherals[(VREG_AND_CHIP_RESET_BASE >>> 14) << 2] = new VregAndChipReset(mcu);
@@ -206,6 +208,23 @@ export class Board {
     if (this.hallLevels) {
       mcu.gpio[f.hallAGpio].setInputValue(this.hallLevels[0]);
       mcu.gpio[f.hallBGpio].setInputValue(this.hallLevels[1]);
+    }
+    // Writes into the XIP block's space outside its writable windows are
+    // bus errors on the chip (XIP_CTRL.ERR_BADWRITE = 1 at reset): the
+    // cached alias 0x10xxxxxx (writes go to the cache), XIP_CTRL and
+    // XIP_SRAM (0x14/0x15xxxxxx) and the SSI (0x18xxxxxx) take writes;
+    // rp2040js ignores the rest. A stack overflow's pushes land at
+    // 0x1FFFFFxx. Modelled: such a write aborts the instruction (BusFault
+    // below) and the core takes HardFault; if that exception's own stacking
+    // faults too, or the core is already in HardFault, the core locks up
+    // (ARMv6-M: no handler runs, the core fetches nothing; the peripherals,
+    // the PWM and the watchdog run on). `lockups` records each.
+    for (const width of ['writeUint32', 'writeUint16', 'writeUint8']) {
+      const write = mcu[width].bind(mcu);
+      mcu[width] = (address, value) => {
+        if (isBadXipWrite(address >>> 0)) throw new BusFault(address >>> 0);
+        write(address, value);
+      };
     }
     // Sample-and-hold at the start of each conversion: the cell's terminal
     // voltage at that instant, from the motor pin's present level.
@@ -371,6 +390,24 @@ export class Board {
       this.usb.lastRxAt = this.nowNs;
     };
     this.usb.cdc = cdc;
+    // rp2040js raises BUS_RESET when its 10 ms reset ends but leaves the
+    // line state at SE0 and, until the firmware clears BUS_RESET, CONNECTED
+    // clear. A B1 chip behind a hub looks the same (RP2040-E5), except that
+    // the idle bus after the reset reads J: rp2040-hal's `rp2040-e5`
+    // workaround waits for that J, forces it through GPIO15, and sees
+    // CONNECTED (rp2040js sets it on the USB_MUXING write). The line state
+    // J is set here with the end of the reset, so that path runs.
+    if (!usbc.swimbotLineStateJ) {
+      usbc.swimbotLineStateJ = true;
+      const updated = usbc.sieStatusUpdated.bind(usbc);
+      usbc.sieStatusUpdated = () => {
+        const BUS_RESET = 1 << 19;
+        const LINE_STATE = 3 << 2;
+        const J = 1 << 2;
+        if (usbc.sieStatus & BUS_RESET && (usbc.sieStatus & LINE_STATE) === 0) usbc.sieStatus |= J;
+        updated();
+      };
+    }
     // The firmware enables its USB controller at boot, before any cable: the
     // host's bus reset, which rp2040js's CDC host sends when the controller
     // is enabled, comes now, as when a cable is plugged in.
@@ -465,7 +502,13 @@ export class Board {
         // while the timer, PWM and watchdog run on. An interrupt the
         // firmware left unmasked is taken (below), as on the chip, where the
         // ROM's wait loop is interrupted; masked, an edge stays latched.
-        clock.tick(Math.min(this.stallEndNs, tAbs) - this.nowNs);
+        // In the clock's own time base: `stallEndNs - nowNs` mixes the
+        // offset (seconds, after a power-up) with the clock's fraction of a
+        // nanosecond, and rounded to 0 there while `clock.nanos < end` still
+        // held, a loop that never advanced (seen once the passes' timing
+        // shifted by a few cycles). At least a picosecond: always progress.
+        const stallEnd = this.stallEndNs - this.timeOffsetNs;
+        clock.tick(Math.max(Math.min(stallEnd, end) - clock.nanos, 1e-3));
         continue;
       }
       if (this.stallEndNs > this.nowNs && core.IPSR === 0) core.interruptsUpdated = true; // enter it now
@@ -489,8 +532,20 @@ export class Board {
         else this.asleep.push({ from, to: this.nowNs });
         continue;
       }
+      if (this.lockedUp) {
+        // Locked up: no instruction runs until a reset (the watchdog's).
+        clock.tick(Math.max(Math.min(clock.nanosToNextAlarm, end - clock.nanos), 1e-3));
+        continue;
+      }
       const before = core.IPSR;
-      const cycles = core.executeInstruction();
+      const pc = core.PC;
+      let cycles;
+      try {
+        cycles = core.executeInstruction();
+      } catch (e) {
+        if (!(e instanceof BusFault)) throw e;
+        cycles = this.busFault(pc, e.address);
+      }
       const after = core.IPSR;
       if (before === EXC_IO_IRQ_BANK0 || after === EXC_IO_IRQ_BANK0) {
         if (!this.inIrq) {
@@ -511,6 +566,25 @@ export class Board {
       this.watchdogFired = false;
       this.powerOn('watchdog');
     }
+  }
+
+  /** A bus error at the instruction at `pc`: HardFault, or lockup if that cannot be entered. */
+  busFault(pc, address) {
+    const core = this.mcu.core;
+    const lockup = (why) => {
+      this.lockedUp = { t: this.nowNs, address, why };
+      this.lockups.push(this.lockedUp);
+      return 1;
+    };
+    if (core.IPSR === 3) return lockup('bus error in the HardFault handler');
+    core.PC = pc; // the stacked return address: the faulting instruction
+    try {
+      core.exceptionEntry(3);
+    } catch (e) {
+      if (!(e instanceof BusFault)) throw e;
+      return lockup('bus error stacking the HardFault frame');
+    }
+    return 1;
   }
 
   // ---- observation ---------------------------------------------------------
@@ -693,4 +767,18 @@ function bootromWords(path) {
   const words = new Uint32Array(4096);
   for (let i = 0; i < 4096; i++) words[i] = bytes.readUInt32LE(i * 4);
   return words;
+}
+
+class BusFault extends Error {
+  constructor(address) {
+    super(`bus error: write to 0x${address.toString(16)}`);
+    this.address = address;
+  }
+}
+
+/** A write the XIP block answers with a bus error (see the guard in `boot`). */
+function isBadXipWrite(a) {
+  if (a < 0x10000000 || a >= 0x20000000) return false;
+  const top = a >>> 24;
+  return !(top === 0x10 || top === 0x14 || top === 0x15 || top === 0x18);
 }

@@ -47,6 +47,7 @@ const NAMES = {
   VBUS: 'vbusGpio',
   VMAX: 'motorRatedMv',
   JAMW: 'jamWindowMs',
+  PHGP: 'powerHoldGpio',
 };
 
 const tagText = (w) => String.fromCharCode((w >>> 24) & 0xff, (w >>> 16) & 0xff, (w >>> 8) & 0xff, w & 0xff);

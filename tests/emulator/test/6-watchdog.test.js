@@ -87,3 +87,26 @@ test('forced panic: gate low at once, then a reset', () => {
   console.log(`emulator: last motor pulse ${ms(reset.t - lastHigh)} before the reset`);
   staysOff(b, reset.t);
 });
+
+// A stack overflow on the Cortex-M0+ (the board models the XIP block's bus
+// error for a write below RAM and the ARMv6-M lockup when the HardFault
+// frame cannot be stacked: lib/board.js, `busFault`). Expected: the core
+// locks up, no handler runs (the gate is not forced low), the PWM keeps its
+// last duty until the watchdog resets the chip within its period, then the
+// pin is low and stays low; the reset reads as the watchdog's, not FORCE.
+test('stack overflow: lockup, the motor runs on until the watchdog resets the chip', () => {
+  const tFault = 700 * MS;
+  const { b, reset } = faultAt(3, tFault);
+  assert.equal(b.lockups.length, 1, `lockups: ${JSON.stringify(b.lockups)}`);
+  const lock = b.lockups[0];
+  perf('stack overflow: switch set to lockup', ((lock.t - tFault) / US).toFixed(0), 'us');
+  console.log(`emulator: lockup at 0x${lock.address.toString(16)} (${lock.why})`);
+  assert.ok(lock.address >= 0x1f000000 && lock.address < 0x20000000, 'the fault was not a push below RAM');
+  // The PWM ran on through the lockup: the duty before the reset is the run's.
+  assert.ok(b.dutyIn(lock.t, reset.t) > RUNNING_DUTY, 'the motor stopped before the watchdog: a handler ran?');
+  const wdNs = b.facts.watchdogMs * MS;
+  perf(`stack overflow: lockup to watchdog reset (period ${b.facts.watchdogMs} ms)`, ((reset.t - lock.t) / MS).toFixed(1), 'ms');
+  assert.ok(reset.t - lock.t <= wdNs + 2 * MS, `reset ${ms(reset.t - lock.t)} after the lockup`);
+  assert.equal(b.watchdog.reason, 1, `watchdog REASON ${b.watchdog.reason}: want TIMER (no handler's FORCE)`);
+  staysOff(b, reset.t);
+});
