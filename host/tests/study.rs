@@ -37,6 +37,38 @@ fn pc(v: f64) -> String {
     format!("{:.2}", 100.0 * v)
 }
 
+/// Render the study's page and check that every step's numbers on it are
+/// the study's (`steps --format json`): the MARE after, each parameter's
+/// value and interval, each law's place. Returns the page.
+fn page_matches_steps(d: &Path, steps: &[serde_json::Value]) -> String {
+    ok(d, &["report", "--quiet"]);
+    let page = std::fs::read_to_string(d.join("swimbot-out/report/index.html")).unwrap();
+    for (i, s) in steps.iter().enumerate() {
+        assert!(page.contains(&format!("id=\"step-{}\"", i + 1)));
+        let after = s["after"]["stats"]["mare"].as_f64().unwrap();
+        assert!(
+            page.contains(&format!("<td>{}</td>", pc(after))),
+            "step {}",
+            i + 1
+        );
+        let params = s["param"].as_array().unwrap().iter();
+        for p in params.chain(s["refitted"].as_array().into_iter().flatten()) {
+            for key in ["value", "lo", "hi"] {
+                if let Some(v) = p[key].as_f64() {
+                    let cell = format!("<td>{}</td>", swimbot::format::fmt_sig(v, 4));
+                    assert!(page.contains(&cell), "step {}: {key} of {p}", i + 1);
+                }
+            }
+        }
+        for f in s["effect"]["formula"].as_array().into_iter().flatten() {
+            let law = f.as_str().unwrap();
+            let place = law.split(' ').next().unwrap();
+            assert!(page.contains(place), "{law}");
+        }
+    }
+    page
+}
+
 #[test]
 fn the_loop_on_the_paper_data_lowers_the_error_at_every_step_with_one_set_of_numbers() {
     let dir = lab();
@@ -79,26 +111,11 @@ fn the_loop_on_the_paper_data_lowers_the_error_at_every_step_with_one_set_of_num
         assert!(table.contains(&format!("{} %", pc(after))), "{table}");
     }
     // the page's numbers are the study's, and its bundle's tables hold numbers
-    ok(d, &["report"]);
-    let page = std::fs::read_to_string(d.join("swimbot-out/report/index.html")).unwrap();
-    for (i, s) in steps.iter().enumerate() {
-        assert!(page.contains(&format!("id=\"step-{}\"", i + 1)));
-        let after = s["after"]["stats"]["mare"].as_f64().unwrap();
-        assert!(
-            page.contains(&format!("<td>{}</td>", pc(after))),
-            "step {}",
-            i + 1
-        );
-        for p in s["param"].as_array().unwrap() {
-            let v = p["value"].as_f64().unwrap();
-            assert!(page.contains(&swimbot::format::fmt_sig(v, 4)), "{p}");
-        }
-        for f in s["effect"]["formula"].as_array().into_iter().flatten() {
-            let law = f.as_str().unwrap();
-            let place = law.split(' ').next().unwrap();
-            assert!(page.contains(place), "{law}");
-        }
-    }
+    let page = page_matches_steps(d, steps);
+    assert!(
+        page.contains("in the layout of the paper's Fig. 4"),
+        "the paper's design is drawn as its Fig. 4"
+    );
     assert!(page.contains("id=\"first-diagnosis\"") && page.contains("id=\"final-diagnosis\""));
     let steps_table: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(d.join("swimbot-out/report/tables/steps-1.json")).unwrap(),
@@ -264,6 +281,10 @@ fn the_order_of_steps_does_not_decide_the_physics_on_a_planted_set() {
     assert_eq!(last["choice"]["kept"], "joint");
     let held = last["choice"]["held"]["mare"].as_f64().unwrap();
     assert!(held > last["before"]["mare"].as_f64().unwrap(), "{held}");
+    // the page says the same, and draws two tubes' data as parity plots
+    let page = page_matches_steps(d, steps);
+    assert!(page.contains("Parity: U"), "two tubes: parity, not Fig. 4");
+    assert!(page.contains("with the earlier steps held the error rises"));
     for (label, truth) in PLANTED_VALUES {
         let (v, lo, hi) = current_param(steps, label);
         assert!(

@@ -22,6 +22,7 @@ pub mod plots;
 mod remains;
 mod residuals;
 pub mod story;
+mod study_fig4;
 mod study_page;
 mod wording;
 mod yours;

@@ -260,6 +260,16 @@ fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> String
         opt_num(st.after.stats.noise_floor_chi2)
     ));
     h.push_str(&before_after_table(before, &st.after));
+    if super::study_fig4::applies(data, &st.after.cases) {
+        h.push_str(&super::study_fig4::figure(
+            data,
+            n,
+            &d.name,
+            before,
+            &st.after.cases,
+        ));
+        return h;
+    }
     let feature = feature_of(data, &st.effect.formula);
     let charts = [
         parity(before, &st.after.cases, false),

@@ -30,7 +30,7 @@ mod ticks;
 mod tests;
 
 pub use bars::{steps, Bars};
-pub use chart::{stack, Chart};
+pub use chart::{legend_only, stack, Chart};
 pub use check::{legend_clear, text_clear};
 pub use legend::Glyph;
 pub use series::Series;

@@ -55,7 +55,7 @@ fn every_figure_of_the_report_page_is_clear_and_readable() {
         .iter()
         .filter(|s| texts(s).iter().any(|t| t.starts_with("Parity")))
         .collect();
-    // the paper's model's (section 3) and the model asked for's (section 4)
+    // the paper's model's (where it fails) and the model asked for's (step by step)
     assert_eq!(parity.len(), 4);
     for p in parity {
         let t = texts(p);
