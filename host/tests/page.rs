@@ -387,8 +387,8 @@ fn a_lab_s_four_groups_and_second_tube_shape_the_page() {
             continue;
         }
         let svg = std::fs::read_to_string(&path).unwrap();
-        swimbot::report::plots::text_clear(&svg)
-            .and_then(|()| swimbot::report::plots::legend_clear(&svg))
+        swimbot::chart::text_clear(&svg)
+            .and_then(|()| swimbot::chart::legend_clear(&svg))
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     }
     // the lab's title and each case's tube

@@ -13,7 +13,7 @@
 //! case stay apart.
 
 use super::curve::model_curve;
-use super::plots::{legend_only, Chart, PlotResult, Series};
+use crate::chart::{legend_only, Chart, PlotResult, Series};
 use crate::data::{Case, Dataset};
 use crate::model::{Model, Prediction};
 use crate::workbench::compare::Comparison;

@@ -10,6 +10,8 @@ mod correlated;
 mod curve;
 mod fails;
 mod figure4;
+#[cfg(test)]
+mod figure_checks;
 mod html;
 mod intro;
 mod paper;
@@ -18,7 +20,6 @@ mod path;
 mod path_chart;
 mod physics;
 mod physics_misses;
-pub mod plots;
 mod remains;
 mod residuals;
 pub mod story;

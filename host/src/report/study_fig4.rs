@@ -17,7 +17,7 @@
 
 use super::figure4::{dodge, dodge_percent, n_waves_range, panel_width, MEASURED};
 use super::html::figure_flow;
-use super::plots::{legend_only, Chart, Series, PALETTE};
+use crate::chart::{legend_only, Chart, Series, PALETTE};
 use crate::data::Dataset;
 use crate::study::CaseRow;
 use plotters::style::RGBColor;

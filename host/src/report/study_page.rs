@@ -11,7 +11,7 @@
 //! names, else the geometry that varies across the cases).
 
 use super::html::{document, escape, figure, table};
-use super::plots::{notation, steps, Axis, Chart, Series, PALETTE};
+use crate::chart::{notation, steps, Axis, Chart, Series, PALETTE};
 use crate::data::quantities::{by_id, FEATURES};
 use crate::data::Dataset;
 use crate::format::fmt_sig;

@@ -1,4 +1,5 @@
-//! The report's chart engine: SVG written directly (float coordinates, real
+//! The chart engine of the report, the simulation's figures and the run
+//! log's: SVG written directly (float coordinates, real
 //! subscripts, physics notation), with legends placed where they cover no
 //! data ([`legend_clear`] checks it), sensible ticks (powers of ten on log
 //! axes), per-point labels, error bars in x and y, and a note on the figure
@@ -27,7 +28,7 @@ mod svg_text;
 mod ticks;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 pub use bars::{steps, Bars};
 pub use chart::{legend_only, stack, Chart};

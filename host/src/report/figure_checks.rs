@@ -1,7 +1,8 @@
 //! Every figure of the report page, on the built-in data and on a lab's
 //! four groups, clear and readable.
 
-use super::*;
+use crate::chart::tests::{is_integer_with_point_zero, texts};
+use crate::chart::{legend_clear, text_clear};
 
 /// Every figure (SVG, without its closing tag) of the report page of
 /// `model` on `data`.
