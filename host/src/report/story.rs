@@ -146,12 +146,10 @@ mod tests {
         let section = &html[from..to];
         assert!(section.contains("cheap zero-parameter model"));
         let fig = &section[section.find("<figure id=\"fig4-physics\"").unwrap()..];
-        assert_eq!(
-            fig[..fig.find("</figure>").unwrap()]
-                .matches("<svg")
-                .count(),
-            6
-        );
+        let fig = &fig[..fig.find("</figure>").unwrap()];
+        // six panels and the figure's one legend
+        assert_eq!(fig.matches("<svg").count(), 7);
+        assert_eq!(fig.matches("class=\"fig-legend\"").count(), 1);
         // its errors as `compare` computes them, beside the paper's
         let mare = compare(&cheap, &data, 0).unwrap().summary.mare;
         assert!(

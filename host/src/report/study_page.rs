@@ -132,13 +132,12 @@ fn diagnosis(d: Option<&DiagnosisRecord>) -> String {
     if !d.proposals.is_empty() {
         h.push_str("<p>It proposes:</p><ul>");
         for p in &d.proposals {
-            let how = match &p.law {
-                Some(_) => format!(
-                    "<code>swimbot diagnose --write-effect found.toml</code>, then <code>swimbot add found.toml#{}</code>",
-                    escape(&p.name)
-                ),
-                None => format!("<code>swimbot add {}</code>", escape(&p.name)),
-            };
+            let how = p
+                .add_commands()
+                .iter()
+                .map(|c| format!("<code>{}</code>", escape(c)))
+                .collect::<Vec<_>>()
+                .join(", then ");
             h.push_str(&format!(
                 "<li>{}{} ({how})</li>",
                 escape(&notation(&p.text)),
