@@ -15,7 +15,7 @@
 //! [`Bars`] are the builders behind them.
 
 mod bars;
-mod chart;
+mod builder;
 mod check;
 mod frame;
 mod geom;
@@ -31,7 +31,7 @@ mod ticks;
 pub(crate) mod tests;
 
 pub use bars::{steps, Bars};
-pub use chart::{legend_only, stack, Chart};
+pub use builder::{legend_only, stack, Chart};
 pub use check::{legend_clear, text_clear};
 pub use legend::Glyph;
 pub use series::Series;

@@ -2,7 +2,7 @@
 //! and point labels, the legend where it covers nothing, and the notes
 //! (among them which error bars the markers hide).
 
-use super::chart::{axes, y_ticks_and_left, Chart, Map, REFERENCE, X_TICK_PX};
+use super::builder::{axes, y_ticks_and_left, Chart, Map, REFERENCE, X_TICK_PX};
 use super::frame::{top_px, Frame, BOTTOM_PX, RIGHT_PX};
 use super::geom::{Rect, Shape};
 use super::labels::{place_label, wrap, Label, LABEL_FONT_PX, NOTE_FONT_PX};
