@@ -34,6 +34,19 @@ pub fn escape(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
+/// Text in physics notation as HTML: escaped, `Omega_b` as Ω<sub>b</sub>,
+/// `x^2` as x<sup>2</sup> (the same runs the charts draw).
+pub fn rich(s: &str) -> String {
+    crate::chart::notation_runs(&crate::chart::notation(s))
+        .into_iter()
+        .map(|(t, shift)| match shift {
+            0 => escape(&t),
+            -1 => format!("<sub>{}</sub>", escape(&t)),
+            _ => format!("<sup>{}</sup>", escape(&t)),
+        })
+        .collect()
+}
+
 /// A chart, or a visible note where it failed.
 pub fn svg_or_note(r: &Result<String, String>) -> String {
     match r {

@@ -280,11 +280,11 @@ fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> String
         &charts,
         3,
         &format!(
-            "Step {n}, + {}: predicted against measured U and Ω_b before (hollow, grey) and after \
-             (filled) the step, each point labelled by its case, the measured 95 % intervals as \
-             horizontal bars; and the relative error against {} before and after.",
-            d.name,
-            notation(feature.name)
+            "Step {n}, + {}: predicted against measured U and Ω<sub>b</sub> before (hollow, grey) \
+             and after (filled) the step, each point labelled by its case, the measured 95 % \
+             intervals as horizontal bars; and the relative error against {} before and after.",
+            escape(&d.name),
+            super::html::rich(feature.name)
         ),
     ));
     h
