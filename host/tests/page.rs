@@ -376,7 +376,21 @@ fn a_lab_s_four_groups_and_second_tube_shape_the_page() {
     for fig in ["fig4", "fig4-yours"] {
         let f = figure(&page, fig);
         assert!(f.contains("--cols:4"), "{fig}: four columns");
-        assert_eq!(f.matches("<svg").count(), 8, "{fig}");
+        // eight panels and one legend above them, so that no panel is
+        // widened by it (panel (a) was, and the page's grid then showed it
+        // at about 64 %): every panel as wide as the others
+        assert_eq!(f.matches("<svg").count(), 9, "{fig}");
+        let grid = &f[f.find("class=\"grid\"").unwrap()..];
+        let widths: Vec<&str> = grid
+            .split("<svg ")
+            .skip(1)
+            .map(|s| {
+                let w = &s[s.find(" width=\"").unwrap() + 8..];
+                &w[..w.find('"').unwrap()]
+            })
+            .collect();
+        assert_eq!(widths.len(), 8, "{fig}");
+        assert!(widths.iter().all(|w| *w == widths[0]), "{fig}: {widths:?}");
     }
     // narrower panels, yet no text of Fig. 4 runs into another and its
     // legend covers no data (Fig. 4 only: in this lab's residual plot the
@@ -387,8 +401,8 @@ fn a_lab_s_four_groups_and_second_tube_shape_the_page() {
             continue;
         }
         let svg = std::fs::read_to_string(&path).unwrap();
-        swimbot::report::plots::text_clear(&svg)
-            .and_then(|()| swimbot::report::plots::legend_clear(&svg))
+        swimbot::chart::text_clear(&svg)
+            .and_then(|()| swimbot::chart::legend_clear(&svg))
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     }
     // the lab's title and each case's tube

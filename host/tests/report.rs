@@ -53,7 +53,8 @@ fn the_default_report_tells_the_story_with_six_fig4_panels_and_the_noise_floor()
     );
     // Fig. 4: six panels (a)-(f), both coefficient sets
     let fig4 = figure(&page, "fig4");
-    assert_eq!(fig4.matches("<svg").count(), 6, "six panels");
+    // six panels and the figure's one legend above them
+    assert_eq!(fig4.matches("<svg").count(), 7, "six panels and a legend");
     for panel in ["(a)", "(b)", "(c)", "(d)", "(e)", "(f)"] {
         assert!(fig4.contains(panel), "panel {panel}");
     }
@@ -66,8 +67,8 @@ fn the_default_report_tells_the_story_with_six_fig4_panels_and_the_noise_floor()
     for e in std::fs::read_dir(&figures).unwrap() {
         let path = e.unwrap().path();
         let svg = std::fs::read_to_string(&path).unwrap();
-        swimbot::report::plots::text_clear(&svg)
-            .and_then(|()| swimbot::report::plots::legend_clear(&svg))
+        swimbot::chart::text_clear(&svg)
+            .and_then(|()| swimbot::chart::legend_clear(&svg))
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     }
     // the path with the noise floor drawn as a line

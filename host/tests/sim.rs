@@ -331,7 +331,7 @@ fn the_binary_writes_csv_and_svg() {
     );
     let svg = std::fs::read_to_string(dir.path().join("sim.svg")).unwrap();
     assert!(svg.contains("<svg"));
-    swimbot::report::plots::legend_clear(&svg).unwrap();
+    swimbot::chart::legend_clear(&svg).unwrap();
     assert!(String::from_utf8_lossy(&out.stdout).contains("battery left"));
 }
 
@@ -372,7 +372,7 @@ fn rate_set_points_write_the_step_responses_and_bad_ones_are_input_errors() {
     assert!(table[0].starts_with(swimbot::sim::rate_figure::RATE_CSV_HEADER.trim_end()));
     assert!(table.len() > 900, "every 10 ms over 10 s");
     let svg = std::fs::read_to_string(dir.path().join("rate.svg")).unwrap();
-    swimbot::report::plots::legend_clear(&svg).unwrap();
+    swimbot::chart::legend_clear(&svg).unwrap();
     assert!(svg.contains("set-point +-2 %") && svg.contains("sensor, one-turn mean"));
 
     // Without --rate-hz the run is the voltage-mode one: no rate files.

@@ -298,13 +298,8 @@ fn print_proposals(d: &crate::study::DiagnosisRecord) {
     {
         {
             for p in &d.proposals {
-                match &p.law {
-                    Some(_) => println!(
-                        "  proposes: {} (`diagnose --write-effect found.toml`, then `swimbot add found.toml#{}`)",
-                        p.text, p.name
-                    ),
-                    None => println!("  proposes: {} (`swimbot add {}`)", p.text, p.name),
-                }
+                let how: Vec<String> = p.add_commands().iter().map(|c| format!("`{c}`")).collect();
+                println!("  proposes: {} ({})", p.text, how.join(", then "));
             }
         }
     }

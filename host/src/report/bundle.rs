@@ -153,7 +153,21 @@ pub fn files(page: &str) -> (Vec<(String, Vec<u8>)>, Vec<Entry>) {
         let caption = elements(fig, "figcaption")
             .first()
             .map_or(String::new(), |c| text_of(c));
-        let svgs = elements(fig, "svg");
+        let (legends, svgs): (Vec<&str>, Vec<&str>) = elements(fig, "svg")
+            .into_iter()
+            .partition(|s| s.contains("class=\"legend\"") && !s.contains("class=\"frame\""));
+        // The figure's one legend, drawn beside its panels, is a file of
+        // its own and not a numbered panel.
+        for svg in legends {
+            let file = format!("figures/{id}-legend.svg");
+            entries.push(Entry {
+                file: file.clone(),
+                kind: "figure".into(),
+                caption: format!("legend of every panel. {caption}"),
+                sha256: String::new(),
+            });
+            files.push((file, format!("{svg}\n").into_bytes()));
+        }
         for (i, svg) in svgs.iter().enumerate() {
             let file = if svgs.len() == 1 {
                 format!("figures/{id}.svg")

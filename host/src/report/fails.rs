@@ -1,4 +1,4 @@
-//! Section 3: where the paper's model (Gray-Hancock, Table III) fails,
+//! The section on where the paper's model (Gray-Hancock, Table III) fails,
 //! case by case (prediction, measurement with its CI, relative error, error
 //! in standard errors of the measured mean), as parity plots and as
 //! residuals against the case features.

@@ -3,13 +3,17 @@
 //! amplitude group `B_o/R_body`: the measurements with their CIs and,
 //! for each model drawn, its markers at the measured cases (± 2u where the
 //! comparison carries input bands) and its curve through them
-//! ([`super::curve`]). One legend, on panel (a); the captions say that
+//! ([`super::curve`]). One legend for the figure, drawn beside the grid
+//! rather than inside panel (a): a legend that did not fit in the plot went
+//! outside it, widened that panel alone (452 px against 289 with four
+//! amplitude groups), and the page's grid, fitting the row into its width,
+//! then drew panel (a) at about 64 % of its size. The captions say that
 //! error bars smaller than a marker are hidden by it, and that the models'
 //! markers are drawn side by side ([`dodge`]) so that their bars at one
 //! case stay apart.
 
 use super::curve::model_curve;
-use super::plots::{Chart, Series};
+use crate::chart::{legend_only, Chart, PlotResult, Series};
 use crate::data::{Case, Dataset};
 use crate::model::{Model, Prediction};
 use crate::workbench::compare::Comparison;
@@ -53,8 +57,13 @@ pub fn amplitude_groups(data: &Dataset) -> Vec<(f64, Vec<&Case>)> {
 /// of their span (at least 0.3 % of the value), never the chart engine's
 /// minimum span for flat data, which padded 3.73-3.82 out to 3.55-3.98.
 fn x_range(cases: &[&Case]) -> (f64, f64) {
-    let lo = cases.iter().map(|c| c.n_waves()).fold(f64::MAX, f64::min);
-    let hi = cases.iter().map(|c| c.n_waves()).fold(f64::MIN, f64::max);
+    n_waves_range(&cases.iter().map(|c| c.n_waves()).collect::<Vec<_>>())
+}
+
+/// [`x_range`] of the cases' `N_lambda` values.
+pub fn n_waves_range(n_waves: &[f64]) -> (f64, f64) {
+    let lo = n_waves.iter().copied().fold(f64::MAX, f64::min);
+    let hi = n_waves.iter().copied().fold(f64::MIN, f64::max);
     // Cases that share one N_lambda have no span to pad: a tenth of the
     // value on each side gives ticks one can read (0.3 % of it drew a
     // 3.99-4.01 axis).
@@ -103,17 +112,16 @@ pub fn dodge_percent() -> String {
     crate::format::fmt_sig(100.0 * DODGE, 2)
 }
 
-/// One panel: `omega` selects `Omega_b/omega`, else `U/U_wave`; `legend`
-/// for the one panel that carries the figure's legend.
+/// One panel, its chart and its series: `omega` selects `Omega_b/omega`,
+/// else `U/U_wave`.
 fn panel(
     title: &str,
     cases: &[&Case],
     layers: &[Layer],
     omega: bool,
     ci: &str,
-    legend: bool,
     groups: usize,
-) -> Result<String, String> {
+) -> (Chart, Vec<Series>) {
     let ratio: fn(&Prediction) -> f64 = if omega {
         |p| p.omega_ratio
     } else {
@@ -175,22 +183,25 @@ fn panel(
     let chart = Chart::new(title, "N_lambda", y)
         .size(panel_width(groups), 330)
         .x_range(lo, hi)
-        .without_hidden_note();
-    if legend {
-        chart
-    } else {
-        chart.without_legend()
-    }
-    .render(&series)
+        .without_hidden_note()
+        .without_legend();
+    (chart, series)
+}
+
+/// The figure: its one legend and its panels.
+pub struct Figure4 {
+    pub legend: PlotResult,
+    pub panels: Vec<PlotResult>,
 }
 
 /// The panels in the paper's order, each with its caption-letter title:
-/// first `U/U_wave` per group, then `Omega_b/omega` per group; the first
-/// panel carries the one legend.
-pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> {
+/// first `U/U_wave` per group, then `Omega_b/omega` per group; the legend
+/// of every panel's series, once.
+pub fn figure4(data: &Dataset, layers: &[Layer]) -> Figure4 {
     let groups = amplitude_groups(data);
     let ci = super::intro::confidence(data);
-    let mut out = Vec::new();
+    let mut panels = Vec::new();
+    let mut legend = Err("no panel".to_string());
     let mut letter = b'a';
     for omega in [false, true] {
         for (b, cases) in &groups {
@@ -200,20 +211,15 @@ pub fn figure4(data: &Dataset, layers: &[Layer]) -> Vec<Result<String, String>> 
                 letter as char,
                 crate::format::fmt_sig(ratio, 2)
             );
-            let first = out.is_empty();
-            out.push(panel(
-                &title,
-                cases,
-                layers,
-                omega,
-                &ci,
-                first,
-                groups.len(),
-            ));
+            let (chart, series) = panel(&title, cases, layers, omega, &ci, groups.len());
+            if panels.is_empty() {
+                legend = legend_only(&chart, &series);
+            }
+            panels.push(chart.render(&series));
             letter = letter.wrapping_add(1);
         }
     }
-    out
+    Figure4 { legend, panels }
 }
 
 #[cfg(test)]
@@ -242,18 +248,21 @@ mod tests {
             color: BLACK,
             curve: true,
         }];
-        let panels: Vec<String> = figure4(&data, &layers)
-            .into_iter()
-            .map(Result::unwrap)
-            .collect();
+        let fig = figure4(&data, &layers);
+        let legend = fig.legend.unwrap();
+        assert!(legend.contains("class=\"legend\"") && legend.contains("paper"));
+        let panels: Vec<String> = fig.panels.into_iter().map(Result::unwrap).collect();
         assert_eq!(panels.len(), 8);
         for (i, p) in panels.iter().enumerate() {
             let letter = (b'a' + i as u8) as char;
             assert!(p.contains(&format!("({letter})")), "panel {letter}");
             // the first row U/U_wave, the second Omega_b/omega
             assert_eq!(p.contains("Ω"), i >= 4, "panel {letter} in the wrong row");
-            // one legend, on (a)
-            assert_eq!(p.contains("class=\"legend\""), i == 0, "panel {letter}");
+            // no legend in a panel: every panel at its own width, none
+            // widened (and so shrunk by the page's grid)
+            assert!(!p.contains("class=\"legend\""), "panel {letter}");
+            let w = format!("width=\"{}\"", panel_width(4));
+            assert!(p.contains(&w), "panel {letter} is not {w} wide");
         }
         // tail-5 (6.0 mm) and tail-6 (7.5 mm) stand alone: markers, no curve
         for i in [2, 3, 6, 7] {

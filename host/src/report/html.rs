@@ -17,7 +17,7 @@ code{background:#f3f3f3;padding:1px 4px;border-radius:3px;font-size:.92em}\
 figure{margin:1em 0;break-inside:avoid;page-break-inside:avoid}\
 figcaption{font-size:.9em;color:#333;max-width:62em;margin-top:.3em}\
 .grid{display:grid;gap:10px 16px;grid-template-columns:repeat(var(--cols,2),minmax(0,max-content));justify-content:start}\
-.grid svg{max-width:100%;height:auto;display:block}figure>svg{max-width:100%;height:auto}\
+.grid svg{max-width:100%;height:auto;display:block}.fig-legend{margin:0 0 6px}figure>svg{max-width:100%;height:auto}\
 .rise{color:#b2182b;font-weight:600}.fall{color:#1a7f37;font-weight:600}.flat{color:#666}\
 .note{color:#555;font-size:.9em}.err{color:#b00}.verdict{background:#fff7e6;border-left:4px solid #e6a23c;padding:.5em .9em}\
 .toc{columns:2;font-size:.95em}\
@@ -32,6 +32,19 @@ pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
+}
+
+/// Text in physics notation as HTML: escaped, `Omega_b` as Ω<sub>b</sub>,
+/// `x^2` as x<sup>2</sup> (the same runs the charts draw).
+pub fn rich(s: &str) -> String {
+    crate::chart::notation_runs(&crate::chart::notation(s))
+        .into_iter()
+        .map(|(t, shift)| match shift {
+            0 => escape(&t),
+            -1 => format!("<sub>{}</sub>", escape(&t)),
+            _ => format!("<sup>{}</sup>", escape(&t)),
+        })
+        .collect()
 }
 
 /// A chart, or a visible note where it failed.
@@ -56,8 +69,11 @@ pub fn figure(
 /// screens (two columns), are laid out column by column instead, so that
 /// each printed row keeps one column of the wide layout together (Fig. 4:
 /// each group's U beside its Omega_b).
+/// `legend`, one for every panel, is drawn above the grid so that no panel
+/// is widened by it.
 pub fn figure_flow(
     id: &str,
+    legend: Option<&Result<String, String>>,
     charts: &[Result<String, String>],
     columns: usize,
     caption: &str,
@@ -68,7 +84,17 @@ pub fn figure_flow(
     } else {
         String::new()
     };
-    figure_in(id, &attrs, charts, columns, caption)
+    let mut h = figure_in(id, &attrs, charts, columns, caption);
+    if let Some(l) = legend {
+        let at = h
+            .find("<div class=\"grid\"")
+            .expect("figure_in writes a grid");
+        h.insert_str(
+            at,
+            &format!("<div class=\"fig-legend\">{}</div>", svg_or_note(l)),
+        );
+    }
+    h
 }
 
 fn figure_in(

@@ -1,4 +1,4 @@
-//! Section 1: the robot, the data (the paper's Tables II and IV: geometry,
+//! The opening section: the robot, the data (the paper's Tables II and IV: geometry,
 //! observed tail rate, measured speed and body rate with their CIs) and the
 //! question, all read from the dataset.
 

@@ -1,4 +1,4 @@
-//! Section 2: the paper's model (eq. 11 with the back-flow of eqs. 8-9 and
+//! The section on the paper's model (eq. 11 with the back-flow of eqs. 8-9 and
 //! the body corrections of Table III) with both coefficient sets, its
 //! Fig. 4 reproduced, and the summary errors of each set.
 
@@ -211,7 +211,8 @@ impl PaperModels {
         let last_w = (b'a' + 2 * groups as u8 - 1) as char;
         h.push_str(&figure_flow(
             "fig4",
-            &charts,
+            Some(&charts.legend),
+            &charts.panels,
             groups.max(1),
             &format!(
                 "<b>Fig. 4 reproduced.</b> Measurements (red, with their {ci} confidence \

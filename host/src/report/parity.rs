@@ -3,7 +3,7 @@
 //! prediction's input band (k = 2) as vertical bars, and the line y = x;
 //! log axes when the values span more than a decade.
 
-use super::plots::{Axis, Chart, Glyph, Series, PALETTE};
+use crate::chart::{Axis, Chart, Glyph, Series, PALETTE};
 use crate::workbench::compare::Comparison;
 use plotters::style::RGBColor;
 

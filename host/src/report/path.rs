@@ -1,4 +1,4 @@
-//! Section 4: the path `diagnose` takes from the model it starts from,
+//! The section on the path `diagnose` takes from the model it starts from,
 //! step by step, each with its MARE and reduced chi-square, each drawn
 //! against the step before it ([`super::path_chart`]), with the noise floor
 //! (the reduced chi-square a perfect model stays below) as a line.

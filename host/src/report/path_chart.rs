@@ -98,7 +98,7 @@ fn value(s: &Step, m: Metric) -> Option<f64> {
 /// two, stacked upwards or downwards, so that neighbouring values at one
 /// height do not run into each other.
 fn value_lines(text: &str, room_px: f64, upwards: bool) -> Vec<(String, f64)> {
-    let fits = 1.1 * super::plots::text_width(text, 11.0) <= room_px;
+    let fits = 1.1 * crate::chart::text_width(text, 11.0) <= room_px;
     match text.split_once(": ") {
         Some((word, value)) if !fits => {
             let (first, second) = if upwards { (-13.0, 0.0) } else { (0.0, 13.0) };

@@ -1,4 +1,4 @@
-//! Section 5: the best model without a fitted parameter (`--preset
+//! The section on the best model without a fitted parameter (`--preset
 //! physics`: the tail as regularized Stokeslets inside the closed tube, the
 //! body's profile solved exactly in the tube, the coupler), against the
 //! measurements and against the paper's fitted model: its errors per
@@ -167,9 +167,11 @@ pub fn section(
         },
     ];
     let groups = super::figure4::amplitude_groups(data).len();
+    let fig = figure4(data, &layers);
     h.push_str(&figure_flow(
         "fig4-physics",
-        &figure4(data, &layers),
+        Some(&fig.legend),
+        &fig.panels,
         groups.max(1),
         &format!(
             "<b>The zero-parameter model in the layout of Fig. 4.</b> Measurements (red, {} \

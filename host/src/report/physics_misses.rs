@@ -1,4 +1,4 @@
-//! Section 5's list of the quantities the zero-parameter model misses by
+//! The physics section's list of the quantities the zero-parameter model misses by
 //! more than the coverage interval (2 combined standard deviations:
 //! measurement and inputs in quadrature), each with what the rest of the
 //! page names for it: the audit's flags on that case, the catalogue

@@ -1,4 +1,4 @@
-//! Section 6: what remains and what is suspected: `diagnose`'s verdict,
+//! The section on what remains and what is suspected: `diagnose`'s verdict,
 //! the corrections it located (with their fitted laws and CIs), the errors
 //! the best of them still leaves, and the audit's flags on the data.
 

@@ -2,8 +2,8 @@
 //! case features it correlates with most (ranked by
 //! [`crate::workbench::features::trends`]): where the model fails.
 
-use super::plots::{unit, Chart, Series, PALETTE};
 use super::yours::BEFORE;
+use crate::chart::{unit, Chart, Series, PALETTE};
 use crate::data::Dataset;
 use crate::workbench::compare::{Comparison, Quantity};
 use crate::workbench::features::{trends, FEATURES};

@@ -11,7 +11,7 @@ use crate::workbench::audit::Audit;
 use crate::workbench::diagnose::Diagnosis;
 use crate::workbench::path::Path;
 
-/// The zero-parameter model of section 5, or why it was left out.
+/// The zero-parameter model of the physics section, or why it was left out.
 pub enum ZeroParam<'a> {
     Model { name: String, model: &'a Model },
     Skipped(String),
@@ -32,15 +32,16 @@ pub struct StoryInput<'a> {
     pub audit: Option<&'a Audit>,
 }
 
-/// Section ids and titles, for the contents and the headings.
+/// Section ids and titles, for the contents and the headings: named by
+/// what they hold, never numbered (the contents list numbers them).
 pub const SECTIONS: [(&str, &str); 7] = [
-    ("question", "1. The robot, the data and the question"),
-    ("paper", "2. The paper's model and its Fig. 4"),
-    ("fails", "3. Where the paper's model fails"),
-    ("yours", "4. The model asked for, step by step"),
-    ("path", "5. The path diagnose takes"),
-    ("physics", "6. The best model without a fitted parameter"),
-    ("remains", "7. What remains and what is suspected"),
+    ("question", "The robot, the data and the question"),
+    ("paper", "The paper's model and its Fig. 4"),
+    ("fails", "Where the paper's model fails"),
+    ("yours", "The model asked for, step by step"),
+    ("path", "The path diagnose takes"),
+    ("physics", "The best model without a fitted parameter"),
+    ("remains", "What remains and what is suspected"),
 ];
 
 /// Whether `data` is the paper's own dataset (the page's wording then
@@ -84,10 +85,7 @@ pub fn page(s: &StoryInput) -> Result<String, crate::model::ModelError> {
     ));
     b.push_str("<ol class=\"toc\">");
     for (id, title) in SECTIONS {
-        b.push_str(&format!(
-            "<li><a href=\"#{id}\">{}</a></li>",
-            escape(&title[3..])
-        ));
+        b.push_str(&format!("<li><a href=\"#{id}\">{}</a></li>", escape(title)));
     }
     b.push_str("</ol>");
     b.push_str(&heading(0));
@@ -148,12 +146,10 @@ mod tests {
         let section = &html[from..to];
         assert!(section.contains("cheap zero-parameter model"));
         let fig = &section[section.find("<figure id=\"fig4-physics\"").unwrap()..];
-        assert_eq!(
-            fig[..fig.find("</figure>").unwrap()]
-                .matches("<svg")
-                .count(),
-            6
-        );
+        let fig = &fig[..fig.find("</figure>").unwrap()];
+        // six panels and the figure's one legend
+        assert_eq!(fig.matches("<svg").count(), 7);
+        assert_eq!(fig.matches("class=\"fig-legend\"").count(), 1);
         // its errors as `compare` computes them, beside the paper's
         let mare = compare(&cheap, &data, 0).unwrap().summary.mare;
         assert!(

@@ -11,7 +11,7 @@
 //! names, else the geometry that varies across the cases).
 
 use super::html::{document, escape, figure, table};
-use super::plots::{notation, steps, Axis, Chart, Series, PALETTE};
+use crate::chart::{notation, steps, Axis, Chart, Series, PALETTE};
 use crate::data::quantities::{by_id, FEATURES};
 use crate::data::Dataset;
 use crate::format::fmt_sig;
@@ -132,13 +132,12 @@ fn diagnosis(d: Option<&DiagnosisRecord>) -> String {
     if !d.proposals.is_empty() {
         h.push_str("<p>It proposes:</p><ul>");
         for p in &d.proposals {
-            let how = match &p.law {
-                Some(_) => format!(
-                    "<code>swimbot diagnose --write-effect found.toml</code>, then <code>swimbot add found.toml#{}</code>",
-                    escape(&p.name)
-                ),
-                None => format!("<code>swimbot add {}</code>", escape(&p.name)),
-            };
+            let how = p
+                .add_commands()
+                .iter()
+                .map(|c| format!("<code>{}</code>", escape(c)))
+                .collect::<Vec<_>>()
+                .join(", then ");
             h.push_str(&format!(
                 "<li>{}{} ({how})</li>",
                 escape(&notation(&p.text)),
@@ -260,6 +259,16 @@ fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> String
         opt_num(st.after.stats.noise_floor_chi2)
     ));
     h.push_str(&before_after_table(before, &st.after));
+    if super::study_fig4::applies(data, &st.after.cases) {
+        h.push_str(&super::study_fig4::figure(
+            data,
+            n,
+            &d.name,
+            before,
+            &st.after.cases,
+        ));
+        return h;
+    }
     let feature = feature_of(data, &st.effect.formula);
     let charts = [
         parity(before, &st.after.cases, false),
@@ -271,11 +280,11 @@ fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> String
         &charts,
         3,
         &format!(
-            "Step {n}, + {}: predicted against measured U and Ω_b before (hollow, grey) and after \
-             (filled) the step, each point labelled by its case, the measured 95 % intervals as \
-             horizontal bars; and the relative error against {} before and after.",
-            d.name,
-            notation(feature.name)
+            "Step {n}, + {}: predicted against measured U and Ω<sub>b</sub> before (hollow, grey) \
+             and after (filled) the step, each point labelled by its case, the measured 95 % \
+             intervals as horizontal bars; and the relative error against {} before and after.",
+            escape(&d.name),
+            super::html::rich(feature.name)
         ),
     ));
     h

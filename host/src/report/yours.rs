@@ -349,7 +349,8 @@ fn fig4(data: &Dataset, path: &Path) -> String {
     let groups = super::figure4::amplitude_groups(data).len();
     figure_flow(
         "fig4-yours",
-        &charts,
+        Some(&charts.legend),
+        &charts.panels,
         groups.max(1),
         &format!(
             "<b>Fig. 4 with the model asked for.</b> Measurements (red, {} CIs) against each \

@@ -5,7 +5,7 @@
 
 use super::steady::{SteadyWindow, STEADY_BAND};
 use super::trace::{LogPoint, Trace};
-use crate::report::plots::{stack, Chart, Series, PALETTE};
+use crate::chart::{stack, Chart, Series, PALETTE};
 
 /// Events drawn on the figure; the rest (ramp done, started, the battery
 /// level's every reading) would bury them.

@@ -6,7 +6,7 @@
 
 use super::dynamics::{Outcome, Sample};
 use super::robot::Robot;
-use crate::report::plots::{stack, Chart, Series, PALETTE};
+use crate::chart::{stack, Chart, Series, PALETTE};
 
 /// Observed values of the simulated tail, drawn as dashed reference lines.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -130,7 +130,7 @@ pub fn svg_with(o: &Outcome, obs: &Observed) -> Result<String, String> {
 #[cfg(test)]
 mod figure_tests {
     use super::*;
-    use crate::report::plots::legend_clear;
+    use crate::chart::legend_clear;
     use crate::sim::{default_robot, simulate, Options, Script};
 
     fn run(robot: &Robot) -> Outcome {

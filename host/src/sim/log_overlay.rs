@@ -10,7 +10,7 @@
 //! load shows in the duty each needed; and in the first start, where the
 //! loop is still learning the line, the rates differ by the load.
 
-use crate::report::plots::{stack, Chart, Series, PALETTE};
+use crate::chart::{stack, Chart, Series, PALETTE};
 use crate::runlog::figure::curve;
 use crate::runlog::{LogPoint, SteadyWindow, Trace};
 

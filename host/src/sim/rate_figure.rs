@@ -6,7 +6,7 @@
 use super::dynamics::Outcome;
 use super::rate::RatePoint;
 use super::step_response::SETTLE_BAND;
-use crate::report::plots::{stack, Chart, Series, PALETTE};
+use crate::chart::{stack, Chart, Series, PALETTE};
 use std::fmt::Write as _;
 
 pub const RATE_CSV_HEADER: &str =

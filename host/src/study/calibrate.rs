@@ -19,6 +19,8 @@ pub struct Calibrated {
     pub params: Vec<ParamRecord>,
     pub refitted: Vec<ParamRecord>,
     pub notes: Vec<String>,
+    /// A parameter was fixed because the data could not fix it.
+    pub reduced: bool,
 }
 
 /// A parameter fixed because the data cannot fix it, and why.
@@ -147,6 +149,7 @@ pub fn calibrate(
         params,
         refitted,
         notes,
+        reduced: !fixed.is_empty(),
     })
 }
 

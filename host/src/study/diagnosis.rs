@@ -84,9 +84,30 @@ impl DiagnosisRecord {
     pub fn proposal_for(&self, name: &str, formula: &[String]) -> Option<&Proposal> {
         self.proposals.iter().find(|p| {
             p.name == name
+                || (p.law.is_none() && p.name.split(" + ").any(|part| part == name))
                 || p.law
                     .as_ref()
                     .is_some_and(|l| formula.iter().any(|f| f == l))
         })
+    }
+}
+
+impl Proposal {
+    /// The commands that add what it proposes, in order: a located law is
+    /// written by `diagnose --write-effect` and added from the file; a
+    /// set of catalogue effects (`a + b`) is added one step at a time,
+    /// since a step is one effect.
+    pub fn add_commands(&self) -> Vec<String> {
+        match &self.law {
+            Some(_) => vec![
+                "swimbot diagnose --write-effect found.toml".into(),
+                format!("swimbot add found.toml#{}", self.name),
+            ],
+            None => self
+                .name
+                .split(" + ")
+                .map(|e| format!("swimbot add {e}"))
+                .collect(),
+        }
     }
 }

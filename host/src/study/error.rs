@@ -54,7 +54,7 @@ pub enum StudyError {
     },
     /// The step was calibrated but makes the error rise; `add --force`
     /// records it anyway.
-    #[error("{file}: `{effect}` makes the error rise: MARE {before_pct:.2} % -> {after_pct:.2} % (chi-square {chi2_before:.4} -> {chi2_after:.4}); not added (add --force records it anyway)")]
+    #[error("{file}: `{effect}` makes the error rise: MARE {before_pct:.2} % -> {after_pct:.2} % (chi-square {chi2_before:.4} -> {chi2_after:.4}){tried}; not added (add --force records it anyway)")]
     ErrorRises {
         file: PathBuf,
         effect: String,
@@ -62,6 +62,8 @@ pub enum StudyError {
         after_pct: f64,
         chi2_before: f64,
         chi2_after: f64,
+        /// The calibrations tried, in words (empty when only one was).
+        tried: String,
     },
     /// `undo` with no step.
     #[error("{file}: no step to undo")]

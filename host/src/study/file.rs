@@ -92,6 +92,11 @@ pub struct StepRecord {
     pub effect: Definition,
     /// `held` (earlier steps kept their values) or `all` (refitted jointly).
     pub refit: String,
+    /// Both calibrations `add` tried (earlier steps held, every step
+    /// refitted) and why it kept the one it kept; absent when there was
+    /// nothing earlier to refit or `--refit-all` asked for the joint one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub choice: Option<super::refit::RefitChoice>,
     /// This step's parameters, every one of them.
     #[serde(rename = "param")]
     pub params: Vec<ParamRecord>,

@@ -19,12 +19,14 @@ pub mod definition;
 pub mod diagnosis;
 mod error;
 pub mod file;
+pub mod refit;
 pub mod snapshot;
 
 pub use definition::Definition;
 pub use diagnosis::DiagnosisRecord;
 pub use error::StudyError;
 pub use file::{StepRecord, StudyFile, DEFAULT_FILE, SCHEMA};
+pub use refit::{RefitChoice, Trial};
 pub use snapshot::{CaseRow, Snapshot, Stats};
 
 use crate::data::Dataset;
@@ -350,8 +352,7 @@ impl Study {
             file: self.path.clone(),
             message: format!("`{}`: {m}", def.name),
         };
-        let c = calibrate::calibrate(model, first_step, o.refit_all, &self.data, lik)
-            .map_err(model_err)?;
+        let (c, choice) = self.calibrate_step(model, first_step, o.refit_all, lik, &model_err)?;
         let after =
             Snapshot::of(&c.model, &self.data, &c.fitted).map_err(|e| model_err(e.to_string()))?;
         if !after.is_finite() {
@@ -368,6 +369,7 @@ impl Study {
                 after_pct: 100.0 * after.stats.mare,
                 chi2_before: before.chi2,
                 chi2_after: after.stats.chi2,
+                tried: rise_advice(choice.as_ref(), &self.file.steps),
             });
         }
         let proposed_by = self.last_diagnosis().and_then(|d| {
@@ -384,9 +386,11 @@ impl Study {
             None
         };
         let forced = after.stats.mare > before.mare;
+        let joint = o.refit_all || choice.as_ref().is_some_and(|c| c.kept == "joint");
         self.file.steps.push(StepRecord {
             effect: def,
-            refit: if o.refit_all { "all" } else { "held" }.into(),
+            refit: if joint { "all" } else { "held" }.into(),
+            choice,
             params: c.params,
             refitted: c.refitted,
             notes: c.notes,
@@ -403,6 +407,39 @@ impl Study {
             return Err(e);
         }
         Ok(self.file.steps.last().expect("just pushed"))
+    }
+
+    /// Calibrate the new (last) effect of `model`: held, jointly refitted,
+    /// or both and the better kept by the rule of [`refit`].
+    fn calibrate_step(
+        &self,
+        model: Model,
+        first_step: usize,
+        refit_all: bool,
+        lik: Likelihood,
+        model_err: &dyn Fn(String) -> StudyError,
+    ) -> Result<(calibrate::Calibrated, Option<RefitChoice>), StudyError> {
+        let new = model.effects.len() - 1;
+        let earlier: Vec<usize> = (first_step..new).collect();
+        let cal = |joint: bool| {
+            calibrate::calibrate(model.clone(), first_step, joint, &self.data, lik)
+                .map_err(model_err)
+        };
+        if refit_all || crate::workbench::fit::free_params_of(&model, &earlier).is_empty() {
+            return Ok((cal(refit_all)?, None));
+        }
+        let (held, joint) = (cal(false)?, cal(true)?);
+        let trial = |c: &calibrate::Calibrated| Trial::of(c, &self.data).map_err(model_err);
+        let (keep_joint, choice) = refit::choose(
+            trial(&held)?,
+            trial(&joint)?,
+            self.current().stats.mare,
+            self.current().stats.n,
+        );
+        let mut kept = if keep_joint { joint } else { held };
+        kept.notes
+            .insert(1.min(kept.notes.len()), choice.reason.clone());
+        Ok((kept, Some(choice)))
     }
 
     /// Remove the last step (and what its joint refit changed) and write
@@ -445,6 +482,20 @@ impl Study {
             steps,
         })
     }
+}
+
+/// What to say when the kept calibration raises the error: both tries'
+/// numbers, and that an earlier step may be standing in for this effect.
+fn rise_advice(choice: Option<&RefitChoice>, steps: &[StepRecord]) -> String {
+    let Some(c) = choice else {
+        return String::new();
+    };
+    let last = steps.last().map_or("", |s| s.effect.name.as_str());
+    format!(
+        "; with earlier steps held MARE {:.2} %, refitted jointly {:.2} %: if an earlier step absorbed what this effect explains, `swimbot undo` it ({last}) and add this effect first",
+        100.0 * c.held.mare,
+        100.0 * c.joint.mare
+    )
 }
 
 /// Set `inst`'s parameters from records, by name.

@@ -1,4 +1,5 @@
-//! The report's chart engine: SVG written directly (float coordinates, real
+//! The chart engine of the report, the simulation's figures and the run
+//! log's: SVG written directly (float coordinates, real
 //! subscripts, physics notation), with legends placed where they cover no
 //! data ([`legend_clear`] checks it), sensible ticks (powers of ten on log
 //! axes), per-point labels, error bars in x and y, and a note on the figure
@@ -14,7 +15,7 @@
 //! [`Bars`] are the builders behind them.
 
 mod bars;
-mod chart;
+mod builder;
 mod check;
 mod frame;
 mod geom;
@@ -27,14 +28,14 @@ mod svg_text;
 mod ticks;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 pub use bars::{steps, Bars};
-pub use chart::{stack, Chart};
+pub use builder::{legend_only, stack, Chart};
 pub use check::{legend_clear, text_clear};
 pub use legend::Glyph;
 pub use series::Series;
-pub use svg_text::{notation, unit, width as text_width};
+pub use svg_text::{notation, runs as notation_runs, unit, width as text_width};
 pub use ticks::Axis;
 
 use plotters::style::RGBColor;

@@ -148,6 +148,21 @@ impl Chart {
     }
 }
 
+/// The legend `chart` would draw for `series`, alone: for a figure of
+/// panels that carries one legend for all of them, drawn beside the grid
+/// instead of growing one panel (which the page then shrinks to fit its
+/// column).
+pub fn legend_only(chart: &Chart, series: &[Series]) -> PlotResult {
+    let entries = super::panel::entries_of(chart, series);
+    if entries.is_empty() {
+        return Err("no legend entries".into());
+    }
+    let (w, h) = super::legend::size(&entries);
+    let mut svg = Svg::default();
+    super::legend::draw(&mut svg, &entries, super::geom::Rect::new(1.0, 1.0, w, h));
+    Ok(svg.finish((w + 2.0).ceil(), (h + 2.0).ceil()))
+}
+
 /// Panels stacked top to bottom under one title, each laid out on its own.
 pub fn stack(title: &str, panels: &[(Chart, Vec<Series>)]) -> PlotResult {
     if panels.is_empty() {

@@ -1,7 +1,8 @@
 //! Every figure of the report page, on the built-in data and on a lab's
 //! four groups, clear and readable.
 
-use super::*;
+use crate::chart::tests::{is_integer_with_point_zero, texts};
+use crate::chart::{legend_clear, text_clear};
 
 /// Every figure (SVG, without its closing tag) of the report page of
 /// `model` on `data`.
@@ -55,7 +56,7 @@ fn every_figure_of_the_report_page_is_clear_and_readable() {
         .iter()
         .filter(|s| texts(s).iter().any(|t| t.starts_with("Parity")))
         .collect();
-    // the paper's model's (section 3) and the model asked for's (section 4)
+    // the paper's model's (where it fails) and the model asked for's (step by step)
     assert_eq!(parity.len(), 4);
     for p in parity {
         let t = texts(p);

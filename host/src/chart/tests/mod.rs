@@ -1,12 +1,12 @@
 //! Tests of the chart engine as a reader sees it, by subject: the legend
-//! ([`legend`]), text ([`text`]), markers and panels ([`marks`]), and every
-//! figure of the report page ([`page`]); the helpers they share are here.
+//! ([`legend`]), text ([`text`]), markers and panels ([`marks`]); the
+//! helpers they share are here (the report's own figure checks use them
+//! too).
 
 use super::*;
 
 mod legend;
 mod marks;
-mod page;
 mod text;
 
 pub(super) const C: plotters::style::RGBColor = PALETTE[0];
@@ -43,7 +43,7 @@ pub(super) fn entries() -> Vec<Series> {
 }
 
 /// Text contents of every `<text>` element.
-pub(super) fn texts(svg: &str) -> Vec<String> {
+pub(crate) fn texts(svg: &str) -> Vec<String> {
     svg.split("<text ")
         .skip(1)
         .map(|t| {
@@ -64,7 +64,7 @@ pub(super) fn texts(svg: &str) -> Vec<String> {
         .collect()
 }
 
-pub(super) fn is_integer_with_point_zero(t: &str) -> bool {
+pub(crate) fn is_integer_with_point_zero(t: &str) -> bool {
     t.strip_suffix(".0")
         .is_some_and(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit() || c == '-'))
 }

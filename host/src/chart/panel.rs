@@ -2,7 +2,7 @@
 //! and point labels, the legend where it covers nothing, and the notes
 //! (among them which error bars the markers hide).
 
-use super::chart::{axes, y_ticks_and_left, Chart, Map, REFERENCE, X_TICK_PX};
+use super::builder::{axes, y_ticks_and_left, Chart, Map, REFERENCE, X_TICK_PX};
 use super::frame::{top_px, Frame, BOTTOM_PX, RIGHT_PX};
 use super::geom::{Rect, Shape};
 use super::labels::{place_label, wrap, Label, LABEL_FONT_PX, NOTE_FONT_PX};
@@ -170,6 +170,40 @@ fn geometry<'a>(c: &Chart, series: &'a [Series], map: &Map) -> Geometry<'a> {
     }
 }
 
+/// The legend's entries of a panel: its labelled series, reference
+/// lines, the diagonal and the extra entries, in that order.
+pub(super) fn entries_of(c: &Chart, series: &[Series]) -> Vec<Entry> {
+    let mut entries: Vec<Entry> = Vec::new();
+    for s in series.iter().filter(|s| !s.label.is_empty()) {
+        let glyph = if s.line {
+            Glyph::Line { dashed: s.dashed }
+        } else {
+            Glyph::Marker { hollow: s.hollow }
+        };
+        entries.push(Entry {
+            glyph,
+            color: s.color,
+            label: s.label.clone(),
+        });
+    }
+    for r in c.references.iter().filter(|r| !r.label.is_empty()) {
+        entries.push(Entry {
+            glyph: Glyph::Line { dashed: true },
+            color: r.color,
+            label: r.label.clone(),
+        });
+    }
+    if c.diagonal {
+        entries.push(Entry {
+            glyph: Glyph::Line { dashed: true },
+            color: REFERENCE,
+            label: "y = x".into(),
+        });
+    }
+    entries.extend(c.entries.iter().cloned());
+    entries
+}
+
 /// Draws one panel with its top-left corner at `origin`; returns its size
 /// (grown by an outside legend and the notes).
 pub fn draw_panel(
@@ -223,34 +257,7 @@ pub fn draw_panel(
     let mut obstacles = shapes.clone();
     obstacles.extend(labels.iter().map(|l| Shape::Box(l.bbox)));
 
-    let mut entries: Vec<Entry> = Vec::new();
-    for s in series.iter().filter(|s| !s.label.is_empty()) {
-        let glyph = if s.line {
-            Glyph::Line { dashed: s.dashed }
-        } else {
-            Glyph::Marker { hollow: s.hollow }
-        };
-        entries.push(Entry {
-            glyph,
-            color: s.color,
-            label: s.label.clone(),
-        });
-    }
-    for r in c.references.iter().filter(|r| !r.label.is_empty()) {
-        entries.push(Entry {
-            glyph: Glyph::Line { dashed: true },
-            color: r.color,
-            label: r.label.clone(),
-        });
-    }
-    if c.diagonal {
-        entries.push(Entry {
-            glyph: Glyph::Line { dashed: true },
-            color: REFERENCE,
-            label: "y = x".into(),
-        });
-    }
-    entries.extend(c.entries.iter().cloned());
+    let entries = entries_of(c, series);
     let legend_at = if entries.is_empty() || !c.legend {
         None
     } else {

@@ -67,7 +67,7 @@ fn escape(s: &str) -> String {
 
 /// Splits `s` into runs of (text, shift): shift -1 subscript, +1 superscript.
 /// `_x`/`^x` take the following run of letters and digits (`^` also a sign).
-fn runs(s: &str) -> Vec<(String, i8)> {
+pub fn runs(s: &str) -> Vec<(String, i8)> {
     let mut out: Vec<(String, i8)> = vec![(String::new(), 0)];
     let mut chars = s.chars().peekable();
     while let Some(ch) = chars.next() {
