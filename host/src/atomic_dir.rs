@@ -370,7 +370,7 @@ pub fn process_alive(_: u32) -> bool {
 /// A full disk, simulated in debug builds only (the integration tests):
 /// `SWIMBOT_FAULT_DISK_FULL_AFTER_BYTES=N` makes a staging write fail
 /// with "No space left on device" once N bytes were written in all.
-mod fault_injection {
+pub(crate) mod fault_injection {
     use std::io::Write;
 
     #[cfg(debug_assertions)]

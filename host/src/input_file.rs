@@ -34,6 +34,9 @@ pub mod cap {
     pub const RUN_LOG: u64 = 16 << 20;
     /// An effects file (see `data::limits::MAX_EFFECT_FILE_BYTES`).
     pub const EFFECTS: u64 = crate::data::limits::MAX_EFFECT_FILE_BYTES;
+    /// A study file: a few kB per step with its diagnoses; a thousand
+    /// steps fit.
+    pub const STUDY: u64 = 16 << 20;
     /// A report's `manifest.json` read back from an output folder.
     pub const MANIFEST: u64 = 16 << 20;
 }

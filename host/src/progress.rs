@@ -64,6 +64,17 @@ pub fn spinner(message: &str) -> ProgressBar {
     make(None, message, "")
 }
 
+/// A spinner for work done in `total` stages of unequal length (a
+/// diagnosis, an audit): `message`, `stage k of N` once the caller sets
+/// the position ([`ProgressBar::set_position`]), and the elapsed time; no
+/// time left (the stages' lengths differ too much to extrapolate one).
+pub fn stages(total: u64, message: &str) -> ProgressBar {
+    make(Some(total), message, STAGES)
+}
+
+/// The unit of [`stages`].
+const STAGES: &str = "stages";
+
 /// A bar for `total` units (`unit`: "cases", "geometries") advanced by
 /// `inc`: count, share and elapsed time, and in a terminal the time left.
 pub fn bar(total: u64, unit: &str, message: &str) -> ProgressBar {
@@ -75,8 +86,8 @@ fn make(total: Option<u64>, message: &str, unit: &str) -> ProgressBar {
         Mode::Quiet => return ProgressBar::hidden(),
         Mode::Terminal => {
             let t = match total {
-                Some(_) => format!("{{spinner}} {{msg}} {{bar:30}} {{pos}}/{{len}} {unit} ({{elapsed}}, {{eta}} left)"),
-                None => "{spinner} {msg} ({done}{elapsed})".to_string(),
+                Some(_) if unit != STAGES => format!("{{spinner}} {{msg}} {{bar:30}} {{pos}}/{{len}} {unit} ({{elapsed}}, {{eta}} left)"),
+                _ => "{spinner} {msg} ({done}{elapsed})".to_string(),
             };
             let term = Delayed {
                 term: console::Term::stderr(),
@@ -119,6 +130,9 @@ fn done(pos: u64, len: Option<u64>, elapsed: Duration, unit: &str) -> String {
     let Some(len) = len.filter(|&n| n > 0) else {
         return String::new();
     };
+    if unit == STAGES {
+        return format!("stage {} of {len}, ", pos.clamp(1, len));
+    }
     let unit = if unit.is_empty() {
         String::new()
     } else {
@@ -307,6 +321,9 @@ mod tests {
             "0 of 10 (0 %), time left unknown yet, "
         );
         assert_eq!(done(3, None, t, "cases"), "");
+        // Stages of unequal length: how far along, no extrapolated rest.
+        assert_eq!(done(2, Some(5), t, STAGES), "stage 2 of 5, ");
+        assert_eq!(done(0, Some(5), t, STAGES), "stage 1 of 5, ");
         assert_eq!(hms(3725.2), "1:02:06");
     }
 

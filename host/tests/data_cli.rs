@@ -171,6 +171,24 @@ fn stderr_in_a_file(args: &[&str], progress_ms: &str) -> String {
 }
 
 #[test]
+fn diagnose_audit_and_compare_say_which_stage_of_how_many() {
+    for (args, needle) in [
+        (
+            &["diagnose", "--no-discovery", "--no-pairs"][..],
+            "swimbot: diagnosing 6 cases: the data's quality: stage 1 of 6, ",
+        ),
+        (&["audit", "--family-samples", "16"][..], " of 4, "),
+        (
+            &["compare", "--no-report"][..],
+            "compare: the model on 6 cases: stage 1 of 1, ",
+        ),
+    ] {
+        let log = stderr_in_a_file(args, "0");
+        assert!(log.contains(needle), "{args:?}: no `{needle}` in: {log}");
+    }
+}
+
+#[test]
 fn progress_lines_reach_a_redirected_stderr_and_quiet_silences_them() {
     let sweep = [
         "sweep",

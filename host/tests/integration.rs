@@ -28,6 +28,7 @@ mod hardening;
 mod hardening_inputs;
 mod hardening_log;
 mod hardening_outputs;
+mod hardening_study;
 mod hidden_effect;
 mod input_covariance;
 mod likelihood;

@@ -348,3 +348,133 @@ fn bad_cells_name_file_row_case_and_field_in_few_words() {
     );
     assert!(e.len() < 400, "{} characters: {e}", e.len());
 }
+
+/// The paper's CSV with `;` between cells and decimal commas, and `edit`
+/// applied to each data row's cells (`id` first).
+fn euro_rows(edit: impl Fn(&mut Vec<String>)) -> String {
+    let mut out = String::new();
+    for line in paper_csv().lines() {
+        if line.starts_with('#') {
+            out += line;
+        } else {
+            let mut cells: Vec<String> = line.split(',').map(euro_cell).collect();
+            edit(&mut cells);
+            out += &cells.join(";");
+        }
+        out += "\r\n";
+    }
+    out
+}
+
+#[test]
+fn a_sheets_padding_sep_line_and_grouped_thousands_read_as_the_original() {
+    let dir = tempfile::tempdir().unwrap();
+    let original = write(dir.path(), "paper.csv", &paper_csv());
+    let (want, _) = compare_json(&original, &[]);
+    let cases: Vec<(&str, String)> = vec![
+        // Excel pads every row with the separator of an empty column.
+        ("padded.csv", euro_rows(|c| c.push(String::new()))),
+        // ...and writes (and reads) a `sep=;` first line.
+        ("sep-line.csv", format!("sep=;\r\n{}", euro_rows(|_| ()))),
+        // Thousands grouped: a point under decimal commas, a (no-break)
+        // space in either mark. 0,586 written as 0,586 000 would be wrong:
+        // only the integer part is grouped.
+        (
+            "grouped.csv",
+            euro_rows(|c| {
+                if c[0] == "tail-1" {
+                    // 130 mm written in micrometres would be 130.000,0: use
+                    // a recorded column instead, and the speed as it is.
+                    c.push("1.013,25".into());
+                } else if c[0] != "id" {
+                    c.push("1\u{a0}013,25".into());
+                } else {
+                    c.push("pressure_hpa".into());
+                }
+            }),
+        ),
+    ];
+    for (name, text) in cases {
+        let path = write(dir.path(), name, &text);
+        let (got, o) = compare_json(&path, &[]);
+        let strip = |s: &str| -> serde_json::Value {
+            let mut v: serde_json::Value = serde_json::from_str(s).unwrap();
+            for c in v["cases"].as_array_mut().unwrap() {
+                c.as_object_mut().unwrap().remove("recorded");
+            }
+            v
+        };
+        assert_eq!(strip(&got), strip(&want), "{name}: {}", stderr(&o));
+        if name == "grouped.csv" {
+            let v: serde_json::Value = serde_json::from_str(&got).unwrap();
+            for c in v["cases"].as_array().unwrap() {
+                assert_eq!(c["recorded"]["pressure_hpa"], 1013.25, "{c}");
+            }
+        }
+    }
+    // A column with no name but with cells is data nobody named: refused.
+    let path = write(
+        dir.path(),
+        "unnamed.csv",
+        &euro_rows(|c| {
+            c.push(if c[0] == "tail-3" {
+                "7".into()
+            } else {
+                String::new()
+            })
+        }),
+    );
+    let o = swimbot(&["compare", "--no-report", "--data", path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("unnamed.csv: row ")
+            && stderr(&o).contains("has no name in the header row but holds `7`"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn short_column_names_of_a_lab_are_recorded_and_a_million_names_are_read_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    // `T`, `pH` and `Re` are two edits from `id` but nobody's typo of it.
+    let mut text = String::new();
+    for line in paper_csv().lines() {
+        text += line;
+        if !line.starts_with('#') {
+            text += if line.starts_with("id,") {
+                ",T,pH,Re"
+            } else {
+                ",21.5,7,0.01"
+            };
+        }
+        text += "\n";
+    }
+    let path = write(dir.path(), "short.csv", &text);
+    let (got, o) = compare_json(&path, &[]);
+    assert!(got.contains("\"pH\": 7.0"), "{got}");
+    assert!(stderr(&o).contains("T, pH, Re"), "{}", stderr(&o));
+    // A header row of 10^6 names (each was checked against every field's
+    // for typos, and against every name before it: no answer in a minute)
+    // is refused at once; 10^4 are read, a repeat among them named.
+    for (count, needle) in [
+        (1_000_000, "1000002 columns; at most 10000 are read"),
+        (9_000, "column `x7`: the column is given twice"),
+    ] {
+        let mut wide = String::from("# wire_diameter_mm = 1.0\nid,wavelength_mm");
+        for i in 0..count {
+            wide += &format!(",x{i}");
+        }
+        wide += if count > 10_000 { "\n" } else { ",x7\n" };
+        let path = write(dir.path(), "wide.csv", &wide);
+        let start = std::time::Instant::now();
+        let o = swimbot(&["compare", "--no-report", "--data", path.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2));
+        assert!(stderr(&o).contains(needle), "{}", stderr(&o));
+        assert!(
+            start.elapsed().as_secs_f64() < 20.0,
+            "{:?}",
+            start.elapsed()
+        );
+    }
+}

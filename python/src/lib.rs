@@ -194,6 +194,11 @@ fn audit(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<String> 
     py.allow_threads(|| json(&api::audited(&a, ds).map_err(cli_err)?))
 }
 
+fn c_predict(model: &swimbot::model::Model, c: &Case) -> Result<(f64, f64), String> {
+    let p = model.predict(c).map_err(|e| e.to_string())?;
+    Ok((p.u_mm_s, p.omega_body_hz))
+}
+
 fn floats(bytes: Option<&[u8]>, n: usize, name: &str) -> PyResult<Option<Vec<f64>>> {
     let Some(b) = bytes else { return Ok(None) };
     if b.len() != 8 * n {
@@ -261,32 +266,54 @@ fn sweep<'py>(
         ),
         ("frequency_hz", floats(frequency_hz, n, "frequency_hz")?),
     ];
-    let at = |i: usize| {
-        let mut c = t.clone();
-        for (name, col) in &cols {
-            if let Some(v) = col {
-                let slot = match *name {
-                    "wavelength_mm" => &mut c.wavelength_mm,
-                    "amplitude_mm" => &mut c.amplitude_mm,
-                    "tail_length_mm" => &mut c.tail_length_mm,
-                    _ => &mut c.frequency_hz,
-                };
-                *slot = v[i];
-            }
+    // The template is checked whole once; per geometry only what a column
+    // changes: its range, and the relations it enters (turns, the robot's
+    // length in the channel), with `check_case`'s own message when one
+    // fails. Checking every field of every geometry, and cloning the case
+    // for each, had cost more than the prediction.
+    data::limits::check_case(&t)
+        .map_err(|(f, m)| SwimbotError::new_err(format!("template case: {f}: {m}")))?;
+    let given: Vec<(&str, &data::limits::Limit, Vec<f64>)> = cols
+        .into_iter()
+        .filter_map(|(name, col)| {
+            let limit = data::limits::limit_of(name).expect("a dataset field");
+            col.map(|v| (name, limit, v))
+        })
+        .collect();
+    let set = |c: &mut Case, i: usize| {
+        for (name, _, v) in &given {
+            let slot = match *name {
+                "wavelength_mm" => &mut c.wavelength_mm,
+                "amplitude_mm" => &mut c.amplitude_mm,
+                "tail_length_mm" => &mut c.tail_length_mm,
+                _ => &mut c.frequency_hz,
+            };
+            *slot = v[i];
         }
-        c
+    };
+    let in_limits = |c: &Case, i: usize| {
+        let ranges = given
+            .iter()
+            .all(|(_, l, v)| v[i].is_finite() && v[i] >= l.min && v[i] <= l.max);
+        ranges
+            && c.tail_length_mm / c.wavelength_mm <= data::limits::MAX_TURNS
+            && c.body_length_mm + c.coupler_length_mm + c.tail_length_mm <= c.channel_length_mm
     };
     let out: Result<Vec<(f64, f64)>, String> = py.allow_threads(|| {
         (0..n)
             .into_par_iter()
-            .map(|i| {
-                let c = at(i);
-                data::limits::check_case(&c).map_err(|(f, m)| format!("geometry {i}: {f}: {m}"))?;
-                let p = model
-                    .predict(&c)
-                    .map_err(|e| format!("geometry {i}: {e}"))?;
-                Ok((p.u_mm_s, p.omega_body_hz))
-            })
+            .map_init(
+                || t.clone(),
+                |c, i| {
+                    set(c, i);
+                    if !in_limits(c, i) {
+                        data::limits::check_case(c)
+                            .map_err(|(f, m)| format!("geometry {i}: {f}: {m}"))?;
+                    }
+                    let p = c_predict(&model, c).map_err(|e| format!("geometry {i}: {e}"))?;
+                    Ok(p)
+                },
+            )
             .collect()
     });
     let out = out.map_err(SwimbotError::new_err)?;
@@ -297,6 +324,146 @@ fn sweep<'py>(
         PyBytes::new(py, &bytes(|p| p.0)),
         PyBytes::new(py, &bytes(|p| p.1)),
     ))
+}
+
+fn study_err(e: swimbot::study::StudyError) -> PyErr {
+    SwimbotError::new_err(e.to_string())
+}
+
+/// A study (`swimbot-study.toml`): the user's model built step by step on
+/// one dataset, over the library's `swimbot::study::Study`. Every method
+/// that changes it writes the file, as `swimbot add` and `undo` do.
+#[pyclass(module = "swimbot._swimbot")]
+struct Study {
+    inner: std::sync::Mutex<swimbot::study::Study>,
+}
+
+impl Study {
+    fn with<T>(&self, f: impl FnOnce(&mut swimbot::study::Study) -> T) -> T {
+        // A panic in an earlier call poisons nothing the study depends on:
+        // its state is the file, re-read by `open`.
+        let mut g = self.inner.lock().unwrap_or_else(|p| p.into_inner());
+        f(&mut g)
+    }
+}
+
+fn likelihood_of(name: &str) -> PyResult<swimbot::workbench::robust::Likelihood> {
+    use swimbot::workbench::robust::Likelihood;
+    match name {
+        "gaussian" => Ok(Likelihood::Gaussian),
+        "student-t" => Ok(Likelihood::StudentT),
+        other => Err(SwimbotError::new_err(format!(
+            "likelihood: `{other}` is not one: gaussian or student-t"
+        ))),
+    }
+}
+
+/// `swimbot init`: a new study at `path` on the dataset at `data`.
+#[pyfunction]
+#[pyo3(signature = (path, data, preset = "base".to_string(), likelihood = "gaussian".to_string(), force = false, diagnose = true))]
+fn study_init(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    data: std::path::PathBuf,
+    preset: String,
+    likelihood: String,
+    force: bool,
+    diagnose: bool,
+) -> PyResult<Study> {
+    let o = swimbot::study::InitOptions {
+        preset,
+        likelihood: likelihood_of(&likelihood)?,
+        force,
+        diagnose,
+    };
+    let s = py
+        .allow_threads(|| swimbot::study::Study::init(&path, &data, &o))
+        .map_err(study_err)?;
+    Ok(Study {
+        inner: std::sync::Mutex::new(s),
+    })
+}
+
+/// Open the study at `path` (its dataset checked against the pinned SHA-256).
+#[pyfunction]
+fn study_open(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Study> {
+    let s = py
+        .allow_threads(|| swimbot::study::Study::open(&path))
+        .map_err(study_err)?;
+    Ok(Study {
+        inner: std::sync::Mutex::new(s),
+    })
+}
+
+#[pymethods]
+impl Study {
+    /// The study file's path.
+    #[getter]
+    fn path(&self) -> std::path::PathBuf {
+        self.with(|s| s.path().to_path_buf())
+    }
+    /// The study's dataset.
+    #[getter]
+    fn dataset(&self) -> Dataset {
+        Dataset {
+            inner: self.with(|s| s.dataset().clone()),
+            note: None,
+        }
+    }
+    /// The whole study as `swimbot steps --format json` prints it.
+    fn to_json(&self) -> PyResult<String> {
+        self.with(|s| json(s.file()))
+    }
+    /// `swimbot add EFFECT | FILE[#NAME]`: the new step as JSON.
+    #[pyo3(signature = (effect, refit_all = false, force = false, diagnose = true))]
+    fn add(
+        &self,
+        py: Python<'_>,
+        effect: &str,
+        refit_all: bool,
+        force: bool,
+        diagnose: bool,
+    ) -> PyResult<String> {
+        let def = api::definition(effect).map_err(cli_err)?;
+        let o = swimbot::study::AddOptions {
+            refit_all,
+            force,
+            diagnose,
+        };
+        py.allow_threads(|| self.with(|s| json(s.add(def, &o).map_err(study_err)?)))
+    }
+    /// `swimbot undo`: the removed step as JSON.
+    fn undo(&self) -> PyResult<String> {
+        self.with(|s| json(&s.undo().map_err(study_err)?))
+    }
+    /// `swimbot steps --data`: the study's models on other data, every
+    /// parameter held, as JSON.
+    fn apply_to(&self, py: Python<'_>, data: &Dataset) -> PyResult<String> {
+        let d = &data.inner;
+        py.allow_threads(|| self.with(|s| json(&s.apply_to(d).map_err(study_err)?)))
+    }
+    /// `swimbot report` of the study: the page's bundle written to `dir`
+    /// (refused where `report` refuses it); the page's path.
+    fn report(&self, py: Python<'_>, dir: std::path::PathBuf) -> PyResult<std::path::PathBuf> {
+        api::check_output_dir(&dir, "report").map_err(cli_err)?;
+        swimbot::report::check_bundle_dir(&dir, "report").map_err(SwimbotError::new_err)?;
+        py.allow_threads(|| {
+            self.with(|s| {
+                swimbot::report::write_study(&dir, s, &api::not_an_input).map_err(|e| {
+                    SwimbotError::new_err(format!("writing the report to {}: {e}", dir.display()))
+                })
+            })
+        })
+    }
+    fn __repr__(&self) -> String {
+        self.with(|s| {
+            format!(
+                "swimbot.Study({:?}, {} step(s))",
+                s.path().display().to_string(),
+                s.steps().len()
+            )
+        })
+    }
 }
 
 #[pymodule]
@@ -311,5 +478,8 @@ fn _swimbot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(audit, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_class::<Study>()?;
+    m.add_function(wrap_pyfunction!(study_init, m)?)?;
+    m.add_function(wrap_pyfunction!(study_open, m)?)?;
     Ok(())
 }

@@ -23,7 +23,9 @@ from __future__ import annotations
 import html
 import json
 import math
+import re
 import warnings
+from os import PathLike
 from typing import Any, Iterable, Mapping, Optional, Sequence
 
 from . import _swimbot
@@ -43,6 +45,8 @@ __all__ = [
     "Diagnosis",
     "Fit",
     "Audit",
+    "Study",
+    "MAX_SWEEP_GEOMETRIES",
 ]
 
 
@@ -91,7 +95,16 @@ class Dataset:
         dataset field are kept as recorded variables (numbers) or labels."""
         lines = [f"# name = {_toml(name)}"]
         for key, value in (setup or {}).items():
-            lines.append(f"# {key} = {_toml(value)}")
+            # A key is one `# key = value` line: a newline in it would
+            # start a line of its own (a forged setup line or header).
+            if not isinstance(key, str) or not re.fullmatch(r"[A-Za-z0-9_.]+", key):
+                raise SwimbotError(f"setup: {key!r} is not a setup key (letters, digits, `_` and `.`)")
+            if isinstance(value, float) and not math.isfinite(value):
+                raise SwimbotError(f"setup: {key} = {value}: not a finite number")
+            try:
+                lines.append(f"# {key} = {_toml(value)}")
+            except SwimbotError as e:
+                raise SwimbotError(f"setup: {key}: {e}") from None
         text = "\n".join(lines) + "\n" + df.to_csv(index=False, float_format="%.17g")
         return cls(_noted(_swimbot.from_csv(text, name)))
 
@@ -108,7 +121,7 @@ def _toml(value: Any) -> str:
         return "{ " + ", ".join(f"{k} = {_toml(v)}" for k, v in value.items()) + " }"
     if isinstance(value, Iterable):
         return "[" + ", ".join(_toml(v) for v in value) + "]"
-    raise SwimbotError(f"setup: {value!r} is not a number, text, boolean or list")
+    raise SwimbotError(f"{value!r} is not a number, text, boolean or list")
 
 
 def _noted(inner: "_swimbot.Dataset") -> "_swimbot.Dataset":
@@ -136,16 +149,34 @@ def _data(ds: Optional[Dataset]) -> "_swimbot.Dataset":
     return load(ds)._inner
 
 
+def _texts(name: str, values: Any) -> list:
+    """A list of texts (one text is a list of one); anything else is
+    refused naming the argument."""
+    if isinstance(values, (str, PathLike)):
+        values = [values]
+    if not isinstance(values, Iterable) or isinstance(values, (bytes, Mapping)):
+        raise SwimbotError(f"{name}: {values!r} is not a list of names")
+    out = []
+    for v in values:
+        if not isinstance(v, (str, PathLike)):
+            raise SwimbotError(f"{name}: {v!r} is not a name ({type(v).__name__})")
+        out.append(str(v))
+    return out
+
+
+def _flag(name: str, value: Any) -> str:
+    """``--name=value``: one argument, so that a value starting with `-`
+    (``mc_draws=-1``) reaches the flag's own check instead of reading as
+    another flag."""
+    return f"--{name}={value}"
+
+
 def _model_args(preset: Optional[str], effects: Sequence[str], effect_files: Sequence[Any]) -> list:
-    if isinstance(effects, str):
-        effects = [effects]
     args = []
     if preset is not None:
-        args += ["--preset", preset]
-    for e in effects:
-        args += ["--effect", e]
-    for f in effect_files:
-        args += ["--effect-file", str(f)]
+        args.append(_flag("preset", _texts("preset", preset)[0]))
+    args += [_flag("effect", e) for e in _texts("effects", effects)]
+    args += [_flag("effect-file", f) for f in _texts("effect_files", effect_files)]
     return args
 
 
@@ -312,7 +343,7 @@ def compare(
     mc_draws: int = 300,
 ) -> Comparison:
     """``swimbot compare`` on ``ds`` (default: the paper's data)."""
-    args = _model_args(preset, effects, effect_files) + ["--mc-draws", str(mc_draws)]
+    args = _model_args(preset, effects, effect_files) + [_flag("mc-draws", mc_draws)]
     if input_uncertainty:
         args.append("--input-uncertainty")
     return Comparison(*_swimbot.compare(_data(ds), args))
@@ -348,8 +379,8 @@ def fit(
 ) -> Fit:
     """``swimbot fit``: calibrate ``effects``' free parameters on ``ds``."""
     args = _model_args(preset, effects, effect_files)
-    for c in cases:
-        args += ["--cases", c]
+    for c in _texts("cases", cases):
+        args.append(_flag("cases", c))
     return Fit(*_swimbot.fit(_data(ds), args))
 
 
@@ -363,10 +394,31 @@ def audit(
     """``swimbot audit``: geometry consistency, ratio tests, influence, outliers."""
     args = _model_args(preset, effects, ())
     if family_samples is not None:
-        args += ["--family-samples", str(family_samples)]
+        args.append(_flag("family-samples", family_samples))
     if seed is not None:
-        args += ["--seed", str(seed)]
+        args.append(_flag("seed", seed))
     return Audit(_swimbot.audit(_data(ds), args))
+
+
+#: Geometries in one ``sweep`` call: the CLI's ``sweep`` grid limit.
+MAX_SWEEP_GEOMETRIES = 10_000_000
+
+
+def _floats(name: str, value: Any):
+    """``value`` as a float64 array; text, complex numbers, objects and
+    booleans are refused naming the argument (numpy would turn "12" into
+    12.0, None into NaN and drop an imaginary part)."""
+    import numpy as np
+
+    try:
+        a = np.asarray(value)
+    except Exception as e:  # a ragged list
+        raise SwimbotError(f"sweep: {name}: not an array of numbers: {e}") from None
+    if a.dtype.kind not in "fiu":
+        raise SwimbotError(
+            f"sweep: {name}: {a.dtype} values ({type(value).__name__}); give real numbers (float or int arrays)"
+        )
+    return a.astype(np.float64, copy=False)
 
 
 def sweep(
@@ -393,9 +445,22 @@ def sweep(
         "tail_length_mm": tail_length_mm,
         "frequency_hz": frequency_hz,
     }
-    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in given.items() if v is not None}
-    shape = np.broadcast_shapes(*(a.shape for a in arrays.values())) if arrays else ()
+    arrays = {k: _floats(k, v) for k, v in given.items() if v is not None}
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays.values())) if arrays else ()
+    except ValueError as e:
+        shapes = ", ".join(f"{k} {a.shape}" for k, a in arrays.items())
+        raise SwimbotError(f"sweep: the shapes do not broadcast together ({shapes}): {e}") from None
     n = int(math.prod(shape))
+    # Refused before the broadcast arrays are made: 10^5 x 10^5 would be
+    # 80 GB of each.
+    if n > MAX_SWEEP_GEOMETRIES:
+        raise SwimbotError(
+            f"sweep: {n} geometries (shape {shape}); at most {MAX_SWEEP_GEOMETRIES} in one call, "
+            "as the CLI's sweep: split it into several calls"
+        )
+    if data is not None and not isinstance(data, Dataset):
+        raise SwimbotError(f"sweep: data must be a swimbot.Dataset (swimbot.load(path)), not {type(data).__name__}")
     columns = {
         k: np.ascontiguousarray(np.broadcast_to(a, shape)).ravel().tobytes()
         for k, a in arrays.items()
@@ -406,3 +471,68 @@ def sweep(
     )
     as_array = lambda b: np.frombuffer(b, dtype=np.float64).reshape(shape)
     return as_array(u), as_array(omega)
+
+
+class Study:
+    """A study (``swimbot-study.toml``): the model built step by step on one
+    dataset, as ``swimbot init / add / undo / steps / report`` keep it. Each
+    change is written to the file at once (atomically); two writers of one
+    study never lose a step (the second is refused: open it again).
+
+        s = swimbot.Study.init("swimbot-study.toml", "lab.csv")
+        s.add("body-correction")
+        s.steps()           # the whole study, as `swimbot steps --format json`
+        s.report("report")  # the study's page
+    """
+
+    def __init__(self, inner: "_swimbot.Study"):
+        self._inner = inner
+
+    @classmethod
+    def init(
+        cls,
+        path: Any,
+        data: Any,
+        preset: str = "base",
+        likelihood: str = "gaussian",
+        force: bool = False,
+        diagnose: bool = True,
+    ) -> "Study":
+        """``swimbot init``: a new study at ``path`` on the dataset file ``data``."""
+        return cls(_swimbot.study_init(str(path), str(data), preset, likelihood, force, diagnose))
+
+    @classmethod
+    def open(cls, path: Any = "swimbot-study.toml") -> "Study":
+        """Open a study (its dataset checked against the pinned SHA-256)."""
+        return cls(_swimbot.study_open(str(path)))
+
+    @property
+    def path(self) -> str:
+        return str(self._inner.path)
+
+    @property
+    def dataset(self) -> Dataset:
+        return Dataset(self._inner.dataset)
+
+    def steps(self) -> dict:
+        """The whole study: ``swimbot steps --format json``."""
+        return json.loads(self._inner.to_json())
+
+    def add(self, effect: str, refit_all: bool = False, force: bool = False, diagnose: bool = True) -> dict:
+        """``swimbot add``: a catalogue effect or ``FILE[#NAME]``; the new step."""
+        return json.loads(self._inner.add(str(effect), refit_all, force, diagnose))
+
+    def undo(self) -> dict:
+        """``swimbot undo``: removes the last step and returns it."""
+        return json.loads(self._inner.undo())
+
+    def apply_to(self, ds: Dataset) -> dict:
+        """``swimbot steps --data``: the study's models on other data, parameters held."""
+        return json.loads(self._inner.apply_to(_data(ds)))
+
+    def report(self, directory: Any = "swimbot-out/report") -> str:
+        """``swimbot report``: the study's page written to ``directory``; its path."""
+        return str(self._inner.report(str(directory)))
+
+    def __repr__(self) -> str:
+        return repr(self._inner)

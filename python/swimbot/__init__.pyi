@@ -1,7 +1,7 @@
 """Type stubs of the swimbot package (see ``swimbot/__init__.py``)."""
 
 from os import PathLike
-from typing import Any, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -109,3 +109,30 @@ def sweep(
     preset: Optional[str] = ...,
     effects: Sequence[str] = ...,
 ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+
+MAX_SWEEP_GEOMETRIES: int
+
+class Study:
+    @classmethod
+    def init(
+        cls,
+        path: _Path,
+        data: _Path,
+        preset: str = ...,
+        likelihood: str = ...,
+        force: bool = ...,
+        diagnose: bool = ...,
+    ) -> Study: ...
+    @classmethod
+    def open(cls, path: _Path = ...) -> Study: ...
+    @property
+    def path(self) -> str: ...
+    @property
+    def dataset(self) -> Dataset: ...
+    def steps(self) -> Dict[str, Any]: ...
+    def add(
+        self, effect: str, refit_all: bool = ..., force: bool = ..., diagnose: bool = ...
+    ) -> Dict[str, Any]: ...
+    def undo(self) -> Dict[str, Any]: ...
+    def apply_to(self, ds: Dataset) -> Dict[str, Any]: ...
+    def report(self, directory: _Path = ...) -> str: ...

@@ -173,3 +173,81 @@ def test_pandas_is_optional_at_import():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert float(out.stdout) == swimbot.compare().mare
+
+
+def test_sweep_refuses_what_numpy_would_bend_naming_the_argument():
+    # A broadcast of 10^10 geometries is refused before 80 GB are made.
+    big = (np.linspace(8, 16, 100_000)[:, None], np.linspace(1, 7, 100_000)[None, :])
+    with pytest.raises(swimbot.SwimbotError, match="10000000000 geometries"):
+        swimbot.sweep(*big)
+    # numpy would read "12" as 12.0, None as NaN, drop an imaginary part.
+    for bad in ["12", np.array(["a"]), 1 + 2j, np.array([12 + 1j]), {"a": 1}, [[1, 2], [3]], np.array([12.0], dtype=object), True]:
+        with pytest.raises(swimbot.SwimbotError, match="wavelength_mm"):
+            swimbot.sweep(wavelength_mm=bad)
+    for bad in [np.nan, np.inf, -1.0, 0.0]:
+        with pytest.raises(swimbot.SwimbotError, match="amplitude_mm"):
+            swimbot.sweep(amplitude_mm=bad)
+    with pytest.raises(swimbot.SwimbotError, match="broadcast"):
+        swimbot.sweep(wavelength_mm=np.full(3, 12.0), amplitude_mm=np.full(4, 2.5))
+    with pytest.raises(swimbot.SwimbotError, match="Dataset"):
+        swimbot.sweep(wavelength_mm=12.0, data="paper.csv")
+    u, omega = swimbot.sweep(wavelength_mm=np.empty((0, 3)))
+    assert u.shape == omega.shape == (0, 3)
+    # Integer arrays are numbers.
+    assert swimbot.sweep(wavelength_mm=np.array([12]))[0][0] == swimbot.sweep(wavelength_mm=12.0)[0][()]
+
+
+def test_from_pandas_refuses_setup_keys_that_would_forge_lines():
+    import pandas as pd
+
+    df = pd.read_csv(PAPER_CSV, comment="#")
+    with pytest.raises(swimbot.SwimbotError, match="setup key"):
+        swimbot.Dataset.from_pandas(df, setup={"a\nid,wavelength_mm": 1})
+    with pytest.raises(swimbot.SwimbotError, match="viscosity_pa_s"):
+        swimbot.Dataset.from_pandas(df, setup={"viscosity_pa_s": float("nan")})
+
+
+def test_the_study_from_python_is_the_clis(tmp_path):
+    data = tmp_path / "paper.csv"
+    data.write_text(PAPER_CSV.read_text())
+    path = tmp_path / "swimbot-study.toml"
+    s = swimbot.Study.init(path, data, diagnose=False)
+    step = s.add("buoyancy", force=True, diagnose=False)
+    assert step["effect"]["name"] == "buoyancy"
+    # What the CLI reads back is what Python wrote.
+    out = subprocess.run(
+        [cli_binary(), "--study", str(path), "steps", "--format", "json"], capture_output=True, text=True, check=True
+    )
+    doc = json.loads(out.stdout)
+    assert doc["step"][0]["after"] == s.steps()["step"][0]["after"]
+    # A second view of the study, opened before the first wrote, is refused.
+    stale = swimbot.Study.open(path)
+    s.add("backflow", force=True, diagnose=False)
+    with pytest.raises(swimbot.SwimbotError, match="changed the study"):
+        stale.undo()
+    assert len(swimbot.Study.open(path).steps()["step"]) == 2
+    page = s.report(tmp_path / "report")
+    assert Path(page).name == "index.html" and Path(page).exists()
+    applied = s.apply_to(swimbot.paper())
+    assert len(applied["steps"]) == 2
+    assert s.undo()["effect"]["name"] == "backflow"
+    with pytest.raises(swimbot.SwimbotError, match="swimbot-study.toml"):
+        swimbot.Study.init(path, data)
+    with pytest.raises(swimbot.SwimbotError, match="no-such-effect"):
+        s.add("no-such-effect")
+
+
+def test_bad_arguments_are_swimbot_errors_naming_them():
+    # `-1` reaches the flag's own check (it read as another flag).
+    with pytest.raises(swimbot.SwimbotError, match="mc-draws"):
+        swimbot.compare(mc_draws=-1)
+    for bad in [[None], 5, {"a": 1}, b"tail-confinement"]:
+        with pytest.raises(swimbot.SwimbotError, match="effects"):
+            swimbot.compare(effects=bad)
+    with pytest.raises(swimbot.SwimbotError, match="cases"):
+        swimbot.fit(effects=["tail-confinement"], cases=[3])
+    import pandas as pd
+
+    df = pd.read_csv(PAPER_CSV, comment="#")
+    with pytest.raises(swimbot.SwimbotError, match="setup: viscosity_pa_s"):
+        swimbot.Dataset.from_pandas(df, setup={"viscosity_pa_s": object()})

@@ -33,9 +33,20 @@ pub struct AuditArgs {
     pub likelihood: super::likelihood::LikelihoodArgs,
 }
 
+/// The bar `audit` reports its stages to (a fn pointer cannot capture it).
+static SPINNER: std::sync::OnceLock<indicatif::ProgressBar> = std::sync::OnceLock::new();
+
+fn stage(k: u64, message: &str) {
+    if let Some(s) = SPINNER.get() {
+        s.set_message(format!("audit: {message}"));
+        s.set_position(k);
+    }
+}
+
 pub fn run(a: AuditArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
-    let spinner = crate::progress::spinner("audit");
+    let spinner = crate::progress::stages(crate::workbench::audit::AUDIT_STAGES, "audit");
+    let _ = SPINNER.set(spinner.clone());
     let report = audited(&a, &data)?;
     spinner.finish_and_clear();
     match a.format {
@@ -71,6 +82,7 @@ pub fn audited(
         family_samples: a.family_samples,
         seed: a.seed,
         likelihood: a.likelihood.get(),
+        progress: Some(stage),
     };
     Ok(audit(&model, &data, &settings)?)
 }
@@ -151,6 +163,18 @@ pub(super) fn estimate_seconds(
     let (family, rest) = predictions(n, samples);
     let work = family * per + rest * (per + overhead * reference);
     (first_solves + work + pair_seconds(n, samples)) / rayon::current_num_threads() as f64
+        + FLOORS * crate::workbench::noise::floor_seconds(quantities(data))
+}
+
+/// The distinct noise floors an audit draws (each on one thread, in turn):
+/// the bad-run check's over the data in their order, the outlier check's
+/// over the histogram of their degrees of freedom, and the bad-run
+/// check's over the data without the worst run. Equal trial counts
+/// everywhere give these three; more kinds give a few more.
+const FLOORS: f64 = 3.0;
+
+fn quantities(data: &crate::data::Dataset) -> usize {
+    crate::workbench::noise::error_dofs(data).len()
 }
 
 /// CPU seconds of the ratio test's pair loop

@@ -109,10 +109,15 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         super::output::check_output_dir(&args.output, "compare")?;
         crate::report::check_bundle_dir(&args.output, "compare").map_err(CliError::input)?;
     }
-    let spinner = crate::progress::spinner("compare");
+    let spinner = crate::progress::stages(
+        if args.no_report { 1 } else { 2 },
+        &format!("compare: the model on {} cases", data.cases.len()),
+    );
+    spinner.set_position(1);
     let Compared { path, checks } = compared(&args, &data)?;
     let cmp = path.last().comparison.clone();
     spinner.set_message("compare: writing the report");
+    spinner.set_position(2);
     super::output::check_finite("comparison", &cmp)?;
     // The report is written before anything is printed, so that a failure
     // does not follow a complete-looking table.

@@ -57,9 +57,23 @@ pub struct DiagnoseArgs {
 /// The spinner `diagnose` reports its stages to (a fn pointer cannot capture it).
 static SPINNER: std::sync::OnceLock<ProgressBar> = std::sync::OnceLock::new();
 
+/// The diagnosis's stages in order (the messages `workbench::diagnose`
+/// reports as each starts), after the first: the data's quality and the
+/// base model's comparison.
+const STAGES: [&str; 5] = [
+    "fitting the catalogue's effects",
+    "forward selection: pairs of catalogue effects",
+    "searching beyond the catalogue: place x feature x form",
+    "locating what the best catalogue effects leave",
+    "stagewise: searching again on top of each step",
+];
+
 fn stage(message: &str) {
     if let Some(s) = SPINNER.get() {
         s.set_message(message.to_string());
+        if let Some(k) = STAGES.iter().position(|m| *m == message) {
+            s.set_position(k as u64 + 2);
+        }
     }
 }
 
@@ -137,7 +151,11 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     }
     let data = a.data.load()?;
     // Shown once the work has lasted 2 s (paper-sized data takes less).
-    let spinner = crate::progress::spinner(&format!("diagnosing {} cases", data.cases.len()));
+    let spinner = crate::progress::stages(
+        STAGES.len() as u64 + 1,
+        &format!("diagnosing {} cases: the data's quality", data.cases.len()),
+    );
+    spinner.set_position(1);
     let _ = SPINNER.set(spinner.clone());
     let (d, data) = diagnosed(&a, data)?;
     let lik = a.likelihood.get();

@@ -37,6 +37,8 @@ pub mod api {
     pub use super::diagnose::diagnosed;
     pub use super::fit::{fitted, Fitted};
     pub use super::likelihood::diagnosis_json;
+    pub use super::output::{check_output_dir, not_an_input};
+    pub use super::study::definition;
 }
 
 use clap::{Parser, Subcommand};

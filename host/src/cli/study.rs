@@ -110,7 +110,7 @@ pub fn run_init(a: InitArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
 }
 
 /// `EFFECT` or `FILE[#NAME]`: a file when the text names one.
-fn definition(text: &str) -> Result<Definition, CliError> {
+pub fn definition(text: &str) -> Result<Definition, CliError> {
     let (file, name) = match text.split_once('#') {
         Some((f, n)) => (f, Some(n)),
         None => (text, None),

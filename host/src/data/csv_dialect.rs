@@ -119,11 +119,57 @@ pub fn decimal_comma<'a>(
 /// A number cell as Rust reads numbers: `0,586` -> `0.586` under a
 /// decimal comma.
 pub fn number_text(cell: &str, decimal_comma: bool) -> Cow<'_, str> {
-    if decimal_comma && is_decimal_comma(cell) {
-        Cow::Owned(cell.replacen(',', ".", 1))
-    } else {
-        Cow::Borrowed(cell)
+    match without_grouping(cell, decimal_comma) {
+        Some(plain) if decimal_comma => Cow::Owned(plain.replacen(',', ".", 1)),
+        Some(plain) => Cow::Owned(plain),
+        None if decimal_comma && is_decimal_comma(cell) => Cow::Owned(cell.replacen(',', ".", 1)),
+        None => Cow::Borrowed(cell),
     }
+}
+
+/// A number with its thousands grouped -> without the grouping, when the
+/// grouping is unambiguous: `1 130,5` or `1 130.5` (a space, a no-break
+/// space or a narrow one, as French and Swiss sheets write), and under
+/// decimal commas `1.130,5` (German). Every group after the first has
+/// exactly three digits, and a point-grouped number needs its decimal
+/// comma (`1.130` alone is refused elsewhere as a decimal point among
+/// commas: 1.13 or 1130 cannot be told). `None`: not grouped.
+fn without_grouping(cell: &str, decimal_comma: bool) -> Option<String> {
+    let (sign, rest) = match cell.strip_prefix(['-', '+']) {
+        Some(r) => (&cell[..1], r),
+        None => ("", cell),
+    };
+    let mark = if decimal_comma { ',' } else { '.' };
+    let (int, frac) = match rest.split_once(mark) {
+        Some((i, f)) => (i, Some(f)),
+        None => (rest, None),
+    };
+    let spaces = ['\u{20}', '\u{a0}', '\u{202f}'];
+    let group = if int.contains(spaces) {
+        ' '
+    } else if decimal_comma && int.contains('.') && frac.is_some() {
+        '.'
+    } else {
+        return None;
+    };
+    let parts: Vec<&str> = if group == ' ' {
+        int.split(spaces).collect()
+    } else {
+        int.split('.').collect()
+    };
+    let first_ok = (1..=3).contains(&parts[0].len());
+    let rest_ok = parts[1..].iter().all(|p| p.len() == 3);
+    let digits = parts.iter().all(|p| p.bytes().all(|b| b.is_ascii_digit()));
+    let frac_ok = frac.is_none_or(|f| !f.is_empty() && f.bytes().all(|b| b.is_ascii_digit()));
+    if !(first_ok && rest_ok && digits && frac_ok && parts.len() > 1) {
+        return None;
+    }
+    let mut out = format!("{sign}{}", parts.concat());
+    if let Some(f) = frac {
+        out.push(mark);
+        out.push_str(f);
+    }
+    Some(out)
 }
 
 /// A `# key = value` line as the spreadsheet left it -> as written: the
@@ -183,6 +229,19 @@ mod tests {
         }
         assert_eq!(number_text("0,586", true), "0.586");
         assert_eq!(number_text("0,586", false), "0,586");
+        // Thousands grouped as sheets write them, when it is unambiguous.
+        assert_eq!(number_text("1.130,5", true), "1130.5");
+        assert_eq!(number_text("-12.345.678,25", true), "-12345678.25");
+        assert_eq!(number_text("1 130,5", true), "1130.5");
+        assert_eq!(number_text("1\u{a0}130", false), "1130");
+        assert_eq!(number_text("1\u{202f}130.25", false), "1130.25");
+        // (`1.130` alone: refused by the reader as a point among commas.)
+        for ambiguous in ["1.13,5", "1 13", "12 3456", "1.130,", "1 2 3"] {
+            assert!(
+                number_text(ambiguous, true).parse::<f64>().is_err(),
+                "{ambiguous}"
+            );
+        }
         let plain = ReadOptions::default();
         let cells = [(3, "1"), (4, "0,5")];
         assert_eq!(decimal_comma(cells.into_iter(), &plain), Ok(true));

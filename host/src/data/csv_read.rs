@@ -20,7 +20,7 @@
 
 use super::csv_columns::{kind_of, Kind, CASE_ONLY_COLUMNS, TRIAL_COLUMNS, UNCERTAINTY_PREFIX};
 use super::csv_dialect::{self, Dialect, ReadOptions};
-use super::limits::{MAX_CASES, MAX_TRIALS};
+use super::limits::{MAX_CASES, MAX_COLUMNS, MAX_TRIALS};
 use super::DataError;
 use std::collections::HashMap;
 use std::path::Path;
@@ -101,7 +101,13 @@ pub struct Read {
 /// is where a `setup_file` named in the header is looked for.
 pub fn read(text: &str, file: &str, dir: &Path, options: &ReadOptions) -> Result<Read, DataError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let skipped = text.lines().take_while(|l| is_header_line(l)).count();
+    // Excel's `sep=;` first line names the separator; it is no header line.
+    let declared = declared_separator(text.lines().next().unwrap_or(""));
+    let skipped = text
+        .lines()
+        .enumerate()
+        .take_while(|(i, l)| is_header_line(l) || (*i == 0 && declared.is_some()))
+        .count();
     // The rows start below the header block. No comment character is set
     // for them: an id may start with `#` (`#3`, the parser's name for an
     // unnamed case), and a spreadsheet does not quote it.
@@ -109,7 +115,8 @@ pub fn read(text: &str, file: &str, dir: &Path, options: &ReadOptions) -> Result
     // first 10 001 cases, so the rest must not be touched.
     let body_start: usize = text.split_inclusive('\n').take(skipped).map(str::len).sum();
     let body = &text[body_start..];
-    let separator = csv_dialect::separator(body.lines().next().unwrap_or(""));
+    let separator =
+        declared.unwrap_or_else(|| csv_dialect::separator(body.lines().next().unwrap_or("")));
     let mut reader = csv::ReaderBuilder::new()
         .delimiter(separator)
         .trim(csv::Trim::All)
@@ -136,7 +143,8 @@ pub fn read(text: &str, file: &str, dir: &Path, options: &ReadOptions) -> Result
         decimal_comma: decimal.map_err(|m| fail(file, None, m))?,
     };
     classify(&mut columns, &records, dialect.decimal_comma);
-    let (mut top, _) = header(text, skipped, file, dir, &dialect)?;
+    unnamed_with_cells(file, &names, &columns, &records)?;
+    let (mut top, _) = header(text, skipped, declared.is_some(), file, dir, &dialect)?;
     let mut groups: Vec<Group> = Vec::new();
     let mut by_id: HashMap<String, usize> = HashMap::new();
     for (line, record) in &records {
@@ -205,6 +213,48 @@ fn cells<'a>(
                 .collect::<Vec<_>>()
         })
         .collect()
+}
+
+/// The separator a `sep=;` line declares (Excel writes and reads it).
+fn declared_separator(line: &str) -> Option<u8> {
+    let rest = line.trim_end_matches(['\r', '\n']);
+    let rest = rest
+        .strip_prefix("sep=")
+        .or_else(|| rest.strip_prefix("SEP="))?;
+    match rest.as_bytes() {
+        [s @ (b',' | b';' | b'\t' | b'|')] => Some(*s),
+        _ => None,
+    }
+}
+
+/// A column without a name is a spreadsheet's padding (`;` at the end of
+/// every row) while its cells are empty, and left out; one with cells
+/// holds data nobody named.
+fn unnamed_with_cells(
+    file: &str,
+    names: &[String],
+    columns: &[Column],
+    records: &[(u64, csv::StringRecord)],
+) -> Result<(), DataError> {
+    for (i, (name, column)) in names.iter().zip(columns).enumerate() {
+        if !name.is_empty() || *column == Column::Unknown {
+            continue;
+        }
+        let (row, cell) = records
+            .iter()
+            .find_map(|(l, r)| r.get(i).filter(|c| !c.is_empty()).map(|c| (*l, c)))
+            .unwrap_or((0, ""));
+        return Err(fail(
+            format!("{file}: row {row}"),
+            None,
+            format!(
+                "column {} has no name in the header row but holds `{}`; name it there (any name that is no dataset field is kept as a recorded variable)",
+                i + 1,
+                super::limits::echo(cell)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// A line of the `# key = value` block (a spreadsheet may quote it).
@@ -364,7 +414,10 @@ fn note(file: &str, dialect: &Dialect, names: &[String], columns: &[Column]) -> 
             .iter()
             .zip(columns)
             .filter(|(_, c)| **c == want)
-            .map(|(n, _)| super::limits::echo(n))
+            .map(|(n, _)| match n.is_empty() {
+                true => "(unnamed)".to_string(),
+                false => super::limits::echo(n),
+            })
             .collect()
     };
     let mut parts = Vec::new();
@@ -397,6 +450,16 @@ fn note(file: &str, dialect: &Dialect, names: &[String], columns: &[Column]) -> 
 /// of names that no separator split is an error.
 fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Column>, DataError> {
     let at = format!("{file}: header row");
+    if names.len() > MAX_COLUMNS {
+        return Err(fail(
+            &at,
+            None,
+            format!(
+                "{} columns; at most {MAX_COLUMNS} are read (the fields, their uncertainties and the lab's recorded variables): leave the others out of the export",
+                names.len()
+            ),
+        ));
+    }
     let known: Vec<&str> = super::csv_columns::COLUMNS.iter().map(|c| c.0).collect();
     if let [only] = names {
         if kind_of(only).is_none() {
@@ -408,18 +471,20 @@ fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Column>, DataError> 
             ));
         }
     }
+    // A set, not a search of the names before each: a row of 10^6 names.
+    let mut seen = std::collections::HashSet::new();
     names
         .iter()
-        .enumerate()
-        .map(|(i, name)| {
-            if names[..i].contains(name) {
+        .map(|name| {
+            if !name.is_empty() && !seen.insert(name.as_str()) {
                 return Err(fail(&at, Some(name), "the column is given twice"));
             }
             if let Some(kind) = kind_of(name) {
                 return Ok(Column::Field(kind));
             }
             let why = if name.is_empty() {
-                Some("a column without a name".to_string())
+                // Padding if its cells are empty (`unnamed_with_cells`).
+                None
             } else if ["u_trials_mm_s", "omega_body_trials_hz", "uncertainty", RECORDED, LABELS]
                 .contains(&name.as_str())
             {
@@ -427,7 +492,7 @@ fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Column>, DataError> 
             } else {
                 known
                     .iter()
-                    .find(|k| strsim::damerau_levenshtein(k, name) <= 2)
+                    .find(|k| is_near_miss(k, name))
                     .map(|k| format!("`{}` is not a dataset field: did you mean `{k}`? (a column that is no field is kept as a recorded variable; name it `{RECORDED}.NAME` to keep it so)", super::limits::echo(name)))
             };
             match why {
@@ -438,6 +503,16 @@ fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Column>, DataError> 
             }
         })
         .collect()
+}
+
+/// A column name that is a field's with a typo (`wavelenght_mm`, `ID`),
+/// not a short name of the lab's own (`T`, `pH`, `Re` are two edits from
+/// `id` but nobody's misspelling of it): at most two edits, ignoring case,
+/// and fewer than a third of the longer name's characters.
+fn is_near_miss(field: &str, name: &str) -> bool {
+    let d = strsim::damerau_levenshtein(field, &name.to_ascii_lowercase());
+    let longer = field.chars().count().max(name.chars().count());
+    d <= 2 && 3 * d < longer
 }
 
 /// `uncertainty.KEY` goes into the case's `uncertainty` table.
@@ -568,15 +643,20 @@ fn csv_error(file: &str, skipped: usize, e: &csv::Error, separator: u8) -> DataE
 fn header(
     text: &str,
     skipped: usize,
+    sep_line: bool,
     file: &str,
     dir: &Path,
     dialect: &Dialect,
 ) -> Result<(toml::Table, usize), DataError> {
     let mut block = String::new();
     let mut lines = 0;
-    for line in text.lines().take(skipped) {
-        let line = csv_dialect::header_line(line, dialect);
+    for (i, line) in text.lines().take(skipped).enumerate() {
         lines += 1;
+        if i == 0 && sep_line {
+            block.push('\n');
+            continue;
+        }
+        let line = csv_dialect::header_line(line, dialect);
         let body = line.trim_start_matches('#').trim();
         // Other `#` lines (notes, the provenance of a written file) are comments.
         if is_key_value(body) {

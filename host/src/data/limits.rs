@@ -105,6 +105,10 @@ pub const MAX_TRIALS: u32 = 100_000;
 /// Cases in one dataset: every command evaluates the model per case, the
 /// fit many times per case, so this bounds run time and memory.
 pub const MAX_CASES: usize = 10_000;
+/// Columns of a CSV dataset: the format's fields, their uncertainties and
+/// a lab's recorded variables are a few dozen; a row of a million names is
+/// no dataset (each name is checked against every field's for typos).
+pub const MAX_COLUMNS: usize = 10_000;
 /// Helix turns on one tail (`tail_length_mm / wavelength_mm`): every tail
 /// model's cost grows with them (quadrature nodes, non-local segments); the
 /// paper's tails have fewer than 15.

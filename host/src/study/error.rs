@@ -68,15 +68,20 @@ pub enum StudyError {
     /// `undo` with no step.
     #[error("{file}: no step to undo")]
     NothingToUndo { file: PathBuf },
+    /// Another command replaced the study while this one worked on it.
+    #[error("{file}: another swimbot command changed the study while this one ran (two `add`s at once?); nothing was recorded: run it again on the study as it is now")]
+    Changed { file: PathBuf },
     /// The model cannot predict a case, or the fit failed.
     #[error("{file}: {message}")]
     Model { file: PathBuf, message: String },
 }
 
 impl StudyError {
-    /// Whether the user's input is at fault (exit code 2) rather than the
-    /// machine (a failed write: exit code 1).
+    /// Whether the command is refused (exit code 2: the input, the
+    /// folder or the disk is the user's to fix, as for every other output
+    /// swimbot writes) rather than failed (exit code 1: a bug). Every
+    /// study error is a refusal.
     pub fn is_input(&self) -> bool {
-        !matches!(self, StudyError::Io { .. })
+        true
     }
 }

@@ -8,7 +8,6 @@ use super::diagnosis::DiagnosisRecord;
 use super::error::StudyError;
 use super::snapshot::{Snapshot, Stats};
 use serde::{Deserialize, Serialize};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The schema this version writes and reads.
@@ -125,17 +124,27 @@ pub struct StepRecord {
 impl StudyFile {
     /// Read and check a study file.
     pub fn read(path: &Path) -> Result<Self, StudyError> {
-        let text = std::fs::read_to_string(path).map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => StudyError::NotFound {
+        Self::read_hashed(path).map(|(f, _)| f)
+    }
+
+    /// Read and check a study file; also the SHA-256 of its bytes, which
+    /// [`StudyFile::write_over`] checks before replacing it. Bounded by
+    /// [`cap::STUDY`] while reading (a study pointed at `/dev/zero` or a
+    /// FIFO costs the cap, never the machine).
+    pub fn read_hashed(path: &Path) -> Result<(Self, String), StudyError> {
+        use crate::input_file::{cap, read_text, ReadError};
+        let text = read_text(path, cap::STUDY, "a study file").map_err(|e| match e {
+            ReadError::Io(_) if !path.exists() && !path.is_symlink() => StudyError::NotFound {
                 file: path.to_path_buf(),
             },
-            _ => StudyError::Format {
+            e => StudyError::Format {
                 file: path.to_path_buf(),
                 field: "(file)".into(),
-                message: format!("cannot read it: {e}"),
+                message: e.to_string(),
             },
         })?;
-        Self::parse(&text, path)
+        let sha = crate::provenance::sha256_hex(text.as_bytes());
+        Ok((Self::parse(&text, path)?, sha))
     }
 
     /// Parse a study's text; `path` names it in errors.
@@ -189,8 +198,9 @@ impl StudyFile {
     }
 
     /// Write atomically: a temporary file in the same folder, flushed to
-    /// disk, renamed over `path`.
-    pub fn write(&self, path: &Path) -> Result<(), StudyError> {
+    /// disk, renamed over `path`. Returns the SHA-256 of the text written.
+    pub fn write(&self, path: &Path) -> Result<String, StudyError> {
+        let text = self.to_text();
         let io = |e: std::io::Error| StudyError::Io {
             file: path.to_path_buf(),
             message: format!("cannot write it: {e}"),
@@ -205,13 +215,78 @@ impl StudyFile {
         let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
         let result = (|| {
             let mut f = std::fs::File::create(&tmp)?;
-            f.write_all(self.to_text().as_bytes())?;
+            crate::atomic_dir::fault_injection::write_all(&mut f, text.as_bytes())?;
             f.sync_all()?;
             std::fs::rename(&tmp, path)
         })();
         if result.is_err() {
             let _ = std::fs::remove_file(&tmp);
         }
-        result.map_err(io)
+        result.map_err(io)?;
+        Ok(crate::provenance::sha256_hex(text.as_bytes()))
     }
+
+    /// [`StudyFile::write`], but only over the study this process read
+    /// (its bytes' SHA-256 `expected`): a study another command changed
+    /// meanwhile (two `add`s run at once, an `undo` during an `add`) is
+    /// refused rather than overwritten, so that no recorded step is lost.
+    /// An exclusive `flock` on the file is held from the check to the
+    /// rename; a writer that waited for it finds the file replaced.
+    pub fn write_over(&self, path: &Path, expected: &str) -> Result<String, StudyError> {
+        let changed = || StudyError::Changed {
+            file: path.to_path_buf(),
+        };
+        let current = std::fs::File::open(path).map_err(|_| changed())?;
+        lock_exclusive(&current).map_err(|e| StudyError::Io {
+            file: path.to_path_buf(),
+            message: format!("cannot lock it: {e}"),
+        })?;
+        if !same_file(&current, path) {
+            return Err(changed());
+        }
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(
+            &mut std::io::Read::take(&current, crate::input_file::cap::STUDY + 1),
+            &mut bytes,
+        )
+        .map_err(|_| changed())?;
+        if crate::provenance::sha256_hex(&bytes) != expected {
+            return Err(changed());
+        }
+        // The lock is released when `current` is closed, after the rename.
+        let written = self.write(path);
+        drop(current);
+        written
+    }
+}
+
+#[cfg(unix)]
+fn lock_exclusive(f: &std::fs::File) -> std::io::Result<()> {
+    use std::os::unix::io::AsRawFd;
+    // SAFETY: flock on a descriptor `f` owns; released when it is closed.
+    if unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX) } == 0 {
+        Ok(())
+    } else {
+        Err(std::io::Error::last_os_error())
+    }
+}
+
+#[cfg(not(unix))]
+fn lock_exclusive(_: &std::fs::File) -> std::io::Result<()> {
+    Ok(())
+}
+
+/// Whether the open file `f` is still the one at `path` (not renamed over).
+#[cfg(unix)]
+fn same_file(f: &std::fs::File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (f.metadata(), std::fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(not(unix))]
+fn same_file(_: &std::fs::File, _: &Path) -> bool {
+    true
 }

@@ -87,6 +87,9 @@ pub struct Study {
     path: PathBuf,
     file: StudyFile,
     data: Dataset,
+    /// SHA-256 of the file's bytes as this process last read or wrote
+    /// them: a write over anything else is refused (`StudyFile::write_over`).
+    opened_sha256: String,
 }
 
 /// The study's models on other data, parameters held.
@@ -184,18 +187,19 @@ impl Study {
             first_diagnosis,
             steps: Vec::new(),
         };
-        file.write(path)?;
+        let opened_sha256 = file.write(path)?;
         Ok(Study {
             path: path.to_path_buf(),
             file,
             data,
+            opened_sha256,
         })
     }
 
     /// Open the study at `path`: its dataset loaded and checked against
     /// the pinned SHA-256, every step's effect rebuilt.
     pub fn open(path: &Path) -> Result<Study, StudyError> {
-        let file = StudyFile::read(path)?;
+        let (file, opened_sha256) = StudyFile::read_hashed(path)?;
         let data_path = resolve(path, &file.dataset.path);
         let (data, sha256) = load_pinned(path, &data_path)?;
         if sha256 != file.dataset.sha256 {
@@ -210,6 +214,7 @@ impl Study {
             path: path.to_path_buf(),
             file,
             data,
+            opened_sha256,
         };
         study.likelihood()?;
         study.model()?;
@@ -402,9 +407,12 @@ impl Study {
             swimbot_version: env!("CARGO_PKG_VERSION").into(),
             date_utc: now_utc(),
         });
-        if let Err(e) = self.file.write(&self.path) {
-            self.file.steps.pop();
-            return Err(e);
+        match self.file.write_over(&self.path, &self.opened_sha256) {
+            Ok(sha) => self.opened_sha256 = sha,
+            Err(e) => {
+                self.file.steps.pop();
+                return Err(e);
+            }
         }
         Ok(self.file.steps.last().expect("just pushed"))
     }
@@ -452,9 +460,12 @@ impl Study {
             .ok_or_else(|| StudyError::NothingToUndo {
                 file: self.path.clone(),
             })?;
-        if let Err(e) = self.file.write(&self.path) {
-            self.file.steps.push(last);
-            return Err(e);
+        match self.file.write_over(&self.path, &self.opened_sha256) {
+            Ok(sha) => self.opened_sha256 = sha,
+            Err(e) => {
+                self.file.steps.push(last);
+                return Err(e);
+            }
         }
         Ok(last)
     }
@@ -527,10 +538,13 @@ fn set_values(inst: &mut EffectInstance, records: &[file::ParamRecord]) -> Resul
 
 /// The dataset and the SHA-256 of its bytes.
 fn load_pinned(study: &Path, data_path: &Path) -> Result<(Dataset, String), StudyError> {
-    let bytes = std::fs::read(data_path).map_err(|e| StudyError::Data {
-        file: study.to_path_buf(),
-        message: format!("cannot read {}: {e}", data_path.display()),
-    })?;
+    // Bounded while reading, as every input (a dataset path edited to
+    // /dev/zero costs the cap, not the machine).
+    let bytes = crate::input_file::read(data_path, crate::input_file::cap::DATASET, "a dataset")
+        .map_err(|e| StudyError::Data {
+            file: study.to_path_buf(),
+            message: format!("{}: {e}", data_path.display()),
+        })?;
     let data = crate::data::load_file(data_path).map_err(|e| StudyError::Data {
         file: study.to_path_buf(),
         message: e.to_string(),

@@ -91,7 +91,13 @@ pub struct AuditSettings {
     pub seed: u64,
     /// What the influence check's fits minimise (least squares).
     pub likelihood: super::robust::Likelihood,
+    /// Called with the stage's number (from 1) and a short message as each
+    /// of the [`AUDIT_STAGES`] starts (progress display).
+    pub progress: Option<fn(u64, &str)>,
 }
+
+/// The audit's stages, for a progress display.
+pub const AUDIT_STAGES: u64 = 4;
 
 impl Default for AuditSettings {
     fn default() -> Self {
@@ -99,16 +105,25 @@ impl Default for AuditSettings {
             family_samples: 256,
             seed: 12,
             likelihood: super::robust::Likelihood::Gaussian,
+            progress: None,
         }
     }
 }
 
 /// Run every check on `data`; `model` is the family's base.
 pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, ModelError> {
+    let say = |k: u64, m: &str| {
+        if let Some(p) = s.progress {
+            p(k, m)
+        }
+    };
+    say(1, "chords and the inputs' uncertainty");
     let (mut flags, chords) = chord_checks(data);
     let combined = with_input_uncertainty(model, data)?;
+    say(2, "ratio test against the model family");
     let (ratio, ratio_flags) = super::audit_ratio::ratio_test(model, data, s)?;
     flags.extend(ratio_flags);
+    say(3, "influence: leave-one-out refits");
     let (influence, influence_flags) =
         super::audit_influence::influence(model, &combined, s.likelihood);
     flags.extend(influence_flags);
@@ -117,6 +132,7 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
     // run's case stands out with the inputs' uncertainty combined too, else
     // a warning.
     let bad_runs = super::data_quality::bad_runs::bad_runs;
+    say(4, "bad runs");
     let combined_runs = bad_runs(model, &combined, 0.95)?;
     let named = bad_runs(model, data, 0.95)?;
     for l in named.iter().flat_map(|b| &b.runs) {

@@ -45,16 +45,22 @@ impl NoiseFloors {
                 ks.iter().map(move |&k| (h.clone(), k))
             })
             .collect();
+        let dofs_of = |h: &DofHistogram| -> Vec<f64> {
+            h.iter()
+                .flat_map(|&(d, n)| std::iter::repeat_n(f64::from_bits(d), n))
+                .collect()
+        };
+        // The draws depend on the histogram only (`k` scales the quantile):
+        // one per histogram, in parallel, remembered by the noise module;
+        // drawing per `(histogram, k)` in parallel drew the same one for
+        // every `k` at once.
+        let hists: HashSet<&DofHistogram> = keys.iter().map(|(h, _)| h).collect();
+        hists.into_par_iter().for_each(|h| {
+            let _ = chi2_noise_floor(&dofs_of(h), 0, 0.95);
+        });
         let floors = keys
-            .into_par_iter()
-            .map(|(h, k)| {
-                let dofs: Vec<f64> = h
-                    .iter()
-                    .flat_map(|&(d, n)| std::iter::repeat_n(f64::from_bits(d), n))
-                    .collect();
-                let f = chi2_noise_floor(&dofs, k, 0.95);
-                ((h, k), f)
-            })
+            .iter()
+            .map(|(h, k)| ((h.clone(), *k), chi2_noise_floor(&dofs_of(h), *k, 0.95)))
             .collect();
         let trials: HashSet<u32> = data
             .cases
