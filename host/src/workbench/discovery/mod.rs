@@ -26,6 +26,7 @@
 //! PNAS 113 (2016) 3932 (sparse identification of a model's missing terms
 //! from a library of candidate functions).
 
+pub mod acts;
 pub mod interpret;
 pub mod places;
 pub mod screen;

@@ -75,6 +75,9 @@ pub fn corrections(table: &Table, data: &Dataset) -> Vec<&'static LocatedCorrect
             }
             if form.needs_feature() {
                 for &(q, median) in &features {
+                    if !super::acts::acts_at(q, place) {
+                        continue;
+                    }
                     if let Some(c) = LocatedCorrection::new(place, Some(q), form, median, ls) {
                         out.push(c.leak());
                     }
