@@ -4,38 +4,18 @@
 //! and messages that name what is wrong (`fit` at absurd bounds, an empty
 //! term of `synth --truth`).
 
-use crate::common::{stderr, swimbot};
+use crate::common::{mkfifo, stderr, swimbot};
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Output;
+use std::time::Duration;
+
+/// The binary in the current directory, killed after `limit`.
+fn within(args: &[&str], limit: Duration) -> Output {
+    crate::common::within(Path::new("."), args, &[], limit)
+}
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-/// Runs the binary, killed (and the test failed) after `limit`.
-fn within(args: &[&str], limit: Duration) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            panic!("{args:?} still running after {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
-}
-
-fn mkfifo(p: &Path) {
-    let c = std::ffi::CString::new(s(p)).unwrap();
-    // SAFETY: a NUL-terminated path and a mode.
-    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
 }
 
 #[test]

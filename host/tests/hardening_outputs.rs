@@ -310,9 +310,9 @@ fn sighup_and_killed_runs_leave_no_temporary_file_behind() {
         .args([
             "sweep",
             "--wavelength-mm",
-            "5:20:400",
+            "5:20:2000",
             "--amplitude-mm",
-            "1:3:400",
+            "1:3:2000",
             "--tail-length-mm",
             "20",
             "-o",
@@ -322,7 +322,22 @@ fn sighup_and_killed_runs_leave_no_temporary_file_behind() {
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(300));
+    // Signalled while it writes, not after a fixed sleep: a faster sweep
+    // had finished 160 000 geometries before a 300 ms sleep ended. Four
+    // million take seconds once the temporary file is there.
+    let mine = dir.path().join(format!(".sw.csv.tmp-{}", run.id()));
+    let start = std::time::Instant::now();
+    while !mine.exists() {
+        assert!(
+            run.try_wait().unwrap().is_none(),
+            "the sweep ended before it wrote"
+        );
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "no temporary file after 60 s"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
     // SAFETY: signalling our own child.
     unsafe { libc::kill(run.id() as i32, libc::SIGHUP) };
     let status = run.wait().unwrap();

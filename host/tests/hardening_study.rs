@@ -3,15 +3,11 @@
 //! kind's cap, two commands writing one study at once never lose a
 //! recorded step, and a full disk leaves the study as it was.
 
-use crate::common::stderr;
+use crate::common::{mkfifo, stderr, within};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Output;
+use std::time::Duration;
 use swimbot::study::{AddOptions, Definition, InitOptions, Study, StudyError, DEFAULT_FILE};
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 /// A study on the paper's CSV in a fresh folder, made by the library
 /// without its diagnosis (the commands below do not need it).
@@ -30,33 +26,6 @@ fn study() -> (tempfile::TempDir, PathBuf) {
     };
     Study::init(&path, &data, &o).unwrap();
     (dir, path)
-}
-
-/// The binary in `dir`, killed (and the test failed) after `limit`.
-fn within(dir: &Path, args: &[&str], env: &[(&str, &str)], limit: Duration) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .envs(env.iter().copied())
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            panic!("{args:?} still running after {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
-}
-
-fn mkfifo(p: &Path) {
-    let c = std::ffi::CString::new(s(p)).unwrap();
-    // SAFETY: a NUL-terminated path and a mode.
-    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
 }
 
 fn refused(o: &Output, needles: &[&str]) {

@@ -342,18 +342,7 @@ fn the_bundle_holds_every_figure_and_table_named_in_the_manifest() {
 fn a_lab_s_four_groups_and_second_tube_shape_the_page() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let text = swimbot::data::PAPER_TOML
-        .replacen(
-            "id = \"tail-5\"\nwavelength_mm = 15.0\namplitude_mm = 7.5",
-            "id = \"tail-5\"\nwavelength_mm = 15.0\namplitude_mm = 6.0",
-            1,
-        )
-        .replacen(
-            "id = \"tail-6\"\nwavelength_mm = 11.0\namplitude_mm = 7.5",
-            "id = \"tail-6\"\nwavelength_mm = 11.0\namplitude_mm = 7.5\nchannel_diameter_mm = 28.0",
-            1,
-        );
-    assert_ne!(text, swimbot::data::PAPER_TOML, "the fixture changed");
+    let text = crate::fixtures::four_groups::four_groups_two_tubes(swimbot::data::PAPER_TOML);
     std::fs::write(
         d.join("lab.toml"),
         text.replacen("name = ", "name = \"my-lab\"\n# ", 1),

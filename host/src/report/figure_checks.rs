@@ -2,6 +2,9 @@
 //! four groups, clear and readable.
 
 use crate::chart::tests::{is_integer_with_point_zero, texts};
+
+#[path = "../../tests/fixtures/four_groups.rs"]
+mod four_groups;
 use crate::chart::{legend_clear, text_clear};
 
 /// Every figure (SVG, without its closing tag) of the report page of
@@ -74,18 +77,7 @@ fn every_figure_of_the_report_page_is_clear_and_readable() {
 /// into each other (the labels' boxes are the checker's font model).
 #[test]
 fn a_lab_s_crowded_case_labels_stay_clear() {
-    let text = crate::data::PAPER_TOML
-        .replacen(
-            "id = \"tail-5\"\nwavelength_mm = 15.0\namplitude_mm = 7.5",
-            "id = \"tail-5\"\nwavelength_mm = 15.0\namplitude_mm = 6.0",
-            1,
-        )
-        .replacen(
-            "id = \"tail-6\"\nwavelength_mm = 11.0\namplitude_mm = 7.5",
-            "id = \"tail-6\"\nwavelength_mm = 11.0\namplitude_mm = 7.5\nchannel_diameter_mm = 28.0",
-            1,
-        );
-    assert_ne!(text, crate::data::PAPER_TOML, "the fixture changed");
+    let text = four_groups::four_groups_two_tubes(crate::data::PAPER_TOML);
     let data = crate::data::parse_str(&text, "lab.toml").unwrap();
     let model =
         crate::model::Model::base().with_effect(crate::effects::EffectInstance::default_of(

@@ -2,7 +2,9 @@
 //! binary (each test file compiles this module and uses what it needs).
 #![allow(dead_code)]
 
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 /// Run the binary in a fresh temporary working directory, so that default
 /// outputs (`swimbot-out/`, `report/`) never land in the repository.
@@ -40,4 +42,34 @@ pub fn write_simulated_log(path: &std::path::Path, out: &std::path::Path) {
         out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// The binary in `dir` with `env` added, killed (and the test failed) after
+/// `limit`: for inputs that must be refused quickly, never hang.
+pub fn within(dir: &Path, args: &[&str], env: &[(&str, &str)], limit: Duration) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(args)
+        .envs(env.iter().copied())
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("{args:?} still running after {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// A named pipe at `p`.
+#[cfg(unix)]
+pub fn mkfifo(p: &Path) {
+    let c = std::ffi::CString::new(p.to_str().expect("a UTF-8 path")).unwrap();
+    // SAFETY: a NUL-terminated path and a mode.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
 }
