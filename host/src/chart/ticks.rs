@@ -48,8 +48,13 @@ impl Axis {
             lo = mid - 0.5 * min_span;
             hi = mid + 0.5 * min_span;
         }
+        // Bars of values of one sign stand on the zero line: no padding
+        // past it (a MARE axis does not run to -20 %).
+        let zeroed = include_zero && !log;
+        let (floor, ceiling) = (zeroed && lo == 0.0, zeroed && hi == 0.0);
         let pad = PAD * (hi - lo);
-        let (lo, hi) = (lo - pad, hi + pad);
+        let lo = if floor { lo } else { lo - pad };
+        let hi = if ceiling { hi } else { hi + pad };
         let back = |v: f64| if log { 10f64.powf(v) } else { v };
         Self {
             lo: back(lo),
@@ -188,6 +193,20 @@ mod tests {
 
     fn labels(a: Axis) -> Vec<String> {
         a.ticks(6.0).into_iter().map(|t| t.1).collect()
+    }
+
+    #[test]
+    fn bars_of_one_sign_stand_on_zero() {
+        let up = Axis::fit([5.0, 8.0, 10.0].into_iter(), false, true);
+        assert_eq!(up.lo, 0.0);
+        assert!(up.hi > 10.0);
+        assert!(labels(up).iter().all(|l| !l.starts_with('-')));
+        let down = Axis::fit([-5.0, -8.0].into_iter(), false, true);
+        assert_eq!(down.hi, 0.0);
+        assert!(down.lo < -8.0);
+        // Without the zero line both ends are padded.
+        let free = Axis::fit([5.0, 8.0, 10.0].into_iter(), false, false);
+        assert!(free.lo < 5.0 && free.lo > 0.0);
     }
 
     #[test]
