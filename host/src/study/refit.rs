@@ -34,6 +34,7 @@
 
 use super::calibrate::Calibrated;
 use crate::data::Dataset;
+use crate::format::fmt_sig;
 use crate::workbench::compare::{carried_free_params, compare};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
@@ -110,9 +111,9 @@ pub fn choose(held: Trial, joint: Trial, mare_before: f64, n: usize) -> (bool, R
         (
             true,
             format!(
-                "the joint refit is clearly better: chi-square {:.4} -> {:.4}, F = {:.3}, p = {:.2e} < {F_TEST_LEVEL} (MARE {} held, {} joint)",
-                held.chi2,
-                joint.chi2,
+                "the joint refit is clearly better: chi-square {} -> {}, F = {:.3}, p = {:.2e} < {F_TEST_LEVEL} (MARE {} held, {} joint)",
+                fmt_sig(held.chi2, 4),
+                fmt_sig(joint.chi2, 4),
                 f.unwrap_or(f64::NAN),
                 p.unwrap_or(f64::NAN),
                 pct(held.mare),
@@ -133,11 +134,11 @@ pub fn choose(held: Trial, joint: Trial, mare_before: f64, n: usize) -> (bool, R
         (
             false,
             format!(
-                "a joint refit of every step was tried and is not clearly better ({why}; MARE {} held, {} joint; chi-square {:.4} held, {:.4} joint)",
+                "a joint refit of every step was tried and is not clearly better ({why}; MARE {} held, {} joint; chi-square {} held, {} joint)",
                 pct(held.mare),
                 pct(joint.mare),
-                held.chi2,
-                joint.chi2
+                fmt_sig(held.chi2, 4),
+                fmt_sig(joint.chi2, 4)
             ),
         )
     };

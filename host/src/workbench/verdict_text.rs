@@ -56,13 +56,16 @@ pub fn stagewise_note(base: &Baseline, path: &Path, last: &Level) -> String {
             )
         })
         .collect();
-    let head = if last.at_floor {
-        format!("{} steps reach the noise floor", path.steps.len())
-    } else {
-        format!(
-            "stagewise, {} steps lower the error but do not reach the noise floor",
-            path.steps.len()
-        )
+    let n = path.steps.len();
+    let head = match (last.at_floor, n == 1) {
+        (true, true) => "1 step reaches the noise floor".to_string(),
+        (true, false) => format!("{n} steps reach the noise floor"),
+        (false, true) => {
+            "stagewise, 1 step lowers the error but does not reach the noise floor".to_string()
+        }
+        (false, false) => {
+            format!("stagewise, {n} steps lower the error but do not reach the noise floor")
+        }
     };
     format!(
         "{head}: {}. MARE {:.1} % -> {:.1} % (cross-validated {:.1} %), reduced chi-square {} -> {} (noise floor {})",
