@@ -119,12 +119,16 @@ impl Provenance {
 }
 
 impl Provenance {
-    /// The lines as an HTML section (the report page's last).
+    /// The lines as an HTML section (the report page's last), escaped by
+    /// construction as the rest of the page is (`crate::report`).
     pub fn html_section(&self) -> String {
-        format!(
-            "<section class=\"provenance\"><h2 id=\"provenance\">Provenance</h2><pre>{}</pre></section>\n",
-            escape_xml(&self.lines().join("\n"))
-        )
+        let section = maud::html! {
+            section.provenance {
+                h2 id="provenance" { "Provenance" }
+                pre { (self.lines().join("\n")) }
+            }
+        };
+        section.into_string() + "\n"
     }
 
     /// `page` with [`Provenance::html_section`] before `</body>` (or at the end).
@@ -150,6 +154,7 @@ impl Provenance {
     }
 }
 
+/// Text content of the SVG `<metadata>` element.
 fn escape_xml(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")

@@ -150,6 +150,8 @@ fn code_text(inner: &str) -> String {
     out.push_str(rest);
     out.replace("&lt;", "<")
         .replace("&gt;", ">")
+        .replace("&quot;", "\"")
+        .replace("&#39;", "'")
         .replace("&amp;", "&")
 }
 

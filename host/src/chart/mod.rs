@@ -35,7 +35,9 @@ pub use builder::{legend_only, stack, Chart};
 pub use check::{legend_clear, text_clear};
 pub use legend::Glyph;
 pub use series::Series;
-pub use svg_text::{notation, runs as notation_runs, unit, width as text_width};
+pub use svg_text::{
+    escape as escape_text, notation, runs as notation_runs, unit, width as text_width,
+};
 pub use ticks::Axis;
 
 use plotters::style::RGBColor;

@@ -59,10 +59,15 @@ pub fn unit(u: &str) -> Option<String> {
     }
 }
 
-fn escape(s: &str) -> String {
+/// Text as SVG/XML text content or a quoted attribute value: `&`, `<`,
+/// `>`, `"` and `'` as entities, so no drawn text (a case name, an
+/// effect's name) can become markup.
+pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
+        .replace('"', "&quot;")
+        .replace('\'', "&#39;")
 }
 
 /// Splits `s` into runs of (text, shift): shift -1 subscript, +1 superscript.

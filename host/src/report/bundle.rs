@@ -87,6 +87,7 @@ pub fn text_of(html: &str) -> String {
     out.replace("&lt;", "<")
         .replace("&gt;", ">")
         .replace("&quot;", "\"")
+        .replace("&#39;", "'")
         .replace("&amp;", "&")
         .split_whitespace()
         .collect::<Vec<_>>()

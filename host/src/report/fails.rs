@@ -3,7 +3,7 @@
 //! in standard errors of the measured mean), as parity plots and as
 //! residuals against the case features.
 
-use super::html::{escape, figure, table};
+use super::html::{figure, html, omega_b, rich, table, Head, Markup};
 use super::paper::PaperModels;
 use super::parity::parity;
 use super::residuals::residual_plots;
@@ -27,7 +27,8 @@ fn sigma(x: Option<f64>) -> String {
     x.map_or("-".into(), |v| fmt_sig(v, 3))
 }
 
-/// One measured quantity's error: `(case, "U" or "Ω_b", relative error, error in σ)`.
+/// One measured quantity's error: `(case, "U" or "Ω_b" (physics notation:
+/// [`super::html::rich`] draws it), relative error, error in σ)`.
 pub type QuantityError = (String, &'static str, f64, Option<f64>);
 
 /// Every measured quantity's error, U and Ω_b of each case, largest first.
@@ -38,7 +39,7 @@ pub fn quantity_errors(cases: &[CaseComparison]) -> Vec<QuantityError> {
             [
                 k.u_rel_err.map(|e| (k.id.clone(), "U", e, k.u_err_sigma)),
                 k.omega_rel_err
-                    .map(|e| (k.id.clone(), "Ω<sub>b</sub>", e, k.omega_err_sigma)),
+                    .map(|e| (k.id.clone(), "Ω_b", e, k.omega_err_sigma)),
             ]
         })
         .flatten()
@@ -52,7 +53,7 @@ fn worst(cases: &[CaseComparison]) -> Option<QuantityError> {
     quantity_errors(cases).into_iter().next()
 }
 
-pub fn section(data: &Dataset, paper: &PaperModels) -> Result<String, crate::model::ModelError> {
+pub fn section(data: &Dataset, paper: &PaperModels) -> Result<Markup, crate::model::ModelError> {
     let cmp = &paper.gh;
     let bands = cmp.cases.iter().any(|k| k.u_input_sd_mm_s.is_some());
     let rows: Vec<Vec<String>> = cmp
@@ -60,7 +61,7 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<String, crate::mod
         .iter()
         .map(|k| {
             vec![
-                escape(&k.id),
+                k.id.clone(),
                 pred(k.u_pred_mm_s, k.u_input_sd_mm_s),
                 obs(k.u_obs_mm_s, k.u_ci_mm_s),
                 signed_pct(k.u_rel_err),
@@ -77,80 +78,71 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<String, crate::mod
     } else {
         "predicted"
     };
-    let mut h = format!(
-        "<p>The paper's model with Gray-Hancock's coefficients and {}, case by case. \
-         U in mm/s, Ω<sub>b</sub> (the body's counter-rotation) in Hz; measured: mean ± {} CI; \
-         error in σ: the error in standard errors of the measured mean.{}</p>",
-        super::paper::table_iii(&paper.gray_hancock),
-        super::intro::confidence(data),
-        if bands {
-            " ± inputs: the prediction's standard uncertainty from the dataset's stated input \
-             uncertainties (geometry, rate, viscosity)."
-        } else {
-            ""
-        }
-    );
-    h.push_str(&table(
-        &[
-            "<tail",
-            &format!("U {pred_head}"),
-            "U measured",
-            "U error",
-            "U error (σ)",
-            &format!("Ω<sub>b</sub> {pred_head}"),
-            "Ω<sub>b</sub> measured",
-            "Ω<sub>b</sub> error",
-            "Ω<sub>b</sub> error (σ)",
-        ],
-        &rows,
-    ));
-    h.push_str(&super::yours::impossible_note(
-        "The paper's model (Gray-Hancock)",
-        cmp,
-    ));
-    h.push_str(&super::yours::impossible_note(
-        "The paper's model with Lighthill's coefficients",
-        &paper.li,
-    ));
-    if let Some((case, q, e, s)) = worst(&cmp.cases) {
-        h.push_str(&format!(
-            "<p>The largest error is {}'s {q}: {} ({} standard errors). Over all quantities: MARE \
-             {}, reduced χ² {}: a root-mean-square error of {} standard errors of the measured \
-             means.",
-            escape(&case),
-            signed_pct(Some(e)),
-            sigma(s),
-            super::wording::pct(cmp.summary.mare),
-            stat(cmp.summary.chi2_reduced),
-            cmp.summary
-                .chi2_reduced
-                .map_or("n/a".into(), |c| fmt_sig(c.sqrt(), 2)),
-        ));
-        if cmp.summary_combined.is_some() {
-            h.push_str(&format!(
-                " Judged against the measurement and the inputs' uncertainty: {}.",
-                super::correlated::statistic(cmp)
-            ));
-        }
-        h.push_str("</p>");
-    }
-    h.push_str(&figure(
-        "parity",
-        &[parity(cmp, false), parity(cmp, true)],
-        2,
-        "<b>Parity.</b> Predicted against measured U and Ω<sub>b</sub>, one point per tail; \
-         on the diagonal the model would be exact.",
-    ));
+    let w = |rest: &str| Head::num(html! { (omega_b()) " " (rest) });
+    let header: [Head; 9] = [
+        "<tail".into(),
+        format!("U {pred_head}").into(),
+        "U measured".into(),
+        "U error".into(),
+        "U error (σ)".into(),
+        w(pred_head),
+        w("measured"),
+        w("error"),
+        w("error (σ)"),
+    ];
     let residuals = residual_plots(data, cmp);
-    if !residuals.is_empty() {
-        h.push_str(&figure(
-            "residuals",
-            &residuals,
+    Ok(html! {
+        p {
+            "The paper's model with Gray-Hancock's coefficients and "
+            (super::paper::table_iii(&paper.gray_hancock)) ", case by case. U in mm/s, "
+            (omega_b()) " (the body's counter-rotation) in Hz; measured: mean ± "
+            (super::intro::confidence(data)) " CI; error in σ: the error in standard errors \
+            of the measured mean."
+            @if bands {
+                " ± inputs: the prediction's standard uncertainty from the dataset's stated \
+                input uncertainties (geometry, rate, viscosity)."
+            }
+        }
+        (table(&header, &rows))
+        (super::yours::impossible_note("The paper's model (Gray-Hancock)", cmp))
+        (super::yours::impossible_note(
+            "The paper's model with Lighthill's coefficients",
+            &paper.li,
+        ))
+        @if let Some((case, q, e, s)) = worst(&cmp.cases) {
+            p {
+                "The largest error is " (case) "'s " (rich(q)) ": " (signed_pct(Some(e))) " ("
+                (sigma(s)) " standard errors). Over all quantities: MARE "
+                (super::wording::pct(cmp.summary.mare)) ", reduced χ² "
+                (stat(cmp.summary.chi2_reduced)) ": a root-mean-square error of "
+                (cmp.summary.chi2_reduced.map_or("n/a".into(), |c| fmt_sig(c.sqrt(), 2)))
+                " standard errors of the measured means."
+                @if cmp.summary_combined.is_some() {
+                    " Judged against the measurement and the inputs' uncertainty: "
+                    (super::correlated::statistic(cmp)) "."
+                }
+            }
+        }
+        (figure(
+            "parity",
+            &[parity(cmp, false), parity(cmp, true)],
             2,
-            "<b>Residuals.</b> The relative error of each quantity against the case features \
-             it correlates with most (r: Pearson's correlation): a trend says which property \
-             of the tail the missing physics follows.",
-        ));
-    }
-    Ok(h)
+            html! {
+                b { "Parity." } " Predicted against measured U and " (omega_b()) ", one point \
+                per tail; on the diagonal the model would be exact."
+            },
+        ))
+        @if !residuals.is_empty() {
+            (figure(
+                "residuals",
+                &residuals,
+                2,
+                html! {
+                    b { "Residuals." } " The relative error of each quantity against the case \
+                    features it correlates with most (r: Pearson's correlation): a trend says \
+                    which property of the tail the missing physics follows."
+                },
+            ))
+        }
+    })
 }

@@ -1,7 +1,18 @@
 //! The page's frame: one self-contained HTML document (inline CSS and SVG,
 //! no external resource), readable on a laptop screen and printable
 //! (figures and tables never split across pages), and the small HTML
-//! helpers the sections share.
+//! helpers the sections share. Every piece of the page is [`Markup`] built
+//! with maud's `html!`, which escapes all text it is given; the only raw
+//! markup taken in is the charts' SVG and the constant stylesheet (each
+//! marked where it enters), so a case name, an effect's statement or a
+//! file path can never become markup on the page.
+
+use maud::PreEscaped;
+use maud::DOCTYPE;
+pub use maud::{html, Markup, Render};
+
+/// A chart's SVG, or why it could not be drawn.
+pub type Chart = Result<String, String>;
 
 /// The stylesheet: screen first, then print.
 const STYLE: &str = "\
@@ -28,41 +39,46 @@ table,figure,.verdict{break-inside:avoid;page-break-inside:avoid}.toc{display:no
 .grid{grid-template-columns:repeat(2,minmax(0,max-content))}.flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}\
 @page{size:A4;margin:14mm}}";
 
-pub fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
+/// The stylesheet as markup. Trusted raw markup: a constant of this file,
+/// with no input in it.
+fn style() -> Markup {
+    PreEscaped(STYLE.to_string())
 }
 
 /// Text in physics notation as HTML: escaped, `Omega_b` as Ω<sub>b</sub>,
 /// `x^2` as x<sup>2</sup> (the same runs the charts draw).
-pub fn rich(s: &str) -> String {
-    crate::chart::notation_runs(&crate::chart::notation(s))
-        .into_iter()
-        .map(|(t, shift)| match shift {
-            0 => escape(&t),
-            -1 => format!("<sub>{}</sub>", escape(&t)),
-            _ => format!("<sup>{}</sup>", escape(&t)),
-        })
-        .collect()
-}
-
-/// A chart, or a visible note where it failed.
-pub fn svg_or_note(r: &Result<String, String>) -> String {
-    match r {
-        Ok(svg) => svg.clone(),
-        Err(e) => format!("<p class=\"err\">chart failed: {}</p>", escape(e)),
+pub fn rich(s: &str) -> Markup {
+    let runs = crate::chart::notation_runs(&crate::chart::notation(s));
+    html! {
+        @for (t, shift) in runs {
+            @match shift {
+                0 => (t),
+                -1 => sub { (t) },
+                _ => sup { (t) },
+            }
+        }
     }
 }
 
-/// A figure of charts in a grid of `columns`, with its caption (HTML).
-pub fn figure(
-    id: &str,
-    charts: &[Result<String, String>],
-    columns: usize,
-    caption: &str,
-) -> String {
-    figure_in(id, "", charts, columns, caption)
+/// Ω<sub>b</sub>, the body's rate, as the page writes it.
+pub fn omega_b() -> Markup {
+    html! { "Ω" sub { "b" } }
+}
+
+/// A chart, or a visible note where it failed.
+pub fn svg_or_note(r: &Chart) -> Markup {
+    match r {
+        // Trusted raw markup: SVG from the chart engine (`crate::chart`) or
+        // the path chart, which escape every text they draw
+        // (`crate::chart::escape_text`) and put no text in attributes.
+        Ok(svg) => PreEscaped(svg.clone()),
+        Err(e) => html! { p.err { "chart failed: " (e) } },
+    }
+}
+
+/// A figure of charts in a grid of `columns`, with its caption.
+pub fn figure(id: &str, charts: &[Chart], columns: usize, caption: Markup) -> Markup {
+    figure_in(id, None, None, charts, columns, caption)
 }
 
 /// [`figure`] for panels given row by row that, on paper and on narrow
@@ -73,87 +89,123 @@ pub fn figure(
 /// is widened by it.
 pub fn figure_flow(
     id: &str,
-    legend: Option<&Result<String, String>>,
-    charts: &[Result<String, String>],
+    legend: Option<&Chart>,
+    charts: &[Chart],
     columns: usize,
-    caption: &str,
-) -> String {
+    caption: Markup,
+) -> Markup {
     let rows = charts.len().div_ceil(2).max(1);
-    let attrs = if columns == rows {
-        format!(" class=\"flow\" style=\"--rows:{rows}\"")
-    } else {
-        String::new()
-    };
-    let mut h = figure_in(id, &attrs, charts, columns, caption);
-    if let Some(l) = legend {
-        let at = h
-            .find("<div class=\"grid\"")
-            .expect("figure_in writes a grid");
-        h.insert_str(
-            at,
-            &format!("<div class=\"fig-legend\">{}</div>", svg_or_note(l)),
-        );
-    }
-    h
+    let flow = (columns == rows).then_some(rows);
+    figure_in(id, flow, legend, charts, columns, caption)
 }
 
 fn figure_in(
     id: &str,
-    attrs: &str,
-    charts: &[Result<String, String>],
+    flow_rows: Option<usize>,
+    legend: Option<&Chart>,
+    charts: &[Chart],
     columns: usize,
-    caption: &str,
-) -> String {
+    caption: Markup,
+) -> Markup {
     // Each SVG is shown at its own size (its ticks read at the size they
     // were drawn), shrunk only when the columns do not fit.
-    let mut h = format!(
-        "<figure id=\"{id}\"{attrs}><div class=\"grid\" style=\"--cols:{}\">",
-        columns.max(1)
-    );
-    for c in charts {
-        h.push_str("<div>");
-        h.push_str(&svg_or_note(c));
-        h.push_str("</div>");
-    }
-    h.push_str(&format!(
-        "</div><figcaption>{caption}</figcaption></figure>"
-    ));
-    h
-}
-
-/// A table: header cells (a leading `<` marks a left-aligned column) and rows.
-pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
-    let left: Vec<bool> = header.iter().map(|h| h.starts_with('<')).collect();
-    let cell = |tag: &str, i: usize, s: &str| {
-        let cls = if left.get(i).copied().unwrap_or(false) {
-            " class=\"l\""
-        } else {
-            ""
-        };
-        format!("<{tag}{cls}>{s}</{tag}>")
-    };
-    let mut h = String::from("<table><tr>");
-    for (i, t) in header.iter().enumerate() {
-        h.push_str(&cell("th", i, t.trim_start_matches('<')));
-    }
-    h.push_str("</tr>");
-    for r in rows {
-        h.push_str("<tr>");
-        for (i, s) in r.iter().enumerate() {
-            h.push_str(&cell("td", i, s));
+    html! {
+        figure id=(id) class=[flow_rows.map(|_| "flow")]
+            style=[flow_rows.map(|r| format!("--rows:{r}"))] {
+            @if let Some(l) = legend {
+                div.fig-legend { (svg_or_note(l)) }
+            }
+            div.grid style={ "--cols:" (columns.max(1)) } {
+                @for c in charts {
+                    div { (svg_or_note(c)) }
+                }
+            }
+            figcaption { (caption) }
         }
-        h.push_str("</tr>");
     }
-    h.push_str("</table>");
-    h
 }
 
-/// The whole document around the sections' HTML.
-pub fn document(title: &str, body: &str) -> String {
-    format!(
-        "<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\">\
-         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
-         <title>{}</title><style>{STYLE}</style></head><body>{body}</body></html>\n",
-        escape(title)
-    )
+/// A table's header cell: its content and whether its column is
+/// left-aligned (text) rather than right-aligned (numbers).
+#[derive(Clone)]
+pub struct Head {
+    content: Markup,
+    left: bool,
+}
+
+impl Head {
+    /// A right-aligned column headed by `content`.
+    pub fn num(content: Markup) -> Head {
+        Head {
+            content,
+            left: false,
+        }
+    }
+
+    /// A left-aligned column headed by `content`.
+    pub fn text(content: Markup) -> Head {
+        Head {
+            content,
+            left: true,
+        }
+    }
+}
+
+/// Plain header text; a leading `<` marks a left-aligned column.
+impl From<&str> for Head {
+    fn from(s: &str) -> Head {
+        match s.strip_prefix('<') {
+            Some(t) => Head::text(t.render()),
+            None => Head::num(s.render()),
+        }
+    }
+}
+
+impl From<String> for Head {
+    fn from(s: String) -> Head {
+        Head::from(s.as_str())
+    }
+}
+
+/// A table: header cells and rows of cells (text is escaped, markup kept).
+pub fn table<H, C>(header: &[H], rows: &[Vec<C>]) -> Markup
+where
+    H: Clone + Into<Head>,
+    C: Render,
+{
+    let header: Vec<Head> = header.iter().cloned().map(Into::into).collect();
+    let left = |i: usize| header.get(i).is_some_and(|h| h.left).then_some("l");
+    html! {
+        table {
+            tr {
+                @for (i, h) in header.iter().enumerate() {
+                    th class=[left(i)] { (h.content) }
+                }
+            }
+            @for r in rows {
+                tr {
+                    @for (i, c) in r.iter().enumerate() {
+                        td class=[left(i)] { (c) }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The whole document around the sections.
+pub fn document(title: &str, body: Markup) -> String {
+    let page = html! {
+        (DOCTYPE)
+        html lang="en" {
+            head {
+                meta charset="utf-8";
+                meta name="viewport" content="width=device-width, initial-scale=1";
+                title { (title) }
+                style { (style()) }
+            }
+            body { (body) }
+        }
+    };
+    page.into_string() + "\n"
 }

@@ -2,7 +2,7 @@
 //! observed tail rate, measured speed and body rate with their CIs) and the
 //! question, all read from the dataset.
 
-use super::html::{escape, table};
+use super::html::{html, omega_b, rich, table, Head, Markup};
 use super::wording::value_unc;
 use crate::data::{Case, Dataset, Measured};
 use crate::format::fmt_sig;
@@ -27,13 +27,13 @@ pub fn confidence(data: &Dataset) -> String {
         .unwrap_or_else(|| "-".into())
 }
 
-/// A setup field, its table header and its value in a case.
+/// A setup field, its table header (physics notation) and its value in a case.
 type SetupField = (&'static str, fn(&Case) -> f64);
 
 /// The setup fields (tube, oil, body, wire) that differ between cases.
 fn varying_setup(data: &Dataset) -> Vec<SetupField> {
     const FIELDS: [SetupField; 7] = [
-        ("D<sub>ch</sub> (mm)", |c| c.channel_diameter_mm),
+        ("D_ch (mm)", |c| c.channel_diameter_mm),
         ("channel length (mm)", |c| c.channel_length_mm),
         ("μ (Pa s)", |c| c.viscosity_pa_s),
         ("wire (mm)", |c| c.wire_diameter_mm),
@@ -54,9 +54,9 @@ fn measured(m: Option<Measured>) -> String {
     m.map_or("-".into(), |m| value_unc(m.mean, m.ci_half_width))
 }
 
-pub fn section(data: &Dataset) -> String {
+pub fn section(data: &Dataset) -> Markup {
     let Some(c0) = data.cases.first() else {
-        return "<p>The dataset has no case.</p>".into();
+        return html! { p { "The dataset has no case." } };
     };
     let n = data.cases.len();
     let measured_n = data
@@ -70,38 +70,19 @@ pub fn section(data: &Dataset) -> String {
         .iter()
         .find_map(|c| c.u_mm_s.or(c.omega_body_hz))
         .map_or(0, |m| m.trials);
-    let mut h = format!(
-        "<p>A centimetre-scale, bacteria-like robot: a sealed body ({} mm long, {} mm across) \
-         with a DC motor turning a rigid helical tail of {} mm copper wire; body and tail turn in \
-         opposite directions. It swims {} a {} glass tube {} mm across and {} mm long, filled with \
-         silicone oil of viscosity {} Pa s (Reynolds number far below one: viscous forces only). \
-         The dataset has {n} tails: wavelength λ {} mm, amplitude B<sub>o</sub> {} mm, \
-         axial length L<sub>t</sub> {} mm, each with its observed tail rate f ({} Hz), and \
-         {measured_n} measured quantities: the swimming speed U and the body's counter-rotation \
-         rate Ω<sub>b</sub>, means of {trials} trials with {ci} confidence intervals.</p>",
-        span(data.cases.iter().map(|c| c.body_length_mm)),
-        span(data.cases.iter().map(|c| c.body_diameter_mm)),
-        span(data.cases.iter().map(|c| c.wire_diameter_mm)),
-        match c0.orientation {
-            crate::data::Orientation::Vertical => "upwards in",
-            crate::data::Orientation::Horizontal => "along",
-        },
-        if c0.channel_closed { "closed" } else { "open" },
-        span(data.cases.iter().map(|c| c.channel_diameter_mm)),
-        span(data.cases.iter().map(|c| c.channel_length_mm)),
-        span(data.cases.iter().map(|c| c.viscosity_pa_s)),
-        span(data.cases.iter().map(|c| c.wavelength_mm)),
-        span(data.cases.iter().map(|c| c.amplitude_mm)),
-        span(data.cases.iter().map(|c| c.tail_length_mm)),
-        span(data.cases.iter().map(|c| c.frequency_hz)),
-    );
+    let of = |f: fn(&Case) -> f64| span(data.cases.iter().map(f));
+    let swims = match c0.orientation {
+        crate::data::Orientation::Vertical => "upwards in",
+        crate::data::Orientation::Horizontal => "along",
+    };
+    let closed = if c0.channel_closed { "closed" } else { "open" };
     let varying = varying_setup(data);
     let rows: Vec<Vec<String>> = data
         .cases
         .iter()
         .map(|c| {
             let mut row = vec![
-                escape(&c.id),
+                c.id.clone(),
                 fmt_sig(c.wavelength_mm, 3),
                 fmt_sig(c.amplitude_mm, 3),
                 fmt_sig(c.tail_length_mm, 3),
@@ -115,31 +96,48 @@ pub fn section(data: &Dataset) -> String {
             row
         })
         .collect();
-    let mut header = vec![
-        "<tail".to_string(),
+    let mut header: Vec<Head> = vec![
+        "<tail".into(),
         "λ (mm)".into(),
-        "B<sub>o</sub> (mm)".into(),
-        "L<sub>t</sub> (mm)".into(),
+        Head::num(rich("B_o (mm)")),
+        Head::num(rich("L_t (mm)")),
         "f (Hz)".into(),
-        "N<sub>λ</sub> = L<sub>t</sub>/λ".into(),
-        "B<sub>o</sub>/R<sub>body</sub>".into(),
-        format!("U (mm/s) ± {ci} CI"),
-        format!("Ω<sub>b</sub> (Hz) ± {ci} CI"),
+        Head::num(rich("N_λ = L_t/λ")),
+        Head::num(rich("B_o/R_body")),
+        format!("U (mm/s) ± {ci} CI").into(),
+        Head::num(html! { (omega_b()) " (Hz) ± " (ci) " CI" }),
     ];
-    header.extend(varying.iter().map(|(name, _)| name.to_string()));
-    let header: Vec<&str> = header.iter().map(String::as_str).collect();
-    h.push_str(&table(&header, &rows));
-    if !varying.is_empty() {
-        h.push_str(
-            "<p class=\"note\">The setup differs between cases: the columns after the \
-             measurements give each case's own values (the ranges above span them).</p>",
-        );
+    header.extend(varying.iter().map(|(name, _)| Head::num(rich(name))));
+    html! {
+        p {
+            "A centimetre-scale, bacteria-like robot: a sealed body ("
+            (of(|c| c.body_length_mm)) " mm long, " (of(|c| c.body_diameter_mm))
+            " mm across) with a DC motor turning a rigid helical tail of "
+            (of(|c| c.wire_diameter_mm)) " mm copper wire; body and tail turn in opposite \
+            directions. It swims " (swims) " a " (closed) " glass tube "
+            (of(|c| c.channel_diameter_mm)) " mm across and " (of(|c| c.channel_length_mm))
+            " mm long, filled with silicone oil of viscosity " (of(|c| c.viscosity_pa_s))
+            " Pa s (Reynolds number far below one: viscous forces only). The dataset has "
+            (n) " tails: wavelength λ " (of(|c| c.wavelength_mm)) " mm, amplitude B"
+            sub { "o" } " " (of(|c| c.amplitude_mm)) " mm, axial length L" sub { "t" } " "
+            (of(|c| c.tail_length_mm)) " mm, each with its observed tail rate f ("
+            (of(|c| c.frequency_hz)) " Hz), and " (measured_n) " measured quantities: the \
+            swimming speed U and the body's counter-rotation rate " (omega_b()) ", means of "
+            (trials) " trials with " (ci) " confidence intervals."
+        }
+        (table(&header, &rows))
+        @if !varying.is_empty() {
+            p.note {
+                "The setup differs between cases: the columns after the measurements give \
+                each case's own values (the ranges above span them)."
+            }
+        }
+        p {
+            b { "The question." } " Resistive-force theory (RFT) predicts U and " (omega_b())
+            " from the geometry and the observed f alone. Does it reproduce these \
+            measurements? The paper needed two fitted factors on the body's resistance to get \
+            close. Where does the model fail, what do those factors stand for, and what is \
+            still missing?"
+        }
     }
-    h.push_str(
-        "<p><b>The question.</b> Resistive-force theory (RFT) predicts U and Ω<sub>b</sub> from \
-         the geometry and the observed f alone. Does it reproduce these measurements? The paper \
-         needed two fitted factors on the body's resistance to get close. Where does the model \
-         fail, what do those factors stand for, and what is still missing?</p>",
-    );
-    h
 }

@@ -23,6 +23,7 @@ mod physics_misses;
 mod remains;
 mod residuals;
 pub mod story;
+mod study_charts;
 mod study_fig4;
 mod study_page;
 mod wording;

@@ -3,7 +3,7 @@
 //! Fig. 4 reproduced, and the summary errors of each set.
 
 use super::figure4::{figure4, Layer, BLACK, BLUE};
-use super::html::{escape, figure_flow, table};
+use super::html::{figure_flow, html, omega_b, table, Head, Markup, Render};
 use super::wording::{pct, stat};
 use crate::data::Dataset;
 use crate::model::{preset, Model, ModelError};
@@ -46,23 +46,30 @@ pub fn mare_by_quantity(cmp: &Comparison) -> (f64, f64) {
 }
 
 /// `Υ_T,x = 16, Υ_R,x = 1.4`: the body-correction factors in `model`.
-pub fn table_iii(model: &Model) -> String {
-    model
+pub fn table_iii(model: &Model) -> Markup {
+    let factors: Vec<(&str, f64)> = model
         .effects
         .iter()
         .filter(|e| e.name() == "body-correction")
         .flat_map(|e| {
-            e.effect.params().iter().zip(&e.values).map(|(p, v)| {
-                let sym = match p.name {
-                    "translation" => "Υ<sub>T,x</sub>",
-                    "rotation" => "Υ<sub>R,x</sub>",
-                    other => other,
-                };
-                format!("{sym} = {}", crate::format::fmt_sig(*v, 3))
-            })
+            e.effect
+                .params()
+                .iter()
+                .zip(&e.values)
+                .map(|(p, v)| (p.name, *v))
         })
-        .collect::<Vec<_>>()
-        .join(", ")
+        .collect();
+    html! {
+        @for (i, (name, v)) in factors.iter().enumerate() {
+            @if i > 0 { ", " }
+            @match *name {
+                "translation" => { "Υ" sub { "T,x" } },
+                "rotation" => { "Υ" sub { "R,x" } },
+                other => (other),
+            }
+            " = " (crate::format::fmt_sig(*v, 3))
+        }
+    }
 }
 
 /// `2, fitted by the paper`: the free parameters `model` carries.
@@ -73,28 +80,31 @@ pub fn fitted_by_paper(model: &Model) -> String {
 
 /// One row of the summary tables: model, free parameters, MARE (all, U,
 /// Omega_b), max |error|, reduced chi-square.
-pub fn summary_row(name: &str, fitted: &str, cmp: &Comparison) -> Vec<String> {
+pub fn summary_row(name: impl Render, fitted: &str, cmp: &Comparison) -> Vec<Markup> {
     let (u, w) = mare_by_quantity(cmp);
     vec![
-        name.to_string(),
-        fitted.to_string(),
-        pct(cmp.summary.mare),
-        pct(u),
-        pct(w),
-        pct(cmp.summary.max_abs_rel_err),
-        stat(cmp.summary.chi2_reduced),
+        name.render(),
+        fitted.render(),
+        pct(cmp.summary.mare).render(),
+        pct(u).render(),
+        pct(w).render(),
+        pct(cmp.summary.max_abs_rel_err).render(),
+        stat(cmp.summary.chi2_reduced).render(),
     ]
 }
 
-pub const SUMMARY_HEADER: [&str; 7] = [
-    "<model",
-    "<fitted parameters",
-    "MARE",
-    "MARE of U",
-    "MARE of Ω<sub>b</sub>",
-    "max |error|",
-    "reduced χ²",
-];
+/// The summary tables' header.
+pub fn summary_header() -> [Head; 7] {
+    [
+        "<model".into(),
+        "<fitted parameters".into(),
+        "MARE".into(),
+        "MARE of U".into(),
+        Head::num(html! { "MARE of " (omega_b()) }),
+        "max |error|".into(),
+        "reduced χ²".into(),
+    ]
+}
 
 /// Predicted / measured for every measured case (`omega`: Omega_b, else U).
 fn ratios(cmp: &Comparison, omega: bool) -> Vec<f64> {
@@ -119,36 +129,40 @@ pub fn mean_ratio(cmp: &Comparison, omega: bool) -> Option<f64> {
 
 /// "With its Table III factors, Lighthill predicts U at 3.4 times the
 /// measured on average (1.8-4.1) ..." : the size of the gap, in numbers.
-fn gap_sentence(name: &str, cmp: &Comparison) -> String {
+fn gap_sentence(name: &str, cmp: &Comparison) -> Markup {
     let range = |omega: bool| {
         let v = ratios(cmp, omega);
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         (lo, hi)
     };
-    let part = |omega: bool, q: &str| {
+    let part = |omega: bool, q: Markup| {
         mean_ratio(cmp, omega).map(|m| {
             let (lo, hi) = range(omega);
-            format!(
-                "{q} at {} times the measured on average ({}-{} over the cases)",
-                crate::format::fmt_sig(m, 3),
-                crate::format::fmt_sig(lo, 3),
-                crate::format::fmt_sig(hi, 3)
-            )
+            html! {
+                (q) " at " (crate::format::fmt_sig(m, 3)) " times the measured on average ("
+                (crate::format::fmt_sig(lo, 3)) "-" (crate::format::fmt_sig(hi, 3))
+                " over the cases)"
+            }
         })
     };
-    let parts: Vec<String> = [part(false, "U"), part(true, "Ω<sub>b</sub>")]
+    let parts: Vec<Markup> = [part(false, html! { "U" }), part(true, omega_b())]
         .into_iter()
         .flatten()
         .collect();
     if parts.is_empty() {
-        return String::new();
+        return html! {};
     }
-    format!(
-        "<p>Here {name}'s model with the paper's factors predicts {}; MARE {}.</p>",
-        parts.join(" and "),
-        pct(cmp.summary.mare)
-    )
+    html! {
+        p {
+            "Here " (name) "'s model with the paper's factors predicts "
+            @for (i, part) in parts.iter().enumerate() {
+                @if i > 0 { " and " }
+                (part)
+            }
+            "; MARE " (pct(cmp.summary.mare)) "."
+        }
+    }
 }
 
 impl PaperModels {
@@ -165,7 +179,7 @@ impl PaperModels {
         })
     }
 
-    pub fn section(&self, data: &Dataset) -> String {
+    pub fn section(&self, data: &Dataset) -> Markup {
         let gh3 = table_iii(&self.gray_hancock);
         let li3 = table_iii(&self.lighthill);
         let body = data.cases.first().map_or("-".into(), |c| {
@@ -175,17 +189,6 @@ impl PaperModels {
                 crate::format::fmt_sig(c.body_diameter_mm, 3)
             )
         });
-        let mut h = format!(
-            "<p>The paper's model balances the forces and torques on body and tail (eq. 11). The \
-             tail's resistance integrates local drag coefficients along the helix (eq. 3), from \
-             Gray and Hancock (eqs. 4-5) or from Lighthill (eqs. 6-7). The closed tube adds the \
-             drag of the displaced oil flowing back past the body (eqs. 8-9, driven by the \
-             <i>observed</i> speed). The body's axial drag and rotational resistance are \
-             multiplied by two factors fitted by the paper (Table III): Gray-Hancock {gh3}; \
-             Lighthill {li3}. Here the body is a {body} mm prolate spheroid in free space (the \
-             paper's body coefficients come from its ref. [28], which is not available), so the \
-             paper's own numbers cannot be matched exactly.</p>"
-        );
         let groups = super::figure4::amplitude_groups(data).len();
         let layers = [
             Layer {
@@ -209,56 +212,59 @@ impl PaperModels {
         let last_u = (b'a' + groups as u8 - 1) as char;
         let first_w = (b'a' + groups as u8) as char;
         let last_w = (b'a' + 2 * groups as u8 - 1) as char;
-        h.push_str(&figure_flow(
-            "fig4",
-            Some(&charts.legend),
-            &charts.panels,
-            groups.max(1),
-            &format!(
-                "<b>Fig. 4 reproduced.</b> Measurements (red, with their {ci} confidence \
-                 intervals) against the paper's model with Gray-Hancock's coefficients (black; \
-                 {gh3}) and with Lighthill's (blue; {li3}): (a)-({last_u}) dimensionless speed \
-                 U/U<sub>wave</sub>, U<sub>wave</sub> = λf; ({first_w})-({last_w}) dimensionless \
-                 body rate Ω<sub>b</sub>/ω, against the number of waves N<sub>λ</sub> = \
-                 L<sub>t</sub>/λ, one panel per amplitude group B<sub>o</sub>/R<sub>body</sub>. \
-                 Hollow markers: the model at each measured case (± 2u where the dataset states \
-                 input uncertainties). Lines: the same model between the cases of a group, its \
-                 inputs (chord length, tail rate, the observed speed its back-flow reads) \
-                 interpolated linearly in N<sub>λ</sub> between neighbouring cases, so each line \
-                 passes through its markers; a group of one case has markers only. An error bar \
-                 smaller than its marker is hidden by it. The models sit side by side, each \
-             shifted with its bars and line by {dodge} % of the panel's width left or right of \
-             the case's N<sub>λ</sub> in turn, so that bars at one case do not hide each other; \
-             the measurements stay at their N<sub>λ</sub>."
-            ),
-        ));
-        h.push_str(&gap_sentence("Gray-Hancock", &self.gh));
-        h.push_str(&gap_sentence("Lighthill", &self.li));
-        h.push_str(&table(
-            &SUMMARY_HEADER,
-            &[
-                summary_row(
-                    &format!("Gray-Hancock, {}", gh3),
-                    &fitted_by_paper(&self.gray_hancock),
-                    &self.gh,
-                ),
-                summary_row(
-                    &format!("Lighthill, {}", li3),
-                    "2, fitted by the paper",
-                    &self.li,
-                ),
-            ],
-        ));
-        h.push_str(&format!(
-            "<p class=\"note\">MARE: mean absolute relative error over the {} measured \
-             quantities; reduced χ²: the squared errors in standard errors of the measured means, \
-             over n − k = {} degrees of freedom (k = 2: the factors the paper fitted). Models: <code>--preset paper</code> ({}) and \
-             <code>--preset paper-lighthill</code> ({}).</p>",
-            self.gh.summary.n,
-            super::yours::dof_note(&self.gh.summary),
-            escape(&self.gray_hancock.describe()),
-            escape(&self.lighthill.describe())
-        ));
-        h
+        let n_lambda = html! { "N" sub { "λ" } };
+        let caption = html! {
+            b { "Fig. 4 reproduced." } " Measurements (red, with their " (ci) " confidence \
+            intervals) against the paper's model with Gray-Hancock's coefficients (black; "
+            (gh3) ") and with Lighthill's (blue; " (li3) "): (a)-(" (last_u) ") dimensionless \
+            speed U/U" sub { "wave" } ", U" sub { "wave" } " = λf; (" (first_w) ")-(" (last_w)
+            ") dimensionless body rate " (omega_b()) "/ω, against the number of waves "
+            (n_lambda) " = L" sub { "t" } "/λ, one panel per amplitude group B" sub { "o" }
+            "/R" sub { "body" } ". Hollow markers: the model at each measured case (± 2u where \
+            the dataset states input uncertainties). Lines: the same model between the cases \
+            of a group, its inputs (chord length, tail rate, the observed speed its back-flow \
+            reads) interpolated linearly in " (n_lambda) " between neighbouring cases, so each \
+            line passes through its markers; a group of one case has markers only. An error \
+            bar smaller than its marker is hidden by it. The models sit side by side, each \
+            shifted with its bars and line by " (dodge) " % of the panel's width left or right \
+            of the case's " (n_lambda) " in turn, so that bars at one case do not hide each \
+            other; the measurements stay at their " (n_lambda) "."
+        };
+        html! {
+            p {
+                "The paper's model balances the forces and torques on body and tail (eq. 11). \
+                The tail's resistance integrates local drag coefficients along the helix \
+                (eq. 3), from Gray and Hancock (eqs. 4-5) or from Lighthill (eqs. 6-7). The \
+                closed tube adds the drag of the displaced oil flowing back past the body \
+                (eqs. 8-9, driven by the " i { "observed" } " speed). The body's axial drag and \
+                rotational resistance are multiplied by two factors fitted by the paper \
+                (Table III): Gray-Hancock " (gh3) "; Lighthill " (li3) ". Here the body is a "
+                (body) " mm prolate spheroid in free space (the paper's body coefficients come \
+                from its ref. [28], which is not available), so the paper's own numbers cannot \
+                be matched exactly."
+            }
+            (figure_flow("fig4", Some(&charts.legend), &charts.panels, groups.max(1), caption))
+            (gap_sentence("Gray-Hancock", &self.gh))
+            (gap_sentence("Lighthill", &self.li))
+            (table(
+                &summary_header(),
+                &[
+                    summary_row(
+                        html! { "Gray-Hancock, " (gh3) },
+                        &fitted_by_paper(&self.gray_hancock),
+                        &self.gh,
+                    ),
+                    summary_row(html! { "Lighthill, " (li3) }, "2, fitted by the paper", &self.li),
+                ],
+            ))
+            p.note {
+                "MARE: mean absolute relative error over the " (self.gh.summary.n) " measured \
+                quantities; reduced χ²: the squared errors in standard errors of the measured \
+                means, over n − k = " (super::yours::dof_note(&self.gh.summary)) " degrees of \
+                freedom (k = 2: the factors the paper fitted). Models: "
+                code { "--preset paper" } " (" (self.gray_hancock.describe()) ") and "
+                code { "--preset paper-lighthill" } " (" (self.lighthill.describe()) ")."
+            }
+        }
     }
 }

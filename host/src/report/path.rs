@@ -8,7 +8,7 @@
 //! best catalogue effect by AICc; the best pair, when it beats that; the
 //! best located correction of the verdict.
 
-use super::html::{escape, table};
+use super::html::{html, table, Markup};
 use super::path_chart::{chart, Metric};
 use super::wording::{describe, pct, stat, Change};
 use crate::data::Dataset;
@@ -180,11 +180,21 @@ fn class(c: Change) -> &'static str {
     }
 }
 
-pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> String {
+/// `describe`'s words for a change from the step before, in its colour.
+fn change_cell(prev: f64, cur: f64, noise: f64, show: &dyn Fn(f64) -> String) -> Markup {
+    html! {
+        span class=(class(Change::of(prev, cur, noise))) { (describe(prev, cur, noise, show)) }
+    }
+}
+
+pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> Markup {
     let Some(d) = d else {
-        return "<p>This page was written without a diagnosis (<code>swimbot compare</code>); \
-                <code>swimbot report</code> adds the path <code>diagnose</code> takes.</p>"
-            .into();
+        return html! {
+            p {
+                "This page was written without a diagnosis (" code { "swimbot compare" } "); "
+                code { "swimbot report" } " adds the path " code { "diagnose" } " takes."
+            }
+        };
     };
     let floor = d.baseline.noise_floor_chi2_reduced;
     let noise = noise_mare(data);
@@ -194,56 +204,24 @@ pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> String {
         .as_ref()
         .map(|r| r.discovery.screened)
         .or(d.discovery.as_ref().map(|x| x.screened));
-    let mut h = format!(
-        "<p><code>swimbot diagnose</code> starts from <code>{}</code>, fits every effect of its \
-         catalogue in turn (weighted by the CIs, scored by AICc and cross-validated MARE), pairs \
-         them when none suffices, then searches beyond the catalogue{}. Each step is labelled by \
-         what it changes from the step before: \"+ X\" adds X on top of it; \"− Y\" takes Y \
-         out, and marks a step that is an alternative rather than an addition. The noise floor is the \
-         reduced χ² a perfect model stays below (at diagnose's confidence level) given only the measurements' scatter: \
-         {}. Each step is drawn against the one before it: green where it falls, red where it \
-         rises, grey where the change is within the noise (MARE {}) or below {:.0} % of the \
-         value.</p>",
-        escape(&start.describe()),
-        searched
-            .map(|m| format!(" ({m} laws: place in the model × case feature × form)"))
-            .unwrap_or_default(),
-        stat(floor),
-        pct(noise),
-        100.0 * super::wording::FLAT_SHARE
-    );
-    h.push_str(&super::html::figure(
-        "path-chart",
-        &[
-            chart(&steps, Metric::Chi2, floor, noise),
-            chart(&steps, Metric::Mare, None, noise),
-        ],
-        2,
-        "<b>The path.</b> Left: reduced χ² (log scale) with the noise floor (dashed); right: \
-         MARE. Each arrow goes from the previous step's value to this step's.",
-    ));
     let mut rows = Vec::new();
     for (i, s) in steps.iter().enumerate() {
         let change = |prev: Option<f64>,
                       cur: Option<f64>,
                       noise: f64,
                       show: &dyn Fn(f64) -> String| match (i, prev, cur) {
-            (0, _, _) => "-".to_string(),
-            (_, Some(p), Some(c)) => format!(
-                "<span class=\"{}\">{}</span>",
-                class(Change::of(p, c, noise)),
-                describe(p, c, noise, show)
-            ),
-            _ => "n/a".into(),
+            (0, _, _) => html! { "-" },
+            (_, Some(p), Some(c)) => change_cell(p, c, noise, show),
+            _ => html! { "n/a" },
         };
         let prev = i.checked_sub(1).map(|j| &steps[j]);
         rows.push(vec![
-            escape(&s.label),
-            escape(&s.what),
-            s.fitted.to_string(),
-            pct(s.mare),
-            s.cv_mare.map_or("-".into(), pct),
-            stat(s.chi2_reduced),
+            html! { (s.label) },
+            html! { (s.what) },
+            html! { (s.fitted) },
+            html! { (pct(s.mare)) },
+            html! { (s.cv_mare.map_or("-".into(), pct)) },
+            html! { (stat(s.chi2_reduced)) },
             change(prev.map(|p| p.mare), Some(s.mare), noise, &|x| pct(x)),
             change(
                 prev.and_then(|p| p.chi2_reduced),
@@ -253,18 +231,48 @@ pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> String {
             ),
         ]);
     }
-    h.push_str(&table(
-        &[
-            "<step",
-            "<what",
-            "fitted parameters",
-            "MARE",
-            "cross-validated MARE",
-            "reduced χ²",
-            "<MARE against the step before",
-            "<reduced χ² against the step before",
-        ],
-        &rows,
-    ));
-    h
+    html! {
+        p {
+            code { "swimbot diagnose" } " starts from " code { (start.describe()) } ", fits \
+            every effect of its catalogue in turn (weighted by the CIs, scored by AICc and \
+            cross-validated MARE), pairs them when none suffices, then searches beyond the \
+            catalogue"
+            @if let Some(m) = searched {
+                " (" (m) " laws: place in the model × case feature × form)"
+            }
+            ". Each step is labelled by what it changes from the step before: \"+ X\" adds X \
+            on top of it; \"− Y\" takes Y out, and marks a step that is an alternative rather \
+            than an addition. The noise floor is the reduced χ² a perfect model stays below (at \
+            diagnose's confidence level) given only the measurements' scatter: " (stat(floor))
+            ". Each step is drawn against the one before it: green where it falls, red where \
+            it rises, grey where the change is within the noise (MARE " (pct(noise))
+            ") or below " (format!("{:.0}", 100.0 * super::wording::FLAT_SHARE)) " % of the \
+            value."
+        }
+        (super::html::figure(
+            "path-chart",
+            &[
+                chart(&steps, Metric::Chi2, floor, noise),
+                chart(&steps, Metric::Mare, None, noise),
+            ],
+            2,
+            html! {
+                b { "The path." } " Left: reduced χ² (log scale) with the noise floor (dashed); \
+                right: MARE. Each arrow goes from the previous step's value to this step's."
+            },
+        ))
+        (table(
+            &[
+                "<step",
+                "<what",
+                "fitted parameters",
+                "MARE",
+                "cross-validated MARE",
+                "reduced χ²",
+                "<MARE against the step before",
+                "<reduced χ² against the step before",
+            ],
+            &rows,
+        ))
+    }
 }

@@ -26,11 +26,7 @@ pub enum Metric {
     Chi2,
 }
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
+use crate::chart::escape_text as esc;
 
 /// The vertical axis: log10 for chi-square, linear from zero for MARE.
 struct Scale {

@@ -5,8 +5,8 @@
 //! quantity and per case, and its markers in the Fig. 4 layout.
 
 use super::figure4::{figure4, Layer, BLACK, GREEN};
-use super::html::{escape, figure_flow, table};
-use super::paper::{fitted_by_paper, summary_row, table_iii, PaperModels, SUMMARY_HEADER};
+use super::html::{figure_flow, html, omega_b, table, Head, Markup, Render};
+use super::paper::{fitted_by_paper, summary_header, summary_row, table_iii, PaperModels};
 use super::story::ZeroParam;
 use super::wording::{describe, pct, signed_pct, stat, value_unc};
 use crate::data::Dataset;
@@ -37,7 +37,7 @@ fn sigmas(x: Option<f64>) -> String {
 /// combined standard deviations, the paper's error; U then Omega_b.
 fn case_row(z: &CaseComparison, p: &CaseComparison) -> Vec<String> {
     vec![
-        escape(&z.id),
+        z.id.clone(),
         measured(z.u_obs_mm_s, z.u_ci_mm_s),
         predicted(z.u_pred_mm_s, z.u_input_sd_mm_s, z.u_rel_err),
         sigmas(z.u_err_sigma_combined),
@@ -55,13 +55,10 @@ pub fn section(
     paper: &PaperModels,
     d: Option<&Diagnosis>,
     audit: Option<&Audit>,
-) -> Result<String, ModelError> {
+) -> Result<Markup, ModelError> {
     let (name, model) = match zero {
         ZeroParam::Skipped(why) => {
-            return Ok(format!(
-                "<p class=\"note\">Left out of this page: {}.</p>",
-                escape(why)
-            ))
+            return Ok(html! { p.note { "Left out of this page: " (why) "." } })
         }
         ZeroParam::Model { name, model } => (name, *model),
     };
@@ -70,51 +67,54 @@ pub fn section(
     let cmp = compare_with_input_bands(model, data)?;
     let fitted: usize = model.effects.iter().map(|e| e.free_indices().len()).sum();
     let noise = super::path::noise_mare(data);
-    let mut h = format!(
-        "<p><code>{}</code> = <code>{}</code>, {} fitted parameter{}: each effect is a stated \
-         piece of physics computed for the robot's geometry, nothing is adjusted to the data. \
-         Against the paper's Gray-Hancock model (with the factors the paper fitted: {}), MARE \
-         {}; the reduced χ² {}.</p>",
-        escape(name),
-        escape(&model.describe()),
-        fitted,
-        if fitted == 1 { "" } else { "s" },
-        table_iii(&paper.gray_hancock),
-        describe(paper.gh.summary.mare, cmp.summary.mare, noise, pct),
-        describe(
-            paper.gh.summary.chi2_reduced.unwrap_or(f64::NAN),
-            cmp.summary.chi2_reduced.unwrap_or(f64::NAN),
-            d.and_then(|d| d.baseline.noise_floor_chi2_reduced)
-                .unwrap_or(0.0),
-            |x| stat(Some(x))
-        ),
-    );
+    let intro = html! {
+        p {
+            code { (name) } " = " code { (model.describe()) } ", " (fitted) " fitted parameter"
+            (if fitted == 1 { "" } else { "s" }) ": each effect is a stated piece of physics \
+            computed for the robot's geometry, nothing is adjusted to the data. Against the \
+            paper's Gray-Hancock model (with the factors the paper fitted: "
+            (table_iii(&paper.gray_hancock)) "), MARE "
+            (describe(paper.gh.summary.mare, cmp.summary.mare, noise, pct)) "; the reduced χ² "
+            (describe(
+                paper.gh.summary.chi2_reduced.unwrap_or(f64::NAN),
+                cmp.summary.chi2_reduced.unwrap_or(f64::NAN),
+                d.and_then(|d| d.baseline.noise_floor_chi2_reduced)
+                    .unwrap_or(0.0),
+                |x| stat(Some(x))
+            ))
+            "."
+        }
+    };
     let mut rows = vec![
         summary_row(
-            &format!("paper, Gray-Hancock, {}", table_iii(&paper.gray_hancock)),
+            html! { "paper, Gray-Hancock, " (table_iii(&paper.gray_hancock)) },
             &fitted_by_paper(&paper.gray_hancock),
             &paper.gh,
         ),
         summary_row(
-            &format!("paper, Lighthill, {}", table_iii(&paper.lighthill)),
+            html! { "paper, Lighthill, " (table_iii(&paper.lighthill)) },
             &fitted_by_paper(&paper.lighthill),
             &paper.li,
         ),
-        summary_row(&escape(name), &fitted.to_string(), &cmp),
+        summary_row(name, &fitted.to_string(), &cmp),
     ];
     if let Some(l) = d.and_then(|d| d.verdict.located.first()) {
         let k: usize = l.model.effects.iter().map(|e| e.free_indices().len()).sum();
-        rows.push(vec![
-            format!("diagnose's best: {}", escape(&l.describe())),
-            format!("{k}, fitted"),
-            pct(l.score.mare),
-            "-".into(),
-            "-".into(),
-            "-".into(),
-            stat(l.score.chi2_reduced),
-        ]);
+        rows.push(
+            [
+                format!("diagnose's best: {}", l.describe()),
+                format!("{k}, fitted"),
+                pct(l.score.mare),
+                "-".into(),
+                "-".into(),
+                "-".into(),
+                stat(l.score.chi2_reduced),
+            ]
+            .iter()
+            .map(Render::render)
+            .collect(),
+        );
     }
-    h.push_str(&table(&SUMMARY_HEADER, &rows));
     let case_rows: Vec<Vec<String>> = cmp
         .cases
         .iter()
@@ -122,34 +122,22 @@ pub fn section(
         .map(|(z, p)| case_row(z, p))
         .collect();
     let ci = super::intro::confidence(data);
-    h.push_str(&table(
-        &[
-            "<tail",
-            &format!("U measured ± {ci} CI"),
-            &format!("U {} ± 2u (error)", escape(name)),
-            "U error (combined σ)",
-            "U error, paper",
-            &format!("Ω<sub>b</sub> measured ± {ci} CI"),
-            &format!("Ω<sub>b</sub> {} ± 2u (error)", escape(name)),
-            "Ω<sub>b</sub> error (combined σ)",
-            "Ω<sub>b</sub> error, paper",
-        ],
-        &case_rows,
-    ));
-    if cmp.coverage.is_some() {
-        h.push_str(
-            "<p>U in mm/s, Ω<sub>b</sub> in Hz. ± 2u: twice the prediction's standard \
-             uncertainty from the dataset's stated input uncertainties (geometry, rate, \
-             viscosity, the body's section lengths, the trim, the coupler's gap); combined σ: the error in \
-             standard deviations of measurement and inputs in quadrature.</p>",
-        );
-    }
+    let w = |rest: Markup| Head::num(html! { (omega_b()) " " (rest) });
+    let case_header: [Head; 9] = [
+        "<tail".into(),
+        format!("U measured ± {ci} CI").into(),
+        format!("U {name} ± 2u (error)").into(),
+        "U error (combined σ)".into(),
+        "U error, paper".into(),
+        w(html! { "measured ± " (ci) " CI" }),
+        w(html! { (name) " ± 2u (error)" }),
+        w(html! { "error (combined σ)" }),
+        w(html! { "error, paper" }),
+    ];
     let models = [
         ("paper (Gray-Hancock)".to_string(), &paper.gh),
         ("paper (Lighthill)".to_string(), &paper.li),
     ];
-    h.push_str(&super::physics_misses::list(data, &cmp, &models, d, audit));
-    h.push_str(&super::correlated::pulls(&cmp));
     let layers = [
         Layer {
             label: "paper (Gray-Hancock)".into(),
@@ -168,24 +156,32 @@ pub fn section(
     ];
     let groups = super::figure4::amplitude_groups(data).len();
     let fig = figure4(data, &layers);
-    h.push_str(&figure_flow(
-        "fig4-physics",
-        Some(&fig.legend),
-        &fig.panels,
-        groups.max(1),
-        &format!(
-            "<b>The zero-parameter model in the layout of Fig. 4.</b> Measurements (red, {} \
-             CI), the paper's Gray-Hancock model (black, markers and curve) and <code>{}</code> \
-             (green markers at the measured cases, ± 2u where its input bands were computed; no \
-             curve: each point between the cases would need its own solve of the tail in the \
-             tube). An error bar smaller than its marker is hidden by it. The models sit side by side, each \
-             shifted with its bars and line by {dodge} % of the panel's width left or right of \
-             the case's N<sub>λ</sub> in turn, so that bars at one case do not hide each other; \
-             the measurements stay at their N<sub>λ</sub>.",
-            super::intro::confidence(data),
-            escape(name),
-            dodge = super::figure4::dodge_percent(),
-        ),
-    ));
-    Ok(h)
+    let n_lambda = html! { "N" sub { "λ" } };
+    let caption = html! {
+        b { "The zero-parameter model in the layout of Fig. 4." } " Measurements (red, " (ci)
+        " CI), the paper's Gray-Hancock model (black, markers and curve) and " code { (name) }
+        " (green markers at the measured cases, ± 2u where its input bands were computed; no \
+        curve: each point between the cases would need its own solve of the tail in the \
+        tube). An error bar smaller than its marker is hidden by it. The models sit side by \
+        side, each shifted with its bars and line by " (super::figure4::dodge_percent())
+        " % of the panel's width left or right of the case's " (n_lambda) " in turn, so that \
+        bars at one case do not hide each other; the measurements stay at their " (n_lambda)
+        "."
+    };
+    Ok(html! {
+        (intro)
+        (table(&summary_header(), &rows))
+        (table(&case_header, &case_rows))
+        @if cmp.coverage.is_some() {
+            p {
+                "U in mm/s, " (omega_b()) " in Hz. ± 2u: twice the prediction's standard \
+                uncertainty from the dataset's stated input uncertainties (geometry, rate, \
+                viscosity, the body's section lengths, the trim, the coupler's gap); combined \
+                σ: the error in standard deviations of measurement and inputs in quadrature."
+            }
+        }
+        (super::physics_misses::list(data, &cmp, &models, d, audit))
+        (super::correlated::pulls(&cmp))
+        (figure_flow("fig4-physics", Some(&fig.legend), &fig.panels, groups.max(1), caption))
+    })
 }

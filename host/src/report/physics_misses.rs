@@ -10,7 +10,7 @@
 //!
 //! References: JCGM 100:2008 (GUM) 6.2-6.3 (coverage factor k = 2).
 
-use super::html::escape;
+use super::html::{html, omega_b, Markup};
 use super::wording::{pct, signed_pct};
 use crate::data::Dataset;
 use crate::format::fmt_sig;
@@ -27,17 +27,17 @@ fn rel_err(cmp: &Comparison, case: &str, q: Quantity) -> Option<f64> {
     }
 }
 
-fn label(q: Quantity) -> &'static str {
+fn label(q: Quantity) -> Markup {
     match q {
-        Quantity::U => "U",
-        Quantity::Omega => "Ω<sub>b</sub>",
+        Quantity::U => html! { "U" },
+        Quantity::Omega => omega_b(),
     }
 }
 
-/// The diagnosis's fitted models, `(name as HTML, comparison)`: every ranked
+/// The diagnosis's fitted models, `(name, comparison)`: every ranked
 /// catalogue candidate (each fitted to all cases, a few local predictions
 /// each) and the best located correction.
-pub fn candidates(data: &Dataset, d: Option<&Diagnosis>) -> Vec<(String, Comparison)> {
+pub fn candidates(data: &Dataset, d: Option<&Diagnosis>) -> Vec<(Markup, Comparison)> {
     let Some(d) = d else { return Vec::new() };
     let located = d
         .verdict
@@ -52,26 +52,24 @@ pub fn candidates(data: &Dataset, d: Option<&Diagnosis>) -> Vec<(String, Compari
         .collect()
 }
 
-/// The name as HTML, with how many cases the model's last effect acts on
+/// The name as code, with how many cases the model's last effect acts on
 /// when it is not all of them: an effect fitted to one case fits it
 /// trivially.
-fn with_reach(name: String, m: &crate::model::Model, data: &Dataset) -> String {
+fn with_reach(name: String, m: &crate::model::Model, data: &Dataset) -> Markup {
     let Some(e) = m.effects.last() else {
-        return name;
+        return html! { (name) };
     };
     let acts = data
         .cases
         .iter()
         .filter(|c| e.effect.applies_to(c, &e.values))
         .count();
-    let name = format!("<code>{}</code>", escape(&name));
-    if acts < data.cases.len() {
-        format!(
-            "{name} (which acts on {acts} of {} cases)",
-            data.cases.len()
-        )
-    } else {
-        name
+    let total = data.cases.len();
+    html! {
+        code { (name) }
+        @if acts < total {
+            " (which acts on " (acts) " of " (total) " cases)"
+        }
     }
 }
 
@@ -80,9 +78,9 @@ fn named(
     o: &Outside,
     own: f64,
     models: &[(String, &Comparison)],
-    fitted: &[(String, Comparison)],
+    fitted: &[(Markup, Comparison)],
     audit: Option<&Audit>,
-) -> Vec<String> {
+) -> Vec<Markup> {
     let mut says = Vec::new();
     let errs: Vec<f64> = models
         .iter()
@@ -94,28 +92,26 @@ fn named(
     if errs.len() > 1 && errs.iter().all(|e| e.signum() == own.signum()) {
         let lo = errs.iter().map(|e| e.abs()).fold(f64::MAX, f64::min);
         let hi = errs.iter().map(|e| e.abs()).fold(0.0, f64::max);
-        says.push(format!(
-            "every model compared here {} it, by {} to {} (this one, the paper's two and \
-             <code>diagnose</code>'s {} fitted models)",
-            if own > 0.0 {
-                "over-predicts"
-            } else {
-                "under-predicts"
-            },
-            pct(lo),
-            pct(hi),
-            fitted.len()
-        ));
+        let way = if own > 0.0 {
+            "over-predicts"
+        } else {
+            "under-predicts"
+        };
+        says.push(html! {
+            "every model compared here " (way) " it, by " (pct(lo)) " to " (pct(hi))
+            " (this one, the paper's two and " code { "diagnose" } "'s " (fitted.len())
+            " fitted models)"
+        });
     }
     let best = fitted
         .iter()
         .filter_map(|(e, c)| Some((e, rel_err(c, &o.case, o.quantity)?)))
         .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
     if let Some((effect, e)) = best.filter(|(_, e)| e.abs() < 0.5 * own.abs()) {
-        says.push(format!(
-            "<code>diagnose</code>'s {effect}, fitted to all cases, brings it to {}",
-            signed_pct(Some(e))
-        ));
+        says.push(html! {
+            code { "diagnose" } "'s " (effect) ", fitted to all cases, brings it to "
+            (signed_pct(Some(e)))
+        });
     }
     for f in audit
         .map(|a| {
@@ -126,11 +122,7 @@ fn named(
         })
         .unwrap_or_default()
     {
-        says.push(format!(
-            "the audit flags this case ({}): {}",
-            escape(&f.kind),
-            escape(&f.detail)
-        ));
+        says.push(html! { "the audit flags this case (" (f.kind) "): " (f.detail) });
     }
     says
 }
@@ -142,39 +134,39 @@ pub fn list(
     models: &[(String, &Comparison)],
     d: Option<&Diagnosis>,
     audit: Option<&Audit>,
-) -> String {
+) -> Markup {
     let Some(cov) = &cmp.coverage else {
-        return String::new();
+        return html! {};
     };
-    let mut h = format!(
-        "<p id=\"physics-coverage\"><b>Coverage: {}</b> (against measurement and inputs: {}).",
-        escape(&cov.describe()),
-        super::correlated::statistic(cmp)
-    );
+    let head = html! {
+        b { "Coverage: " (cov.describe()) } " (against measurement and inputs: "
+        (super::correlated::statistic(cmp)) ")."
+    };
     if cov.outside.is_empty() {
-        h.push_str("</p>");
-        return h;
+        return html! { p id="physics-coverage" { (head) } };
     }
-    h.push_str(" Outside, and what this page names for each:</p><ul>");
     let fitted = candidates(data, d);
-    for o in &cov.outside {
-        let own = rel_err(cmp, &o.case, o.quantity).unwrap_or(f64::NAN);
-        let says = named(o, own, models, &fitted, audit);
-        h.push_str(&format!(
-            "<li><b>{} {}</b>: {} ({} combined standard deviations); {}.</li>",
-            escape(&o.case),
-            label(o.quantity),
-            signed_pct(Some(own)),
-            fmt_sig(o.sigmas, 3),
-            if says.is_empty() {
-                "neither the audit nor the diagnosis on this page names a cause".to_string()
-            } else {
-                says.join("; ")
+    html! {
+        p id="physics-coverage" { (head) " Outside, and what this page names for each:" }
+        ul {
+            @for o in &cov.outside {
+                @let own = rel_err(cmp, &o.case, o.quantity).unwrap_or(f64::NAN);
+                @let says = named(o, own, models, &fitted, audit);
+                li {
+                    b { (o.case) " " (label(o.quantity)) } ": " (signed_pct(Some(own))) " ("
+                    (fmt_sig(o.sigmas, 3)) " combined standard deviations); "
+                    @if says.is_empty() {
+                        "neither the audit nor the diagnosis on this page names a cause"
+                    }
+                    @for (i, s) in says.iter().enumerate() {
+                        @if i > 0 { "; " }
+                        (s)
+                    }
+                    "."
+                }
             }
-        ));
+        }
     }
-    h.push_str("</ul>");
-    h
 }
 
 #[cfg(test)]
@@ -189,6 +181,11 @@ mod tests {
         c
     }
 
+    fn joined(says: Vec<Markup>) -> String {
+        let says: Vec<String> = says.into_iter().map(Markup::into_string).collect();
+        says.join("; ")
+    }
+
     #[test]
     fn the_same_sign_everywhere_is_said_and_a_mixed_sign_is_not() {
         let o = Outside {
@@ -198,16 +195,16 @@ mod tests {
         };
         let (a, b) = (with_tail3_u(0.4), with_tail3_u(2.0));
         let models = [("a".to_string(), &a), ("b".to_string(), &b)];
-        let fitted = vec![("<code>x</code>".to_string(), with_tail3_u(0.3))];
-        let says = named(&o, 1.0, &models, &fitted, None).join("; ");
+        let fitted = vec![(html! { code { "x" } }, with_tail3_u(0.3))];
+        let says = joined(named(&o, 1.0, &models, &fitted, None));
         assert!(
             says.contains("over-predicts it, by 30.0 % to 200.0 %"),
             "{says}"
         );
         // 0.3 is below half of 1.0: the fitted model is named
         assert!(says.contains("<code>x</code>, fitted to all cases, brings it to +30.0 %"));
-        let mixed = vec![("<code>y</code>".to_string(), with_tail3_u(-0.8))];
-        let says = named(&o, 1.0, &models, &mixed, None).join("; ");
+        let mixed = vec![(html! { code { "y" } }, with_tail3_u(-0.8))];
+        let says = joined(named(&o, 1.0, &models, &mixed, None));
         assert!(!says.contains("every model"), "{says}");
         assert!(
             !says.contains("<code>y</code>"),

@@ -2,7 +2,7 @@
 //! the corrections it located (with their fitted laws and CIs), the errors
 //! the best of them still leaves, and the audit's flags on the data.
 
-use super::html::{escape, table};
+use super::html::{html, rich, table, Markup};
 use super::wording::{pct, signed_pct, stat};
 use crate::data::Dataset;
 use crate::format::fmt_sig;
@@ -32,122 +32,126 @@ fn params(l: &crate::workbench::discovery::Located) -> String {
 }
 
 /// The largest errors the best located model still leaves.
-fn leftovers(data: &Dataset, d: &Diagnosis) -> Option<String> {
+fn leftovers(data: &Dataset, d: &Diagnosis) -> Option<Markup> {
     let l = d.verdict.located.first()?;
     let cmp = compare(&l.model, data, 0).ok()?;
     let errs = super::fails::quantity_errors(&cmp.cases);
-    let top: Vec<String> = errs
-        .iter()
-        .take(3)
-        .map(|(id, q, e, s)| {
-            format!(
-                "{}'s {q} {} ({} standard errors)",
-                escape(id),
-                signed_pct(Some(*e)),
-                s.map_or("-".into(), |s| fmt_sig(s, 3))
-            )
-        })
-        .collect();
-    Some(format!(
-        "<p>What the best located model still misses most: {}.</p>",
-        top.join("; ")
-    ))
+    Some(html! {
+        p {
+            "What the best located model still misses most: "
+            @for (i, (id, q, e, s)) in errs.iter().take(3).enumerate() {
+                @if i > 0 { "; " }
+                (id) "'s " (rich(q)) " " (signed_pct(Some(*e))) " ("
+                (s.map_or("-".into(), |s| fmt_sig(s, 3))) " standard errors)"
+            }
+            "."
+        }
+    })
 }
 
-pub fn section(data: &Dataset, d: Option<&Diagnosis>, audit: Option<&Audit>) -> String {
-    let mut h = String::new();
-    match d {
-        None => h.push_str(
-            "<p>No diagnosis on this page (<code>swimbot compare</code>); <code>swimbot \
-             report</code> or <code>swimbot diagnose</code> give the verdict.</p>",
-        ),
-        Some(d) => {
-            h.push_str(&format!(
-                "<p class=\"verdict\"><b>Verdict: {}.</b> {}</p>",
-                kind(d.verdict.kind),
-                escape(
-                    d.verdict
-                        .note
-                        .strip_prefix(&format!("{}: ", kind(d.verdict.kind)))
-                        .unwrap_or(&d.verdict.note)
-                )
-            ));
-            if !d.verdict.located.is_empty() {
-                let rows: Vec<Vec<String>> = d
-                    .verdict
-                    .located
-                    .iter()
-                    .map(|l| {
-                        vec![
-                            format!("<code>{} = {}</code>", escape(l.place), escape(&l.formula)),
-                            escape(&l.interpretation),
-                            escape(&params(l)),
-                            pct(l.score.mare),
-                            pct(l.score.cv_mare),
-                            stat(l.score.chi2_reduced),
-                            l.explained_fraction.map_or("-".into(), pct),
-                        ]
-                    })
-                    .collect();
-                h.push_str("<h3>Located corrections</h3>");
-                h.push_str(&table(
-                    &[
-                        "<correction",
-                        "<what it means",
-                        "<fitted (95 % CI of the fit)",
-                        "MARE",
-                        "cross-validated MARE",
-                        "reduced χ²",
-                        "share of the excess χ² removed",
-                    ],
-                    &rows,
-                ));
+fn diagnosis(data: &Dataset, d: Option<&Diagnosis>) -> Markup {
+    let Some(d) = d else {
+        return html! {
+            p {
+                "No diagnosis on this page (" code { "swimbot compare" } "); "
+                code { "swimbot report" } " or " code { "swimbot diagnose" }
+                " give the verdict."
             }
-            if let Some(g) = d.verdict.suggestion.as_ref().filter(|g| g.same_model) {
-                h.push_str(&format!(
-                    "<p>No measurement of U or Omega_b separates the leading explanations: they are the same model (their predictions agree to {:.0e} on every design the rig can run).</p>",
-                    g.rel_difference
-                ));
-            } else if let Some(g) = &d.verdict.suggestion {
-                h.push_str(&format!(
-                    "<p>To tell the leading explanations apart, measure {} with {}: their {} \
-                     differ by {} there, about {} standard errors.</p>",
-                    escape(&g.base_case),
-                    escape(&g.change),
-                    escape(g.quantity),
-                    pct(g.rel_difference),
-                    fmt_sig(g.in_sigma, 2)
-                ));
+        };
+    };
+    let word = kind(d.verdict.kind);
+    let note = d
+        .verdict
+        .note
+        .strip_prefix(&format!("{word}: "))
+        .unwrap_or(&d.verdict.note);
+    let rows: Vec<Vec<Markup>> = d
+        .verdict
+        .located
+        .iter()
+        .map(|l| {
+            vec![
+                html! { code { (l.place) " = " (l.formula) } },
+                html! { (l.interpretation) },
+                html! { (params(l)) },
+                html! { (pct(l.score.mare)) },
+                html! { (pct(l.score.cv_mare)) },
+                html! { (stat(l.score.chi2_reduced)) },
+                html! { (l.explained_fraction.map_or("-".into(), pct)) },
+            ]
+        })
+        .collect();
+    html! {
+        p.verdict { b { "Verdict: " (word) "." } " " (note) }
+        @if !rows.is_empty() {
+            h3 { "Located corrections" }
+            (table(
+                &[
+                    "<correction",
+                    "<what it means",
+                    "<fitted (95 % CI of the fit)",
+                    "MARE",
+                    "cross-validated MARE",
+                    "reduced χ²",
+                    "share of the excess χ² removed",
+                ],
+                &rows,
+            ))
+        }
+        @if let Some(g) = d.verdict.suggestion.as_ref().filter(|g| g.same_model) {
+            p {
+                "No measurement of U or Omega_b separates the leading explanations: they are \
+                the same model (their predictions agree to "
+                (format!("{:.0e}", g.rel_difference)) " on every design the rig can run)."
             }
-            if let Some(s) = leftovers(data, d) {
-                h.push_str(&s);
+        } @else if let Some(g) = &d.verdict.suggestion {
+            p {
+                "To tell the leading explanations apart, measure " (g.base_case) " with "
+                (g.change) ": their " (g.quantity) " differ by " (pct(g.rel_difference))
+                " there, about " (fmt_sig(g.in_sigma, 2)) " standard errors."
             }
         }
+        @if let Some(s) = leftovers(data, d) {
+            (s)
+        }
     }
+}
+
+fn audit_flags(audit: Option<&Audit>) -> Markup {
     match audit {
-        None => h.push_str(
-            "<p class=\"note\">No audit of the data on this page; <code>swimbot audit</code> \
-             runs it.</p>",
-        ),
-        Some(a) if a.flags.is_empty() => {
-            h.push_str("<h3>The data's audit</h3><p>No flag: the recorded geometry is consistent, no measured ratio is out of the model family's range, no single case decides the verdict.</p>")
-        }
-        Some(a) => {
-            h.push_str("<h3>The data's audit: what is suspected</h3><ul>");
-            for f in &a.flags {
-                h.push_str(&format!(
-                    "<li><b>{}</b> ({}, {}): {}</li>",
-                    escape(&f.case),
-                    escape(&f.kind),
-                    match f.severity {
-                        Severity::Warning => "warning",
-                        Severity::Error => "error",
-                    },
-                    escape(&f.detail)
-                ));
+        None => html! {
+            p.note {
+                "No audit of the data on this page; " code { "swimbot audit" } " runs it."
             }
-            h.push_str("</ul>");
-        }
+        },
+        Some(a) if a.flags.is_empty() => html! {
+            h3 { "The data's audit" }
+            p {
+                "No flag: the recorded geometry is consistent, no measured ratio is out of the \
+                model family's range, no single case decides the verdict."
+            }
+        },
+        Some(a) => html! {
+            h3 { "The data's audit: what is suspected" }
+            ul {
+                @for f in &a.flags {
+                    li {
+                        b { (f.case) } " (" (f.kind) ", "
+                        (match f.severity {
+                            Severity::Warning => "warning",
+                            Severity::Error => "error",
+                        })
+                        "): " (f.detail)
+                    }
+                }
+            }
+        },
     }
-    h
+}
+
+pub fn section(data: &Dataset, d: Option<&Diagnosis>, audit: Option<&Audit>) -> Markup {
+    html! {
+        (diagnosis(data, d))
+        (audit_flags(audit))
+    }
 }

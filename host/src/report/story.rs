@@ -4,7 +4,7 @@
 //! parameter; what remains. Every number on the page is computed here, at
 //! run time, from the data and the models.
 
-use super::html::{document, escape};
+use super::html::{document, html, Markup};
 use crate::data::Dataset;
 use crate::model::Model;
 use crate::workbench::audit::Audit;
@@ -63,52 +63,44 @@ pub fn title(data: &Dataset) -> String {
     }
 }
 
-pub fn heading(i: usize) -> String {
+pub fn heading(i: usize) -> Markup {
     let (id, title) = SECTIONS[i];
-    format!("<h2 id=\"{id}\">{}</h2>", escape(title))
+    html! { h2 id=(id) { (title) } }
 }
 
 /// The whole page.
 pub fn page(s: &StoryInput) -> Result<String, crate::model::ModelError> {
     let paper = super::paper::PaperModels::new(s.data)?;
-    let mut b = String::new();
-    b.push_str(&format!(
-        "<h1>{}</h1>\
-         <p class=\"note\">data: <code>{}</code> ({}); model asked for: <code>{}</code>; \
-         written by <code>swimbot {}</code> {}.</p>",
-        escape(&title(s.data)),
-        escape(&s.data.name),
-        escape(&s.data.source),
-        escape(&s.path.last().spec),
-        escape(s.command),
-        env!("CARGO_PKG_VERSION")
-    ));
-    b.push_str("<ol class=\"toc\">");
-    for (id, title) in SECTIONS {
-        b.push_str(&format!("<li><a href=\"#{id}\">{}</a></li>", escape(title)));
-    }
-    b.push_str("</ol>");
-    b.push_str(&heading(0));
-    b.push_str(&super::intro::section(s.data));
-    b.push_str(&heading(1));
-    b.push_str(&paper.section(s.data));
-    b.push_str(&heading(2));
-    b.push_str(&super::fails::section(s.data, &paper)?);
-    b.push_str(&heading(3));
-    b.push_str(&super::yours::section(s.data, s.path));
-    b.push_str(&heading(4));
-    b.push_str(&super::path::section(s.start, s.data, s.diagnosis));
-    b.push_str(&heading(5));
-    b.push_str(&super::physics::section(
-        s.data,
-        &s.zero_param,
-        &paper,
-        s.diagnosis,
-        s.audit,
-    )?);
-    b.push_str(&heading(6));
-    b.push_str(&super::remains::section(s.data, s.diagnosis, s.audit));
-    Ok(document(&title(s.data), &b))
+    let fails = super::fails::section(s.data, &paper)?;
+    let physics = super::physics::section(s.data, &s.zero_param, &paper, s.diagnosis, s.audit)?;
+    let body = html! {
+        h1 { (title(s.data)) }
+        p.note {
+            "data: " code { (s.data.name) } " (" (s.data.source) "); model asked for: "
+            code { (s.path.last().spec) } "; written by " code { "swimbot " (s.command) }
+            " " (env!("CARGO_PKG_VERSION")) "."
+        }
+        ol.toc {
+            @for (id, title) in SECTIONS {
+                li { a href={ "#" (id) } { (title) } }
+            }
+        }
+        (heading(0))
+        (super::intro::section(s.data))
+        (heading(1))
+        (paper.section(s.data))
+        (heading(2))
+        (fails)
+        (heading(3))
+        (super::yours::section(s.data, s.path))
+        (heading(4))
+        (super::path::section(s.start, s.data, s.diagnosis))
+        (heading(5))
+        (physics)
+        (heading(6))
+        (super::remains::section(s.data, s.diagnosis, s.audit))
+    };
+    Ok(document(&title(s.data), body))
 }
 
 #[cfg(test)]

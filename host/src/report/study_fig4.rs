@@ -16,7 +16,7 @@
 //! swimming with bacteria-like robots"; host/data/paper.csv).
 
 use super::figure4::{dodge, dodge_percent, n_waves_range, panel_width, MEASURED};
-use super::html::figure_flow;
+use super::html::{figure_flow, html, omega_b, Markup};
 use crate::chart::{legend_only, Chart, Series, PALETTE};
 use crate::data::Dataset;
 use crate::study::CaseRow;
@@ -86,7 +86,7 @@ pub fn figure(
     name: &str,
     before: &[CaseRow],
     after: &[CaseRow],
-) -> String {
+) -> Markup {
     let g_after = groups(after);
     let g_before = groups(before);
     let ci = super::intro::confidence(data);
@@ -159,21 +159,22 @@ pub fn figure(
     let k = g_after.len();
     let last_u = (b'a' + k as u8 - 1) as char;
     let (first_w, last_w) = ((b'a' + k as u8) as char, (b'a' + 2 * k as u8 - 1) as char);
+    let n_lambda = html! { "N" sub { "λ" } };
+    let caption = html! {
+        b { "Step " (n) ", + " (name) ", in the layout of the paper's Fig. 4." } " (a)-("
+        (last_u) ") U/U" sub { "wave" } ", U" sub { "wave" } " = λf; (" (first_w) ")-(" (last_w)
+        ") " (omega_b()) "/ω, against " (n_lambda) " = L" sub { "t" } "/λ, one panel per \
+        amplitude group: measured (red, " (ci) " CI), the model before the step (grey, hollow) \
+        and after it (blue, filled) at each case, the study's stored predictions (no curve \
+        between the cases; a logarithmic y axis where they span more than a factor of four). \
+        The models sit " (dodge_percent()) " % of the panel's width left and right of the \
+        case's " (n_lambda) "; an error bar smaller than its marker is hidden by it."
+    };
     figure_flow(
         &format!("fig-step-{n}"),
         Some(&legend),
         &panels,
         k.max(1),
-        &format!(
-            "<b>Step {n}, + {}, in the layout of the paper's Fig. 4.</b> (a)-({last_u}) \
-             U/U<sub>wave</sub>, U<sub>wave</sub> = λf; ({first_w})-({last_w}) \
-             Ω<sub>b</sub>/ω, against N<sub>λ</sub> = L<sub>t</sub>/λ, one panel per amplitude \
-             group: measured (red, {ci} CI), the model before the step (grey, hollow) and after \
-             it (blue, filled) at each case, the study's stored predictions (no curve between \
-             the cases; a logarithmic y axis where they span more than a factor of four). The models sit {} % of the panel's width left and right of the case's \
-             N<sub>λ</sub>; an error bar smaller than its marker is hidden by it.",
-            super::html::escape(name),
-            dodge_percent()
-        ),
+        caption,
     )
 }

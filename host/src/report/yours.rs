@@ -6,7 +6,7 @@
 //! showing the model before the last step beside the model after it.
 
 use super::figure4::{figure4, Layer, GREEN};
-use super::html::{escape, figure, figure_flow, table};
+use super::html::{figure, figure_flow, html, omega_b, table, Head, Markup};
 use super::path_chart::{chart, Metric};
 use super::wording::{describe, pct, signed_pct, stat, value_unc};
 use crate::data::Dataset;
@@ -45,18 +45,18 @@ pub fn dof_note(s: &crate::stats::FitSummary) -> String {
 }
 
 /// The steps' table: one row per step, each against the step before.
-pub fn steps_table(path: &Path, noise_mare: f64) -> (Vec<&'static str>, Vec<Vec<String>>) {
+pub fn steps_table(path: &Path, noise_mare: f64) -> (Vec<Head>, Vec<Vec<Markup>>) {
     let header = vec![
-        "<step",
-        "<model (cumulative)",
-        "free parameters",
-        "MARE",
-        "MARE of U",
-        "MARE of Ω<sub>b</sub>",
-        "max |error|",
-        "reduced χ²",
-        "degrees of freedom",
-        "<MARE against the step before",
+        "<step".into(),
+        "<model (cumulative)".into(),
+        "free parameters".into(),
+        "MARE".into(),
+        "MARE of U".into(),
+        Head::num(html! { "MARE of " (omega_b()) }),
+        "max |error|".into(),
+        "reduced χ²".into(),
+        "degrees of freedom".into(),
+        "<MARE against the step before".into(),
     ];
     let rows = path
         .steps
@@ -66,7 +66,7 @@ pub fn steps_table(path: &Path, noise_mare: f64) -> (Vec<&'static str>, Vec<Vec<
             let m = s.summary();
             let (u, w) = super::paper::mare_by_quantity(&s.comparison);
             let change = match i.checked_sub(1).map(|j| &path.steps[j]) {
-                None => "-".to_string(),
+                None => html! { "-" },
                 Some(p) => {
                     let (a, b) = (p.summary().mare, m.mare);
                     let class = match super::wording::Change::of(a, b, noise_mare) {
@@ -74,22 +74,19 @@ pub fn steps_table(path: &Path, noise_mare: f64) -> (Vec<&'static str>, Vec<Vec<
                         super::wording::Change::Rises => "rise",
                         super::wording::Change::Flat => "flat",
                     };
-                    format!(
-                        "<span class=\"{class}\">{}</span>",
-                        describe(a, b, noise_mare, pct)
-                    )
+                    html! { span class=(class) { (describe(a, b, noise_mare, pct)) } }
                 }
             };
             vec![
-                escape(&s.label),
-                format!("<code>{}</code>", escape(&s.spec)),
-                m.free_params.to_string(),
-                pct(m.mare),
-                pct(u),
-                pct(w),
-                pct(m.max_abs_rel_err),
-                stat(m.chi2_reduced),
-                dof_note(m),
+                html! { (s.label) },
+                html! { code { (s.spec) } },
+                html! { (m.free_params) },
+                html! { (pct(m.mare)) },
+                html! { (pct(u)) },
+                html! { (pct(w)) },
+                html! { (pct(m.max_abs_rel_err)) },
+                html! { (stat(m.chi2_reduced)) },
+                html! { (dof_note(m)) },
                 change,
             ]
         })
@@ -130,23 +127,22 @@ pub fn impossible(cmp: &Comparison) -> Vec<String> {
 }
 
 /// A warning paragraph naming the impossible predictions of `name`, or nothing.
-pub fn impossible_note(name: &str, cmp: &Comparison) -> String {
+pub fn impossible_note(name: &str, cmp: &Comparison) -> Markup {
     let bad = impossible(cmp);
     if bad.is_empty() {
-        return String::new();
+        return html! {};
     }
-    format!(
-        "<p class=\"err\"><b>Impossible predictions.</b> {} predicts a sign opposite to the \
-         measurement (the robot swimming backwards, or its body turning with the tail) in {} of \
-         {} cases: {}. Such a model is wrong in kind there, not only in size.</p>",
-        escape(name),
-        bad.len(),
-        cmp.cases.len(),
-        escape(&bad.join("; "))
-    )
+    html! {
+        p.err {
+            b { "Impossible predictions." } " " (name) " predicts a sign opposite to the \
+            measurement (the robot swimming backwards, or its body turning with the tail) in "
+            (bad.len()) " of " (cmp.cases.len()) " cases: " (bad.join("; ")) ". Such a model \
+            is wrong in kind there, not only in size."
+        }
+    }
 }
 
-fn cell_pred(k: &CaseComparison, omega: bool) -> String {
+fn cell_pred(k: &CaseComparison, omega: bool) -> Markup {
     let (v, sd, e) = if omega {
         (k.omega_pred_hz, k.omega_input_sd_hz, k.omega_rel_err)
     } else {
@@ -157,15 +153,15 @@ fn cell_pred(k: &CaseComparison, omega: bool) -> String {
         _ => fmt_sig(v, 4),
     };
     // two lines, so the table stays within the page's width
-    format!("{v}<br>({})", signed_pct(e))
+    html! { (v) br; "(" (signed_pct(e)) ")" }
 }
 
-fn cell_obs(m: Option<f64>, ci: Option<f64>) -> String {
-    m.zip(ci).map_or("-".into(), |(m, c)| value_unc(m, c))
+fn cell_obs(m: Option<f64>, ci: Option<f64>) -> Markup {
+    html! { (m.zip(ci).map_or("-".into(), |(m, c)| value_unc(m, c))) }
 }
 
 /// Per case: measured, the step before and the last step, with errors.
-fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> String {
+fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> Markup {
     let band = |s: &Step| {
         if s.comparison.summary_combined.is_some() {
             " ± 2u"
@@ -174,24 +170,25 @@ fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> String {
         }
     };
     let (b, l) = (before.map_or("", band), band(last));
-    let mut header = vec![format!("<tail"), format!("U measured ± {ci} CI")];
+    let w = |rest: String| Head::num(html! { (omega_b()) " " (rest) });
+    let mut header: Vec<Head> = vec!["<tail".into(), format!("U measured ± {ci} CI").into()];
     if before.is_some() {
-        header.push(format!("U before the step{b} (error)"));
+        header.push(format!("U before the step{b} (error)").into());
     }
-    header.push(format!("U predicted{l} (error)"));
-    header.push(format!("Ω<sub>b</sub> measured ± {ci} CI"));
+    header.push(format!("U predicted{l} (error)").into());
+    header.push(w(format!("measured ± {ci} CI")));
     if before.is_some() {
-        header.push(format!("Ω<sub>b</sub> before the step{b} (error)"));
+        header.push(w(format!("before the step{b} (error)")));
     }
-    header.push(format!("Ω<sub>b</sub> predicted{l} (error)"));
-    let rows: Vec<Vec<String>> = last
+    header.push(w(format!("predicted{l} (error)")));
+    let rows: Vec<Vec<Markup>> = last
         .comparison
         .cases
         .iter()
         .enumerate()
         .map(|(i, k)| {
             let b = before.map(|b| &b.comparison.cases[i]);
-            let mut r = vec![escape(&k.id), cell_obs(k.u_obs_mm_s, k.u_ci_mm_s)];
+            let mut r = vec![html! { (k.id) }, cell_obs(k.u_obs_mm_s, k.u_ci_mm_s)];
             r.extend(b.map(|b| cell_pred(b, false)));
             r.push(cell_pred(k, false));
             r.push(cell_obs(k.omega_obs_hz, k.omega_ci_hz));
@@ -200,83 +197,48 @@ fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> String {
             r
         })
         .collect();
-    let head: Vec<&str> = header.iter().map(String::as_str).collect();
-    table(&head, &rows)
+    table(&header, &rows)
+}
+
+/// The opening paragraph: the model asked for and what its last step does.
+fn opening(path: &Path, noise: f64) -> Markup {
+    let last = path.last();
+    html! {
+        p {
+            "The model this page was asked for: " code { (last.spec) } ". "
+            @match path.before_last() {
+                Some(b) => {
+                    "It is taken apart into " (path.steps.len()) " cumulative steps: \"+ X\" \
+                    means X added on top of the step before, with every parameter as given. \
+                    Its last step, " b { (last.label) } ", "
+                    (describe(b.summary().mare, last.summary().mare, noise, pct)) " MARE ("
+                    (if super::wording::Change::of(b.summary().mare, last.summary().mare, noise)
+                        == super::wording::Change::Flat
+                    {
+                        "within the noise"
+                    } else {
+                        "beyond the noise"
+                    })
+                    ") and takes the reduced χ² from " (stat(b.summary().chi2_reduced)) " to "
+                    (stat(last.summary().chi2_reduced)) "."
+                }
+                None => {
+                    "No effect was added to it: the figures show this model alone (add effects \
+                    with " code { "--effect" } " or " code { "--effect-file" } " to see each \
+                    step against the one before)."
+                }
+            }
+        }
+    }
 }
 
 /// The section: `path` is the user's model taken apart into its steps.
-pub fn section(data: &Dataset, path: &Path) -> String {
+pub fn section(data: &Dataset, path: &Path) -> Markup {
     let last = path.last();
     let before = path.before_last();
     let noise = super::path::noise_mare(data);
     let ci = super::intro::confidence(data);
-    let mut h = format!(
-        "<p>The model this page was asked for: <code>{}</code>. ",
-        escape(&last.spec)
-    );
-    match before {
-        Some(b) => h.push_str(&format!(
-            "It is taken apart into {} cumulative steps: \"+ X\" means X added on top of the \
-             step before, with every parameter as given. Its last step, <b>{}</b>, {} MARE \
-             ({}) and takes the reduced χ² from {} to {}.</p>",
-            path.steps.len(),
-            escape(&last.label),
-            describe(b.summary().mare, last.summary().mare, noise, pct),
-            if super::wording::Change::of(b.summary().mare, last.summary().mare, noise)
-                == super::wording::Change::Flat
-            {
-                "within the noise"
-            } else {
-                "beyond the noise"
-            },
-            stat(b.summary().chi2_reduced),
-            stat(last.summary().chi2_reduced)
-        )),
-        None => h.push_str(
-            "No effect was added to it: the figures show this model alone (add effects with \
-             <code>--effect</code> or <code>--effect-file</code> to see each step against the \
-             one before).</p>",
-        ),
-    }
     let (header, rows) = steps_table(path, noise);
-    h.push_str(&table(&header, &rows));
-    h.push_str(&format!(
-        "<p class=\"note\">Reduced χ²: the squared errors in standard errors of the measured \
-         means over n − k degrees of freedom, k every free parameter the model carries (fitted \
-         by whoever set it); the same numbers as <code>swimbot compare</code> prints for each \
-         step's model. A change of MARE below {} (the noise of the measured means) or below \
-         {:.0} % of its value is no change.</p>",
-        pct(noise),
-        100.0 * super::wording::FLAT_SHARE
-    ));
-    if let Some(cov) = &last.comparison.coverage {
-        h.push_str(&format!(
-            "<p id=\"yours-coverage\">{}, judged against measurement and inputs combined: \
-             <b>{}</b>; {} (<code>swimbot compare --input-uncertainty</code> prints the \
-             same).</p>",
-            escape(&last.label),
-            escape(&cov.describe()),
-            super::correlated::statistic(&last.comparison)
-        ));
-    }
-    for s in &path.steps {
-        h.push_str(&impossible_note(&s.label, &s.comparison));
-    }
-    if path.steps.len() >= 2 {
-        let steps: Vec<super::path::Step> = path.steps.iter().map(as_path_step).collect();
-        h.push_str(&figure(
-            "yours-path",
-            &[
-                chart(&steps, Metric::Mare, None, noise),
-                chart(&steps, Metric::Chi2, None, noise),
-            ],
-            2,
-            "<b>The steps.</b> MARE and reduced χ² (log scale) of each step, each arrow from \
-             the step before: green where it falls, red where it rises, grey within the noise.",
-        ));
-    }
-    h.push_str(&fig4(data, path));
-    h.push_str(&case_table(before, last, &ci));
     let shown: Vec<(&str, RGBColor, &Comparison)> = match before {
         Some(b) => vec![
             (b.label.as_str(), super::yours::BEFORE, &b.comparison),
@@ -284,40 +246,88 @@ pub fn section(data: &Dataset, path: &Path) -> String {
         ],
         None => vec![("the model", GREEN, &last.comparison)],
     };
-    let (parity_caption, residual_caption) = if before.is_some() {
-        (
-            "<b>Parity.</b> Predicted against measured U and Ω<sub>b</sub> before the last \
-             step (grey) and after it (green); on the diagonal the model would be exact.",
-            "<b>Residuals.</b> The relative error against the case features the last step's \
-             error correlates with most, after the step (green) and before it (grey).",
-        )
-    } else {
-        (
-            "<b>Parity.</b> Predicted against measured U and Ω<sub>b</sub>; on the diagonal \
-             the model would be exact.",
-            "<b>Residuals.</b> The relative error against the case features it correlates with \
-             most.",
-        )
+    let parity_caption = match before {
+        Some(_) => html! {
+            b { "Parity." } " Predicted against measured U and " (omega_b()) " before the last \
+            step (grey) and after it (green); on the diagonal the model would be exact."
+        },
+        None => html! {
+            b { "Parity." } " Predicted against measured U and " (omega_b()) "; on the \
+            diagonal the model would be exact."
+        },
     };
-    h.push_str(&figure(
-        "yours-parity",
-        &[
-            super::parity::parity_of(&shown, false),
-            super::parity::parity_of(&shown, true),
-        ],
-        2,
-        parity_caption,
-    ));
+    let residual_caption = match before {
+        Some(_) => html! {
+            b { "Residuals." } " The relative error against the case features the last step's \
+            error correlates with most, after the step (green) and before it (grey)."
+        },
+        None => html! {
+            b { "Residuals." } " The relative error against the case features it correlates \
+            with most."
+        },
+    };
     let residuals = super::residuals::residual_plots_of(
         data,
         (last.label.as_str(), &last.comparison),
         before.map(|b| (b.label.as_str(), &b.comparison)),
         GREEN,
     );
-    if !residuals.is_empty() {
-        h.push_str(&figure("yours-residuals", &residuals, 2, residual_caption));
+    html! {
+        (opening(path, noise))
+        (table(&header, &rows))
+        p.note {
+            "Reduced χ²: the squared errors in standard errors of the measured means over n − k \
+            degrees of freedom, k every free parameter the model carries (fitted by whoever set \
+            it); the same numbers as " code { "swimbot compare" } " prints for each step's \
+            model. A change of MARE below " (pct(noise)) " (the noise of the measured means) or \
+            below " (format!("{:.0}", 100.0 * super::wording::FLAT_SHARE)) " % of its value is \
+            no change."
+        }
+        @if let Some(cov) = &last.comparison.coverage {
+            p id="yours-coverage" {
+                (last.label) ", judged against measurement and inputs combined: "
+                b { (cov.describe()) } "; " (super::correlated::statistic(&last.comparison))
+                " (" code { "swimbot compare --input-uncertainty" } " prints the same)."
+            }
+        }
+        @for s in &path.steps {
+            (impossible_note(&s.label, &s.comparison))
+        }
+        @if path.steps.len() >= 2 {
+            (steps_figure(path, noise))
+        }
+        (fig4(data, path))
+        (case_table(before, last, &ci))
+        (figure(
+            "yours-parity",
+            &[
+                super::parity::parity_of(&shown, false),
+                super::parity::parity_of(&shown, true),
+            ],
+            2,
+            parity_caption,
+        ))
+        @if !residuals.is_empty() {
+            (figure("yours-residuals", &residuals, 2, residual_caption))
+        }
     }
-    h
+}
+
+/// MARE and reduced chi-square along the steps, as the path charts.
+fn steps_figure(path: &Path, noise: f64) -> Markup {
+    let steps: Vec<super::path::Step> = path.steps.iter().map(as_path_step).collect();
+    figure(
+        "yours-path",
+        &[
+            chart(&steps, Metric::Mare, None, noise),
+            chart(&steps, Metric::Chi2, None, noise),
+        ],
+        2,
+        html! {
+            b { "The steps." } " MARE and reduced χ² (log scale) of each step, each arrow from \
+            the step before: green where it falls, red where it rises, grey within the noise."
+        },
+    )
 }
 
 fn as_path_step(s: &Step) -> super::path::Step {
@@ -331,7 +341,7 @@ fn as_path_step(s: &Step) -> super::path::Step {
     }
 }
 
-fn fig4(data: &Dataset, path: &Path) -> String {
+fn fig4(data: &Dataset, path: &Path) -> Markup {
     let colors = colors(path.steps.len());
     let layers: Vec<Layer> = path
         .steps
@@ -347,35 +357,29 @@ fn fig4(data: &Dataset, path: &Path) -> String {
         .collect();
     let charts = figure4(data, &layers);
     let groups = super::figure4::amplitude_groups(data).len();
+    let n_lambda = html! { "N" sub { "λ" } };
+    let caption = html! {
+        b { "Fig. 4 with the model asked for." } " Measurements (red, "
+        (super::intro::confidence(data)) " CIs) against each step: "
+        @for (i, (s, c)) in path.steps.iter().zip(&colors).enumerate() {
+            @if i > 0 { ", " }
+            (s.label) " (" (color_name(*c)) "; MARE " (pct(s.summary().mare)) ")"
+        }
+        ". Upper row U/U" sub { "wave" } ", lower row " (omega_b()) "/ω, against " (n_lambda)
+        ", one panel per amplitude group; hollow markers: the step's model at each case (with \
+        ± 2u bars where the dataset states input uncertainties); lines: the same model between \
+        the cases of a group (none for a group of one case); an error bar smaller than its \
+        marker is hidden by it. The models sit side by side, each shifted with its bars and \
+        line by " (super::figure4::dodge_percent()) " % of the panel's width left or right of \
+        the case's " (n_lambda) " in turn, so that bars at one case do not hide each other; the \
+        measurements stay at their " (n_lambda) "."
+    };
     figure_flow(
         "fig4-yours",
         Some(&charts.legend),
         &charts.panels,
         groups.max(1),
-        &format!(
-            "<b>Fig. 4 with the model asked for.</b> Measurements (red, {} CIs) against each \
-             step: {}. Upper row U/U<sub>wave</sub>, lower row Ω<sub>b</sub>/ω, against \
-             N<sub>λ</sub>, one panel per amplitude group; hollow markers: the step's model at \
-             each case (with ± 2u bars where the dataset states input uncertainties); lines: the \
-             same model between the cases of a group (none for a group of one case); an error \
-             bar smaller than its marker is hidden by it. The models sit side by side, each \
-             shifted with its bars and line by {dodge} % of the panel's width left or right of \
-             the case's N<sub>λ</sub> in turn, so that bars at one case do not hide each other; \
-             the measurements stay at their N<sub>λ</sub>.",
-            super::intro::confidence(data),
-            path.steps
-                .iter()
-                .zip(&colors)
-                .map(|(s, c)| format!(
-                    "{} ({}; MARE {})",
-                    escape(&s.label),
-                    color_name(*c),
-                    pct(s.summary().mare)
-                ))
-                .collect::<Vec<_>>()
-                .join(", "),
-            dodge = super::figure4::dodge_percent(),
-        ),
+        caption,
     )
 }
 
