@@ -38,6 +38,7 @@ mod nonlocal;
 mod nonlocal_effects;
 mod outputs;
 mod page;
+mod page_escaping;
 mod physics_tail;
 mod rate_control;
 mod report;
