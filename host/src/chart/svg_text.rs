@@ -203,6 +203,14 @@ mod tests {
     }
 
     #[test]
+    fn drawn_text_never_becomes_markup() {
+        assert_eq!(
+            rich("t<script>&\"q\"'s"),
+            "t&lt;script&gt;&amp;&quot;q&quot;&#39;s"
+        );
+    }
+
+    #[test]
     fn code_names_become_physics_notation() {
         assert_eq!(notation("Omega_b / omega"), "Ω_b / ω");
         assert_eq!(notation("N_lambda = L_t/lambda"), "N_λ = L_t/λ");

@@ -151,7 +151,9 @@ impl Head {
     }
 }
 
-/// Plain header text; a leading `<` marks a left-aligned column.
+/// Plain header text (the page's own words: a header holding a user's
+/// text is built with [`Head::num`] or [`Head::text`]); a leading `<`
+/// marks a left-aligned column.
 impl From<&str> for Head {
     fn from(s: &str) -> Head {
         match s.strip_prefix('<') {
