@@ -6,39 +6,59 @@
 //! touched, then the peripherals come up, and the watchdog starts last so
 //! that slow clock start-up cannot trip it. A panic or HardFault at any
 //! point forces the gate low and resets (`safety`).
-#![no_std]
-#![no_main]
+#![cfg_attr(target_os = "none", no_std, no_main)]
 // The `hil` image stops in `hil::run`: what follows it is never used there.
 #![cfg_attr(feature = "hil", allow(unused, unreachable_code))]
 
+// Everything below exists only on the chip (`cargo fw`). On a host the crate
+// is an empty program, so `cargo clippy --workspace` can pass over it; the
+// test command lints it for thumbv6m-none-eabi, where its assembly and
+// panic handler belong.
+#[cfg(target_os = "none")]
 mod battery_adc;
+#[cfg(target_os = "none")]
 mod board;
+#[cfg(target_os = "none")]
 mod flash;
-#[cfg(feature = "hil")]
+#[cfg(all(target_os = "none", feature = "hil"))]
 mod hil;
+#[cfg(target_os = "none")]
 mod ir;
+#[cfg(target_os = "none")]
 mod motor;
+#[cfg(target_os = "none")]
 mod pairing;
+#[cfg(target_os = "none")]
 mod power;
+#[cfg(target_os = "none")]
 mod run;
+#[cfg(target_os = "none")]
 mod safety;
+#[cfg(target_os = "none")]
 mod sleep;
+#[cfg(target_os = "none")]
 mod usb;
 
+#[cfg(target_os = "none")]
 use defmt_rtt as _;
-#[cfg(feature = "probe")]
+#[cfg(all(target_os = "none", feature = "probe"))]
 use panic_probe as _;
+#[cfg(target_os = "none")]
 use rp2040_hal as hal;
 
-use fugit::ExtU32;
-use hal::gpio::PinState;
-use hal::pac;
+#[cfg(not(target_os = "none"))]
+fn main() {
+    eprintln!("the firmware runs on the RP2040 only: build it with `cargo fw`");
+    std::process::exit(2);
+}
 
 /// The second-stage bootloader: the flash chip's read mode (plain 03h
 /// reads, the one every flash chip supports). `flash` re-runs a RAM copy
 /// of it after each flash write.
+#[cfg(target_os = "none")]
 pub const BOOT2_IMAGE: [u8; 256] = rp2040_boot2::BOOT_LOADER_GENERIC_03H;
 
+#[cfg(target_os = "none")]
 #[link_section = ".boot2"]
 #[used]
 pub static BOOT2: [u8; 256] = BOOT2_IMAGE;
@@ -46,9 +66,10 @@ pub static BOOT2: [u8; 256] = BOOT2_IMAGE;
 // Log lines carry the 1 MHz timer's microseconds. Read through the PAC
 // (TIMERAWL/H, no latching side effects): the HAL's Timer is owned by the
 // main loop.
+#[cfg(target_os = "none")]
 defmt::timestamp!("{=u64:us}", {
     // SAFETY: reads of the free-running timer's raw registers.
-    let timer = unsafe { &*pac::TIMER::ptr() };
+    let timer = unsafe { &*hal::pac::TIMER::ptr() };
     loop {
         let hi = timer.timerawh().read().bits();
         let lo = timer.timerawl().read().bits();
@@ -58,8 +79,13 @@ defmt::timestamp!("{=u64:us}", {
     }
 });
 
+#[cfg(target_os = "none")]
 #[hal::entry]
 fn main() -> ! {
+    use fugit::ExtU32;
+    use hal::gpio::PinState;
+    use hal::pac;
+
     // `take` cannot fail this early: nothing else has taken them.
     let mut p = pac::Peripherals::take().unwrap();
     let mut cortex = pac::CorePeripherals::take().unwrap();

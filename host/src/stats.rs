@@ -1,8 +1,11 @@
 //! Statistics of the comparison: Student-t confidence intervals of trial
-//! means, relative errors, and the reduced chi-square of a fit.
+//! means, relative errors, the reduced chi-square of a fit, and Spearman's
+//! rank correlation (does a residual trend with a feature; are two features
+//! the same ordering of the cases).
 //!
-//! Reference: M. Abramowitz and I. A. Stegun, Handbook of Mathematical
-//! Functions (1964), 26.7.5 (Student-t quantile for many degrees of freedom).
+//! References: M. Abramowitz and I. A. Stegun, Handbook of Mathematical
+//! Functions (1964), 26.7.5 (Student-t quantile for many degrees of freedom);
+//! C. Spearman, Am. J. Psychol. 15 (1904) 72 (rank correlation).
 
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
@@ -133,9 +136,70 @@ pub fn summarise(residuals: &[Residual], free_params: usize) -> FitSummary {
     }
 }
 
+/// Ranks from 1, ties sharing their mean rank.
+pub fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut idx: Vec<usize> = (0..v.len()).collect();
+    idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut r = vec![0.0; v.len()];
+    let mut i = 0;
+    while i < idx.len() {
+        let mut j = i;
+        while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
+            j += 1;
+        }
+        let mean_rank = (i + j) as f64 / 2.0 + 1.0;
+        for &k in &idx[i..=j] {
+            r[k] = mean_rank;
+        }
+        i = j + 1;
+    }
+    r
+}
+
+/// Spearman's rank correlation of `x` and `y` (Pearson's on the ranks);
+/// `None` when either takes one value only, so no ordering exists.
+pub fn spearman_rho(x: &[f64], y: &[f64]) -> Option<f64> {
+    let (rx, ry) = (ranks(x), ranks(y));
+    // Ties keep the ranks' mean at (n + 1) / 2.
+    let mean = (x.len() as f64 + 1.0) / 2.0;
+    let (mut cov, mut vx, mut vy) = (0.0, 0.0, 0.0);
+    for (a, b) in rx.iter().zip(&ry) {
+        cov += (a - mean) * (b - mean);
+        vx += (a - mean) * (a - mean);
+        vy += (b - mean) * (b - mean);
+    }
+    (vx > 0.0 && vy > 0.0).then(|| cov / (vx * vy).sqrt())
+}
+
+/// The two-sided p-value of Spearman's rho against no association, from the
+/// t approximation `rho sqrt((n-2)/(1-rho^2))` on `n - 2` degrees of
+/// freedom (1 when there is no ordering or fewer than 3 points).
+pub fn spearman_p(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len() as f64;
+    let Some(rho) = spearman_rho(x, y).filter(|_| n > 2.0) else {
+        return 1.0;
+    };
+    let rho = rho.clamp(-0.999_999, 0.999_999);
+    let t = rho * ((n - 2.0) / (1.0 - rho * rho)).sqrt();
+    let dist = StudentsT::new(0.0, 1.0, n - 2.0).expect("n > 2");
+    2.0 * dist.sf(t.abs())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ranks_share_ties_and_spearman_sees_a_monotone_trend() {
+        assert_eq!(ranks(&[3.0, 1.0, 3.0, 2.0]), vec![3.5, 1.0, 3.5, 2.0]);
+        let x: Vec<f64> = (0..20).map(f64::from).collect();
+        let y: Vec<f64> = x.iter().map(|v| v.powi(3)).collect();
+        assert!(spearman_p(&x, &y) < 1e-6);
+        assert_eq!(spearman_rho(&x, &y), Some(1.0));
+        let down: Vec<f64> = x.iter().map(|v| -v.exp()).collect();
+        assert_eq!(spearman_rho(&x, &down), Some(-1.0));
+        assert_eq!(spearman_rho(&x, &[2.0; 20]), None, "no ordering");
+    }
 
     #[test]
     fn student_t_matches_tables() {

@@ -35,7 +35,7 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         Some("test") => test_all(&root),
         Some("size") => firmware_size(&root, &mut Steps::new()),
-        Some("fw") => build_firmware(&root, &mut Steps::new()),
+        Some("fw") => clippy_env().and_then(|lint| build_firmware(&root, &mut Steps::new(), &lint)),
         Some("hil") => {
             #[path = "hil.rs"]
             mod hil;
@@ -63,9 +63,20 @@ fn workspace_root() -> PathBuf {
 }
 
 fn run(root: &Path, program: &str, args: &[&str]) -> Result<(), String> {
+    run_with(root, program, args, &[])
+}
+
+/// [`run`] with extra environment variables.
+fn run_with(
+    root: &Path,
+    program: &str,
+    args: &[&str],
+    env: &[(&str, std::ffi::OsString)],
+) -> Result<(), String> {
     let status = Command::new(program)
         .args(args)
         .current_dir(root)
+        .envs(env.iter().map(|(k, v)| (k, v)))
         .status()
         .map_err(|e| format!("cannot start `{program}`: {e}"))?;
     if status.success() {
@@ -116,10 +127,13 @@ fn test_steps(root: &Path, steps: &mut Steps) -> Result<(), String> {
     run(root, "cargo", &["fmt", "--all", "--", "--check"])?;
     let lint = host_clippy_and_tests(root, steps)?;
     python::test(root, steps, pyenv, &lint)?;
-    steps.begin("shared crate builds for the RP2040 (no_std, thumbv6m)");
+    // The RP2040 builds are linted as they compile, like the host's: the
+    // firmware exists only for its target, so a host `cargo clippy` skips it.
+    let fw_lint = clippy_env()?;
+    steps.begin("shared crate builds for the RP2040 (no_std, thumbv6m, clippy)");
     // In the firmware's profile: the firmware build below then reuses this
     // very library and its dependencies instead of building them again.
-    run(
+    run_with(
         root,
         "cargo",
         &[
@@ -133,15 +147,18 @@ fn test_steps(root: &Path, steps: &mut Steps) -> Result<(), String> {
             "--profile",
             "fw",
         ],
+        &fw_lint,
     )?;
-    build_firmware(root, steps)?;
+    build_firmware(root, steps, &fw_lint)?;
     firmware_size(root, steps)?;
     if let (Some(npm_ci), Some(bootrom)) = (npm_ci, bootrom) {
         steps.begin("emulator tests: fetched in the background");
         npm_ci.finish()?;
         bootrom.finish()?;
     }
-    emulator_tests(root, steps)?;
+    // The emulator's images are the same build with features: same settings,
+    // so they reuse the linted dependencies.
+    emulator_tests(root, steps, &fw_lint)?;
     println!("\nall checks passed");
     Ok(())
 }
@@ -156,7 +173,7 @@ fn test_steps(root: &Path, steps: &mut Steps) -> Result<(), String> {
 /// Returns the settings that lint as these builds do, for the Python
 /// extension's build (python/ is left out here: maturin builds it, once).
 fn host_clippy_and_tests(root: &Path, steps: &mut Steps) -> Result<python::Lint, String> {
-    let driver = clippy_driver()?;
+    let clippy = clippy_env()?;
     let cold = cold_build(root);
     if cold {
         println!("cold host build: no incremental cache, workspace crates in 4 codegen units");
@@ -172,12 +189,7 @@ fn host_clippy_and_tests(root: &Path, steps: &mut Steps) -> Result<python::Lint,
         let status = cargo
             .args(args)
             .current_dir(root)
-            .env("RUSTC_WORKSPACE_WRAPPER", &driver)
-            // What `cargo clippy -- -D warnings` hands its driver.
-            .env(
-                "CLIPPY_ARGS",
-                "-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__",
-            )
+            .envs(clippy.iter().map(|(k, v)| (k, v)))
             .status()
             .map_err(|e| format!("cannot start `cargo`: {e}"))?;
         if status.success() {
@@ -207,13 +219,7 @@ fn host_clippy_and_tests(root: &Path, steps: &mut Steps) -> Result<python::Lint,
         "--exclude",
         "swimbot-python",
     ])?;
-    let mut lint = vec![
-        ("RUSTC_WORKSPACE_WRAPPER", driver.into_os_string()),
-        (
-            "CLIPPY_ARGS",
-            "-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__".into(),
-        ),
-    ];
+    let mut lint = clippy.clone();
     let mut configs = Vec::new();
     if cold {
         lint.push(("CARGO_INCREMENTAL", "0".into()));
@@ -276,9 +282,26 @@ fn clippy_driver() -> Result<PathBuf, String> {
     }
 }
 
-fn build_firmware(root: &Path, steps: &mut Steps) -> Result<(), String> {
-    steps.begin("firmware release build (thumbv6m-none-eabi, profile fw)");
-    run(root, "cargo", &["fw"])
+fn build_firmware(
+    root: &Path,
+    steps: &mut Steps,
+    lint: &[(&str, std::ffi::OsString)],
+) -> Result<(), String> {
+    steps.begin("firmware release build (thumbv6m-none-eabi, profile fw, clippy)");
+    run_with(root, "cargo", &["fw"], lint)
+}
+
+/// Clippy's driver as the compiler of the workspace's own crates, warnings
+/// as errors: what `cargo clippy -- -D warnings` hands its driver, set on a
+/// build so that it lints what it compiles.
+fn clippy_env() -> Result<Vec<(&'static str, std::ffi::OsString)>, String> {
+    Ok(vec![
+        ("RUSTC_WORKSPACE_WRAPPER", clippy_driver()?.into_os_string()),
+        (
+            "CLIPPY_ARGS",
+            "-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__".into(),
+        ),
+    ])
 }
 
 fn firmware_size(root: &Path, steps: &mut Steps) -> Result<(), String> {
@@ -337,12 +360,16 @@ fn firmware_size(root: &Path, steps: &mut Steps) -> Result<(), String> {
 /// copied; the `hang-test` one is moved away from the flashed path at once),
 /// and runs the scenarios in simulated time. `npm ci` and the bootrom
 /// download ran in the background (`test_all`).
-fn emulator_tests(root: &Path, steps: &mut Steps) -> Result<(), String> {
+fn emulator_tests(
+    root: &Path,
+    steps: &mut Steps,
+    lint: &[(&str, std::ffi::OsString)],
+) -> Result<(), String> {
     let dir = root.join("tests/emulator");
     if !dir.join("package.json").exists() {
         steps.begin("emulator tests: not present in this tree (tests/emulator/package.json)");
         return Ok(());
     }
     steps.begin("emulator tests (rp2040js: IR in, PWM out, battery ADC, watchdog)");
-    run(&dir, "npm", &["test"])
+    run_with(&dir, "npm", &["test"], lint)
 }

@@ -9,9 +9,9 @@ use super::legend::{self, Entry, Glyph};
 use super::svg::{rgb, Anchor, Stroke, Svg};
 use super::svg_text::{power_of_ten, width};
 use super::ticks::Axis;
+use super::Rgb;
 use super::{PlotResult, PALETTE};
 use crate::format::fmt_sig;
-use plotters::style::RGBColor;
 
 const CATEGORY_FONT_PX: f64 = 10.0;
 const VALUE_FONT_PX: f64 = 10.0;
@@ -22,7 +22,7 @@ pub struct Bars {
     title: String,
     y_desc: String,
     size: (f64, f64),
-    references: Vec<(f64, String, RGBColor)>,
+    references: Vec<(f64, String, Rgb)>,
 }
 
 impl Bars {
@@ -41,7 +41,7 @@ impl Bars {
     }
 
     /// A dashed horizontal line at `y`, named in the legend.
-    pub fn reference(mut self, y: f64, label: impl Into<String>, color: RGBColor) -> Self {
+    pub fn reference(mut self, y: f64, label: impl Into<String>, color: Rgb) -> Self {
         self.references.push((y, label.into(), color));
         self
     }

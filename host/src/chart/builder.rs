@@ -10,16 +10,16 @@ use super::series::Series;
 use super::svg::{Anchor, Svg};
 use super::ticks::Axis;
 use super::PlotResult;
-use plotters::style::RGBColor;
+use super::Rgb;
 
-pub(super) const REFERENCE: RGBColor = RGBColor(110, 110, 110);
+pub(super) const REFERENCE: Rgb = Rgb(110, 110, 110);
 
 /// A horizontal reference line (an observed value, zero).
 #[derive(Debug, Clone)]
 pub(super) struct Reference {
     pub(super) y: f64,
     pub(super) label: String,
-    pub(super) color: RGBColor,
+    pub(super) color: Rgb,
 }
 
 /// One chart panel, configured by builder methods, drawn by [`Chart::render`].
@@ -118,7 +118,7 @@ impl Chart {
     }
 
     /// A dashed horizontal reference line at `y` (in the legend when labelled).
-    pub fn hline(mut self, y: f64, label: impl Into<String>, color: RGBColor) -> Self {
+    pub fn hline(mut self, y: f64, label: impl Into<String>, color: Rgb) -> Self {
         self.references.push(Reference {
             y,
             label: label.into(),
@@ -133,7 +133,7 @@ impl Chart {
     }
 
     /// A legend entry not tied to one series (what bars or lines mean).
-    pub fn legend_entry(mut self, glyph: Glyph, color: RGBColor, label: impl Into<String>) -> Self {
+    pub fn legend_entry(mut self, glyph: Glyph, color: Rgb, label: impl Into<String>) -> Self {
         self.entries.push(Entry {
             glyph,
             color,

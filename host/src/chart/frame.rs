@@ -7,7 +7,7 @@
 use super::geom::Rect;
 use super::svg::{Anchor, Stroke, Svg};
 use super::svg_text::{extent, width};
-use plotters::style::RGBColor;
+use super::Rgb;
 
 pub const TICK_FONT_PX: f64 = 11.0;
 pub const TITLE_FONT_PX: f64 = 15.0;
@@ -60,8 +60,8 @@ pub struct Frame<'a> {
     pub left_of_plot: f64,
 }
 
-const AXIS: RGBColor = RGBColor(60, 60, 60);
-const GRID: RGBColor = RGBColor(232, 232, 232);
+const AXIS: Rgb = Rgb(60, 60, 60);
+const GRID: Rgb = Rgb(232, 232, 232);
 
 impl Frame<'_> {
     /// Draws the frame around `plot`, the panel starting at `top`.

@@ -7,7 +7,7 @@
 use super::geom::{Rect, Shape};
 use super::svg::{rgb, Anchor, Stroke, Svg};
 use super::svg_text::{notation, width};
-use plotters::style::RGBColor;
+use super::Rgb;
 
 /// What an entry shows before its text.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,7 +29,7 @@ pub enum Glyph {
 #[derive(Debug, Clone)]
 pub struct Entry {
     pub glyph: Glyph,
-    pub color: RGBColor,
+    pub color: Rgb,
     pub label: String,
 }
 

@@ -5,11 +5,11 @@
 //! axes), per-point labels, error bars in x and y, and a note on the figure
 //! when error bars are smaller than their markers.
 //!
-//! Written by hand rather than drawn with plotters (still used for its colour
-//! type) because plotters rounds every coordinate to whole pixels (a 1 mHz
-//! controller ripple on a flat line became a sawtooth in the sim figure),
-//! cannot write SVG subscripts, and does not mark which elements form the
-//! legend, which the clear-legend check must know.
+//! Written by hand rather than drawn with plotters because plotters rounds
+//! every coordinate to whole pixels (a 1 mHz controller ripple on a flat
+//! line became a sawtooth in the sim figure), cannot write SVG subscripts,
+//! and does not mark which elements form the legend, which the
+//! clear-legend check must know.
 //!
 //! The simple entry points [`chart`] and [`steps`] stay; [`Chart`] and
 //! [`Bars`] are the builders behind them.
@@ -17,6 +17,7 @@
 mod bars;
 mod builder;
 mod check;
+mod colour;
 mod frame;
 mod geom;
 mod labels;
@@ -33,6 +34,7 @@ pub(crate) mod tests;
 pub use bars::{steps, Bars};
 pub use builder::{legend_only, stack, Chart};
 pub use check::{legend_clear, text_clear};
+pub use colour::Rgb;
 pub use legend::Glyph;
 pub use series::Series;
 pub use svg_text::{
@@ -40,17 +42,15 @@ pub use svg_text::{
 };
 pub use ticks::Axis;
 
-use plotters::style::RGBColor;
-
 pub type PlotResult = Result<String, String>;
 
-pub const PALETTE: [RGBColor; 6] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-    RGBColor(23, 190, 207),
+pub const PALETTE: [Rgb; 6] = [
+    Rgb(31, 119, 180),
+    Rgb(214, 39, 40),
+    Rgb(44, 160, 44),
+    Rgb(148, 103, 189),
+    Rgb(255, 127, 14),
+    Rgb(23, 190, 207),
 ];
 
 /// A scatter/line chart; `diagonal` draws y = x (parity plots).

@@ -10,14 +10,14 @@ use super::legend::{self, Entry, Glyph};
 use super::series::Series;
 use super::svg::{Anchor, Stroke, Svg};
 use super::ticks::Axis;
-use plotters::style::RGBColor;
+use super::Rgb;
 
 const MARKER_R: f64 = 4.0;
 const CAP_PX: f64 = 3.0;
 const NOTE_ROW_PX: f64 = 15.0;
 
 /// An error bar's two ends in pixels and its colour.
-type ErrorBar = ((f64, f64), (f64, f64), RGBColor);
+type ErrorBar = ((f64, f64), (f64, f64), Rgb);
 
 /// What a panel draws, in pixels, and everything drawn as obstacles for
 /// labels and legend.

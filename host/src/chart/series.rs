@@ -3,14 +3,14 @@
 //! the builder methods for what a publication figure adds (per-point
 //! labels, horizontal error bars, dashed lines).
 
-use plotters::style::RGBColor;
+use super::Rgb;
 
 /// One data series of a chart.
 #[derive(Debug, Clone)]
 pub struct Series {
     /// Legend text; empty: not in the legend.
     pub label: String,
-    pub color: RGBColor,
+    pub color: Rgb,
     /// (x, y, vertical error half-width)
     pub points: Vec<(f64, f64, f64)>,
     /// Drawn as a line instead of markers.
@@ -34,7 +34,7 @@ pub struct Series {
 }
 
 impl Series {
-    fn new(label: impl Into<String>, color: RGBColor, points: Vec<(f64, f64, f64)>) -> Self {
+    fn new(label: impl Into<String>, color: Rgb, points: Vec<(f64, f64, f64)>) -> Self {
         Self {
             label: label.into(),
             color,
@@ -50,16 +50,12 @@ impl Series {
     }
 
     /// Measured points: filled markers with their error bars.
-    pub fn measured(
-        label: impl Into<String>,
-        color: RGBColor,
-        points: Vec<(f64, f64, f64)>,
-    ) -> Self {
+    pub fn measured(label: impl Into<String>, color: Rgb, points: Vec<(f64, f64, f64)>) -> Self {
         Self::new(label, color, points)
     }
 
     /// The model at the measured cases: hollow markers.
-    pub fn model(label: impl Into<String>, color: RGBColor, points: Vec<(f64, f64, f64)>) -> Self {
+    pub fn model(label: impl Into<String>, color: Rgb, points: Vec<(f64, f64, f64)>) -> Self {
         Self {
             hollow: true,
             ..Self::new(label, color, points)
@@ -67,7 +63,7 @@ impl Series {
     }
 
     /// A model curve: a line through `points` (their error column is ignored).
-    pub fn curve(label: impl Into<String>, color: RGBColor, points: Vec<(f64, f64, f64)>) -> Self {
+    pub fn curve(label: impl Into<String>, color: Rgb, points: Vec<(f64, f64, f64)>) -> Self {
         Self {
             line: true,
             ..Self::new(label, color, points)
@@ -105,7 +101,7 @@ impl Series {
         self
     }
 
-    pub fn color(mut self, color: RGBColor) -> Self {
+    pub fn color(mut self, color: Rgb) -> Self {
         self.color = color;
         self
     }

@@ -4,10 +4,10 @@
 //! text with real subscripts.
 
 use super::svg_text::{notation, rich};
-use plotters::style::RGBColor;
+use super::Rgb;
 use std::fmt::Write as _;
 
-pub fn rgb(c: RGBColor) -> String {
+pub fn rgb(c: Rgb) -> String {
     format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
 }
 
@@ -22,14 +22,14 @@ pub enum Anchor {
 /// A line's look.
 #[derive(Clone, Copy)]
 pub struct Stroke {
-    pub color: RGBColor,
+    pub color: Rgb,
     pub width: f64,
     pub dashed: bool,
     pub opacity: f64,
 }
 
 impl Stroke {
-    pub fn solid(color: RGBColor, width: f64) -> Self {
+    pub fn solid(color: Rgb, width: f64) -> Self {
         Self {
             color,
             width,
@@ -110,7 +110,7 @@ impl Svg {
         );
     }
 
-    pub fn circle(&mut self, c: (f64, f64), r: f64, color: RGBColor, hollow: bool) {
+    pub fn circle(&mut self, c: (f64, f64), r: f64, color: Rgb, hollow: bool) {
         let paint = if hollow {
             format!(
                 "fill=\"white\" stroke=\"{}\" stroke-width=\"1.6\"",

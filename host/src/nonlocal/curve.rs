@@ -1,10 +1,7 @@
-//! A slender filament's centre-line cut into equal arc-length segments, and
-//! the Gauss-Legendre quadrature used to integrate kernels over a segment.
+//! A slender filament's centre-line cut into equal arc-length segments.
 
 use crate::physics::geometry::Helix;
 use nalgebra::Vector3;
-use std::f64::consts::PI;
-use std::sync::OnceLock;
 
 /// The centre-line shapes the non-local models handle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -114,7 +111,7 @@ impl Segments {
     }
 
     fn push_gauss(&self, out: &mut Vec<(Vector3<f64>, f64)>, s0: f64, s1: f64, m: usize) {
-        let (nodes, weights) = gauss_legendre(m);
+        let (nodes, weights) = super::gauss_legendre::symmetric(m);
         let half = 0.5 * (s1 - s0);
         for (&x, &w) in nodes.iter().zip(weights) {
             out.push((self.curve.point(s0 + half * (1.0 + x)), w * half));
@@ -162,67 +159,5 @@ impl Segments {
             }
         }
         out
-    }
-}
-
-const MAX_GAUSS: usize = 64;
-
-/// Gauss-Legendre nodes and weights on `[-1, 1]` for `m` in `1..=64`
-/// (Newton iteration on the Legendre recurrence, computed once).
-pub fn gauss_legendre(m: usize) -> (&'static [f64], &'static [f64]) {
-    static TABLE: OnceLock<Vec<(Vec<f64>, Vec<f64>)>> = OnceLock::new();
-    let table = TABLE.get_or_init(|| (0..=MAX_GAUSS).map(gauss_legendre_compute).collect());
-    let (x, w) = &table[m.clamp(1, MAX_GAUSS)];
-    (x, w)
-}
-
-fn gauss_legendre_compute(m: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut x = vec![0.0; m];
-    let mut w = vec![0.0; m];
-    for i in 0..m {
-        let mut z = (PI * (i as f64 + 0.75) / (m as f64 + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 2..=m {
-                let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            let p = if m == 0 { 1.0 } else { p1 };
-            dp = m as f64 * (z * p - p0) / (z * z - 1.0);
-            let dz = p / dp;
-            z -= dz;
-            if dz.abs() < 1e-15 {
-                break;
-            }
-        }
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-    (x, w)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn gauss_legendre_integrates_polynomials_exactly() {
-        for m in [1usize, 2, 5, 12, 40] {
-            let (x, w) = gauss_legendre(m);
-            for deg in 0..(2 * m) {
-                let num: f64 = x.iter().zip(w).map(|(x, w)| w * x.powi(deg as i32)).sum();
-                let exact = if deg % 2 == 1 {
-                    0.0
-                } else {
-                    2.0 / (deg as f64 + 1.0)
-                };
-                assert!(
-                    (num - exact).abs() < 1e-12,
-                    "m={m} deg={deg}: {num} vs {exact}"
-                );
-            }
-        }
     }
 }

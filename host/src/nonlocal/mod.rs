@@ -60,6 +60,7 @@ pub mod axisym;
 pub mod cache;
 pub mod confined;
 pub mod curve;
+pub mod gauss_legendre;
 pub mod linalg;
 pub mod memo;
 pub mod mrs_line;

@@ -77,7 +77,7 @@ pub fn spheroid(
             PI * (i + 1) as f64 / n_bands as f64,
         );
         // band area: int 2 pi b sin(t) sqrt(c^2 sin^2 t + b^2 cos^2 t) dt, 8-point Gauss
-        let (nodes, w) = super::curve::gauss_legendre(8);
+        let (nodes, w) = super::gauss_legendre::symmetric(8);
         let area: f64 = nodes
             .iter()
             .zip(w)

@@ -13,17 +13,17 @@
 //! case stay apart.
 
 use super::curve::model_curve;
+use crate::chart::Rgb;
 use crate::chart::{legend_only, Chart, PlotResult, Series};
 use crate::data::{Case, Dataset};
 use crate::model::{Model, Prediction};
 use crate::workbench::compare::Comparison;
-use plotters::style::RGBColor;
 
 /// The paper's colours: observations red, Gray-Hancock black, Lighthill blue.
-pub const MEASURED: RGBColor = RGBColor(214, 39, 40);
-pub const BLACK: RGBColor = RGBColor(0, 0, 0);
-pub const BLUE: RGBColor = RGBColor(31, 119, 180);
-pub const GREEN: RGBColor = RGBColor(44, 160, 44);
+pub const MEASURED: Rgb = Rgb(214, 39, 40);
+pub const BLACK: Rgb = Rgb(0, 0, 0);
+pub const BLUE: Rgb = Rgb(31, 119, 180);
+pub const GREEN: Rgb = Rgb(44, 160, 44);
 
 /// One model drawn in the figure: its markers come from its comparison
 /// (the workbench's numbers, with their input bands), its curve from the
@@ -32,7 +32,7 @@ pub struct Layer<'a> {
     pub label: String,
     pub model: &'a Model,
     pub comparison: &'a Comparison,
-    pub color: RGBColor,
+    pub color: Rgb,
     /// Draw its curve too (each curve point is a prediction: affordable for
     /// the local RFT models, not for a tube solve per point).
     pub curve: bool,

@@ -3,12 +3,12 @@
 //! prediction's input band (k = 2) as vertical bars, and the line y = x;
 //! log axes when the values span more than a decade.
 
+use crate::chart::Rgb;
 use crate::chart::{Axis, Chart, Glyph, Series, PALETTE};
 use crate::workbench::compare::Comparison;
-use plotters::style::RGBColor;
 
 /// The colour of the legend's error-bar entries (they stand for every series).
-const REF: RGBColor = RGBColor(80, 80, 80);
+const REF: Rgb = Rgb(80, 80, 80);
 
 /// The parity plot of one comparison.
 pub fn parity(cmp: &Comparison, omega: bool) -> Result<String, String> {
@@ -17,7 +17,7 @@ pub fn parity(cmp: &Comparison, omega: bool) -> Result<String, String> {
 
 /// The parity plot of several models `(label, colour, comparison)` on one
 /// chart: the first labelled by case, all with both kinds of error bar.
-pub fn parity_of(models: &[(&str, RGBColor, &Comparison)], omega: bool) -> Result<String, String> {
+pub fn parity_of(models: &[(&str, Rgb, &Comparison)], omega: bool) -> Result<String, String> {
     let (q, unit) = if omega {
         ("Omega_b", "Hz")
     } else {

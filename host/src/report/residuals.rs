@@ -3,11 +3,11 @@
 //! [`crate::workbench::features::trends`]): where the model fails.
 
 use super::yours::BEFORE;
+use crate::chart::Rgb;
 use crate::chart::{unit, Chart, Series, PALETTE};
 use crate::data::Dataset;
 use crate::workbench::compare::{Comparison, Quantity};
 use crate::workbench::features::{trends, FEATURES};
-use plotters::style::RGBColor;
 
 /// Plots per quantity.
 const PER_QUANTITY: usize = 2;
@@ -22,7 +22,7 @@ pub fn residual_plots_of(
     data: &Dataset,
     (label, cmp): (&str, &Comparison),
     before: Option<(&str, &Comparison)>,
-    color: RGBColor,
+    color: Rgb,
 ) -> Vec<Result<String, String>> {
     let all = trends(data, cmp);
     [Quantity::U, Quantity::Omega]

@@ -25,12 +25,7 @@ pub fn parity(before: &[CaseRow], after: &[CaseRow], omega: bool) -> Result<Stri
     let mut series = Vec::new();
     let mut all = Vec::new();
     for (label, rows, color, measured) in [
-        (
-            "before",
-            before,
-            plotters::style::RGBColor(150, 150, 150),
-            false,
-        ),
+        ("before", before, crate::chart::Rgb(150, 150, 150), false),
         ("after", after, PALETTE[0], true),
     ] {
         let mut pts = Vec::new();
@@ -111,19 +106,9 @@ pub fn residuals(
     let x_of = |id: &str| data.cases.iter().find(|c| c.id == id).map(|c| q.of(c));
     let mut series = Vec::new();
     for (label, rows, color, hollow) in [
-        (
-            "U before",
-            before,
-            plotters::style::RGBColor(150, 150, 150),
-            true,
-        ),
+        ("U before", before, crate::chart::Rgb(150, 150, 150), true),
         ("U after", after, PALETTE[0], false),
-        (
-            "Ω_b before",
-            before,
-            plotters::style::RGBColor(230, 170, 170),
-            true,
-        ),
+        ("Ω_b before", before, crate::chart::Rgb(230, 170, 170), true),
         ("Ω_b after", after, PALETTE[1], false),
     ] {
         let omega = label.starts_with('Ω');

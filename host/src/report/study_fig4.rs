@@ -17,12 +17,12 @@
 
 use super::figure4::{dodge, dodge_percent, n_waves_range, panel_width, MEASURED};
 use super::html::{figure_flow, html, omega_b, Markup};
+use crate::chart::Rgb;
 use crate::chart::{legend_only, Chart, Series, PALETTE};
 use crate::data::Dataset;
 use crate::study::CaseRow;
-use plotters::style::RGBColor;
 
-const BEFORE: RGBColor = RGBColor(150, 150, 150);
+const BEFORE: Rgb = Rgb(150, 150, 150);
 
 /// Amplitude groups `(B_o/R_body, rows)` in the order of first appearance.
 fn groups(rows: &[CaseRow]) -> Vec<(f64, Vec<&CaseRow>)> {

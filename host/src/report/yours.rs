@@ -9,24 +9,20 @@ use super::figure4::{figure4, Layer, GREEN};
 use super::html::{figure, figure_flow, html, omega_b, table, Head, Markup};
 use super::path_chart::{chart, Metric};
 use super::wording::{describe, pct, signed_pct, stat, value_unc};
+use crate::chart::Rgb;
 use crate::data::Dataset;
 use crate::format::fmt_sig;
 use crate::workbench::compare::{CaseComparison, Comparison};
 use crate::workbench::path::{Path, Step};
-use plotters::style::RGBColor;
 
 /// The step before the last: grey, so the last step stands out.
-pub const BEFORE: RGBColor = RGBColor(120, 120, 120);
+pub const BEFORE: Rgb = Rgb(120, 120, 120);
 /// Intermediate steps of a longer path.
-const MIDDLE: [RGBColor; 3] = [
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-    RGBColor(23, 190, 207),
-];
+const MIDDLE: [Rgb; 3] = [Rgb(148, 103, 189), Rgb(255, 127, 14), Rgb(23, 190, 207)];
 
 /// Each step's colour: the last green, the one before it grey, the
 /// start of a longer path and the steps between in the palette.
-pub fn colors(n: usize) -> Vec<RGBColor> {
+pub fn colors(n: usize) -> Vec<Rgb> {
     (0..n)
         .map(|i| match n - 1 - i {
             0 => GREEN,
@@ -239,7 +235,7 @@ pub fn section(data: &Dataset, path: &Path) -> Markup {
     let noise = super::path::noise_mare(data);
     let ci = super::intro::confidence(data);
     let (header, rows) = steps_table(path, noise);
-    let shown: Vec<(&str, RGBColor, &Comparison)> = match before {
+    let shown: Vec<(&str, Rgb, &Comparison)> = match before {
         Some(b) => vec![
             (b.label.as_str(), super::yours::BEFORE, &b.comparison),
             (last.label.as_str(), GREEN, &last.comparison),
@@ -383,7 +379,7 @@ fn fig4(data: &Dataset, path: &Path) -> Markup {
     )
 }
 
-fn color_name(c: RGBColor) -> &'static str {
+fn color_name(c: Rgb) -> &'static str {
     match (c.0, c.1, c.2) {
         (44, 160, 44) => "green",
         (120, 120, 120) => "grey",

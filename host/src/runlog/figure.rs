@@ -63,7 +63,7 @@ pub fn marks(points: &[LogPoint]) -> Vec<(f64, String)> {
 /// the first piece carries the legend label.
 pub fn curve(
     label: &str,
-    color: plotters::style::RGBColor,
+    color: crate::chart::Rgb,
     points: &[LogPoint],
     f: &dyn Fn(&LogPoint) -> Option<f64>,
 ) -> Vec<Series> {

@@ -9,7 +9,7 @@ mod legend;
 mod marks;
 mod text;
 
-pub(super) const C: plotters::style::RGBColor = PALETTE[0];
+pub(super) const C: crate::chart::Rgb = PALETTE[0];
 
 /// The legend box (x, y, w, h) of a one-legend SVG.
 pub(super) fn legend_box(svg: &str) -> (f64, f64, f64, f64) {

@@ -19,34 +19,7 @@ use super::kernels::{ring, Ring};
 use super::mesh::Element;
 use std::sync::OnceLock;
 
-/// Gauss-Legendre nodes and weights on `[0, 1]`, by Newton's method on
-/// the Legendre polynomial (to machine precision).
-pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    let mut out = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, x);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            let pn = if n == 0 { 1.0 } else { p1 };
-            let pm = if n == 1 { 1.0 } else { p0 };
-            dp = n as f64 * (x * pn - pm) / (x * x - 1.0);
-            let dx = pn / dp;
-            x -= dx;
-            if dx.abs() < 1e-16 {
-                break;
-            }
-        }
-        let w = 2.0 / ((1.0 - x * x) * dp * dp);
-        out.push((0.5 * (1.0 - x), 0.5 * w));
-    }
-    out
-}
+use crate::nonlocal::gauss_legendre::unit_interval;
 
 fn rule(n: usize) -> &'static [(f64, f64)] {
     static R2: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
@@ -54,10 +27,10 @@ fn rule(n: usize) -> &'static [(f64, f64)] {
     static R8: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
     static R12: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
     match n {
-        2 => R2.get_or_init(|| gauss_legendre(2)),
-        4 => R4.get_or_init(|| gauss_legendre(4)),
-        8 => R8.get_or_init(|| gauss_legendre(8)),
-        _ => R12.get_or_init(|| gauss_legendre(12)),
+        2 => R2.get_or_init(|| unit_interval(2)),
+        4 => R4.get_or_init(|| unit_interval(4)),
+        8 => R8.get_or_init(|| unit_interval(8)),
+        _ => R12.get_or_init(|| unit_interval(12)),
     }
 }
 
@@ -117,17 +90,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn gauss_legendre_integrates_polynomials_exactly() {
-        for n in [4, 8, 12] {
-            let r = gauss_legendre(n);
-            for p in 0..2 * n {
-                let q: f64 = r.iter().map(|(x, w)| w * x.powi(p as i32)).sum();
-                assert!((q - 1.0 / (p as f64 + 1.0)).abs() < 1e-14, "n {n} p {p}");
-            }
-        }
-    }
-
-    #[test]
     fn singular_element_rule_is_converged() {
         // A wall element and a tilted element near the axis.
         for e in [
@@ -143,7 +105,7 @@ mod tests {
             },
         ] {
             let coarse = over_own_element(&e);
-            let fine = over_own_element_with(&e, &gauss_legendre(48));
+            let fine = over_own_element_with(&e, &unit_interval(48));
             for (c, f) in [
                 (coarse.xx, fine.xx),
                 (coarse.ss, fine.ss),

@@ -19,8 +19,9 @@
 
 use super::kernels::Ring;
 use super::mesh::{discretize, Element, Part, Sizing};
-use super::quadrature::{gauss_legendre, over_element, over_own_element};
+use super::quadrature::{over_element, over_own_element};
 use super::{AxisymSettings, BodySolve, Confinement, FluxCheck};
+use crate::nonlocal::gauss_legendre::unit_interval;
 use crate::nonlocal::{linalg, NonlocalError};
 use crate::physics::profile::{BodyProfile, Piece};
 use nalgebra::{DMatrix, DVector};
@@ -186,7 +187,7 @@ fn velocity(mesh: &Mesh, fx: &[f64], fs: &[f64], p: [f64; 2]) -> f64 {
 
 /// Volume flux `int 2 pi sigma u_x dsigma` over `[s_lo, s_hi]` at `x`.
 fn flux(mesh: &Mesh, fx: &[f64], fs: &[f64], x: f64, s_lo: f64, s_hi: f64) -> f64 {
-    gauss_legendre(24)
+    unit_interval(24)
         .par_iter()
         .map(|&(u, w)| {
             let sg = s_lo + u * (s_hi - s_lo);

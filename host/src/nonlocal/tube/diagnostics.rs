@@ -72,7 +72,7 @@ const RADIAL_NODES: usize = 24;
 fn section(wall: &Wall, x: f64) -> (Vec<Vector3<f64>>, Vec<f64>) {
     let r_wall = wall.radius_m;
     let n_th = (3.0 * 2.0 * PI * r_wall / wall.spacing_m).ceil().max(64.0) as usize;
-    let (nodes, weights) = crate::nonlocal::curve::gauss_legendre(RADIAL_NODES);
+    let (nodes, weights) = crate::nonlocal::gauss_legendre::symmetric(RADIAL_NODES);
     let mut pts = Vec::with_capacity(RADIAL_NODES * n_th);
     let mut w = Vec::with_capacity(RADIAL_NODES * n_th);
     for (&t, &wt) in nodes.iter().zip(weights) {

@@ -46,6 +46,7 @@
 
 use crate::data::quantities::{FEATURES, FIELDS};
 use crate::data::Dataset;
+use crate::stats::spearman_p;
 use crate::workbench::compare::Quantity;
 use crate::workbench::noise::chi2_noise_floor;
 use crate::workbench::robust::{t_deviance_one, Obs};
@@ -341,48 +342,6 @@ fn fair_coin(signs: &[bool]) -> bool {
     (2.0 * tail).min(1.0) >= 0.01
 }
 
-/// Spearman's rank correlation of `x` and `y` and its two-sided p-value
-/// from the t approximation `rho sqrt((n-2)/(1-rho^2))`.
-fn spearman_p(x: &[f64], y: &[f64]) -> f64 {
-    let (rx, ry) = (ranks(x), ranks(y));
-    let n = x.len() as f64;
-    let mean = (n + 1.0) / 2.0;
-    let cov: f64 = rx
-        .iter()
-        .zip(&ry)
-        .map(|(a, b)| (a - mean) * (b - mean))
-        .sum();
-    let vx: f64 = rx.iter().map(|a| (a - mean).powi(2)).sum();
-    let vy: f64 = ry.iter().map(|b| (b - mean).powi(2)).sum();
-    if vx == 0.0 || vy == 0.0 {
-        return 1.0;
-    }
-    let rho = (cov / (vx * vy).sqrt()).clamp(-0.999_999, 0.999_999);
-    let t = rho * ((n - 2.0) / (1.0 - rho * rho)).sqrt();
-    let dist = StudentsT::new(0.0, 1.0, n - 2.0).expect("n > 2");
-    2.0 * dist.sf(t.abs())
-}
-
-/// Ranks from 1, ties sharing their mean rank.
-fn ranks(v: &[f64]) -> Vec<f64> {
-    let mut idx: Vec<usize> = (0..v.len()).collect();
-    idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
-    let mut r = vec![0.0; v.len()];
-    let mut i = 0;
-    while i < idx.len() {
-        let mut j = i;
-        while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
-            j += 1;
-        }
-        let mean_rank = (i + j) as f64 / 2.0 + 1.0;
-        for &k in &idx[i..=j] {
-            r[k] = mean_rank;
-        }
-        i = j + 1;
-    }
-    r
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -407,11 +366,7 @@ mod tests {
     }
 
     #[test]
-    fn ranks_share_ties_and_spearman_sees_a_monotone_trend() {
-        assert_eq!(ranks(&[3.0, 1.0, 3.0, 2.0]), vec![3.5, 1.0, 3.5, 2.0]);
-        let x: Vec<f64> = (0..20).map(f64::from).collect();
-        let y: Vec<f64> = x.iter().map(|v| v.powi(3)).collect();
-        assert!(spearman_p(&x, &y) < 1e-6);
+    fn the_sign_test_sees_an_unfair_coin() {
         assert!(fair_coin(&[true, false, true, false, true, false]));
         assert!(!fair_coin(&[true; 12]));
     }

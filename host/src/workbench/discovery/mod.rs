@@ -326,39 +326,10 @@ pub fn equivalent(
     b: &crate::data::quantities::Quantity,
     data: &Dataset,
 ) -> bool {
-    let rank = |q: &crate::data::quantities::Quantity| {
-        let v: Vec<f64> = data.cases.iter().map(|c| q.of(c)).collect();
-        let mut idx: Vec<usize> = (0..v.len()).collect();
-        idx.sort_by(|&i, &j| v[i].total_cmp(&v[j]));
-        let mut r = vec![0.0; v.len()];
-        for (pos, &i) in idx.iter().enumerate() {
-            r[i] = pos as f64;
-        }
-        // Ties share their mean rank.
-        let mut i = 0;
-        while i < idx.len() {
-            let mut j = i;
-            while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
-                j += 1;
-            }
-            let mean = 0.5 * (i + j) as f64;
-            for &t in &idx[i..=j] {
-                r[t] = mean;
-            }
-            i = j + 1;
-        }
-        r
+    let values = |q: &crate::data::quantities::Quantity| -> Vec<f64> {
+        data.cases.iter().map(|c| q.of(c)).collect()
     };
-    let (ra, rb) = (rank(a), rank(b));
-    let n = ra.len() as f64;
-    let m = (n - 1.0) / 2.0;
-    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
-    for (x, y) in ra.iter().zip(&rb) {
-        sab += (x - m) * (y - m);
-        saa += (x - m) * (x - m);
-        sbb += (y - m) * (y - m);
-    }
-    saa > 0.0 && sbb > 0.0 && (sab / (saa * sbb).sqrt()).abs() > 1.0 - 1e-9
+    crate::stats::spearman_rho(&values(a), &values(b)).is_some_and(|rho| rho.abs() > 1.0 - 1e-9)
 }
 
 /// Whether a form is a constant (no feature).
