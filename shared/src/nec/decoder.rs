@@ -1,35 +1,10 @@
-//! NEC infrared remote protocol: a decoder fed with the edge timestamps of a
-//! TSOP-style receiver (output low while a 38 kHz burst is received).
-//!
-//! A frame is a 9 ms burst, a 4.5 ms space, 32 bits sent LSB first (address,
-//! inverted address, command, inverted command; every bit is a 562.5 us burst
-//! followed by a 562.5 us space for 0 or a 1687.5 us space for 1) and a final
-//! 562.5 us stop burst. A held key sends repeat frames: 9 ms burst, 2.25 ms
-//! space, stop burst. Repeats are reported but carry no command, so a stuck
-//! key can never switch the motor on by itself.
-//!
-//! Hand-written rather than the `infrared` crate: `infrared` is built on
-//! embedded-hal 0.2 (the firmware uses 1.0), and its plain `Nec` decoder
-//! does not check the inverted address and command bytes, which are the
-//! protocol's only integrity check and the main defence against noise
-//! turning into a command. The decoder is a small state machine doing O(1)
-//! work per edge (no buffer of past edges, no loops), so it can run in the
-//! GPIO interrupt or in the main loop alike, and it never panics: durations
-//! are wrapping differences of `u32` microsecond timestamps.
+//! The NEC decoder: a state machine fed with receiver edges, O(1) work per
+//! edge, that reports a frame only when its inverted bytes check out.
 
-/// Nominal NEC timings in microseconds (562.5 us rounded down).
-pub const LEADER_BURST_US: u32 = 9_000;
-pub const LEADER_SPACE_US: u32 = 4_500;
-pub const REPEAT_SPACE_US: u32 = 2_250;
-pub const BIT_BURST_US: u32 = 562;
-pub const ZERO_SPACE_US: u32 = 562;
-pub const ONE_SPACE_US: u32 = 1_687;
-
-/// A partial frame older than this is abandoned. The longest legal pause
-/// inside a frame is the 9 ms leader burst; 12 ms leaves margin for it while
-/// still dropping a frame whose tail was lost well before the next one
-/// (NEC frames repeat every 108 ms).
-pub const FRAME_GAP_US: u32 = 12_000;
+use super::{
+    Level, BIT_BURST_US, FRAME_GAP_US, LEADER_BURST_US, LEADER_SPACE_US, ONE_SPACE_US,
+    REPEAT_SPACE_US, ZERO_SPACE_US,
+};
 
 /// Accept `d` within +-25 % of `nominal`: the protocol's usual tolerance,
 /// wide enough for cheap remotes' ceramic resonators and receiver
@@ -45,16 +20,6 @@ const fn within_25pct(d: u32, nominal: u32) -> bool {
 /// burst-to-burst period instead, which that distortion does not change.
 const fn bit_burst_ok(d: u32) -> bool {
     d >= 340 && d <= 800
-}
-
-/// The receiver's output level right after an edge.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Level {
-    /// Output went low: a burst started (falling edge).
-    Low,
-    /// Output went high: a burst ended (rising edge).
-    High,
 }
 
 /// What a completed frame carried.
@@ -233,57 +198,10 @@ impl NecDecoder {
         }
     }
 }
-
-/// Number of alternating burst/space durations in one NEC frame:
-/// leader burst and space, 32 bits of burst and space, stop burst.
-pub const FRAME_PULSES: usize = 67;
-
-/// The burst/space durations (starting with a burst) of a frame with
-/// `address` and `command` and their inverted bytes. Used by tests, the
-/// simulation and the fuzz target to synthesise receiver output.
-pub fn frame_pulses_us(address: u8, command: u8) -> [u32; FRAME_PULSES] {
-    raw_frame_pulses_us(u32::from_le_bytes([address, !address, command, !command]))
-}
-
-/// Durations of a frame carrying any 32-bit payload, LSB first (for tests
-/// of frames with wrong inverted bytes).
-pub fn raw_frame_pulses_us(payload: u32) -> [u32; FRAME_PULSES] {
-    let mut out = [BIT_BURST_US; FRAME_PULSES];
-    out[0] = LEADER_BURST_US;
-    out[1] = LEADER_SPACE_US;
-    for (i, space) in out[2..66].iter_mut().skip(1).step_by(2).enumerate() {
-        *space = if payload >> i & 1 == 1 {
-            ONE_SPACE_US
-        } else {
-            ZERO_SPACE_US
-        };
-    }
-    out
-}
-
-/// Durations of a repeat frame.
-pub const REPEAT_PULSES_US: [u32; 3] = [LEADER_BURST_US, REPEAT_SPACE_US, BIT_BURST_US];
-
-/// Turn burst/space durations (starting with a burst at `start_us`) into
-/// edges, calling `f` for each: the first edge is falling.
-pub fn for_each_edge(start_us: u32, pulses_us: &[u32], mut f: impl FnMut(Level, u32)) -> u32 {
-    let mut t = start_us;
-    let mut level = Level::Low;
-    f(level, t);
-    for &d in pulses_us {
-        t = t.wrapping_add(d);
-        level = match level {
-            Level::Low => Level::High,
-            Level::High => Level::Low,
-        };
-        f(level, t);
-    }
-    t
-}
-
 #[cfg(test)]
 mod tests {
     extern crate std;
+    use crate::nec::*;
     use super::*;
     use proptest::prelude::*;
     use std::vec::Vec;
