@@ -18,9 +18,10 @@
 //! recorded number. Rows are numbered as a spreadsheet shows them: the
 //! file's line numbers, from 1.
 
-use super::csv_columns::{kind_of, Kind, CASE_ONLY_COLUMNS, TRIAL_COLUMNS, UNCERTAINTY_PREFIX};
+use super::csv_columns::{Kind, CASE_ONLY_COLUMNS, TRIAL_COLUMNS, UNCERTAINTY_PREFIX};
 use super::csv_dialect::{self, Dialect, ReadOptions};
-use super::limits::{MAX_CASES, MAX_COLUMNS, MAX_TRIALS};
+use super::csv_header::{bare, classify, column_kinds, note, Column, LABELS, RECORDED};
+use super::limits::{MAX_CASES, MAX_TRIALS};
 use super::DataError;
 use std::collections::HashMap;
 use std::path::Path;
@@ -127,7 +128,13 @@ pub fn read(text: &str, file: &str, dir: &Path, options: &ReadOptions) -> Result
         .iter()
         .map(str::to_string)
         .collect();
-    let mut columns = column_kinds(file, &names)?;
+    let mut columns = column_kinds(&names).map_err(|e| {
+        fail(
+            format!("{file}: header row"),
+            e.column.as_deref(),
+            e.message,
+        )
+    })?;
     let records = records(file, skipped, &mut reader, &names, separator)?;
     let numeric = |k: &Column| matches!(k, Column::Field(Kind::Number | Kind::Uncertainty));
     let known = cells(&records, &columns, numeric);
@@ -353,166 +360,6 @@ fn row_table(
         }
     }
     Ok(row)
-}
-
-/// What a column is: a dataset field, or a recorded variable (numbers,
-/// offered to `diagnose`) or a label (text, carried) that the model does
-/// not read. `Unknown` until the cells have been seen.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Column {
-    Field(Kind),
-    Recorded,
-    Label,
-    Unknown,
-}
-
-/// The table of recorded numbers, and its column prefix that forces it.
-const RECORDED: &str = "recorded";
-/// The table of labels, and its column prefix that forces it.
-const LABELS: &str = "labels";
-
-/// `recorded.x` -> `x` (the prefix only forces the kind).
-fn bare<'a>(name: &'a str, table: &str) -> &'a str {
-    name.strip_prefix(table)
-        .and_then(|n| n.strip_prefix('.'))
-        .unwrap_or(name)
-}
-
-/// An unknown column whose every cell is a number is recorded, any other
-/// a label; a column with no cells is left out.
-fn classify(columns: &mut [Column], records: &[(u64, csv::StringRecord)], decimal_comma: bool) {
-    for (i, column) in columns.iter_mut().enumerate() {
-        if *column != Column::Unknown {
-            continue;
-        }
-        let mut cells = records
-            .iter()
-            .filter_map(|(_, r)| r.get(i))
-            .filter(|c| !c.is_empty())
-            .peekable();
-        if cells.peek().is_none() {
-            continue;
-        }
-        let numeric = cells.all(|c| {
-            csv_dialect::number_text(c, decimal_comma)
-                .parse::<f64>()
-                .is_ok()
-        });
-        *column = if numeric {
-            Column::Recorded
-        } else {
-            Column::Label
-        };
-    }
-}
-
-/// The one line that says what was taken as what, if anything was not
-/// the format's own.
-fn note(file: &str, dialect: &Dialect, names: &[String], columns: &[Column]) -> Option<String> {
-    let list = |want: Column| -> Vec<String> {
-        names
-            .iter()
-            .zip(columns)
-            .filter(|(_, c)| **c == want)
-            .map(|(n, _)| match n.is_empty() {
-                true => "(unnamed)".to_string(),
-                false => super::limits::echo(n),
-            })
-            .collect()
-    };
-    let mut parts = Vec::new();
-    if !dialect.is_plain() {
-        parts.push(format!("read with {}", dialect.describe()));
-    }
-    let recorded = list(Column::Recorded);
-    if !recorded.is_empty() {
-        parts.push(format!(
-            "recorded variables (numbers the model does not read, offered to diagnose): {}",
-            recorded.join(", ")
-        ));
-    }
-    let labels = list(Column::Label);
-    if !labels.is_empty() {
-        parts.push(format!(
-            "labels (text, carried through): {}",
-            labels.join(", ")
-        ));
-    }
-    let empty = list(Column::Unknown);
-    if !empty.is_empty() {
-        parts.push(format!("left out (no cells): {}", empty.join(", ")));
-    }
-    (!parts.is_empty()).then(|| format!("{file}: {}", parts.join("; ")))
-}
-
-/// The kind of every column; a repeated name, a name that is close to a
-/// field's (a typo would silently become a recorded variable) or a row
-/// of names that no separator split is an error.
-fn column_kinds(file: &str, names: &[String]) -> Result<Vec<Column>, DataError> {
-    let at = format!("{file}: header row");
-    if names.len() > MAX_COLUMNS {
-        return Err(fail(
-            &at,
-            None,
-            format!(
-                "{} columns; at most {MAX_COLUMNS} are read (the fields, their uncertainties and the lab's recorded variables): leave the others out of the export",
-                names.len()
-            ),
-        ));
-    }
-    let known: Vec<&str> = super::csv_columns::COLUMNS.iter().map(|c| c.0).collect();
-    if let [only] = names {
-        if kind_of(only).is_none() {
-            let shown = super::limits::echo(only);
-            return Err(fail(
-                &at,
-                None,
-                format!("the column names `{shown}` are one column: no `,`, `;` or tab separates them; save the sheet as CSV with one of these between cells"),
-            ));
-        }
-    }
-    // A set, not a search of the names before each: a row of 10^6 names.
-    let mut seen = std::collections::HashSet::new();
-    names
-        .iter()
-        .map(|name| {
-            if !name.is_empty() && !seen.insert(name.as_str()) {
-                return Err(fail(&at, Some(name), "the column is given twice"));
-            }
-            if let Some(kind) = kind_of(name) {
-                return Ok(Column::Field(kind));
-            }
-            let why = if name.is_empty() {
-                // Padding if its cells are empty (`unnamed_with_cells`).
-                None
-            } else if ["u_trials_mm_s", "omega_body_trials_hz", "uncertainty", RECORDED, LABELS]
-                .contains(&name.as_str())
-            {
-                Some(format!("`{name}` has no column: one row per trial replaces u_trials_mm_s and omega_body_trials_hz, uncertainty.KEY columns the uncertainty table, and any other column is a recorded variable"))
-            } else {
-                known
-                    .iter()
-                    .find(|k| is_near_miss(k, name))
-                    .map(|k| format!("`{}` is not a dataset field: did you mean `{k}`? (a column that is no field is kept as a recorded variable; name it `{RECORDED}.NAME` to keep it so)", super::limits::echo(name)))
-            };
-            match why {
-                Some(why) => Err(fail(&at, Some(name), why)),
-                None if name.starts_with("recorded.") => Ok(Column::Recorded),
-                None if name.starts_with("labels.") => Ok(Column::Label),
-                None => Ok(Column::Unknown),
-            }
-        })
-        .collect()
-}
-
-/// A column name that is a field's with a typo (`wavelenght_mm`, `ID`),
-/// not a short name of the lab's own (`T`, `pH`, `Re` are two edits from
-/// `id` but nobody's misspelling of it): at most two edits, ignoring case,
-/// and fewer than a third of the longer name's characters.
-fn is_near_miss(field: &str, name: &str) -> bool {
-    let d = strsim::damerau_levenshtein(field, &name.to_ascii_lowercase());
-    let longer = field.chars().count().max(name.chars().count());
-    d <= 2 && 3 * d < longer
 }
 
 /// `uncertainty.KEY` goes into the case's `uncertainty` table.

@@ -6,6 +6,7 @@
 pub mod body_inputs;
 pub mod csv_columns;
 mod csv_dialect;
+mod csv_header;
 mod csv_read;
 mod csv_write;
 pub mod limits;

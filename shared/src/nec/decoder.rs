@@ -201,8 +201,8 @@ impl NecDecoder {
 #[cfg(test)]
 mod tests {
     extern crate std;
-    use crate::nec::*;
     use super::*;
+    use crate::nec::*;
     use proptest::prelude::*;
     use std::vec::Vec;
 
