@@ -141,6 +141,7 @@ fn test_steps(root: &Path, steps: &mut Steps) -> Result<(), String> {
         npm_ci.finish()?;
         bootrom.finish()?;
     }
+    motor_wasm(root, steps)?;
     emulator_tests(root, steps)?;
     println!("\nall checks passed");
     Ok(())
@@ -330,6 +331,33 @@ fn firmware_size(root: &Path, steps: &mut Steps) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// The emulator board's motor: the host's motor model (`swimbot-motor`)
+/// compiled to WebAssembly (`motor/wasm`), which `tests/emulator/lib/rotor.js`
+/// loads. The target is installed as `scripts/test` installs thumbv6m's
+/// (a no-op once present).
+fn motor_wasm(root: &Path, steps: &mut Steps) -> Result<(), String> {
+    if !root.join("tests/emulator/package.json").exists() {
+        return Ok(());
+    }
+    steps.begin("emulator's motor model (swimbot-motor-wasm, wasm32-unknown-unknown)");
+    run(root, "rustup", &["target", "add", WASM_TARGET])?;
+    run(
+        root,
+        "cargo",
+        &[
+            "build",
+            "-p",
+            "swimbot-motor-wasm",
+            "--target",
+            WASM_TARGET,
+            "--profile",
+            "wasm",
+        ],
+    )
+}
+
+const WASM_TARGET: &str = "wasm32-unknown-unknown";
 
 /// The RP2040 emulator tests (`tests/emulator`, rp2040js): `npm test`, whose
 /// `scripts/prepare.mjs` builds the images it runs in this target directory
