@@ -43,6 +43,12 @@ pub struct MotorParams {
 }
 
 impl MotorParams {
+    /// The catalogue motor above. The built-in robot file
+    /// (`host/data/robot.toml`) carries instead the motor calibrated on the
+    /// paper's observed tail rates (`swimbot sim --fit-motor`): k = 2.44
+    /// mN m/A and a seal drag b = 1.18e-4 N m s, far outside these
+    /// catalogue ranges (the fit's intervals are wide; the model's tail
+    /// load may be too small, or the motor not a bare 6 mm one).
     pub const CORELESS_6MM: MotorParams = MotorParams {
         resistance_ohm: 7.0,
         inductance_h: 25e-6,

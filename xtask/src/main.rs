@@ -1,7 +1,8 @@
 //! Project automation. `cargo xtask test` is the README's test command: it runs
 //! formatting and lint checks, every host test, the firmware build for
 //! `thumbv6m-none-eabi` and the firmware size budget; `cargo xtask size`
-//! prints the firmware's flash and static RAM use.
+//! prints the firmware's flash and static RAM use; `cargo xtask motor-wasm`
+//! builds the emulator's motor model (WebAssembly).
 //!
 //! Written as a Rust program rather than a shell script so that the ELF size
 //! check reads the section table itself (no cross binutils needed).
@@ -36,13 +37,14 @@ fn main() -> ExitCode {
         Some("test") => test_all(&root),
         Some("size") => firmware_size(&root, &mut Steps::new()),
         Some("fw") => build_firmware(&root, &mut Steps::new()),
+        Some("motor-wasm") => motor_wasm(&root, &mut Steps::new()),
         Some("hil") => {
             #[path = "hil.rs"]
             mod hil;
             hil::run(&root)
         }
         _ => {
-            eprintln!("usage: cargo xtask <test|size|fw>");
+            eprintln!("usage: cargo xtask <test|size|fw|motor-wasm|hil>");
             return ExitCode::from(2);
         }
     };
