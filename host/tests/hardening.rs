@@ -286,7 +286,7 @@ fn robot_file_nonsense_is_refused_and_sim_answers_are_finite() {
     );
     robot(
         "motor.toml",
-        "torque_constant_n_m_per_a = 0.8e-3",
+        "torque_constant_n_m_per_a = 2.44e-3",
         "torque_constant_n_m_per_a = 1e30",
     );
     refused(

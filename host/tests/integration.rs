@@ -23,6 +23,7 @@ mod discovery_pairs;
 mod discovery_stagewise;
 mod discovery_verdict;
 mod discovery_write;
+mod emulator_motor;
 mod formula_input;
 mod hardening;
 mod hardening_inputs;

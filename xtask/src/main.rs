@@ -1,7 +1,8 @@
 //! Project automation. `cargo xtask test` is the README's test command: it runs
 //! formatting and lint checks, every host test, the firmware build for
 //! `thumbv6m-none-eabi` and the firmware size budget; `cargo xtask size`
-//! prints the firmware's flash and static RAM use.
+//! prints the firmware's flash and static RAM use; `cargo xtask motor-wasm`
+//! builds the emulator's motor model (WebAssembly).
 //!
 //! Written as a Rust program rather than a shell script so that the ELF size
 //! check reads the section table itself (no cross binutils needed).
@@ -36,13 +37,16 @@ fn main() -> ExitCode {
         Some("test") => test_all(&root),
         Some("size") => firmware_size(&root, &mut Steps::new()),
         Some("fw") => clippy_env().and_then(|lint| build_firmware(&root, &mut Steps::new(), &lint)),
+        Some("motor-wasm") => {
+            clippy_env().and_then(|lint| motor_wasm(&root, &mut Steps::new(), &lint))
+        }
         Some("hil") => {
             #[path = "hil.rs"]
             mod hil;
             hil::run(&root)
         }
         _ => {
-            eprintln!("usage: cargo xtask <test|size|fw>");
+            eprintln!("usage: cargo xtask <test|size|fw|motor-wasm|hil>");
             return ExitCode::from(2);
         }
     };
@@ -156,6 +160,7 @@ fn test_steps(root: &Path, steps: &mut Steps) -> Result<(), String> {
         npm_ci.finish()?;
         bootrom.finish()?;
     }
+    motor_wasm(root, steps, &fw_lint)?;
     // The emulator's images are the same build with features: same settings,
     // so they reuse the linted dependencies.
     emulator_tests(root, steps, &fw_lint)?;
@@ -353,6 +358,38 @@ fn firmware_size(root: &Path, steps: &mut Steps) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// The emulator board's motor: the host's motor model (`swimbot-motor`)
+/// compiled to WebAssembly (`motor/wasm`), which `tests/emulator/lib/rotor.js`
+/// loads. The target is installed as `scripts/test` installs thumbv6m's
+/// (a no-op once present).
+fn motor_wasm(
+    root: &Path,
+    steps: &mut Steps,
+    lint: &[(&str, std::ffi::OsString)],
+) -> Result<(), String> {
+    if !root.join("tests/emulator/package.json").exists() {
+        return Ok(());
+    }
+    steps.begin("emulator's motor model (swimbot-motor-wasm, wasm32-unknown-unknown, clippy)");
+    run(root, "rustup", &["target", "add", WASM_TARGET])?;
+    run_with(
+        root,
+        "cargo",
+        &[
+            "build",
+            "-p",
+            "swimbot-motor-wasm",
+            "--target",
+            WASM_TARGET,
+            "--profile",
+            "wasm",
+        ],
+        lint,
+    )
+}
+
+const WASM_TARGET: &str = "wasm32-unknown-unknown";
 
 /// The RP2040 emulator tests (`tests/emulator`, rp2040js): `npm test`, whose
 /// `scripts/prepare.mjs` builds the images it runs in this target directory

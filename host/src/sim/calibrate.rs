@@ -17,6 +17,7 @@
 //! model's load.
 
 use super::hydro::Hydro;
+use super::motor_profile::{self, Assumed, Calibration, Observed};
 use super::robot::Robot;
 use super::SimError;
 use crate::data::{Case, Dataset};
@@ -59,7 +60,12 @@ pub struct MotorFit {
     pub robot_stall_n_m: f64,
     pub robot_slope_n_m_s: f64,
     pub cases: Vec<CaseFit>,
+    /// The motor `(k, b)` with profile intervals ([`motor_profile`]).
+    pub calibration: Option<Calibration>,
 }
+
+/// Confidence level of the calibration's intervals.
+pub const LEVEL: f64 = 0.95;
 
 /// Per-case pieces of the steady balance.
 struct Load {
@@ -153,7 +159,21 @@ pub fn fit_motor(robot: &Robot, data: &Dataset) -> Result<MotorFit, SimError> {
             robot_motor: l.rates(robot_stall, robot_slope),
         })
         .collect();
+    let observed: Vec<Observed> = loads
+        .iter()
+        .zip(&data.cases)
+        .map(|(l, c)| Observed {
+            hydro: l.hydro.clone(),
+            f_obs_hz: c.frequency_hz,
+        })
+        .collect();
+    let assumed = Assumed {
+        resistance_ohm: m.resistance_ohm,
+        volts,
+        coulomb_n_m: m.coulomb_friction_n_m,
+    };
     Ok(MotorFit {
+        calibration: motor_profile::calibrate(&observed, assumed, LEVEL),
         stall_torque_n_m: stall,
         slope_n_m_s: slope,
         no_load_rad_s: stall / slope,
@@ -265,5 +285,43 @@ pub fn report(robot: &Robot, data: &Dataset, fit: &MotorFit) -> String {
         fmt_sig(fit.robot_slope_n_m_s, 4),
         100.0 * rms_f_error(fit, |c| c.robot_motor)
     );
+    if let Some(c) = &fit.calibration {
+        calibration_report(&mut s, c);
+    }
     s
+}
+
+fn interval_text(iv: &motor_profile::Interval) -> String {
+    let lo = if iv.lo_at_bound {
+        "0 (bound)".to_string()
+    } else {
+        fmt_sig(iv.lo, 3)
+    };
+    let hi = iv.hi.map_or("unbounded".into(), |h| fmt_sig(h, 3));
+    format!("{} [{lo}, {hi}]", fmt_sig(iv.best, 3))
+}
+
+fn calibration_report(s: &mut String, c: &Calibration) {
+    let a = &c.assumed;
+    let _ = writeln!(
+        s,
+        "\ncalibrated motor (least squares in f, b >= 0; R = {} ohm, V = {} V, Coulomb friction {} N m assumed):",
+        fmt_sig(a.resistance_ohm, 3),
+        fmt_sig(a.volts, 3),
+        fmt_sig(a.coulomb_n_m, 3)
+    );
+    let _ = writeln!(
+        s,
+        "  k = {} N m/A, b = {} N m s ({:.0} % profile intervals); RMS f error {:.1} %",
+        interval_text(&c.k_n_m_per_a),
+        interval_text(&c.b_n_m_s),
+        100.0 * c.level,
+        100.0 * c.rms_f
+    );
+    let _ = writeln!(
+        s,
+        "  k with Coulomb friction 0 / twice the assumed: {} / {} N m/A (rates at one voltage cannot separate them)",
+        fmt_sig(c.k_if_coulomb_0_and_2x.0, 3),
+        fmt_sig(c.k_if_coulomb_0_and_2x.1, 3)
+    );
 }

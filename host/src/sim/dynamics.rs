@@ -36,7 +36,6 @@ use super::rate::{Driver, RatePoint, RateRun};
 use super::robot::Robot;
 use super::script::Script;
 use super::SimError;
-use crate::robot::motor::FRICTION_SMOOTHING_RAD_S;
 use crate::robot::MotorState;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
@@ -260,9 +259,7 @@ pub fn simulate_with(
         energy.internal_j += losses.source_w * dt;
         energy.winding_j += losses.winding_w * dt;
         energy.diode_j += losses.diode_w * dt;
-        let friction_n_m = mp.viscous_friction_n_m_s * w
-            + mp.coulomb_friction_n_m * (w / FRICTION_SMOOTHING_RAD_S).tanh();
-        energy.friction_j += friction_n_m * w * dt;
+        energy.friction_j += motor.friction_n_m(w) * w * dt;
         energy.hydro_j += hydro.dissipation_w(w) * dt;
         energy.external_j += hydro.external_power_w(w) * dt;
         energy.stored_j += stored(&s) - stored_before;

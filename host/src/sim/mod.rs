@@ -13,6 +13,7 @@ pub mod dynamics;
 pub mod figure;
 pub mod hydro;
 pub mod log_overlay;
+pub mod motor_profile;
 pub mod outcome;
 pub mod output;
 #[cfg(test)]

@@ -4,8 +4,9 @@
 // loaded by the motor pin the firmware drives, records the motor pin with
 // simulation timestamps, models the watchdog reset, and counts the CPU
 // cycles spent in the GPIO (IO_IRQ_BANK0) interrupt. The motor turns the
-// tail and the Hall latches (lib/rotor.js): every millisecond the mean
-// motor voltage (duty x the loaded cell) sets the rate, and the latches'
+// tail and the Hall latches (lib/rotor.js, the host's motor model as
+// WebAssembly): every millisecond the mean motor voltage (duty x the
+// loaded cell) steps the motor against its tail's load, and the latches'
 // edges are scheduled at their crossing times, so the rate loop is closed
 // through the chip's own PWM, interrupt and controller.
 //

@@ -4,7 +4,7 @@
 // motor's L/R is a tenth of the 40 us period) towards V_oc / (R_motor +
 // R_cell), and the terminal sags by R_cell times it. Parameters: the host
 // models' 70 mAh cell (0.6 ohm) and 6 mm coreless motor (7 ohm, 25 uH),
-// host/src/robot/{battery,motor}.rs. Back-EMF is neglected (a few mV at
+// host/src/robot/battery.rs and motor/src/dc_motor.rs. Back-EMF is neglected (a few mV at
 // the tail's ~1 Hz, direct drive), and so is the charge drawn (a test's
 // seconds take under 1 % of 70 mAh).
 export const CELL_OHM = 0.6;

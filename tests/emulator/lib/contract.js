@@ -14,7 +14,7 @@ export const PWM_MIN_COUNTS = 1024; // >= 10-bit duty resolution: TOP + 1 >= 102
 export const DEFAULT_RATE_HZ = 1.0; // the set-point after power-up
 export const HALL_EDGES_PER_TURN = 16; // two latches in quadrature, 8-pole ring
 // Under rate control the motor's voltage is what holds the set-point: the
-// rotor's line (lib/rotor.js) at the set-point, +-5 % once learned.
+// rotor's steady voltage (lib/rotor.js) at the set-point, +-5 % once learned.
 export const MOTOR_TARGET_TOL = 0.05; // +-5 % on the average motor voltage
 // "The motor runs": a duty clearly above zero. The rate controller's first
 // duty after the soft start, on the lightest load's line before it has

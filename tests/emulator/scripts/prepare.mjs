@@ -1,5 +1,5 @@
-// Prepares what the emulator tests run: the firmware ELF images and the
-// RP2040 B1 bootrom (fetched from PyPI at test time). Writes
+// Prepares what the emulator tests run: the firmware ELF images, the
+// motor model (WebAssembly, lib/rotor.js) and the RP2040 B1 bootrom (fetched from PyPI at test time). Writes
 // target/emu/images/manifest.json for the tests.
 //
 // The images are built in the workspace's own target directory, so they
@@ -64,6 +64,14 @@ if (variantBuilt) {
   if (route === 'a' && !readFileSync(flashed).equals(readFileSync(images.firmware))) {
     throw new Error(`${flashed} differs from the plain image the emulator ran (${images.firmware})`);
   }
+}
+
+// The board's motor (lib/rotor.js): the host's motor model as WebAssembly.
+// `cargo xtask test` has built it already (then this is a no-op).
+if (!process.env.SWIMBOT_EMU_NO_BUILD) {
+  const args = ['build', '-p', 'swimbot-motor-wasm', '--target', 'wasm32-unknown-unknown', '--profile', 'wasm'];
+  console.log(`emulator: cargo ${args.join(' ')}`);
+  execFileSync('cargo', args, { cwd: root, stdio: 'inherit' });
 }
 
 let bootrom = null;

@@ -8,7 +8,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS, US } from '../lib/board.js';
-import { LINE_SLOPE_V_PER_HZ, LINE_V0 } from '../lib/rotor.js';
 import {
   MOTOR_TARGET_TOL,
   ON_LATENCY_NS,
@@ -130,7 +129,7 @@ test('On frame: 25 kHz PWM, soft-start, hold, voltage compensation under rate co
     const r42 = b.rateIn(tA + 700 * MS, tA + 800 * MS);
     perf('duty at V_bat 4.0 / 3.6 / 4.2 V, rate held', `${pct(d40)} / ${pct(d36)} / ${pct(d42)}`, '');
     const set = b.facts.defaultRateMhz / 1000;
-    const lineV = LINE_V0 + LINE_SLOPE_V_PER_HZ * set;
+    const lineV = b.rotor.voltsFor(set);
     for (const [v, d, r] of [[3.6, d36, r36], [4.2, d42, r42]]) {
       const loaded = (v * b.cell.loadedV) / b.cell.ocvV;
       assert.ok(Math.abs((d * loaded) / lineV - 1) <= MOTOR_TARGET_TOL, `average motor voltage ${(d * loaded).toFixed(3)} V at ${v} V (duty ${pct(d)}), the rotor needs ${lineV.toFixed(3)} V`);

@@ -1,6 +1,6 @@
 // Scenario 8: the rate loop closed through the chip. The board's rotor
-// (lib/rotor.js: a motor line the firmware does not know) turns at the
-// rate the PWM drive gives it and feeds the two Hall latches back; the
+// (lib/rotor.js: the host's calibrated motor and tail-1 load, a motor line
+// the firmware does not know) turns at the rate the PWM drive gives it and feeds the two Hall latches back; the
 // firmware's interrupt timestamps the edges, the main-loop pass estimates
 // the rate and the controller holds it at the board's default set-point.
 // A seized coupler (no edges while driven hard) is a jam, stopped by the
@@ -45,8 +45,8 @@ test('rate loop: start to the set-point through the Hall latches; a stall is a f
     assert.ok(b.hallEdgeCount > 16, `only ${b.hallEdgeCount} Hall edges reached the chip`);
     const first = step(t0);
     perf('rate loop, first start (line unknown): On to within 2 % for good', ms(first.settleNs), '');
-    // The rotor's intercept (0.25 V) is not the firmware's nominal 0.175 V:
-    // the controller learns both (shared/src/rate/line.rs), so the first
+    // The rotor's line (lib/rotor.js) is not the firmware's nominal one
+    // (0.175 V, 0.7 V/Hz): the controller learns both (shared/src/rate/line.rs), so the first
     // start too stays within the issue's 10 %.
     perf('rate loop, first start: overshoot', `${(100 * first.overshoot).toFixed(2)} %`, '');
     assert.ok(first.overshoot <= 0.1, `first-start overshoot ${(100 * first.overshoot).toFixed(2)} %`);
