@@ -36,14 +36,15 @@ use super::rate::{Driver, RatePoint, RateRun};
 use super::robot::Robot;
 use super::script::Script;
 use super::SimError;
-use crate::robot::MotorState;
+use crate::robot::{Motor, MotorState};
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use std::f64::consts::TAU;
 use swimbot_shared::rate::{RateEvent, SensorFault};
 use swimbot_shared::run_log::Recorder;
 use swimbot_shared::{
-    Controller, Event, MainLoop, MainLoopConfig, MotorControl, MotorState as State, StopReason,
+    Controller, Event, HallEdge, Level, MainLoop, MainLoopConfig, MotorControl,
+    MotorState as State, PassOutput, StopReason,
 };
 
 /// What to simulate beyond the robot and the script.
@@ -101,193 +102,317 @@ pub fn simulate_with(
     opts: &Options,
     rate: Option<&RateRun>,
 ) -> Result<Outcome, SimError> {
-    let tail = robot.tails.get(opts.tail).ok_or_else(|| {
-        SimError::Input(format!(
-            "tail index {} out of range (the robot has {})",
-            opts.tail,
-            robot.tails.len()
-        ))
-    })?;
-    let hydro = Hydro::new(&robot.model, &robot.case(opts.tail, 1.0))?;
-    let motor = robot.motor_with(opts.tail);
-    let mp = motor.params;
-    let cell = &robot.cell;
-    let capacity_c = cell.capacity_mah * 3.6;
-    let mut charge_c = cell.initial_soc * capacity_c;
-    let (tick_us, dt) = (robot.tick_us, robot.tick_us as f64 * 1e-6);
-    let board = MainLoopConfig {
-        keys: robot.keys,
-        battery: robot.battery,
-        sample_period_us: robot.adc_period_us,
-        ..MainLoopConfig::BOARD
-    };
-    let driver = Driver::new(Controller::new(robot.controller), rate);
-    let mut main_loop = MainLoop::with_control(board, driver, false);
-    // The Hall edges of the last tick, queued for the next pass as the
-    // chip's interrupt queues them.
-    let mut hall_queue = Vec::new();
-    let mut rate_faults = Vec::new();
-    // ADC noise only where asked for (rate runs): voltage-mode runs stay
-    // exactly what they were.
-    let adc_sd = rate.map_or(0.0, |r| r.noise.adc_noise_lsb.abs());
-    let adc_noise = Normal::new(0.0, adc_sd).ok().filter(|_| adc_sd > 0.0);
-    let mut rng = rand::rngs::StdRng::seed_from_u64(rate.map_or(0, |r| r.noise.seed ^ 0xadc));
-    let mut rate_trace = Vec::new();
-    let mut next_trace_us = 0u64;
-    let edges = script.edges(&robot.keys);
-    let mut next_edge = 0;
-    let script_end_us = edges.last().map_or(0, |e| e.1);
-    let channel_mm = robot.setup.channel_length_mm;
-    let start_height_mm = robot.start_height_mm(opts.tail);
-    let sample_every_us = ((opts.sample_every_s * 1e6) as u64).max(tick_us);
-    let max_us = (opts.max_time_s * 1e6) as u64;
-
-    let (mut t_us, mut next_sample_us) = (0u64, 0u64);
-    let (mut s, mut height_mm, mut supply_a, mut mid_on_a) =
-        (MotorState::REST, start_height_mm, 0.0f64, 0.0f64);
-    let mut energy = Energy::default();
-    let stored = |s: &MotorState| {
-        0.5 * motor.inertia_kg_m2() * s.speed_rad_s.powi(2)
-            + 0.5 * mp.inductance_h * s.current_a.powi(2)
-    };
-    let (mut events, mut commands, mut samples) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut running_s, mut sum_u, mut sum_f, mut sum_om) = (0.0, 0.0, 0.0, 0.0);
-    let mut top_reached_s = None;
-    let mut last_stop = None;
-    let mut last_stop_s = f64::NEG_INFINITY;
-    let mut ticks = 0u64;
-    let mut battery_readings = Vec::new();
-    let mut recorder = Recorder::new(swimbot_shared::board::LOG_PERIOD_US);
-    let mut log_records = Vec::new();
-    let sample_now =
-        |t_us: u64, duty: f64, v: (f64, f64), i_s: f64, s: &MotorState, h: f64, q: f64, state| {
-            let vel = hydro.velocity(s.speed_rad_s);
-            Sample {
-                t_s: t_us as f64 * 1e-6,
-                duty,
-                battery_v: v.0,
-                loaded_v: v.1,
-                current_a: i_s,
-                motor_current_a: s.current_a,
-                motor_rate_hz: s.speed_rad_s / TAU,
-                tail_rate_hz: (s.speed_rad_s + vel[3]) / TAU,
-                body_rate_hz: vel[3] / TAU,
-                u_mm_s: vel[0] * 1e3,
-                height_mm: h,
-                soc: q / capacity_c,
-                state,
-            }
-        };
-    let mut last: Sample;
+    let mut sim = Simulation::new(robot, script, opts, rate)?;
     let end = loop {
-        t_us += tick_us;
-        ticks += 1;
-        let first_edge = next_edge;
-        while edges.get(next_edge).is_some_and(|e| e.1 <= t_us) {
-            next_edge += 1;
+        if let Some(end) = sim.step() {
+            break end;
+        }
+    };
+    Ok(sim.finish(end))
+}
+
+/// A run in progress: the robot's state at the current tick and what the
+/// run has recorded so far. [`Simulation::step`] advances one tick (one
+/// pass of the firmware's main loop); [`Simulation::finish`] gives the
+/// [`Outcome`].
+pub struct Simulation<'a> {
+    robot: &'a Robot,
+    opts: &'a Options,
+    rate: Option<&'a RateRun>,
+    tail_id: String,
+    hydro: Hydro,
+    motor: Motor,
+    main_loop: MainLoop<Driver>,
+    /// The Hall edges of the last tick, queued for the next pass as the
+    /// chip's interrupt queues them.
+    hall_queue: Vec<HallEdge>,
+    adc: AdcNoise,
+    /// The remote's edges (timer microseconds) and the next one to send.
+    edges: Vec<(Level, u64)>,
+    next_edge: usize,
+    clock: Clock,
+    now: Physical,
+    energy: Energy,
+    running: RunningMeans,
+    record: Record,
+}
+
+/// Time: the tick, and when the next sample and trace point are due.
+struct Clock {
+    t_us: u64,
+    tick_us: u64,
+    dt_s: f64,
+    ticks: u64,
+    next_sample_us: u64,
+    sample_every_us: u64,
+    next_trace_us: u64,
+    max_us: u64,
+    script_end_us: u64,
+}
+
+/// The physical state carried from tick to tick.
+struct Physical {
+    motor: MotorState,
+    height_mm: f64,
+    charge_c: f64,
+    /// Mean supply current and the current in the middle of the on-pulse
+    /// over the last tick: what the next battery reading sees.
+    supply_a: f64,
+    mid_on_a: f64,
+}
+
+/// Time-weighted sums over the ticks the motor ran.
+#[derive(Default)]
+struct RunningMeans {
+    running_s: f64,
+    sum_u: f64,
+    sum_f: f64,
+    sum_om: f64,
+}
+
+/// The battery input's noise: ADC noise only where asked for (rate runs),
+/// so that voltage-mode runs stay exactly what they were.
+struct AdcNoise {
+    normal: Option<Normal<f64>>,
+    rng: rand::rngs::StdRng,
+}
+
+/// What the run keeps.
+struct Record {
+    events: Vec<(f64, Event)>,
+    commands: Vec<(f64, swimbot_shared::Command)>,
+    samples: Vec<Sample>,
+    last: Option<Sample>,
+    rate_faults: Vec<(f64, RateEvent)>,
+    rate_trace: Vec<RatePoint>,
+    battery_readings: Vec<(u64, u16)>,
+    recorder: Recorder,
+    log_records: Vec<swimbot_shared::run_log::Record>,
+    top_reached_s: Option<f64>,
+    last_stop: Option<StopReason>,
+    last_stop_s: f64,
+}
+
+impl<'a> Simulation<'a> {
+    /// The robot at rest at its start height, before the first tick.
+    pub fn new(
+        robot: &'a Robot,
+        script: &Script,
+        opts: &'a Options,
+        rate: Option<&'a RateRun>,
+    ) -> Result<Self, SimError> {
+        let tail = robot.tails.get(opts.tail).ok_or_else(|| {
+            SimError::Input(format!(
+                "tail index {} out of range (the robot has {})",
+                opts.tail,
+                robot.tails.len()
+            ))
+        })?;
+        let hydro = Hydro::new(&robot.model, &robot.case(opts.tail, 1.0))?;
+        let board = MainLoopConfig {
+            keys: robot.keys,
+            battery: robot.battery,
+            sample_period_us: robot.adc_period_us,
+            ..MainLoopConfig::BOARD
+        };
+        let driver = Driver::new(Controller::new(robot.controller), rate);
+        let adc_sd = rate.map_or(0.0, |r| r.noise.adc_noise_lsb.abs());
+        let edges = script.edges(&robot.keys);
+        let tick_us = robot.tick_us;
+        let cell = &robot.cell;
+        Ok(Simulation {
+            robot,
+            opts,
+            rate,
+            tail_id: tail.id.clone(),
+            hydro,
+            motor: robot.motor_with(opts.tail),
+            main_loop: MainLoop::with_control(board, driver, false),
+            hall_queue: Vec::new(),
+            adc: AdcNoise {
+                normal: Normal::new(0.0, adc_sd).ok().filter(|_| adc_sd > 0.0),
+                rng: rand::rngs::StdRng::seed_from_u64(rate.map_or(0, |r| r.noise.seed ^ 0xadc)),
+            },
+            next_edge: 0,
+            clock: Clock {
+                t_us: 0,
+                tick_us,
+                dt_s: tick_us as f64 * 1e-6,
+                ticks: 0,
+                next_sample_us: 0,
+                sample_every_us: ((opts.sample_every_s * 1e6) as u64).max(tick_us),
+                next_trace_us: 0,
+                max_us: (opts.max_time_s * 1e6) as u64,
+                script_end_us: edges.last().map_or(0, |e| e.1),
+            },
+            edges,
+            now: Physical {
+                motor: MotorState::REST,
+                height_mm: robot.start_height_mm(opts.tail),
+                charge_c: cell.initial_soc * cell.capacity_mah * 3.6,
+                supply_a: 0.0,
+                mid_on_a: 0.0,
+            },
+            energy: Energy::default(),
+            running: RunningMeans::default(),
+            record: Record {
+                events: Vec::new(),
+                commands: Vec::new(),
+                samples: Vec::new(),
+                last: None,
+                rate_faults: Vec::new(),
+                rate_trace: Vec::new(),
+                battery_readings: Vec::new(),
+                recorder: Recorder::new(swimbot_shared::board::LOG_PERIOD_US),
+                log_records: Vec::new(),
+                top_reached_s: None,
+                last_stop: None,
+                last_stop_s: f64::NEG_INFINITY,
+            },
+        })
+    }
+
+    fn capacity_c(&self) -> f64 {
+        self.robot.cell.capacity_mah * 3.6
+    }
+
+    /// One tick: the firmware's pass, then the drive, the motor and the
+    /// swimmer over `dt`; `Some` when the run ends at this tick.
+    pub fn step(&mut self) -> Option<End> {
+        self.clock.t_us += self.clock.tick_us;
+        self.clock.ticks += 1;
+        // The cell's open-circuit voltage at the tick's start: what the
+        // pass reads and the drive sees for the whole tick.
+        let ocv = self.robot.cell.ocv_v(self.now.charge_c / self.capacity_c());
+        let out = self.pass(ocv);
+        let d = out.duty.as_f64();
+        let (v, w, vel) = self.advance(ocv, d);
+        if out.state == State::Running {
+            let dt = self.clock.dt_s;
+            self.running.running_s += dt;
+            self.running.sum_u += vel[0] * 1e3 * dt;
+            self.running.sum_f += (w + vel[3]) / TAU * dt;
+            self.running.sum_om += -vel[3] / TAU * dt;
+        }
+        let loaded_v = ocv - self.robot.cell.internal_resistance_ohm * self.now.mid_on_a;
+        self.observe(&out, d, (v, loaded_v));
+        self.end(&out, w)
+    }
+
+    /// The firmware's main-loop pass at this tick: the remote's edges, the
+    /// Hall edges of the last tick and the battery input; its outputs
+    /// recorded.
+    fn pass(&mut self, ocv: f64) -> PassOutput {
+        let t_us = self.clock.t_us;
+        let first_edge = self.next_edge;
+        while self.edges.get(self.next_edge).is_some_and(|e| e.1 <= t_us) {
+            self.next_edge += 1;
         }
         // The firmware timestamps with the timer's low 32 bits.
-        let tick_edges = edges[first_edge..next_edge]
+        let tick_edges = self.edges[first_edge..self.next_edge]
             .iter()
             .map(|&(level, t)| (level, t as u32));
-        let ocv = cell.ocv_v(charge_c / capacity_c);
+        let (robot, opts, now, adc) = (self.robot, self.opts, &self.now, &mut self.adc);
         let read_adc = || {
             let i_a = match opts.battery_reading {
-                BatteryReading::MidOnPulse => mid_on_a,
-                BatteryReading::CycleMean => supply_a,
+                BatteryReading::MidOnPulse => now.mid_on_a,
+                BatteryReading::CycleMean => now.supply_a,
             };
-            let v = ocv - cell.internal_resistance_ohm * i_a;
+            let v = ocv - robot.cell.internal_resistance_ohm * i_a;
             let counts = robot
                 .battery
                 .mv_to_counts((v * 1e3).round().max(0.0) as u32);
-            match adc_noise {
+            match adc.normal {
                 Some(n) => {
-                    (f64::from(counts) + n.sample(&mut rng).round()).clamp(0.0, 4095.0) as u16
+                    (f64::from(counts) + n.sample(&mut adc.rng).round()).clamp(0.0, 4095.0) as u16
                 }
                 None => counts,
             }
         };
-        let out = main_loop.pass(t_us, tick_edges, hall_queue.drain(..), read_adc);
-        log_records.extend(recorder.observe(t_us, &out));
-        let t_s = t_us as f64 * 1e-6;
-        if let Some(f) = out.fault {
-            rate_faults.push((t_s, RateEvent::Fault(f)));
-        }
-        if out.refused_no_set_point {
-            rate_faults.push((t_s, RateEvent::NoSetPoint));
-        }
-        if let Some(counts) = out.sample {
-            battery_readings.push((t_us, counts));
-        }
-        if let Some(c) = out.command {
-            commands.push((t_us as f64 * 1e-6, c));
-        }
-        if let Some(e) = out.event {
-            if let Event::Stopped(r) = e {
-                last_stop = Some(r);
-                last_stop_s = t_us as f64 * 1e-6;
-            }
-            events.push((t_us as f64 * 1e-6, e));
-        }
-        let d = out.duty.as_f64();
-        let r_int = cell.internal_resistance_ohm;
+        let out = self
+            .main_loop
+            .pass(t_us, tick_edges, self.hall_queue.drain(..), read_adc);
+        self.record.outputs(t_us, &out);
+        out
+    }
+
+    /// Drive, motor and swimmer over one tick at duty `d`: returns the mean
+    /// terminal voltage, the motor's new rate (rad/s) and the swimmer's
+    /// velocity.
+    fn advance(&mut self, ocv: f64, d: f64) -> (f64, f64, nalgebra::Vector6<f64>) {
+        let (robot, motor, hydro, dt) = (self.robot, &self.motor, &self.hydro, self.clock.dt_s);
+        let now = &mut self.now;
+        let r_int = robot.cell.internal_resistance_ohm;
+        let w_old = now.motor.speed_rad_s;
         let means = robot
             .drive
-            .cycle_average_through(&motor, d, ocv, r_int, s.speed_rad_s);
-        supply_a = means.supply_current_a;
-        mid_on_a = means.mid_on_current_a;
-        let v = ocv - r_int * supply_a;
-        let losses = period_losses_through(&robot.drive, &motor, d, ocv, r_int, s.speed_rad_s);
-        let stored_before = stored(&s);
-        let w_old = s.speed_rad_s;
-        s = motor.step_implicit(
-            s,
+            .cycle_average_through(motor, d, ocv, r_int, w_old);
+        now.supply_a = means.supply_current_a;
+        now.mid_on_a = means.mid_on_current_a;
+        let v = ocv - r_int * now.supply_a;
+        let losses = period_losses_through(&robot.drive, motor, d, ocv, r_int, w_old);
+        let stored = |s: &MotorState| {
+            0.5 * motor.inertia_kg_m2() * s.speed_rad_s.powi(2)
+                + 0.5 * motor.params.inductance_h * s.current_a.powi(2)
+        };
+        let stored_before = stored(&now.motor);
+        now.motor = motor.step_implicit(
+            now.motor,
             means.motor_v,
             hydro.motor_torque_n_m(w_old),
             hydro.damping_n_m_s,
             dt,
         );
-        let w = s.speed_rad_s;
-        hall_queue = main_loop
-            .control_mut()
-            .turned(0.5 * (w_old + w) * dt, t_us, dt);
-        charge_c = (charge_c - supply_a * dt).clamp(0.0, capacity_c);
+        let w = now.motor.speed_rad_s;
+        self.hall_queue =
+            self.main_loop
+                .control_mut()
+                .turned(0.5 * (w_old + w) * dt, self.clock.t_us, dt);
+        now.charge_c = (now.charge_c - now.supply_a * dt).clamp(0.0, robot.cell.capacity_mah * 3.6);
         let vel = hydro.velocity(w);
-        height_mm += vel[0] * 1e3 * dt;
+        now.height_mm += vel[0] * 1e3 * dt;
 
-        energy.cell_j += ocv * supply_a * dt;
-        energy.internal_j += losses.source_w * dt;
-        energy.winding_j += losses.winding_w * dt;
-        energy.diode_j += losses.diode_w * dt;
-        energy.friction_j += motor.friction_n_m(w) * w * dt;
-        energy.hydro_j += hydro.dissipation_w(w) * dt;
-        energy.external_j += hydro.external_power_w(w) * dt;
-        energy.stored_j += stored(&s) - stored_before;
+        let e = &mut self.energy;
+        e.cell_j += ocv * now.supply_a * dt;
+        e.internal_j += losses.source_w * dt;
+        e.winding_j += losses.winding_w * dt;
+        e.diode_j += losses.diode_w * dt;
+        e.friction_j += motor.friction_n_m(w) * w * dt;
+        e.hydro_j += hydro.dissipation_w(w) * dt;
+        e.external_j += hydro.external_power_w(w) * dt;
+        e.stored_j += stored(&now.motor) - stored_before;
+        (v, w, vel)
+    }
 
-        if out.state == State::Running {
-            running_s += dt;
-            sum_u += vel[0] * 1e3 * dt;
-            sum_f += (w + vel[3]) / TAU * dt;
-            sum_om += -vel[3] / TAU * dt;
-        }
-        let loaded_v = ocv - cell.internal_resistance_ohm * mid_on_a;
-        last = sample_now(
-            t_us,
-            d,
-            (v, loaded_v),
-            supply_a,
-            &s,
-            height_mm,
-            charge_c,
-            out.state,
-        );
-        if let (Some(run), true) = (rate, t_us >= next_trace_us) {
-            next_trace_us += RATE_TRACE_EVERY_US;
-            rate_trace.push(RatePoint {
+    /// The sample of this tick, kept when one is due, and the rate trace;
+    /// `(v, loaded_v)` the mean and the on-pulse terminal voltages.
+    fn observe(&mut self, out: &PassOutput, d: f64, (v, loaded_v): (f64, f64)) {
+        let t_us = self.clock.t_us;
+        let now = &self.now;
+        let vel = self.hydro.velocity(now.motor.speed_rad_s);
+        let last = Sample {
+            t_s: t_us as f64 * 1e-6,
+            duty: d,
+            battery_v: v,
+            loaded_v,
+            current_a: now.supply_a,
+            motor_current_a: now.motor.current_a,
+            motor_rate_hz: now.motor.speed_rad_s / TAU,
+            tail_rate_hz: (now.motor.speed_rad_s + vel[3]) / TAU,
+            body_rate_hz: vel[3] / TAU,
+            u_mm_s: vel[0] * 1e3,
+            height_mm: now.height_mm,
+            soc: now.charge_c / self.capacity_c(),
+            state: out.state,
+        };
+        if let (Some(run), true) = (self.rate, t_us >= self.clock.next_trace_us) {
+            self.clock.next_trace_us += RATE_TRACE_EVERY_US;
+            self.record.rate_trace.push(RatePoint {
                 t_s: last.t_s,
                 set_hz: run.set_hz_at(t_us).unwrap_or(0.0),
                 reference_hz: f64::from(out.reference_mhz) / 1e3,
-                measured_hz: main_loop
+                measured_hz: self
+                    .main_loop
                     .control()
                     .rate_mhz()
                     .map_or(f64::NAN, |r| f64::from(r) / 1e3),
@@ -297,60 +422,109 @@ pub fn simulate_with(
                 running: out.state == State::Running,
             });
         }
-        if t_us >= next_sample_us {
-            next_sample_us += sample_every_us;
-            samples.push(last);
+        if t_us >= self.clock.next_sample_us {
+            self.clock.next_sample_us += self.clock.sample_every_us;
+            self.record.samples.push(last);
         }
-        if height_mm >= channel_mm && top_reached_s.is_none() {
-            top_reached_s = Some(t_us as f64 * 1e-6);
-            if opts.stop_at_top {
-                break End::TopReached;
+        self.record.last = Some(last);
+    }
+
+    /// Whether the run ends at this tick, and how.
+    fn end(&mut self, out: &PassOutput, w: f64) -> Option<End> {
+        let t_us = self.clock.t_us;
+        if self.now.height_mm >= self.robot.setup.channel_length_mm
+            && self.record.top_reached_s.is_none()
+        {
+            self.record.top_reached_s = Some(t_us as f64 * 1e-6);
+            if self.opts.stop_at_top {
+                return Some(End::TopReached);
             }
         }
         let at_rest = out.state == State::Off
             && w.abs() < 1e-3
-            && next_edge == edges.len()
-            && t_us > script_end_us + 2_000_000;
+            && self.next_edge == self.edges.len()
+            && t_us > self.clock.script_end_us + 2_000_000;
         if at_rest {
-            if let Some(f) = last_fault_after(&rate_faults, last_stop_s) {
-                break End::SensorFault(f);
+            if let Some(f) = last_fault_after(&self.record.rate_faults, self.record.last_stop_s) {
+                return Some(End::SensorFault(f));
             }
-            break last_stop
-                .filter(|r| *r != StopReason::Command)
-                .map_or(End::Idle, End::Stopped);
+            return Some(
+                self.record
+                    .last_stop
+                    .filter(|r| *r != StopReason::Command)
+                    .map_or(End::Idle, End::Stopped),
+            );
         }
-        if t_us >= max_us {
-            break End::TimeLimit;
-        }
-    };
-    if samples.last().map(|x| x.t_s) != Some(last.t_s) {
-        samples.push(last);
+        (t_us >= self.clock.max_us).then_some(End::TimeLimit)
     }
-    // 0 when the motor never ran (`running_s == 0`): the summary says so
-    // instead of printing a mean over nothing.
-    let mean = |x: f64| if running_s > 0.0 { x / running_s } else { 0.0 };
-    Ok(Outcome {
-        tail_id: tail.id.clone(),
-        hydro,
-        samples,
-        last,
-        events,
-        commands,
-        end,
-        top_reached_s,
-        start_height_mm,
-        channel_length_mm: channel_mm,
-        running_s,
-        mean_u_mm_s: mean(sum_u),
-        mean_f_hz: mean(sum_f),
-        mean_omega_b_hz: mean(sum_om),
-        energy,
-        ticks,
-        rate_faults,
-        rate_trace,
-        battery_readings,
-        log_records,
-    })
+
+    /// The run's outcome, ended by `end`.
+    pub fn finish(self, end: End) -> Outcome {
+        let mut record = self.record;
+        let last = record.last.expect("finish after at least one step");
+        if record.samples.last().map(|x| x.t_s) != Some(last.t_s) {
+            record.samples.push(last);
+        }
+        let r = self.running;
+        // 0 when the motor never ran (`running_s == 0`): the summary says so
+        // instead of printing a mean over nothing.
+        let mean = |x: f64| {
+            if r.running_s > 0.0 {
+                x / r.running_s
+            } else {
+                0.0
+            }
+        };
+        Outcome {
+            tail_id: self.tail_id,
+            hydro: self.hydro,
+            samples: record.samples,
+            last,
+            events: record.events,
+            commands: record.commands,
+            end,
+            top_reached_s: record.top_reached_s,
+            start_height_mm: self.robot.start_height_mm(self.opts.tail),
+            channel_length_mm: self.robot.setup.channel_length_mm,
+            running_s: r.running_s,
+            mean_u_mm_s: mean(r.sum_u),
+            mean_f_hz: mean(r.sum_f),
+            mean_omega_b_hz: mean(r.sum_om),
+            energy: self.energy,
+            ticks: self.clock.ticks,
+            rate_faults: record.rate_faults,
+            rate_trace: record.rate_trace,
+            battery_readings: record.battery_readings,
+            log_records: record.log_records,
+        }
+    }
+}
+
+impl Record {
+    /// What one pass reported: faults, battery readings, commands, events.
+    fn outputs(&mut self, t_us: u64, out: &PassOutput) {
+        self.log_records.extend(self.recorder.observe(t_us, out));
+        let t_s = t_us as f64 * 1e-6;
+        if let Some(f) = out.fault {
+            self.rate_faults.push((t_s, RateEvent::Fault(f)));
+        }
+        if out.refused_no_set_point {
+            self.rate_faults.push((t_s, RateEvent::NoSetPoint));
+        }
+        if let Some(counts) = out.sample {
+            self.battery_readings.push((t_us, counts));
+        }
+        if let Some(c) = out.command {
+            self.commands.push((t_s, c));
+        }
+        if let Some(e) = out.event {
+            if let Event::Stopped(r) = e {
+                self.last_stop = Some(r);
+                self.last_stop_s = t_s;
+            }
+            self.events.push((t_s, e));
+        }
+    }
 }
 
 /// The last sensor fault, if it came after `after_s`.
