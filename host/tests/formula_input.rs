@@ -1,4 +1,4 @@
-//! Hostile formulas (issue 27.1): the inputs that overflowed the stack are
+//! Hostile formulas: the inputs that would overflow the stack are
 //! refused with exit 2 through the binary, and the line and column of a
 //! formula error point at the offending character of the raw TOML text,
 //! whatever escapes, wide characters and string forms it is written with
@@ -226,7 +226,7 @@ mod arbitrary_text {
 }
 
 /// A user effect at a local drag coefficient with a non-local tail model
-/// changed nothing without a word (issue 27.6): now exit 2 saying why.
+/// would change nothing without a word: exit 2 saying why.
 #[test]
 fn local_drag_places_are_refused_with_a_non_local_tail() {
     let dir = tempfile::tempdir().unwrap();
