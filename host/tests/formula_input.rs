@@ -158,8 +158,8 @@ proptest! {
     }
 }
 
-/// A multiplier of 1e300 or 1e-300 carried the model out of floating-point
-/// range (exit 1, or NaN printed with exit 0): now exit 2 naming the effect.
+/// A multiplier of 1e300 or 1e-300 would carry the model out of floating-point
+/// range (exit 1, or NaN printed with exit 0): it is exit 2 naming the effect.
 #[test]
 fn multipliers_beyond_a_million_are_exit_2_naming_the_effect() {
     let dir = tempfile::tempdir().unwrap();
