@@ -92,7 +92,7 @@ static mut RAM_VECTORS: Vectors = Vectors([0; 48]);
 /// Run `op` with every interrupt masked at the NVIC but the IR/Hall one,
 /// whose handler runs from RAM, and the vector table in RAM: so edges are
 /// still timestamped and queued while the flash is busy (a key pressed
-/// during an erase is no longer lost).
+/// during an erase is not lost).
 #[cfg(not(feature = "emulator"))]
 fn with_only_ir_interrupt(op: impl FnOnce()) {
     use cortex_m::peripheral::{NVIC, SCB};

@@ -1,4 +1,4 @@
-//! Speed of the audit at scale (issue 27.4): 1 000 synthetic cases (the
+//! Speed of the audit at scale: 1 000 synthetic cases (the
 //! paper's six tails, frequencies spread by +-2 %, measured by a truth
 //! model with 2 % noise). The goal is 15 s for the whole process on two
 //! cores; this is the library call without start-up.

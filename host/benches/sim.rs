@@ -2,7 +2,7 @@
 //! robot time (600 000 one-millisecond controller ticks) with the built-in
 //! robot and tail #1, run until the controller's 10-minute limit stops it.
 //!
-//! `cargo bench -p swimbot --bench sim`. The issue asks for well under a
+//! `cargo bench -p swimbot --bench sim`. The target is well under a
 //! second in release.
 use criterion::{criterion_group, criterion_main, Criterion};
 use swimbot::sim::{default_robot, simulate, End, Options, Script};

@@ -14,7 +14,7 @@
 //! tails in channels 28-50 mm, rate x0.8-1.6, tail length x0.9-1.3), so no
 //! category was tuned on: two effects at once (body drag and shear-thinning
 //! oil), a viscosity dependence (three drawn oils), a null with one bad
-//! run (a drawn case), and issue 23.5's cases: body-confinement with a tail
+//! run (a drawn case), and the near-wall cases: body-confinement with a tail
 //! drag rising near the wall, that tail drag alone, and the motor-frame
 //! rate.
 //!
@@ -332,7 +332,7 @@ fn main() {
                 })
             });
             // Right place or a reading the axial model cannot tell from it
-            // (the law's stated `equivalent`, issue 23 item 2).
+            // (the law's stated `equivalent`).
             let at_or_equiv = |l: &swimbot::workbench::discovery::Located, p: &str| {
                 l.place == p || l.equivalent.iter().any(|e| e.place == p)
             };

@@ -104,7 +104,7 @@ fn names_the_catalogue_effect_and_locates_the_remainder() {
     assert_located(&d, &data, "drive.rate", &[]);
 }
 
-/// Issue 23.5, on a fresh draw (seed 41, tests/fixtures/drawn.rs): a tail
+/// On a fresh draw (seed 41, tests/fixtures/drawn.rs): a tail
 /// drag rising near the wall is located on the tail with a wall feature
 /// (on `tail.drag`, or on `tail.thrust` falling: in the axial model both
 /// change the ratio of thrust to drag, and the law says so in its
@@ -140,11 +140,11 @@ fn a_tail_drag_rising_near_the_wall_is_placed_on_the_tail() {
     assert_no_repeats(v);
 }
 
-/// Issue 23.5 on held-out seed 207 of the recovery study: body-confinement
+/// Held-out seed 207 of the recovery study: body-confinement
 /// with a tail drag rising near the wall. The catalogue pair
 /// body-confinement + buoyancy reaches the floor too (a free trim stands in
-/// for the drag), and was identified without the located law being weighed
-/// against it; now the catalogue effect with the law on top of it wins by
+/// for the drag), and must not be identified without the located law
+/// being weighed against it; the catalogue effect with the law on top of it wins by
 /// the margin plus the search's charge, as a law alone must.
 #[test]
 fn a_catalogue_pair_at_the_floor_is_weighed_against_the_effect_with_a_law() {

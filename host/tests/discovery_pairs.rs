@@ -1,4 +1,4 @@
-//! The pair search of backfitting (issue 23, workbench/stagewise_backfit/
+//! The pair search of backfitting (workbench/stagewise_backfit/
 //! pairs.rs), on the drawn two-effect truth (body drag `D_x (1 + a
 //! (D_b/D_ch)^q)` and a shear-thinning tail oil, constants and design drawn
 //! per seed: tests/fixtures/drawn.rs). The seed is from the fresh range

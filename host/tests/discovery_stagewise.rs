@@ -55,11 +55,12 @@ fn two_drawn_effects_at_once_are_both_placed_after_backfitting() {
     assert_pair_located_at_floor(&d.verdict);
 }
 
-/// Backfitting above the floor (issue 23 item 1), on a synth seed (139)
+/// Backfitting above the floor, on a synth seed (139)
 /// outside the recovery study's: the catalogue's body-correction takes most
 /// of the fixed body law first and the rest lands on `tail.c_n` in a body
-/// gap; no one-for-one exchange reaches the floor, so backfitting used to
-/// keep that. A clearly better set above the floor is now taken, and the
+/// gap; no one-for-one exchange reaches the floor, so backfitting that took
+/// only a set at the floor would keep that. A clearly better set above the
+/// floor is taken, and the
 /// body law is re-located on the body.
 #[test]
 fn backfitting_above_the_floor_moves_the_body_law_back_to_the_body() {
@@ -77,7 +78,7 @@ fn backfitting_above_the_floor_moves_the_body_law_back_to_the_body() {
     assert_no_repeats(v);
 }
 
-/// Backfitting tries the best law at every other place (issue 23): on seed
+/// Backfitting tries the best law at every other place: on seed
 /// 203 of the drawn two-effect truth the path took the catalogue's
 /// backflow and the shear-rate law (identified, at the floor), and the
 /// single best proposal on top of the shear-rate law was never at the

@@ -4,7 +4,7 @@
 
 use crate::fixtures::diagnosed::swimbot_cmd;
 
-/// Issue 23 item 4: a catalogue candidate and a located law carry one
+/// A catalogue candidate and a located law carry one
 /// score type, flattened, so the JSON keeps the six fields at the top of
 /// each entry (no nested `score`) and they read alike in both lists.
 #[test]
@@ -34,7 +34,7 @@ fn candidates_and_located_laws_carry_the_same_score_fields_in_the_json() {
         }
         assert!(obj["at_noise_floor"].is_boolean(), "{entry}");
     }
-    // Item 2: every located law states its equivalent readings.
+    // Every located law states its equivalent readings.
     for l in located {
         let eq = l["equivalent"].as_array().unwrap();
         if l["place"] == "tail.torque" {

@@ -1,4 +1,4 @@
-//! Hostile formulas (issue 27.1): the inputs that overflowed the stack are
+//! Hostile formulas: the inputs that would overflow the stack are
 //! refused with exit 2 through the binary, and the line and column of a
 //! formula error point at the offending character of the raw TOML text,
 //! whatever escapes, wide characters and string forms it is written with
@@ -158,8 +158,8 @@ proptest! {
     }
 }
 
-/// A multiplier of 1e300 or 1e-300 carried the model out of floating-point
-/// range (exit 1, or NaN printed with exit 0): now exit 2 naming the effect.
+/// A multiplier of 1e300 or 1e-300 would carry the model out of floating-point
+/// range (exit 1, or NaN printed with exit 0): it is exit 2 naming the effect.
 #[test]
 fn multipliers_beyond_a_million_are_exit_2_naming_the_effect() {
     let dir = tempfile::tempdir().unwrap();
@@ -226,7 +226,7 @@ mod arbitrary_text {
 }
 
 /// A user effect at a local drag coefficient with a non-local tail model
-/// changed nothing without a word (issue 27.6): now exit 2 saying why.
+/// would change nothing without a word: exit 2 saying why.
 #[test]
 fn local_drag_places_are_refused_with_a_non_local_tail() {
     let dir = tempfile::tempdir().unwrap();

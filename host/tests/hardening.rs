@@ -1,6 +1,6 @@
-//! The real binary on the inputs of issue 13 (hardening): each category
-//! that once panicked, aborted, hung, printed NaN with exit 0, left half an
-//! output or accepted nonsense now gives exit 2 with a message naming the
+//! The real binary on hostile inputs (hardening): each category
+//! that could panic, abort, hang, print NaN with exit 0, leave half an
+//! output or accept nonsense gives exit 2 with a message naming the
 //! flag or file, case and field (or a correct, finite answer). Each run is
 //! bounded by the limits, so none of these takes more than a fraction of a
 //! second.
@@ -445,8 +445,8 @@ mod parser_properties {
     }
 }
 
-/// Long work is estimated before it starts and refused over the budget
-/// (issue 27.3): a nine-million-point sweep and an audit, each with a
+/// Long work is estimated before it starts and refused over the budget:
+/// a nine-million-point sweep and an audit, each with a
 /// budget it cannot meet, end at once with exit 2 and the estimate.
 #[test]
 fn long_sweeps_and_audits_are_refused_over_the_budget() {
@@ -486,7 +486,7 @@ fn long_sweeps_and_audits_are_refused_over_the_budget() {
 
 /// A catalogue effect that would change nothing with the tail model asked
 /// for is refused through the binary, naming the effect, why and what to
-/// use (issue 27: only user effects were refused before); the same effect
+/// use, as a user effect is; the same effect
 /// with local RFT runs.
 #[test]
 fn effects_that_a_non_local_tail_would_ignore_are_refused_by_name() {
@@ -553,7 +553,7 @@ fn peak_rss_of(args: &[&str]) -> (u64, serde_json::Value) {
     (peak, v)
 }
 
-/// The tube solver's memory estimate (issue 27.3, printed as `peak_bytes`)
+/// The tube solver's memory estimate (printed as `peak_bytes`)
 /// against the peak the kernel measured for the whole process, less the
 /// same command's peak without the tube: an estimate under the measured
 /// growth would let a solve exceed its budget, one far above it would
@@ -610,11 +610,11 @@ fn find_number(v: &serde_json::Value, key: &str) -> Option<f64> {
     }
 }
 
-/// `diagnose --write-effect` step after step (issue 27): each step loads
+/// `diagnose --write-effect` step after step: each step loads
 /// the earlier files and their laws and writes the next. A law found at a
-/// place an earlier step already used was written under the earlier law's
-/// name, so the files clashed when loaded together and its `base` named
-/// itself (the earlier law silently dropped). Now every name is new, and
+/// place an earlier step already used must not take the earlier law's
+/// name, or the files clash when loaded together and its `base` names
+/// itself (the earlier law silently dropped). Every name is new, and
 /// the last law loads with all the files, its whole base in the model.
 #[test]
 fn diagnose_steps_write_effects_that_load_together() {

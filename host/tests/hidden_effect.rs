@@ -178,7 +178,7 @@ fn an_effect_outside_the_catalogue_is_located_or_unexplained_never_misnamed() {
         )
         .unwrap();
         assert_eq!(d.verdict.effect, None, "seed {seed}: {}", d.verdict.note);
-        // Since discovery (issue 11) it may be located beyond the catalogue:
+        // Discovery may locate it beyond the catalogue:
         // then on the tail, scaling with the number of waves.
         match d.verdict.kind {
             VerdictKind::Unexplained => assert!(!d.verdict.explained),

@@ -1,8 +1,8 @@
 //! The one integration-test binary of the `swimbot` crate. Each file below
-//! used to be its own test binary, every one linking the whole crate with
-//! its debug info; as modules of one binary the crate is linked once, which
-//! saves most of the test build's link time. The files stay where they were
-//! (`cargo test -p swimbot --test integration cli::` runs one of them).
+//! is a module, not its own test binary: separate binaries would each link
+//! the whole crate with its debug info; as modules of one binary the crate
+//! is linked once, which saves most of the test build's link time. One
+//! file still runs alone: `cargo test -p swimbot --test integration cli::`.
 
 mod common;
 mod fixtures;

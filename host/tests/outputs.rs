@@ -1,4 +1,4 @@
-//! Outputs through the real binary (issue 27.2), on private nodes in a
+//! Outputs through the real binary, on private nodes in a
 //! temporary folder: a symbolic link is followed to its file, a FIFO is
 //! written through, an output that is an input is refused, a full device is
 //! exit 2 (`/dev/full`, only read... and written, never replaced), and
@@ -239,8 +239,8 @@ fn the_asked_for_file_is_written_before_a_closed_stdout_ends_the_run() {
 }
 
 /// A private character device (a null and a full device made with mknod
-/// in the temporary folder; root only, as the destroyed `/dev/null` of
-/// issue 27.2 was): every kind of output names it, it stays a character
+/// in the temporary folder; root only, where a replaced output would
+/// destroy `/dev/null`): every kind of output names it, it stays a character
 /// device, and the full one is exit 2 with nothing else left behind.
 #[test]
 fn private_character_devices_are_written_through_and_stay_devices() {
@@ -359,8 +359,8 @@ fn a_report_rerun_removes_only_what_its_manifest_lists() {
 
 /// Every way a command prints (`println!`, the CSV writer, `compare`'s CSV,
 /// the final flush) ends with exit 0 and nothing on stderr when the reader
-/// is gone before the first line, as `sweep | head` does (`cli.rs`); it
-/// used to be a death by SIGPIPE, met only by commands printing more than a
+/// is gone before the first line, as `sweep | head` does (`cli.rs`), rather
+/// than a death by SIGPIPE, met only by commands printing more than a
 /// pipe buffer holds.
 #[cfg(unix)]
 #[test]

@@ -1,4 +1,4 @@
-//! Rate control against the simulated robot (issue 26, item 2): the shared
+//! Rate control against the simulated robot: the shared
 //! crate's estimator and controller, the host's motor, PWM drive and cell,
 //! and each tail's hydrodynamic load from the model, with the Hall ring's
 //! pole-pattern errors, interrupt latency, 1 us timestamps and ADC noise.

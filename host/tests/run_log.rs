@@ -1,4 +1,4 @@
-//! The run log through the binary (issue 26, item 4): `swimbot sim
+//! The run log through the binary: `swimbot sim
 //! --write-log` writes a log image with the firmware's own recorder and
 //! encoder, `swimbot log` reads it back into steady windows, a dataset and
 //! the trace figure, and `swimbot sim --set-points-from` replays it; bad

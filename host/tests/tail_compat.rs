@@ -1,4 +1,4 @@
-//! Every catalogue effect against every tail model (issue 27): a
+//! Every catalogue effect against every tail model: a
 //! combination is either refused before any work or the effect changes the
 //! prediction, and every refused one is shown to be a true no-op (a
 //! local-drag effect changes nothing with a non-local tail) or to ignore

@@ -229,7 +229,7 @@ fn body_drag(spec: &str) -> (f64, f64) {
 /// minimum-dissipation theorem (Happel & Brenner 1965, 4-11: in Stokes
 /// flow a body enclosed by another has the smaller drag, the walls held
 /// still) its drag lies between theirs, for translation and for rotation.
-/// Checked on the extremes 5/40/5 and 20/10/20 and on seeded draws
+/// Checked on the extremes 5/40/5 and 20/10/20 and on seeded draws
 /// of the documented distribution (cork and seal each 10 +- 5 mm,
 /// rectangular); swapping cork and seal mirrors the body, which Stokes
 /// reversibility says cannot change its drag.
@@ -238,8 +238,8 @@ fn section_lengths_stay_between_the_enclosing_and_the_enclosed_cylinder() {
     use rand::{Rng, SeedableRng};
     let (outer, inner) = (body_drag("50:20"), body_drag("50:18"));
     let (thin, thick) = (body_drag("5:20,40:18,5:20"), body_drag("20:20,10:18,20:20"));
-    // the span (D_x 18.4-23.2 N s/m); E_x 3.08-3.58e-4 N m s (the
-    // issue's 3.72e-4 is the cylinder's)
+    // the extremes' span (D_x 18.4-23.2 N s/m); E_x 3.08-3.58e-4 N m s (the
+    // enclosing cylinder's is 3.72e-4)
     assert!((thin.0 - 18.43).abs() < 0.05 && (thick.0 - 23.21).abs() < 0.05);
     assert!((thin.1 - 3.076e-4).abs() < 5e-7 && (thick.1 - 3.585e-4).abs() < 5e-7);
     let mut rng = rand::rngs::StdRng::seed_from_u64(2024);

@@ -47,7 +47,7 @@ pub struct BatteryConfig {
 }
 
 impl BatteryConfig {
-    /// The board's divider and reference, with the thresholds: warn
+    /// The board's divider and reference, with the required thresholds: warn
     /// at 3.5 V, cut off at 3.3 V under load for 1 s, release at 3.9 V rest.
     pub const fn new(divider_top_ohm: u32, divider_bottom_ohm: u32, adc_ref_mv: u32) -> Self {
         Self {

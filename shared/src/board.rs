@@ -157,11 +157,11 @@ pub const SUPERVISOR: SupervisorConfig = SupervisorConfig {
 /// 0.57-1.50 Hz (Table II). The remote's keys change it.
 pub const DEFAULT_RATE_MHZ: u32 = 1_000;
 
-/// Battery sampling period: 50 Hz, five times the minimum rate, so
+/// Battery sampling period: 50 Hz, five times a minimum rate of 10 Hz, so
 /// the 8-sample average spans 160 ms, short against the 1 s cut-off debounce.
 pub const BATTERY_SAMPLE_PERIOD_US: u64 = 20_000;
 
-/// Run log: one record every 100 ms (10 Hz, the minimum) while
+/// Run log: one record every 100 ms (10 Hz, the minimum rate) while
 /// the motor may run: 6001 records of 16 bytes for a 10-minute run
 /// (`run_log`).
 pub const LOG_PERIOD_US: u32 = 100_000;

@@ -1,4 +1,4 @@
-//! Pairing the robot with its own remote (issue 26, item 3). Address 0x00
+//! Pairing the robot with its own remote. Address 0x00
 //! is what many cheap NEC remotes send, so a robot that obeyed any of them
 //! would start whenever someone in the lab pressed On on another robot's
 //! remote. A robot obeys one address, learned in a pairing window after

@@ -15,7 +15,8 @@ pub struct PwmTiming {
     pub top: u16,
 }
 
-/// The issue asks for at least 10-bit duty resolution.
+/// At least 10-bit duty resolution: 1024 steps, so the motor voltage moves
+/// in steps of about 0.1 % of the cell's.
 pub const MIN_PWM_STEPS: u32 = 1 << 10;
 
 impl PwmTiming {

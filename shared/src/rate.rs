@@ -1,4 +1,4 @@
-//! Tail-rate sensing and control (issue 26, items 1-2): the paper's
+//! Tail-rate sensing and control: the paper's
 //! limitation is that "the actuation frequency f is not a controlled
 //! parameter"; with the rate measured on board and held at a set-point it
 //! becomes one.

@@ -1,4 +1,4 @@
-//! The run log (issue 26, item 4): what the robot did, at 10 Hz for a whole
+//! The run log: what the robot did, at 10 Hz for a whole
 //! 10-minute run, kept in flash and read out over USB after the run, so the
 //! tail's rate becomes a measured input of a dataset (`swimbot log` on the
 //! host) instead of a count from 30 fps video.

@@ -1,4 +1,4 @@
-//! The remote's rate keys (issue 26, item 3): keys of the robot's own
+//! The remote's rate keys: keys of the robot's own
 //! remote select a preset tail rate or step the rate up or down. A key only
 //! changes the set-point: it never starts the motor (On does), and repeat
 //! frames (a key held) are never a key press, so holding a step key steps

@@ -88,7 +88,7 @@ fn on_frame_soft_starts_then_holds_the_set_point() {
         "drive {first} V at the start, {prev} V after the ramp"
     );
     assert_eq!(at(t0 + ramp_us).state, MotorState::Running);
-    // Held: the 1 % steady error, over the last 3 s of 10 s (the
+    // Held: at most 1 % steady error, over the last 3 s of 10 s (the
     // first start learns the tail's line: the rig's tail needs about 4x
     // the lightest load's voltage, `docs/rate-sensing.md`).
     let tail: Vec<Sample> = samples

@@ -199,8 +199,8 @@ fn check_input_uncertainties(c: &Case) -> Result<(), (&'static str, String)> {
 /// and its cost.
 pub const MAX_FORMULA_CHARS: usize = 1_000;
 /// Nesting of one formula: parentheses, calls, signs and powers inside one
-/// another. The parser and the evaluator recurse once per level; 8 000
-/// nested parentheses overflowed the stack (exit 134) before this limit.
+/// another. The parser and the evaluator recurse once per level; without
+/// this limit 8 000 nested parentheses overflow the stack (exit 134).
 /// No law needs more than a handful of levels.
 pub const MAX_FORMULA_DEPTH: usize = 64;
 /// Bytes in one effects file (TOML): a file of a few dozen effects is a few

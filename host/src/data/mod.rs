@@ -38,8 +38,8 @@ pub const STANDARD_GRAVITY_M_S2: f64 = 9.806_65;
 pub const PAPER_TOML: &str = include_str!("../../data/paper.toml");
 
 /// The paper's dataset, parsed.
-/// The coupler's gap to the seal when a dataset gives none (mm): the
-/// issue's estimate for the paper's robot.
+/// The coupler's gap to the seal when a dataset gives none (mm): an
+/// estimate for the paper's robot, which gives no figure.
 pub const DEFAULT_COUPLER_GAP_MM: f64 = 1.0;
 
 pub fn paper() -> Dataset {

@@ -232,7 +232,7 @@ mod tests {
     }
 
     #[test]
-    fn the_issue_catalogue_is_present() {
+    fn every_catalogue_effect_is_registered() {
         for name in [
             "backflow",
             "body-correction",

@@ -41,7 +41,7 @@ pub struct LiPoParams {
     /// DC internal resistance. Small pouch cells of 50-100 mAh list
     /// 0.3-0.5 ohm AC impedance at 1 kHz; the DC resistance seen by a
     /// ~0.4 A load step is about twice that. 0.6 ohm is assumed (the
-    /// issue's range is 0.5-1 ohm).
+    /// expected range is 0.5-1 ohm).
     pub internal_resistance_ohm: f64,
 }
 

@@ -1,4 +1,4 @@
-//! The robot's run log on the host (issue 26, item 4): the log image the
+//! The robot's run log on the host: the log image the
 //! firmware keeps in flash and hands out over USB (`swimbot_shared::run_log`,
 //! whose module doc has the byte layout), read from a saved file or the
 //! robot's port ([`read`]) and checked to be the run of the power-up that

@@ -4,7 +4,7 @@
 //! Criterion, per stretch of consecutive records with the motor driven and
 //! one set-point: the window begins at the first record from which every
 //! measured rate of the stretch stays within [`STEADY_BAND`] (2 %, the
-//! issue's settling band, the same as `swimbot sim`'s step response) of
+//! settling band, the same as `swimbot sim`'s step response) of
 //! the set-point, and ends with the stretch (a set-point change, a stop,
 //! the end of the log); it counts if it holds at least [`MIN_TURNS`]
 //! whole turns.

@@ -10,7 +10,7 @@
 //! * the battery input, when the pass asks for a reading, sees the previous
 //!   tick's load as the firmware's ADC does: by default the terminal
 //!   voltage in the middle of the on-pulse, `OCV - R_int i_mid`, where the
-//!   firmware converts (`firmware/src/battery_adc.rs`, issue 25 item 4);
+//!   firmware converts (`firmware/src/battery_adc.rs`);
 //!   [`BatteryReading::CycleMean`] reads `OCV - R_int I_s` instead, what
 //!   an RC filter on the divider tap would give;
 //! * cell and drive: the cell's `OCV(soc)` behind `R_int`, in the motor's
@@ -70,7 +70,7 @@ pub enum BatteryReading {
     #[default]
     MidOnPulse,
     /// The cycle mean, as behind an RC filter on the divider tap (corner
-    /// well below the carrier): the voltage before issue 25 item 4.
+    /// well below the carrier).
     CycleMean,
 }
 

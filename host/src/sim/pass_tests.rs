@@ -1,7 +1,6 @@
 //! `swimbot sim` runs the firmware's own main-loop pass
 //! (`swimbot_shared::MainLoop`), and the battery input it feeds is the
-//! loaded voltage the firmware converts in the middle of the PWM on-pulse
-//! (issue 25, items 4 and 5).
+//! loaded voltage the firmware converts in the middle of the PWM on-pulse.
 
 use super::rate::Driver;
 use super::{default_robot, simulate, BatteryReading, Options, Outcome, Robot, Script};

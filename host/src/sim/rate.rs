@@ -1,4 +1,4 @@
-//! Rate control in `swimbot sim` (issue 26): the chip's own rate control
+//! Rate control in `swimbot sim`: the chip's own rate control
 //! ([`ChipControl`], `RateController` + `RateEstimator`) inside the chip's
 //! main-loop pass, fed Hall edges from the simulated ring on the motor's
 //! shaft ([`crate::robot::hall`]) through the pass, and a schedule of

@@ -10,7 +10,7 @@
 
 use super::rate::RatePoint;
 
-/// The requirement of issue 26.
+/// Settled: within 2 % of the set-point.
 pub const SETTLE_BAND: f64 = 0.02;
 /// Length of the steady window at a step's end (s), or half the step's
 /// window if that is shorter.

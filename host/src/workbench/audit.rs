@@ -209,7 +209,7 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
-/// The geometry check (module docs, item 1).
+/// The geometry check (module docs, check 1).
 pub fn chord_checks(data: &Dataset) -> (Vec<Flag>, Vec<ChordCheck>) {
     let fixed: Vec<&Case> = data.cases.iter().filter(|c| c.inputs.chord_fixed).collect();
     let mut flags = Vec::new();

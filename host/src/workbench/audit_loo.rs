@@ -3,7 +3,7 @@
 //!
 //! - **Exact**: every candidate refitted on the data without case `i`,
 //!   started from its full-data fit. Cost: `n` fits of `n - 1` cases each,
-//!   so `n^2` predictions (12 cases 1.3 s, 50 cases 23 s before this file).
+//!   so `n^2` predictions (12 cases 1.3 s, 50 cases 23 s).
 //! - **One step**: the standard approximate case deletion of regression
 //!   diagnostics (Cook & Weisberg 1982, sec. 3.4; exact for a model linear
 //!   in its parameters). With `J` the Jacobian of the normalised residuals

@@ -4,7 +4,7 @@
 //! that they read the same in the JSON, the tables and the page (each holds
 //! one, flattened).
 //!
-//! **One rule for every ranking** (issue 23): a model is ranked by the AICc
+//! **One rule for every ranking**: a model is ranked by the AICc
 //! of the deviance its fit minimised ([`Deviance`]),
 //! `AICc = D + 2k + 2k(k+1)/(n-k-1)`, where `D` is the chi-square under the
 //! Gaussian likelihood (the default) and the Student-t deviance

@@ -21,7 +21,7 @@
 //!   place ([`super::discovery::places`]), refitted jointly with the others,
 //!   reaches the floor and lowers the key by the same margin: the exact
 //!   refits of a search all sit at one place on the drawn two-effect truth,
-//!   so the single best proposal never tries another (issue 23).
+//!   so the single best proposal never tries another.
 //!
 //! The cycle repeats until no step changes (at most [`MAX_CHANGES`]).
 //! When the set is then still above the floor, or needs three steps or more
@@ -220,8 +220,8 @@ impl Ctx<'_> {
 
     /// The best law at each place other than `out`'s, each refitted
     /// exactly jointly with `others` (fitted as `fo`): the clear exchange
-    /// with the lowest key (issue 23: the exact refits of a search all sat
-    /// at one place, so the single best proposal never tried another).
+    /// with the lowest key (the exact refits of a search can all sit at
+    /// one place, so the single best proposal would never try another).
     fn elsewhere(
         &self,
         table: &Table,

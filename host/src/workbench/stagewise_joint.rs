@@ -1,4 +1,4 @@
-//! What the data fix in a found set of two steps or more (issue 23): the
+//! What the data fix in a found set of two steps or more: the
 //! steps' parameters refitted jointly, the pairs of parameters of
 //! different steps that trade against each other, the places that carry
 //! two laws, and the parameters whose interval spans no effect. The set is

@@ -19,8 +19,8 @@
 //!   competes on AICc with a correction located alone; when only a
 //!   catalogue *pair* reaches the floor, the catalogue effect with the law
 //!   on top of it must beat the pair by the margin plus the search's charge
-//!   `2 ln M`, as a law alone must beat a catalogue effect (issue 23.5: a
-//!   free trim had stood in for a tail drag near the wall).
+//!   `2 ln M`, as a law alone must beat a catalogue effect (else a free
+//!   trim can stand in for a tail drag near the wall).
 //! - Two supported findings within the AICc margin that are not the same
 //!   finding (same place, equivalent feature) are **indistinguishable**,
 //!   with the new case that separates them best.
@@ -190,8 +190,8 @@ pub fn decide<'a>(e: &Evidence<'a>, s: &DiagnoseSettings) -> Decision<'a> {
             }
         }
         // A catalogue pair at the floor against the best catalogue effect
-        // with the law located on top of it (issue 23.5: a free trim stood
-        // in for a tail drag near the wall): the law pays the same charge.
+        // with the law located on top of it (else a free trim can stand in
+        // for a tail drag near the wall): the law pays the same charge.
         if let Some((rl, r)) = e
             .remainder
             .and_then(|r| parsimonious(&r.discovery, base, s.clear_margin, data).map(|l| (l, r)))

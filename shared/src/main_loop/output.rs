@@ -51,7 +51,7 @@ pub struct PassOutput {
     /// period: set on the pass that starts the motor, when the soft start's
     /// reference (and with it the duty) first becomes non-zero after
     /// `ramp_us / set-point`, so the first PWM edge does not wait a whole
-    /// wake period (the On -> PWM latency, issue 26.3).
+    /// wake period (the On -> PWM latency).
     pub next_pass_in_us: Option<u32>,
     /// Motor off, USB not connected, no flash erase pending
     /// (`MainLoop::set_erase_pending`) and no IR edge for

@@ -1,5 +1,5 @@
-//! The motor line learned on the run, `V = V_0 + s g f` (issue 26, item
-//! 2): the intercept `V_0` (the motor's friction `R tau_c / k` plus the
+//! The motor line learned on the run, `V = V_0 + s g f`: the intercept
+//! `V_0` (the motor's friction `R tau_c / k` plus the
 //! freewheel diode's share of each PWM period) and the slope factor `g` on
 //! the configured lightest-load slope `s` (the tail's viscous load, which
 //! the firmware cannot know).

@@ -1,5 +1,5 @@
-//! What a readout says about the power-up it is read in (image version 2,
-//! issue 26 follow-up): whose records the image holds ([`LogOf`]) and what
+//! What a readout says about the power-up it is read in (image version
+//! 2): whose records the image holds ([`LogOf`]) and what
 //! became of the records this power-up took ([`ThisRun`]). Without it a
 //! power-up whose run was dropped (its slot not yet erased, or full) read
 //! out an earlier power-up's log with `dropped=0`, and a lab took a

@@ -746,8 +746,8 @@ class VregAndChipReset extends BasePeripheral {
  * were clear wakes it, also one that was already pending when WFI ran: so
  * an alarm that fires between the sleep's arming (PRIMASK set) and its WFI
  * does not put the core to sleep for ever. rp2040js checks only when an
- * interrupt is raised, and before this a pass that ended on its alarm's tick
- * slept until the watchdog reset the chip (the 9-keys failure of session 4).
+ * interrupt is raised, so without this check a pass that ends on its alarm's
+ * tick sleeps until the watchdog resets the chip.
  */
 function wakePending(core) {
   const set = core.pendingInterrupts & core.enabledInterrupts;

@@ -1,4 +1,4 @@
-// The firmware's behaviour contract (issues 6 and 25): the required
+// The firmware's behaviour contract: the required
 // behaviour and the tolerances the emulator scenarios accept. Board facts
 // (pins, divider, reference, NEC codes, the watchdog period the image uses)
 // are not repeated here: each Board reads them from its image
@@ -23,13 +23,13 @@ export const RUNNING_DUTY = 0.1;
 export const SOFT_START_NS = 250 * MS;
 export const SOFT_START_TOL = 0.1; // +-10 %
 
-export const ON_LATENCY_NS = 1 * MS; // issue 26.3: end of the On frame to the first PWM edge
-export const ASLEEP_RUNNING_MIN = 0.95; // issue 26.3: the core >= 95 % asleep with the motor running
+export const ON_LATENCY_NS = 1 * MS; // end of the On frame to the first PWM edge
+export const ASLEEP_RUNNING_MIN = 0.95; // the core >= 95 % asleep with the motor running
 export const OFF_DEADLINE_NS = 1 * MS; // duty 0 within 1 ms of the end of the Off frame
 
 export const CUTOFF_V = 3.3; // low-battery cut-off, under load
 export const CUTOFF_DEBOUNCE_NS = 1000 * MS; // ~1 s
-export const WATCHDOG_MIN_NS = 50 * MS; // issue 25: what the 1 ms pass allows
+export const WATCHDOG_MIN_NS = 50 * MS; // what the 1 ms pass allows
 export const WATCHDOG_MAX_NS = 100 * MS;
 export const FAILSAFE_DEADLINE_NS = 1 * MS; // a panic: gate low within 1 ms
 

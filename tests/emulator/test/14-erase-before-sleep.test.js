@@ -5,10 +5,10 @@
 // long run out, yet the chip erases every block, one per pass while the
 // motor is off, the gate low and the IR quiet, and only then goes DORMANT.
 // The next power-up (the cell disconnected in between) then finds a blank
-// slot and logs its first run from the start. The image before the fix
-// erased one block and went DORMANT, leaving 7 for a later wake-up; with
-// those checks taken out, its fifth power-up kept nothing of its run (the
-// readout was an earlier power-up's log).
+// slot and logs its first run from the start. An image that erased one
+// block and went DORMANT would leave 7 for a later wake-up; with those
+// checks taken out, its fifth power-up keeps nothing of its run (the
+// readout is an earlier power-up's log).
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { MS } from '../lib/board.js';

@@ -4,9 +4,9 @@
 // after the 5 s pairing window), so a run in its first second is dropped.
 // Read over USB, LOG then holds the third power-up's records (the newest
 // earlier log) and, in its header, the fourth power-up's dropped count;
-// INFO says `log=earlier this_run=dropped`. The image before this said
-// `dropped=0` (the count was always 0 under an earlier power-up's
-// records), so a lab took the third run's trace for the fourth's. A fifth
+// INFO says `log=earlier this_run=dropped`. A header whose count stays 0
+// under an earlier power-up's records would say `dropped=0`, and a lab
+// would take the third run's trace for the fourth's. A fifth
 // power-up without a run says `log=earlier this_run=none`.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';

@@ -15,7 +15,7 @@ import { perf } from '../lib/contract.js';
 import { boardWith } from '../lib/images.js';
 import { ms, sendOff, sendOn } from '../lib/steps.js';
 
-const SETTLE_BAND = 0.02; // the issue's 2 %
+const SETTLE_BAND = 0.02; // settled: within 2 % of the set-point
 const STEADY_ERR = 0.01; // and 1 % steady error
 
 test('rate loop: start to the set-point through the Hall latches; a stall is a fault', async (t) => {
@@ -47,7 +47,7 @@ test('rate loop: start to the set-point through the Hall latches; a stall is a f
     perf('rate loop, first start (line unknown): On to within 2 % for good', ms(first.settleNs), '');
     // The rotor's line (lib/rotor.js) is not the firmware's nominal one
     // (0.175 V, 0.7 V/Hz): the controller learns both (shared/src/rate/line.rs), so the first
-    // start too stays within the issue's 10 %.
+    // start too stays within the 10 % overshoot limit.
     perf('rate loop, first start: overshoot', `${(100 * first.overshoot).toFixed(2)} %`, '');
     assert.ok(first.overshoot <= 0.1, `first-start overshoot ${(100 * first.overshoot).toFixed(2)} %`);
     const steady = b.rateIn(t0 + 4000 * MS, t0 + 5000 * MS);

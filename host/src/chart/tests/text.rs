@@ -53,7 +53,7 @@ fn subscripts_are_real_in_the_svg() {
 
 #[test]
 fn the_text_checker_catches_a_subscript_running_into_a_tick_label() {
-    // Fig. 4 (e) before the fix: the rotated title's baseline 6 px left of
+    // A Fig. 4 (e) layout that fails: the rotated title's baseline 6 px left of
     // the tick label "0.15"; its subscript hangs 7 px towards it.
     let tick = "<text x=\"100\" y=\"100\" font-size=\"11\" text-anchor=\"end\">0.15</text>";
     let title = |x: f64| {

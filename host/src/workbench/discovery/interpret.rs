@@ -242,7 +242,7 @@ mod tests {
     use crate::data::quantities::by_id;
 
     #[test]
-    fn the_issue_sentences_come_out() {
+    fn wall_shear_and_rate_laws_read_as_physical_effects() {
         let w = by_id("wire_over_gap").unwrap();
         assert!(interpret(Place::TailNormal, Some(w), true, 1.2)
             .contains("nears the wall: wall proximity"));

@@ -89,7 +89,7 @@ pub struct Located {
     pub explained_fraction: Option<f64>,
     pub interpretation: String,
     /// The readings the axial model cannot tell from this one (another
-    /// place, the law mapped): issue 23's "physically equivalent readings".
+    /// place, the law mapped): its physically equivalent readings.
     pub equivalent: Vec<interpret::Equivalent>,
     pub non_identifiable: Vec<String>,
     /// The effects beneath it (`NAME:k=v,...` at full precision): the

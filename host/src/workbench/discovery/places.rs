@@ -1,4 +1,4 @@
-//! The best law at each place (issue 23): the exact refits of [`super::discover`]
+//! The best law at each place: the exact refits of [`super::discover`]
 //! take the top of one ranking, and on the drawn two-effect truth they all
 //! sit at one place, so backfitting never tried another. This screens every
 //! law on the table (the same search, [`super::search`]) and keeps the best

@@ -1,4 +1,4 @@
-//! The pair search of backfitting (issue 23): when the backfitted set stays
+//! The pair search of backfitting: when the backfitted set stays
 //! above the noise floor, or needs three steps or more to reach it, two
 //! laws placed from scratch may explain the data better than any
 //! one-for-one exchange can reach. On the drawn two-effect truth the first
