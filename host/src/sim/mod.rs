@@ -23,6 +23,7 @@ pub mod rate_figure;
 mod raw;
 pub mod replay;
 pub mod robot;
+mod robot_file;
 mod robot_limits;
 pub mod script;
 pub mod step_response;
