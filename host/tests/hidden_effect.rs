@@ -8,7 +8,7 @@
 
 use nalgebra::Matrix6;
 use swimbot::data::{Case, Dataset};
-use swimbot::effects::{parse_effect_spec, Effect, EffectInstance};
+use swimbot::effects::{parse_effect_spec, Effect, EffectError, EffectInstance};
 use swimbot::model::Model;
 use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, VerdictKind};
 use swimbot::workbench::experiments::separation::median_rel_se;
@@ -157,7 +157,7 @@ impl Effect for TurnScreening {
     fn reference(&self) -> &'static str {
         "none (a test control)"
     }
-    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
+    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), EffectError> {
         let s = 1.0 / (1.0 + 0.01 * case.n_waves().powi(2));
         tail[(0, 3)] *= s;
         tail[(3, 0)] *= s;

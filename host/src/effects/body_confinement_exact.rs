@@ -29,7 +29,7 @@
 //! for Linearized Viscous Flow* (1992); the annular-gap limit: F. Chen,
 //! J. Lescarboura & G. Swift, AIChE J. 14 (1968) 123.
 
-use super::Effect;
+use super::{Effect, EffectError};
 use crate::data::Case;
 use crate::nonlocal::axisym::{solve_body, AxisymSettings, Confinement};
 use crate::nonlocal::cache;
@@ -65,10 +65,10 @@ pub fn profile_words(p: &BodyProfile) -> Vec<u64> {
 /// its channel, centred, at the default resolution; memoised at 1 Pa s and
 /// scaled, since Stokes drag is linear in the viscosity (a perturbed
 /// viscosity costs no solve).
-pub fn body_in_tube(case: &Case) -> Result<(f64, f64), String> {
+pub fn body_in_tube(case: &Case) -> Result<(f64, f64), EffectError> {
     let (profile, channel, mu) = (case.body_profile(), case.channel(), case.viscosity_pa_s);
     if !(mu.is_finite() && mu > 0.0) {
-        return Err(format!("viscosity must be positive, got {mu} Pa s"));
+        return Err(EffectError::Viscosity { viscosity_pa_s: mu });
     }
     let s = AxisymSettings::default();
     let key: Vec<u64> = profile_words(&profile)
@@ -83,7 +83,8 @@ pub fn body_in_tube(case: &Case) -> Result<(f64, f64), String> {
             m[(3, 3)] = r.rotational_drag_n_m_s;
             m
         })
-    })?;
+    })
+    .map_err(EffectError::Solve)?;
     Ok((mu * m[(0, 0)], mu * m[(3, 3)]))
 }
 

@@ -28,7 +28,7 @@
 //! Multimodel Inference*, 2nd ed. (2002), sec. 1.4 (parsimony).
 
 use super::place::Place;
-use super::{Effect, ParamSpec};
+use super::{Effect, EffectError, ParamSpec};
 use crate::data::quantities::Quantity;
 use crate::data::Case;
 use crate::physics::coefficients::LocalDrag;
@@ -259,7 +259,7 @@ impl Effect for LocatedCorrection {
     fn local_drag(&self, p: &[f64], case: &Case, drag: &mut LocalDrag) {
         self.place.apply_local_drag(self.value(p, case), drag);
     }
-    fn tail(&self, p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
+    fn tail(&self, p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), EffectError> {
         self.place.apply_tail(self.value(p, case), tail);
         Ok(())
     }

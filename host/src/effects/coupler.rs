@@ -28,7 +28,7 @@
 //! Linearized Viscous Flow* (1992), §2.4, §7.2 (swirl ring Stokeslets).
 
 use super::body_confinement_exact::profile_words;
-use super::Effect;
+use super::{Effect, EffectError};
 use crate::data::Case;
 use crate::nonlocal::axisym::spin::{solve_spin, Stack};
 use crate::nonlocal::axisym::{AxisymSettings, Confinement};
@@ -47,11 +47,11 @@ pub const SPIN_RESOLUTION: f64 = 4.0;
 /// The coupler's axial rotational drag `R` and the torque its swirl puts
 /// on the body, `S` (both N m s per rad/s of the coupler), in the case's
 /// tube, below the case's body at `gap_mm`.
-pub fn coupler_spin(case: &Case, gap_mm: f64) -> Result<(f64, f64), String> {
+pub fn coupler_spin(case: &Case, gap_mm: f64) -> Result<(f64, f64), EffectError> {
     let c = case.coupler();
     let mu = case.viscosity_pa_s;
     if !(mu.is_finite() && mu > 0.0) {
-        return Err(format!("viscosity must be positive, got {mu} Pa s"));
+        return Err(EffectError::Viscosity { viscosity_pa_s: mu });
     }
     let stack = Stack {
         rotor: BodyProfile::cylinder(c.length_m * 1e3, c.diameter_m * 1e3, 0.0),
@@ -80,7 +80,8 @@ pub fn coupler_spin(case: &Case, gap_mm: f64) -> Result<(f64, f64), String> {
             m[(0, 3)] = r.stator_torque_n_m_s;
             m
         })
-    })?;
+    })
+    .map_err(EffectError::Solve)?;
     Ok((mu * m[(3, 3)], mu * m[(0, 3)]))
 }
 
@@ -119,9 +120,11 @@ impl Effect for Coupler {
             body[(3, 3)] -= s;
         }
     }
-    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
-        let (r, s) = coupler_spin(case, case.coupler_gap_mm)
-            .map_err(|e| format!("coupler spin (coupler_gap_mm {}): {e}", case.coupler_gap_mm))?;
+    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), EffectError> {
+        let (r, s) = coupler_spin(case, case.coupler_gap_mm).map_err(|e| EffectError::Within {
+            context: format!("coupler spin (coupler_gap_mm {})", case.coupler_gap_mm),
+            source: Box::new(e),
+        })?;
         tail[(3, 3)] += r - s;
         Ok(())
     }
@@ -168,7 +171,10 @@ mod tests {
         assert!(r > 1.3 * side && s > 0.0 && s < r, "{r} {s} vs {side}");
         let mut tight = case.clone();
         tight.coupler_gap_mm = 0.01;
-        let e = Coupler.tail(&[], &tight, &mut tail).unwrap_err();
+        let e = Coupler
+            .tail(&[], &tight, &mut tail)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("gap") && e.contains("singular"), "{e}");
     }
 }

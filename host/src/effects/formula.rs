@@ -21,7 +21,7 @@
 
 use super::expr::{Expr, ExprError};
 use super::place::Place;
-use super::{Effect, ParamSpec};
+use super::{Effect, EffectError, ParamSpec};
 use crate::data::limits::{echo, show};
 use crate::data::Case;
 use crate::physics::coefficients::LocalDrag;
@@ -208,7 +208,7 @@ impl Effect for FormulaEffect {
         self.applies_to
     }
 
-    fn check(&self, p: &[f64], case: &Case) -> Result<(), String> {
+    fn check(&self, p: &[f64], case: &Case) -> Result<(), EffectError> {
         for ((place, e), (_, text)) in self.places.iter().zip(&self.spec.places) {
             let value = e.eval(p, case);
             if let Some(why) = invalid(*place, value) {
@@ -218,21 +218,18 @@ impl Effect for FormulaEffect {
                     .zip(p)
                     .map(|(s, v)| format!("{}={}", s.name, show(*v)))
                     .collect();
-                return Err(format!(
-                    "place `{place}` = `{}` gives {} with {} ({why}){}",
-                    echo(text),
-                    show(value),
-                    if values.is_empty() {
+                return Err(EffectError::Place {
+                    place: place.to_string(),
+                    formula: echo(text),
+                    value: show(value),
+                    parameters: if values.is_empty() {
                         "no parameters".to_string()
                     } else {
                         values.join(", ")
                     },
-                    if self.source.is_empty() {
-                        String::new()
-                    } else {
-                        format!("; defined in {}", self.source)
-                    }
-                ));
+                    why,
+                    defined_in: (!self.source.is_empty()).then(|| self.source.to_string()),
+                });
             }
         }
         Ok(())
@@ -248,7 +245,7 @@ impl Effect for FormulaEffect {
         });
     }
 
-    fn tail(&self, p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
+    fn tail(&self, p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), EffectError> {
         self.apply(Stage::Tail, p, case, |pl, m| pl.apply_tail(m, tail));
         Ok(())
     }
@@ -354,7 +351,7 @@ mod tests {
         e.balance(&p, case, &mut fb);
         assert_eq!((fb.load[0], fb.tail_rate_rad_s), (-0.5e-3, 2.0));
         assert!(e.check(&p, case).is_ok());
-        let err = e.check(&[-1.0], case).unwrap_err();
+        let err = e.check(&[-1.0], case).unwrap_err().to_string();
         assert!(err.contains("tail.c_n") && err.contains("within") && err.contains("k=-1"));
     }
 
@@ -364,7 +361,11 @@ mod tests {
         let e =
             FormulaEffect::new(spec(vec![(Place::LoadTorque, "k / (k - 1)".into())]), "").unwrap();
         assert!(e.check(&[0.5], case).is_ok());
-        assert!(e.check(&[1.0], case).unwrap_err().contains("finite"));
+        assert!(e
+            .check(&[1.0], case)
+            .unwrap_err()
+            .to_string()
+            .contains("finite"));
     }
 
     fn any_place() -> impl Strategy<Value = Place> {

@@ -26,6 +26,7 @@ mod body_correction;
 mod buoyancy;
 pub mod correction;
 mod coupler;
+mod error;
 pub mod expr;
 mod expr_lex;
 pub mod formula;
@@ -41,6 +42,7 @@ mod tube_tail;
 pub mod user_file;
 mod wall_contact;
 
+pub use error::EffectError;
 pub use registry::{all, load_effect_files, register_user_effects, user_effects};
 pub use spec::{parse_effect_list, parse_effect_spec, EffectSpecError};
 
@@ -124,7 +126,7 @@ pub trait Effect: Send + Sync {
     /// on it (a user formula giving a non-positive multiplier, say), so a bad
     /// value surfaces as an error naming the case and the effect, never as a
     /// NaN prediction.
-    fn check(&self, _p: &[f64], _case: &Case) -> Result<(), String> {
+    fn check(&self, _p: &[f64], _case: &Case) -> Result<(), EffectError> {
         Ok(())
     }
     /// Whether the effect acts on the tail's local drag coefficients
@@ -145,8 +147,8 @@ pub trait Effect: Send + Sync {
         false
     }
     fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
-    /// Errors (e.g. a failed non-local solve) stop the prediction with a message.
-    fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) -> Result<(), String> {
+    /// Errors (e.g. a failed non-local solve) stop the prediction.
+    fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) -> Result<(), EffectError> {
         Ok(())
     }
     fn body(&self, _p: &[f64], _case: &Case, _body: &mut Matrix6<f64>) {}

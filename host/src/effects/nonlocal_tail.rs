@@ -11,7 +11,7 @@
 //! 031504; B. Rodenborn, C.-H. Chen, H. L. Swinney, B. Liu & H. P. Zhang,
 //! PNAS 110 (2013) E338 (RFT fails for helices of this pitch).
 
-use super::Effect;
+use super::{Effect, EffectError};
 use crate::data::Case;
 use crate::nonlocal::memo::nonlocal_tail;
 use crate::nonlocal::TailMethod;
@@ -38,14 +38,13 @@ impl Effect for NonlocalTail {
     fn replaces_tail(&self) -> bool {
         true
     }
-    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
+    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), EffectError> {
         *tail = nonlocal_tail(
             &case.helix(),
             case.viscosity_pa_s,
             TailMethod::RegularizedStokeslets,
             SEGMENTS_PER_TURN,
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         Ok(())
     }
 }

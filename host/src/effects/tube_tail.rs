@@ -22,7 +22,7 @@
 //! References: R. Cortez, L. Fauci & A. Medovikov, Phys. Fluids 17 (2005)
 //! 031504; G. Fairweather & A. Karageorghis, Adv. Comput. Math. 9 (1998) 69.
 
-use super::Effect;
+use super::{Effect, EffectError};
 use crate::data::Case;
 use crate::nonlocal::cache;
 use crate::nonlocal::tube::{tail_matrix_in_tube, CapLayout, TubeSettings, WallModel};
@@ -56,7 +56,7 @@ fn tube_words(s: &TubeSettings) -> impl Iterator<Item = u64> {
 /// viscosity (an uncertainty band) costs no solve. The leak diagnostics
 /// are not recomputed here; `helix --channel-diameter-mm` and
 /// `examples/tail_tube.rs` show them at these settings.
-pub fn tail_in_tube(case: &Case) -> Result<Matrix6<f64>, String> {
+pub fn tail_in_tube(case: &Case) -> Result<Matrix6<f64>, EffectError> {
     let (helix, channel, mu, s) = (
         case.helix(),
         case.channel(),
@@ -64,7 +64,7 @@ pub fn tail_in_tube(case: &Case) -> Result<Matrix6<f64>, String> {
         settings(),
     );
     if !(mu.is_finite() && mu > 0.0) {
-        return Err(format!("viscosity must be positive, got {mu} Pa s"));
+        return Err(EffectError::Viscosity { viscosity_pa_s: mu });
     }
     let key: Vec<u64> = cache::helix_words(&helix)
         .into_iter()
@@ -73,7 +73,8 @@ pub fn tail_in_tube(case: &Case) -> Result<Matrix6<f64>, String> {
         .collect();
     let unit = cache::cached_matrix("tail-in-tube-rings-per-pa-s", &key, || {
         tail_matrix_in_tube(&helix, &channel, 1.0, &s)
-    })?;
+    })
+    .map_err(EffectError::Solve)?;
     Ok(unit * mu)
 }
 
@@ -97,7 +98,7 @@ impl Effect for TubeTail {
     fn replaces_tail(&self) -> bool {
         true
     }
-    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), String> {
+    fn tail(&self, _p: &[f64], case: &Case, tail: &mut Matrix6<f64>) -> Result<(), EffectError> {
         *tail = tail_in_tube(case)?;
         Ok(())
     }

@@ -13,7 +13,7 @@ pub use presets::{preset, PRESETS};
 
 use crate::data::Case;
 use crate::effects::tail_compat::{self, TailModel};
-use crate::effects::{Effect, EffectInstance};
+use crate::effects::{Effect, EffectError, EffectInstance};
 use crate::physics::body::{BodyError, BodyResistance};
 use crate::physics::coefficients::{CoefficientError, CoefficientSet};
 use crate::physics::solve::{Dofs, ForceBalance, SolveError};
@@ -87,11 +87,11 @@ pub enum ModelError {
     Body { case: String, source: BodyError },
     #[error("case `{case}`: {source}")]
     Solve { case: String, source: SolveError },
-    #[error("case `{case}`: effect `{effect}`: {message}")]
+    #[error("case `{case}`: effect `{effect}`: {source}")]
     Effect {
         case: String,
         effect: String,
-        message: String,
+        source: EffectError,
     },
     #[error("case `{case}`: non-local tail: {message}")]
     Nonlocal { case: String, message: String },
@@ -164,10 +164,10 @@ impl Model {
         for e in self.active(case) {
             e.effect
                 .check(&e.values, case)
-                .map_err(|message| ModelError::Effect {
+                .map_err(|source| ModelError::Effect {
                     case: case.id.clone(),
                     effect: e.name().to_string(),
-                    message,
+                    source,
                 })?;
         }
         Ok(())
@@ -234,10 +234,10 @@ impl Model {
         for e in self.active(case) {
             e.effect
                 .tail(&e.values, case, &mut m)
-                .map_err(|message| ModelError::Effect {
+                .map_err(|source| ModelError::Effect {
                     case: case.id.clone(),
                     effect: e.name().to_string(),
-                    message,
+                    source,
                 })?;
         }
         Ok(m)

@@ -80,7 +80,7 @@ use curve::Centreline;
 use nalgebra::Matrix6;
 
 /// Errors of the non-local models; geometry is checked before any work.
-#[derive(Debug, thiserror::Error, PartialEq)]
+#[derive(Debug, Clone, thiserror::Error, PartialEq)]
 pub enum NonlocalError {
     #[error("invalid geometry: {0}")]
     Geometry(String),
