@@ -12,21 +12,8 @@ pub enum EffectError {
     Viscosity { viscosity_pa_s: f64 },
     /// A user formula's place gives a value the model cannot use (a
     /// non-positive multiplier, a load beyond floating-point sense).
-    #[error(
-        "place `{place}` = `{formula}` gives {value} with {parameters} ({why}){}",
-        note_defined_in(.defined_in)
-    )]
-    Place {
-        place: String,
-        /// The formula as written, cut for the message.
-        formula: String,
-        value: String,
-        /// `name=value` of every parameter, or "no parameters".
-        parameters: String,
-        why: String,
-        /// The file the effect was defined in, if any.
-        defined_in: Option<String>,
-    },
+    #[error(transparent)]
+    Place(Box<UnusablePlace>),
     /// A non-local solve failed.
     #[error(transparent)]
     Nonlocal(#[from] NonlocalError),
@@ -39,6 +26,25 @@ pub enum EffectError {
         context: String,
         source: Box<EffectError>,
     },
+}
+
+/// A user formula's place and the value it gave, with the parameters it
+/// was evaluated at.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "place `{place}` = `{formula}` gives {value} with {parameters} ({why}){}",
+    note_defined_in(.defined_in)
+)]
+pub struct UnusablePlace {
+    pub place: String,
+    /// The formula as written, cut for the message.
+    pub formula: String,
+    pub value: String,
+    /// `name=value` of every parameter, or "no parameters".
+    pub parameters: String,
+    pub why: String,
+    /// The file the effect was defined in, if any.
+    pub defined_in: Option<String>,
 }
 
 fn note_defined_in(file: &Option<String>) -> String {

@@ -19,6 +19,7 @@
 //! their strings and tables are leaked to `'static` on construction; the
 //! few hundred bytes live until the process ends, as the catalogue does.
 
+use super::error::UnusablePlace;
 use super::expr::{Expr, ExprError};
 use super::place::Place;
 use super::{Effect, EffectError, ParamSpec};
@@ -218,7 +219,7 @@ impl Effect for FormulaEffect {
                     .zip(p)
                     .map(|(s, v)| format!("{}={}", s.name, show(*v)))
                     .collect();
-                return Err(EffectError::Place {
+                return Err(EffectError::Place(Box::new(UnusablePlace {
                     place: place.to_string(),
                     formula: echo(text),
                     value: show(value),
@@ -229,7 +230,7 @@ impl Effect for FormulaEffect {
                     },
                     why,
                     defined_in: (!self.source.is_empty()).then(|| self.source.to_string()),
-                });
+                })));
             }
         }
         Ok(())

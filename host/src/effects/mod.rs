@@ -42,7 +42,7 @@ mod tube_tail;
 pub mod user_file;
 mod wall_contact;
 
-pub use error::EffectError;
+pub use error::{EffectError, UnusablePlace};
 pub use registry::{all, load_effect_files, register_user_effects, user_effects};
 pub use spec::{parse_effect_list, parse_effect_spec, EffectSpecError};
 
