@@ -39,6 +39,21 @@ pub const MIN_DRAWS: usize = 2_000;
 const CHUNK_SAMPLES: usize = 1 << 21;
 const SEED: u64 = 0x5eed;
 
+thread_local! {
+    static DRAWN: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// How many Monte Carlo floors (sets of draws) this thread has started:
+/// the estimates count the floors a command draws, and a test holds them
+/// to that count.
+pub fn floors_drawn_on_this_thread() -> u64 {
+    DRAWN.with(std::cell::Cell::get)
+}
+
+fn count_a_floor() {
+    DRAWN.with(|c| c.set(c.get() + 1));
+}
+
 /// Degrees of freedom of each measured quantity's standard error.
 pub fn error_dofs(data: &Dataset) -> Vec<f64> {
     data.cases
@@ -94,6 +109,7 @@ fn draw_quantile(dofs: &[f64], level: f64) -> f64 {
 }
 
 fn draw_planned(dofs: &[f64], level: f64, plan: DrawPlan) -> f64 {
+    count_a_floor();
     let dists: Vec<StudentT<f64>> = dofs
         .iter()
         .map(|&d| StudentT::new(d).expect("dof >= 1"))
@@ -150,6 +166,7 @@ impl LeaveOutDraws {
         all: &std::collections::BTreeMap<u64, usize>,
         spare: &std::collections::BTreeMap<u64, usize>,
     ) -> LeaveOutDraws {
+        count_a_floor();
         let groups: Vec<(u64, usize, usize, StudentT<f64>)> = all
             .iter()
             .map(|(&d, &count)| {
