@@ -505,9 +505,19 @@ fn long_diagnoses_and_reports_are_refused_over_the_budget() {
     let f = file.to_str().unwrap();
     let out = dir.path().join("rep");
     let cases: [(&[&str], &str); 2] = [
-        (&["diagnose", "--data", f], "the diagnosis of 30 cases would take about"),
         (
-            &["report", "--no-physics", "--data", f, "-o", out.to_str().unwrap()],
+            &["diagnose", "--data", f],
+            "the diagnosis of 30 cases would take about",
+        ),
+        (
+            &[
+                "report",
+                "--no-physics",
+                "--data",
+                f,
+                "-o",
+                out.to_str().unwrap(),
+            ],
             "the report of 30 cases would take about",
         ),
     ];
@@ -517,7 +527,10 @@ fn long_diagnoses_and_reports_are_refused_over_the_budget() {
         let o = crate::common::swimbot(&a);
         let err = crate::common::stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
-        assert!(err.contains(needle) && err.contains("--max-seconds 0.001"), "{err}");
+        assert!(
+            err.contains(needle) && err.contains("--max-seconds 0.001"),
+            "{err}"
+        );
         assert!(o.stdout.is_empty(), "{args:?}");
     }
     assert!(!out.exists(), "a refused report leaves no folder");

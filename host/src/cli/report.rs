@@ -31,9 +31,9 @@ pub struct ReportArgs {
     /// $SWIMBOT_CACHE_DIR or the temporary directory); skip it for a report in about a second.
     #[arg(long)]
     pub no_physics: bool,
-    /// Refuse the report when its estimated run time (the diagnosis timed on two small subsets of
-    /// the cases and grown to all, the audit's estimate, the zero-parameter model's first solves)
-    /// is longer [default: no limit; from 200 cases the estimate is made, and one over 10 s is
+    /// Refuse the report when its estimated run time (the diagnosis timed on growing subsets of
+    /// the cases and grown to all, the audit's estimate, the zero-parameter model's first solves
+    /// at every geometry of its input bands) is longer [default: no limit; from 200 cases the estimate is made, and one over 10 s is
     /// announced on stderr].
     #[arg(long, value_name = "SECONDS")]
     pub max_seconds: Option<f64>,

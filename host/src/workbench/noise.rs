@@ -286,8 +286,7 @@ impl DrawPlan {
     }
 
     fn draws_in(&self, chunk: usize) -> usize {
-        self.chunk_draws
-            .min(self.draws - chunk * self.chunk_draws)
+        self.chunk_draws.min(self.draws - chunk * self.chunk_draws)
     }
 
     /// Student-t samples of the whole floor.
@@ -402,5 +401,4 @@ mod tests {
         assert_eq!(draws.floor(&BTreeMap::from([(four, 2)]), 0, 0.95), None);
         assert_eq!(draws.floor(&out, 10, 0.95), None, "nothing left to test");
     }
-
 }

@@ -20,6 +20,8 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// A case's quantities as degrees of freedom (bits -> count).
 type LeftOut = BTreeMap<u64, usize>;
+/// The same, as a key: the counts in order.
+type LeftOutKey = Vec<(u64, usize)>;
 
 /// The noise floors the outlier check needs, and the Student-t limits: the
 /// floor with each case left out, for every parameter count, from one set
@@ -27,7 +29,7 @@ type LeftOut = BTreeMap<u64, usize>;
 /// uncertainty combined every case has its own degrees of freedom, and one
 /// Monte Carlo per case left out grew as the square of the cases).
 pub(crate) struct NoiseFloors {
-    floors: HashMap<(Vec<(u64, usize)>, usize), Option<f64>>,
+    floors: HashMap<(LeftOutKey, usize), Option<f64>>,
     pub(crate) limits: HashMap<u32, f64>,
 }
 
@@ -35,7 +37,7 @@ impl NoiseFloors {
     /// For every case left out and every `k` of `ks`.
     pub(crate) fn new(data: &Dataset, ks: &[usize], n_all: usize) -> NoiseFloors {
         let all = counts(&error_dofs(data));
-        let left: HashSet<Vec<(u64, usize)>> = data
+        let left: HashSet<LeftOutKey> = data
             .cases
             .iter()
             .map(|c| counts(&error_dofs_of(c)).into_iter().collect())
@@ -77,7 +79,7 @@ impl NoiseFloors {
 
     /// The floor with `case` left out.
     pub(crate) fn floor(&self, case: &crate::data::Case, k: usize) -> Option<f64> {
-        let l: Vec<(u64, usize)> = counts(&error_dofs_of(case)).into_iter().collect();
+        let l: LeftOutKey = counts(&error_dofs_of(case)).into_iter().collect();
         self.floors.get(&(l, k)).copied().flatten()
     }
 }
