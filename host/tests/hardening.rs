@@ -484,6 +484,58 @@ fn long_sweeps_and_audits_are_refused_over_the_budget() {
     assert_eq!(o.status.code(), Some(2));
 }
 
+/// `diagnose` and `report` on a dataset large enough to be estimated (30
+/// cases: past the two timed subsets) refuse a budget they cannot meet at
+/// once, exit 2, naming the estimate; the report leaves no folder.
+#[test]
+fn long_diagnoses_and_reports_are_refused_over_the_budget() {
+    let dir = tempfile::tempdir().unwrap();
+    let paper = swimbot::data::paper();
+    let mut data = paper.clone();
+    data.cases = (0..30)
+        .map(|i| {
+            let mut c = paper.cases[i % 6].clone();
+            c.id = format!("r{i}");
+            c.frequency_hz *= 0.8 + 0.02 * i as f64;
+            c
+        })
+        .collect();
+    let file = dir.path().join("thirty.toml");
+    std::fs::write(&file, swimbot::data::to_toml(&data)).unwrap();
+    let f = file.to_str().unwrap();
+    let out = dir.path().join("rep");
+    let cases: [(&[&str], &str); 2] = [
+        (
+            &["diagnose", "--data", f],
+            "the diagnosis of 30 cases would take about",
+        ),
+        (
+            &[
+                "report",
+                "--no-physics",
+                "--data",
+                f,
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            "the report of 30 cases would take about",
+        ),
+    ];
+    for (args, needle) in cases {
+        let mut a = args.to_vec();
+        a.extend(["--max-seconds", "0.001"]);
+        let o = crate::common::swimbot(&a);
+        let err = crate::common::stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(needle) && err.contains("--max-seconds 0.001"),
+            "{err}"
+        );
+        assert!(o.stdout.is_empty(), "{args:?}");
+    }
+    assert!(!out.exists(), "a refused report leaves no folder");
+}
+
 /// A catalogue effect that would change nothing with the tail model asked
 /// for is refused through the binary, naming the effect, why and what to
 /// use, as a user effect is; the same effect

@@ -166,12 +166,13 @@ pub(super) fn estimate_seconds(
         + FLOORS * crate::workbench::noise::floor_seconds(quantities(data))
 }
 
-/// The distinct noise floors an audit draws (each on one thread, in turn):
-/// the bad-run check's over the data in their order, the outlier check's
-/// over the histogram of their degrees of freedom, and the bad-run
-/// check's over the data without the worst run. Equal trial counts
-/// everywhere give these three; more kinds give a few more.
-const FLOORS: f64 = 3.0;
+/// The Monte Carlo noise floors an audit draws, at most: the outlier
+/// check's one set of draws (every case left out from it), and for each
+/// of the bad-run checks (in measurement and in combined standard errors,
+/// whose degrees of freedom differ) the floor over every quantity and the
+/// floor over those left without the named runs. The test
+/// `the_counted_floors_bound_the_audits_own` holds an audit to it.
+const FLOORS: f64 = 5.0;
 
 fn quantities(data: &crate::data::Dataset) -> usize {
     crate::workbench::noise::error_dofs(data).len()
@@ -211,7 +212,7 @@ fn pair_seconds(cases: usize, samples: usize) -> f64 {
 /// inputs change the tail's or the body's, so this counts up to twice the
 /// solves there are (measured 1.4 times: 78 counted for 9.4 cases' worth
 /// of cold CPU time).
-fn geometries_of(case: &crate::data::Case) -> usize {
+pub(super) fn geometries_of(case: &crate::data::Case) -> usize {
     let solving = case
         .inputs
         .nonzero(case)
@@ -305,6 +306,42 @@ mod tests {
             ..SynthSettings::default()
         };
         generate(&truth, &design, s).unwrap()
+    }
+
+    /// The floors an audit draws, counted per thread on a pool of its own,
+    /// against the estimate's [`FLOORS`]; a dataset whose cases each have
+    /// their own degrees of freedom (combined with the inputs') once drew
+    /// one floor per case.
+    #[test]
+    fn the_counted_floors_bound_the_audits_own() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let count = || -> u64 {
+            pool.broadcast(|_| crate::workbench::noise::floors_drawn_on_this_thread())
+                .iter()
+                .sum()
+        };
+        let mut data = fresh(45);
+        // Trials that differ from case to case (more floors if each were drawn alone).
+        for (i, c) in data.cases.iter_mut().enumerate() {
+            if let Some(m) = c.u_mm_s.as_mut() {
+                m.trials = 3 + (i as u32 % 7);
+            }
+        }
+        let settings = AuditSettings {
+            family_samples: 16,
+            seed: 5,
+            ..Default::default()
+        };
+        let before = count();
+        pool.install(|| audit(&Model::base(), &data, &settings).unwrap());
+        let drawn = (count() - before) as f64;
+        assert!(
+            (1.0..=FLOORS).contains(&drawn),
+            "{drawn} floors drawn, {FLOORS} estimated"
+        );
     }
 
     /// The estimate's count of predictions against the audit's own, counted

@@ -47,8 +47,8 @@ pub struct DiagnoseArgs {
     pub write_effect: Option<std::path::PathBuf>,
     #[command(flatten)]
     pub likelihood: super::likelihood::LikelihoodArgs,
-    /// Refuse the diagnosis when its estimated run time (the diagnosis timed on two small subsets
-    /// of the cases, grown to all of them) is longer [default: no limit; from 200 cases the estimate
+    /// Refuse the diagnosis when its estimated run time (the diagnosis timed on subsets of the
+    /// cases growing to a twelfth of them, grown to all) is longer [default: no limit; from 200 cases the estimate
     /// is made, and one over 10 s is announced on stderr].
     #[arg(long, value_name = "SECONDS")]
     pub max_seconds: Option<f64>,

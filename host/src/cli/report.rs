@@ -31,9 +31,9 @@ pub struct ReportArgs {
     /// $SWIMBOT_CACHE_DIR or the temporary directory); skip it for a report in about a second.
     #[arg(long)]
     pub no_physics: bool,
-    /// Refuse the report when its estimated run time (the diagnosis timed on two small subsets of
-    /// the cases and grown to all, the audit's estimate, the zero-parameter model's first solves)
-    /// is longer [default: no limit; from 200 cases the estimate is made, and one over 10 s is
+    /// Refuse the report when its estimated run time (the diagnosis timed on growing subsets of
+    /// the cases and grown to all, the audit's estimate, the zero-parameter model's first solves
+    /// at every geometry of its input bands) is longer [default: no limit; from 200 cases the estimate is made, and one over 10 s is
     /// announced on stderr].
     #[arg(long, value_name = "SECONDS")]
     pub max_seconds: Option<f64>,
@@ -150,9 +150,14 @@ fn solve_physics(
 
 /// The report's run time: the diagnosis ([`super::diagnose::estimate_seconds`]),
 /// the audit ([`super::audit::estimate_seconds`], its default family) and,
-/// with the zero-parameter model, each case's first solve in the tube
-/// (timed on two cases, spread over the cores; cached solves are fast and
-/// so estimated fast). `None` when the diagnosis cannot be timed.
+/// with the zero-parameter model, its solves in the tube: the page shows
+/// that model with its input bands, so each case is solved at its own
+/// geometry and at two more per uncertain input that moves the tail or the
+/// body ([`super::audit::geometries_of`]: 13 for a paper case), each timed
+/// as a first solve on two cases and spread over the cores (solves the
+/// disk cache already holds are fast and so estimated fast). Counting one
+/// solve per case announced 23 s for 300 cases that took 5 min 55 s.
+/// `None` when the diagnosis cannot be timed.
 fn estimate_seconds(
     model: &crate::model::Model,
     data: &crate::data::Dataset,
@@ -174,7 +179,8 @@ fn estimate_seconds(
                 let _ = m.predict(c);
             }
         });
-        s / sample.max(1) as f64 * data.cases.len() as f64 / rayon::current_num_threads() as f64
+        let geometries: usize = data.cases.iter().map(super::audit::geometries_of).sum();
+        s / sample.max(1) as f64 * geometries as f64 / rayon::current_num_threads() as f64
     } else {
         0.0
     };

@@ -41,7 +41,6 @@ use super::audit::Flag;
 use super::audit_loo::{leave_one_out, FullFit, LooMethod};
 use super::data_quality::unfit_case::{outlier, NoiseFloors};
 use super::fit::{fit_with, free_params_of, FitResult};
-use super::noise::error_dofs;
 use super::robust::Likelihood;
 use crate::data::{Case, Dataset};
 use crate::effects::{EffectInstance, CATALOGUE};
@@ -233,7 +232,6 @@ pub fn decide(
     ks.sort_unstable();
     ks.dedup();
     let floors = NoiseFloors::new(data, &ks, n_all);
-    let all_dofs = error_dofs(data);
     let mut findings = Vec::new();
     let mut without_list = Vec::new();
     for (i, list) in loo.iter().enumerate() {
@@ -254,7 +252,7 @@ pub fn decide(
         findings.extend(conclusion_findings(case, &concl, &c_i, &full, list));
         let fitted: Vec<(&str, &FitResult)> =
             list.iter().map(|s| (s.name.as_str(), &s.fit)).collect();
-        findings.extend(outlier(case, &fitted, &all_dofs, &floors));
+        findings.extend(outlier(case, &fitted, &floors));
     }
     let mut ranked: Vec<CandidateScore> = full
         .iter()

@@ -2,11 +2,11 @@
 //! ([`crate::workbench::audit_influence`], module docs,
 //! **Outliers**): a case that every candidate fitting the others to the
 //! noise misses by more than the one-bad-run limit; and the noise floors
-//! and limits it needs, each drawn once for every case left out.
+//! and limits it needs, for every case left out.
 //!
 //! The floor is the 95 % quantile of a perfect model's chi-square over the
-//! quantities left ([`crate::workbench::noise::chi2_noise_floor`], a Monte Carlo of
-//! 20 000 draws); the limit is the one-bad-run test's
+//! quantities left ([`crate::workbench::noise`], a Monte Carlo whose draws
+//! serve every case left out); the limit is the one-bad-run test's
 //! ([`super::outliers::limit`], a false-alarm rate of 1 % per dataset).
 
 use crate::data::Case;
@@ -14,53 +14,48 @@ use crate::data::Dataset;
 use crate::workbench::audit_influence::Finding;
 use crate::workbench::compare::case_residuals;
 use crate::workbench::fit::FitResult;
-use crate::workbench::noise::{chi2_noise_floor, error_dofs};
+use crate::workbench::noise::{error_dofs, LeaveOutDraws};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-/// The degrees of freedom of the quantities' standard errors as a
-/// histogram (bits of the dof -> count).
-type DofHistogram = Vec<(u64, usize)>;
+/// A case's quantities as degrees of freedom (bits -> count).
+type LeftOut = BTreeMap<u64, usize>;
+/// The same, as a key: the counts in order.
+type LeftOutKey = Vec<(u64, usize)>;
 
 /// The noise floors the outlier check needs, and the Student-t limits: the
-/// floor is a Monte Carlo quantile over every quantity (20 000 draws each)
-/// and depends only on the histogram of the degrees of freedom and `k`, so
-/// each distinct one is drawn once (in parallel), not once per case; with
-/// equal trials everywhere leaving any case out gives the same histogram.
+/// floor with each case left out, for every parameter count, from one set
+/// of draws over all the quantities ([`LeaveOutDraws`]: with the input
+/// uncertainty combined every case has its own degrees of freedom, and one
+/// Monte Carlo per case left out grew as the square of the cases).
 pub(crate) struct NoiseFloors {
-    floors: HashMap<(DofHistogram, usize), Option<f64>>,
+    floors: HashMap<(LeftOutKey, usize), Option<f64>>,
     pub(crate) limits: HashMap<u32, f64>,
 }
 
 impl NoiseFloors {
     /// For every case left out and every `k` of `ks`.
     pub(crate) fn new(data: &Dataset, ks: &[usize], n_all: usize) -> NoiseFloors {
-        let all = error_dofs(data);
-        let keys: HashSet<(DofHistogram, usize)> = data
+        let all = counts(&error_dofs(data));
+        let left: HashSet<LeftOutKey> = data
             .cases
             .iter()
-            .flat_map(|c| {
-                let own = error_dofs_of(c);
-                let h = histogram(&all, &own);
-                ks.iter().map(move |&k| (h.clone(), k))
-            })
+            .map(|c| counts(&error_dofs_of(c)).into_iter().collect())
             .collect();
-        let dofs_of = |h: &DofHistogram| -> Vec<f64> {
-            h.iter()
-                .flat_map(|&(d, n)| std::iter::repeat_n(f64::from_bits(d), n))
-                .collect()
-        };
-        // The draws depend on the histogram only (`k` scales the quantile):
-        // one per histogram, in parallel, remembered by the noise module;
-        // drawing per `(histogram, k)` in parallel drew the same one for
-        // every `k` at once.
-        let hists: HashSet<&DofHistogram> = keys.iter().map(|(h, _)| h).collect();
-        hists.into_par_iter().for_each(|h| {
-            let _ = chi2_noise_floor(&dofs_of(h), 0, 0.95);
-        });
-        let floors = keys
-            .iter()
-            .map(|(h, k)| ((h.clone(), *k), chi2_noise_floor(&dofs_of(h), *k, 0.95)))
+        let mut spare = LeftOut::new();
+        for (d, m) in left.iter().flatten() {
+            let s = spare.entry(*d).or_default();
+            *s = (*s).max(*m);
+        }
+        let draws = LeaveOutDraws::new(&all, &spare);
+        let floors = left
+            .par_iter()
+            .flat_map_iter(|l| {
+                let out: LeftOut = l.iter().copied().collect();
+                let draws = &draws;
+                ks.iter()
+                    .map(move |&k| ((l.clone(), k), draws.floor(&out, k, 0.95)))
+            })
             .collect();
         let trials: HashSet<u32> = data
             .cases
@@ -83,9 +78,9 @@ impl NoiseFloors {
     }
 
     /// The floor with `case` left out.
-    pub(crate) fn floor(&self, all: &[f64], case: &crate::data::Case, k: usize) -> Option<f64> {
-        let h = histogram(all, &error_dofs_of(case));
-        self.floors.get(&(h, k)).copied().flatten()
+    pub(crate) fn floor(&self, case: &crate::data::Case, k: usize) -> Option<f64> {
+        let l: LeftOutKey = counts(&error_dofs_of(case)).into_iter().collect();
+        self.floors.get(&(l, k)).copied().flatten()
     }
 }
 
@@ -98,32 +93,26 @@ fn error_dofs_of(c: &crate::data::Case) -> Vec<f64> {
         .collect()
 }
 
-/// The histogram of `all` without the values of `left_out`.
-fn histogram(all: &[f64], left_out: &[f64]) -> DofHistogram {
+/// How many of `dofs` have each value (bits of the dof -> count).
+fn counts(dofs: &[f64]) -> BTreeMap<u64, usize> {
     let mut hist: BTreeMap<u64, usize> = BTreeMap::new();
-    for d in all {
+    for d in dofs {
         *hist.entry(d.to_bits()).or_default() += 1;
     }
-    for d in left_out {
-        if let Some(n) = hist.get_mut(&d.to_bits()) {
-            *n -= 1;
-        }
-    }
-    hist.into_iter().filter(|(_, n)| *n > 0).collect()
+    hist
 }
 
 /// The outlier check of one case against the candidates fitted without it.
 pub(crate) fn outlier(
     case: &Case,
     fitted: &[(&str, &FitResult)],
-    all_dofs: &[f64],
     floors: &NoiseFloors,
 ) -> Option<Finding> {
     let at_floor: Vec<&(&str, &FitResult)> = fitted
         .iter()
         .filter(|(_, fit)| {
             floors
-                .floor(all_dofs, case, fit.estimates.len())
+                .floor(case, fit.estimates.len())
                 .is_some_and(|f| fit.chi2 <= f)
         })
         .collect();
