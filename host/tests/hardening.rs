@@ -536,6 +536,19 @@ fn long_diagnoses_and_reports_are_refused_over_the_budget() {
     assert!(!out.exists(), "a refused report leaves no folder");
 }
 
+/// Too few cases to time a sample of: the budget is not applied, and the
+/// user is told so instead of the flag being ignored without a word.
+#[test]
+fn a_budget_that_cannot_be_estimated_is_said_not_applied() {
+    let o = crate::common::swimbot(&["diagnose", "--max-seconds", "5"]);
+    let err = crate::common::stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("too few cases to estimate") && err.contains("--max-seconds 5 is not applied"),
+        "{err}"
+    );
+}
+
 /// A catalogue effect that would change nothing with the tail model asked
 /// for is refused through the binary, naming the effect, why and what to
 /// use, as a user effect is; the same effect

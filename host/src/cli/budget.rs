@@ -144,6 +144,17 @@ pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
     (out, start.elapsed().as_secs_f64())
 }
 
+/// Says that `--max-seconds` cannot be applied to `what` (too few cases
+/// to time a sample of), rather than ignoring it without a word.
+pub fn unestimated(what: &str, budget_s: Option<f64>) {
+    if let Some(b) = budget_s {
+        eprintln!(
+            "swimbot: note: {what}: too few cases to estimate its time from a sample (at least {} are needed); --max-seconds {b} is not applied",
+            SUBSET_LARGE + 1
+        );
+    }
+}
+
 /// Checks a `--max-seconds` value.
 pub fn parse_budget(v: Option<f64>) -> Result<Option<f64>, CliError> {
     match v {

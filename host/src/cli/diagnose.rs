@@ -129,12 +129,10 @@ pub fn diagnosed(a: &DiagnoseArgs, data: Dataset) -> Result<(Diagnosis, Dataset)
         };
         let lik = a.likelihood.get();
         let estimate = estimate_seconds(&model, &data, &quiet, lik);
-        if let Some(s) = estimate {
-            super::budget::check(
-                &format!("the diagnosis of {} cases", data.cases.len()),
-                s,
-                budget,
-            )?;
+        let what = format!("the diagnosis of {} cases", data.cases.len());
+        match estimate {
+            Some(s) => super::budget::check(&what, s, budget)?,
+            None => super::budget::unestimated(&what, budget),
         }
     }
     let lik = a.likelihood.get();

@@ -71,12 +71,10 @@ pub fn run(a: ReportArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
     let budget = super::budget::parse_budget(a.max_seconds)?;
     if budget.is_some() || data.cases.len() >= super::budget::ESTIMATE_FROM_CASES {
         let est = estimate_seconds(&model, &data, !a.no_physics);
-        if let Some(s) = est {
-            super::budget::check(
-                &format!("the report of {} cases", data.cases.len()),
-                s,
-                budget,
-            )?;
+        let what = format!("the report of {} cases", data.cases.len());
+        match est {
+            Some(s) => super::budget::check(&what, s, budget)?,
+            None => super::budget::unestimated(&what, budget),
         }
     }
     let s = spinner("diagnosing");
