@@ -7,6 +7,7 @@
 
 use super::file::ParamRecord;
 use crate::data::Dataset;
+use crate::format::fmt_sig;
 use crate::model::Model;
 use crate::workbench::fit::{fit_with, free_params_of, FitResult, FreeParam};
 use crate::workbench::robust::Likelihood;
@@ -97,7 +98,7 @@ pub fn calibrate(
             if others.is_empty() { "the other parameters".to_string() } else { others.join(", ") },
             if r.held.is_empty() { "a combination".to_string() } else { r.held.join("; ") },
             if earlier { "its earlier value" } else { "its fitted value" },
-            crate::format::fmt_sig(value, 4)
+            fmt_sig(value, 4)
         );
             notes.push(format!("{} fixed: {reason}", label(&model, f)));
             fixed.push(Fixed {
@@ -206,8 +207,10 @@ fn records(
                 let est = result.and_then(|r| r.estimates.get(i));
                 rec.status = "fitted".into();
                 if let Some(ci) = est.and_then(|x| x.ci95) {
-                    rec.lo = Some(value - ci);
-                    rec.hi = Some(value + ci);
+                    let (lo, hi, cut) = interval_in_range(value, ci, spec.min, spec.max);
+                    rec.lo = Some(lo);
+                    rec.hi = Some(hi);
+                    rec.reason = cut;
                 }
                 rec.at_bound = est.is_some_and(|x| x.at_bound);
             } else if let Some(f) = fixed.iter().find(|f| f.at == at) {
@@ -220,4 +223,42 @@ fn records(
             rec
         })
         .collect()
+}
+
+/// The 95 % interval `value +- ci` within the parameter's range
+/// `[min, max]`, and, when it was cut, why. A linearised interval knows
+/// nothing of the range: through a drag factor's lower bound it would
+/// report a negative drag, which no data allow. Cut at the bound, the end
+/// says only that the data do not bound the parameter on that side
+/// (M. Mandelkern, Stat. Sci. 17 (2002) 149, intervals for bounded
+/// parameters).
+fn interval_in_range(value: f64, ci: f64, min: f64, max: f64) -> (f64, f64, Option<String>) {
+    let (lo, hi) = (value - ci, value + ci);
+    let cut = (lo < min || hi > max).then(|| {
+        format!(
+            "the linearised 95 % interval {} .. {} is cut at the parameter's range {} .. {}: the data do not bound it on that side",
+            fmt_sig(lo, 4),
+            fmt_sig(hi, 4),
+            fmt_sig(min, 4),
+            fmt_sig(max, 4)
+        )
+    });
+    (lo.max(min), hi.min(max), cut)
+}
+
+#[cfg(test)]
+mod interval_tests {
+    use super::interval_in_range;
+
+    #[test]
+    fn an_interval_through_a_bound_ends_at_it_and_says_so() {
+        // The paper data's body-correction translation: 25.72 +- 52.64.
+        let (lo, hi, why) = interval_in_range(25.72, 52.64, 0.01, 100.0);
+        assert_eq!((lo, hi), (0.01, 78.36));
+        let why = why.expect("cut");
+        assert!(why.contains("-26.92") && why.contains("0.01"), "{why}");
+        let (lo, hi, why) = interval_in_range(2.638, 0.265, 0.01, 100.0);
+        assert!((lo - 2.373).abs() < 1e-12 && (hi - 2.903).abs() < 1e-12);
+        assert_eq!(why, None, "inside the range: nothing cut");
+    }
 }
