@@ -3,7 +3,7 @@
 //! between the two formats (`swimbot convert`).
 
 use super::csv_dialect::ReadOptions;
-use super::parse::{err, parse_str, parse_table};
+use super::parse::{err, parse_str, parse_table, Written, CSV_MISSING};
 use super::{csv_read, csv_write, DataError, Dataset};
 use std::path::Path;
 
@@ -54,14 +54,11 @@ pub fn read_csv_str(
 ) -> Result<Loaded, DataError> {
     let read = csv_read::read(text, file, dir, options)?;
     let rows = read.rows;
-    let dataset = parse_table(read.table, file, &|i| rows.describe(i)).map_err(|mut e| {
-        // The TOML wording of where a missing key may go, for a CSV.
-        e.message = e.message.replace(
-            "(set it in the case or in [setup])",
-            "(give it a column, or a `# key = value` line above the column names)",
-        );
-        e
-    })?;
+    let written = Written {
+        locate: &|i| rows.describe(i),
+        missing: CSV_MISSING,
+    };
+    let dataset = parse_table(read.table, file, &written)?;
     Ok(Loaded {
         dataset,
         note: read.note,

@@ -66,11 +66,29 @@ struct RawCase {
     labels: Option<toml::Table>,
 }
 
+/// Where a dataset is written: what names the place of case `i` (the
+/// file, or the file and its rows for a CSV), and where a value missing
+/// from a case may be given instead, in the format's own words.
+pub(super) struct Written<'a> {
+    pub locate: &'a dyn Fn(usize) -> String,
+    pub missing: &'static str,
+}
+
+/// A value missing from a case of a TOML dataset.
+const TOML_MISSING: &str = "missing (set it in the case or in [setup])";
+/// A value missing from a case of a CSV dataset.
+pub(super) const CSV_MISSING: &str =
+    "missing (give it a column, or a `# key = value` line above the column names)";
+
 /// Parse and validate dataset text; `file` names it in error messages.
 pub fn parse_str(text: &str, file: &str) -> Result<Dataset, DataError> {
     // Straight from the text, so that an unknown key's error keeps its line.
     let raw: RawDataset = toml::from_str(text).map_err(|e| not_a_dataset(file, &e))?;
-    validate(raw, file, &|_| file.to_string())
+    let written = Written {
+        locate: &|_| file.to_string(),
+        missing: TOML_MISSING,
+    };
+    validate(raw, file, &written)
 }
 
 fn not_a_dataset(file: &str, e: &toml::de::Error) -> DataError {
@@ -82,14 +100,14 @@ fn not_a_dataset(file: &str, e: &toml::de::Error) -> DataError {
     )
 }
 
-/// Validate the raw tables of a dataset. `locate(i)` names where case `i`
+/// Validate the raw tables of a dataset written as `written` says.
 /// is written (the file, or the file and its rows for a CSV). Each case is
 /// read on its own, so that a bad value (`handedness = "lefty"`) names its
 /// case, its rows and its field.
 pub(super) fn parse_table(
     mut table: toml::Table,
     file: &str,
-    locate: &dyn Fn(usize) -> String,
+    written: &Written<'_>,
 ) -> Result<Dataset, DataError> {
     let cases = match table.remove("case") {
         Some(toml::Value::Array(cases)) => cases,
@@ -112,9 +130,9 @@ pub(super) fn parse_table(
     raw.cases = cases
         .into_iter()
         .enumerate()
-        .map(|(i, case)| raw_case(case, i, locate))
+        .map(|(i, case)| raw_case(case, i, written.locate))
         .collect::<Result<_, _>>()?;
-    validate(raw, file, locate)
+    validate(raw, file, written)
 }
 
 /// One case's raw table, its errors at its rows, with its id and field.
@@ -156,11 +174,7 @@ fn failing_key(table: &toml::Table) -> Option<String> {
         .map(|(k, _)| k.clone())
 }
 
-fn validate(
-    raw: RawDataset,
-    file: &str,
-    locate: &dyn Fn(usize) -> String,
-) -> Result<Dataset, DataError> {
+fn validate(raw: RawDataset, file: &str, written: &Written<'_>) -> Result<Dataset, DataError> {
     if raw.cases.is_empty() {
         return Err(err(file, None, None, "the dataset has no [[case]] tables"));
     }
@@ -177,8 +191,8 @@ fn validate(
     // comparisons.
     let mut ids = std::collections::HashSet::with_capacity(raw.cases.len());
     for (i, rc) in raw.cases.iter().enumerate() {
-        let at = locate(i);
-        let case = resolve(&at, i, &raw.setup, rc)?;
+        let at = (written.locate)(i);
+        let case = resolve(&at, written.missing, i, &raw.setup, rc)?;
         super::limits::check_case(&case).map_err(|(f, m)| err(&at, Some(&case.id), Some(f), m))?;
         if !ids.insert(case.id.clone()) {
             return Err(err(&at, Some(&case.id), Some("id"), "duplicate case id"));
@@ -211,6 +225,8 @@ pub(super) fn err(
 struct Resolver<'a> {
     file: &'a str,
     id: String,
+    /// The message for a value given neither in the case nor as a default.
+    missing: &'static str,
 }
 
 impl Resolver<'_> {
@@ -226,7 +242,7 @@ impl Resolver<'_> {
     ) -> Result<f64, DataError> {
         let v = case
             .or(setup)
-            .ok_or_else(|| self.fail(field, "missing (set it in the case or in [setup])"))?;
+            .ok_or_else(|| self.fail(field, self.missing))?;
         self.check_positive(field, v)
     }
 
@@ -338,11 +354,18 @@ impl Resolver<'_> {
     }
 }
 
-fn resolve(file: &str, index: usize, s: &RawCase, c: &RawCase) -> Result<Case, DataError> {
+fn resolve(
+    file: &str,
+    missing: &'static str,
+    index: usize,
+    s: &RawCase,
+    c: &RawCase,
+) -> Result<Case, DataError> {
     let id = c.id.clone().unwrap_or_else(|| format!("#{}", index + 1));
     let r = Resolver {
         file,
         id: id.clone(),
+        missing,
     };
     let confidence = c.confidence.or(s.confidence).unwrap_or(0.95);
     if !(confidence > 0.0 && confidence < 1.0) {
