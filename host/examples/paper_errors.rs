@@ -17,12 +17,12 @@ fn main() {
             println!(
                 "  {:7} U {:.4} vs {:.4} ({:+.1} %)   Om {:.4} vs {:.4} ({:+.1} %)",
                 k.id,
-                k.u_pred_mm_s,
-                k.u_obs_mm_s.unwrap(),
-                100.0 * k.u_rel_err.unwrap(),
-                k.omega_pred_hz,
-                k.omega_obs_hz.unwrap(),
-                100.0 * k.omega_rel_err.unwrap()
+                k.u().pred,
+                k.u().obs.unwrap(),
+                100.0 * k.u().rel_err.unwrap(),
+                k.omega().pred,
+                k.omega().obs.unwrap(),
+                100.0 * k.omega().rel_err.unwrap()
             );
         }
     }

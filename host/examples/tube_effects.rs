@@ -37,12 +37,12 @@ fn compare_once() {
         println!(
             "{:<8} {:6.3} {:6.3} {:+7.1} % {:7.4} {:7.4} {:+7.1} %",
             k.id,
-            k.u_pred_mm_s,
-            k.u_obs_mm_s.unwrap_or(f64::NAN),
-            100.0 * k.u_rel_err.unwrap_or(f64::NAN),
-            k.omega_pred_hz,
-            k.omega_obs_hz.unwrap_or(f64::NAN),
-            100.0 * k.omega_rel_err.unwrap_or(f64::NAN),
+            k.u().pred,
+            k.u().obs.unwrap_or(f64::NAN),
+            100.0 * k.u().rel_err.unwrap_or(f64::NAN),
+            k.omega().pred,
+            k.omega().obs.unwrap_or(f64::NAN),
+            100.0 * k.omega().rel_err.unwrap_or(f64::NAN),
         );
     }
     let base = compare(&Model::base(), &data, 0).unwrap();

@@ -136,7 +136,8 @@ fn json<T: serde::Serialize>(value: &T) -> PyResult<String> {
 /// strongest residual trends), as SVG text.
 fn figures(data: &data::Dataset, cmp: &swimbot::workbench::compare::Comparison) -> Vec<String> {
     use swimbot::report::{parity, residual_plots};
-    [parity(cmp, false), parity(cmp, true)]
+    use swimbot::workbench::compare::Quantity;
+    [parity(cmp, Quantity::U), parity(cmp, Quantity::Omega)]
         .into_iter()
         .chain(residual_plots(data, cmp))
         .filter_map(Result::ok)

@@ -195,14 +195,14 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
             "{:<10} {:>6} {:>19} {:>17} {:>9} {:>7} {:>19} {:>17} {:>9} {:>7}",
             k.id,
             fmt_sig(k.frequency_hz, 3),
-            pred(k.u_pred_mm_s, k.u_input_sd_mm_s),
-            obs(k.u_obs_mm_s, k.u_ci_mm_s),
-            pct(k.u_rel_err),
-            sigma(k.u_err_sigma, k.u_err_sigma_combined),
-            pred(k.omega_pred_hz, k.omega_input_sd_hz),
-            obs(k.omega_obs_hz, k.omega_ci_hz),
-            pct(k.omega_rel_err),
-            sigma(k.omega_err_sigma, k.omega_err_sigma_combined),
+            pred(k.u().pred, k.u().input_sd),
+            obs(k.u().obs, k.u().ci),
+            pct(k.u().rel_err),
+            sigma(k.u().err_sigma, k.u().err_sigma_combined),
+            pred(k.omega().pred, k.omega().input_sd),
+            obs(k.omega().obs, k.omega().ci),
+            pct(k.omega().rel_err),
+            sigma(k.omega().err_sigma, k.omega().err_sigma_combined),
         );
     }
     let s = if combined {
@@ -254,8 +254,8 @@ fn print_table(c: &Comparison, combined: bool, checks: &[MonteCarloCheck]) {
             println!(
                 "  {:<10} {:<20} {}",
                 k.id,
-                k.u_dominant_input.as_deref().unwrap_or("-"),
-                k.omega_dominant_input.as_deref().unwrap_or("-")
+                k.u().dominant_input.as_deref().unwrap_or("-"),
+                k.omega().dominant_input.as_deref().unwrap_or("-")
             );
         }
     }

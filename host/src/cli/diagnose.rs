@@ -333,8 +333,8 @@ fn print_table(d: &Diagnosis) {
         println!(
             "  {:<18} {:>9} {:>9}",
             c.id,
-            opt(c.u_err_sigma, 3),
-            opt(c.omega_err_sigma, 3)
+            opt(c.u().err_sigma, 3),
+            opt(c.omega().err_sigma, 3)
         );
     }
     println!("\nwhere it fails (relative error against case features, strongest first):");

@@ -185,8 +185,8 @@ pub fn run(a: FitArgs) -> Result<(), CliError> {
         println!(
             "  {:<12} U {:>9}   Omega_b {:>9}",
             k.id,
-            pct(k.u_rel_err),
-            pct(k.omega_rel_err)
+            pct(k.u().rel_err),
+            pct(k.omega().rel_err)
         );
     }
     println!(

@@ -10,7 +10,7 @@ use super::residuals::residual_plots;
 use super::wording::{signed_pct, stat, value_unc};
 use crate::data::Dataset;
 use crate::format::fmt_sig;
-use crate::workbench::compare::CaseComparison;
+use crate::workbench::compare::{CaseComparison, Quantity};
 
 fn pred(v: f64, sd: Option<f64>) -> String {
     match sd {
@@ -37,9 +37,12 @@ pub fn quantity_errors(cases: &[CaseComparison]) -> Vec<QuantityError> {
         .iter()
         .flat_map(|k| {
             [
-                k.u_rel_err.map(|e| (k.id.clone(), "U", e, k.u_err_sigma)),
-                k.omega_rel_err
-                    .map(|e| (k.id.clone(), "Ω_b", e, k.omega_err_sigma)),
+                k.u()
+                    .rel_err
+                    .map(|e| (k.id.clone(), "U", e, k.u().err_sigma)),
+                k.omega()
+                    .rel_err
+                    .map(|e| (k.id.clone(), "Ω_b", e, k.omega().err_sigma)),
             ]
         })
         .flatten()
@@ -55,21 +58,21 @@ fn worst(cases: &[CaseComparison]) -> Option<QuantityError> {
 
 pub fn section(data: &Dataset, paper: &PaperModels) -> Result<Markup, crate::model::ModelError> {
     let cmp = &paper.gh;
-    let bands = cmp.cases.iter().any(|k| k.u_input_sd_mm_s.is_some());
+    let bands = cmp.cases.iter().any(|k| k.u().input_sd.is_some());
     let rows: Vec<Vec<String>> = cmp
         .cases
         .iter()
         .map(|k| {
             vec![
                 k.id.clone(),
-                pred(k.u_pred_mm_s, k.u_input_sd_mm_s),
-                obs(k.u_obs_mm_s, k.u_ci_mm_s),
-                signed_pct(k.u_rel_err),
-                sigma(k.u_err_sigma),
-                pred(k.omega_pred_hz, k.omega_input_sd_hz),
-                obs(k.omega_obs_hz, k.omega_ci_hz),
-                signed_pct(k.omega_rel_err),
-                sigma(k.omega_err_sigma),
+                pred(k.u().pred, k.u().input_sd),
+                obs(k.u().obs, k.u().ci),
+                signed_pct(k.u().rel_err),
+                sigma(k.u().err_sigma),
+                pred(k.omega().pred, k.omega().input_sd),
+                obs(k.omega().obs, k.omega().ci),
+                signed_pct(k.omega().rel_err),
+                sigma(k.omega().err_sigma),
             ]
         })
         .collect();
@@ -125,7 +128,7 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<Markup, crate::mod
         }
         (figure(
             "parity",
-            &[parity(cmp, false), parity(cmp, true)],
+            &[parity(cmp, Quantity::U), parity(cmp, Quantity::Omega)],
             2,
             html! {
                 b { "Parity." } " Predicted against measured U and " (omega_b()) ", one point \

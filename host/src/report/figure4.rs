@@ -152,14 +152,14 @@ fn panel(
                 Some(if omega {
                     (
                         k.n_waves,
-                        k.omega_ratio_pred,
-                        2.0 * k.omega_ratio_input_sd.unwrap_or(0.0),
+                        k.omega().ratio_pred,
+                        2.0 * k.omega().ratio_input_sd.unwrap_or(0.0),
                     )
                 } else {
                     (
                         k.n_waves,
-                        k.u_over_u_wave_pred,
-                        2.0 * k.u_over_u_wave_input_sd.unwrap_or(0.0),
+                        k.u().ratio_pred,
+                        2.0 * k.u().ratio_input_sd.unwrap_or(0.0),
                     )
                 })
             })

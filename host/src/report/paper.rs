@@ -7,7 +7,7 @@ use super::html::{figure_flow, html, omega_b, table, Head, Markup, Render};
 use super::wording::{pct, stat};
 use crate::data::Dataset;
 use crate::model::{preset, Model, ModelError};
-use crate::workbench::compare::Comparison;
+use crate::workbench::compare::{Comparison, Quantity};
 use crate::workbench::path::compare_with_bands;
 
 /// The paper's two calibrated models and their comparisons.
@@ -33,13 +33,13 @@ pub fn mare_by_quantity(cmp: &Comparison) -> (f64, f64) {
         mean(
             cmp.cases
                 .iter()
-                .filter_map(|k| k.u_rel_err.map(f64::abs))
+                .filter_map(|k| k.u().rel_err.map(f64::abs))
                 .collect(),
         ),
         mean(
             cmp.cases
                 .iter()
-                .filter_map(|k| k.omega_rel_err.map(f64::abs))
+                .filter_map(|k| k.omega().rel_err.map(f64::abs))
                 .collect(),
         ),
     )
@@ -106,50 +106,49 @@ pub fn summary_header() -> [Head; 7] {
     ]
 }
 
-/// Predicted / measured for every measured case (`omega`: Omega_b, else U).
-fn ratios(cmp: &Comparison, omega: bool) -> Vec<f64> {
+/// Predicted / measured of `q` for every case that measured it.
+fn ratios(cmp: &Comparison, q: Quantity) -> Vec<f64> {
     cmp.cases
         .iter()
         .filter_map(|k| {
-            let (p, o) = if omega {
-                (k.omega_pred_hz, k.omega_obs_hz?)
-            } else {
-                (k.u_pred_mm_s, k.u_obs_mm_s?)
-            };
+            let (p, o) = (k[q].pred, k[q].obs?);
             (o != 0.0).then(|| p / o)
         })
         .collect()
 }
 
-/// The mean of predicted / measured over the cases (`omega`: Omega_b, else U).
-pub fn mean_ratio(cmp: &Comparison, omega: bool) -> Option<f64> {
-    let r = ratios(cmp, omega);
+/// The mean of predicted / measured of `q` over the cases.
+pub fn mean_ratio(cmp: &Comparison, q: Quantity) -> Option<f64> {
+    let r = ratios(cmp, q);
     (!r.is_empty()).then(|| r.iter().sum::<f64>() / r.len() as f64)
 }
 
 /// "With its Table III factors, Lighthill predicts U at 3.4 times the
 /// measured on average (1.8-4.1) ..." : the size of the gap, in numbers.
 fn gap_sentence(name: &str, cmp: &Comparison) -> Markup {
-    let range = |omega: bool| {
-        let v = ratios(cmp, omega);
+    let range = |q: Quantity| {
+        let v = ratios(cmp, q);
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         (lo, hi)
     };
-    let part = |omega: bool, q: Markup| {
-        mean_ratio(cmp, omega).map(|m| {
-            let (lo, hi) = range(omega);
+    let part = |q: Quantity, name: Markup| {
+        mean_ratio(cmp, q).map(|m| {
+            let (lo, hi) = range(q);
             html! {
-                (q) " at " (crate::format::fmt_sig(m, 3)) " times the measured on average ("
+                (name) " at " (crate::format::fmt_sig(m, 3)) " times the measured on average ("
                 (crate::format::fmt_sig(lo, 3)) "-" (crate::format::fmt_sig(hi, 3))
                 " over the cases)"
             }
         })
     };
-    let parts: Vec<Markup> = [part(false, html! { "U" }), part(true, omega_b())]
-        .into_iter()
-        .flatten()
-        .collect();
+    let parts: Vec<Markup> = [
+        part(Quantity::U, html! { "U" }),
+        part(Quantity::Omega, omega_b()),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     if parts.is_empty() {
         return html! {};
     }

@@ -5,24 +5,23 @@
 
 use crate::chart::Rgb;
 use crate::chart::{Axis, Chart, Glyph, Series, PALETTE};
-use crate::workbench::compare::Comparison;
+use crate::workbench::compare::{Comparison, Quantity};
 
 /// The colour of the legend's error-bar entries (they stand for every series).
 const REF: Rgb = Rgb(80, 80, 80);
 
 /// The parity plot of one comparison.
-pub fn parity(cmp: &Comparison, omega: bool) -> Result<String, String> {
-    parity_of(&[("case: predicted vs measured", PALETTE[0], cmp)], omega)
+pub fn parity(cmp: &Comparison, q: Quantity) -> Result<String, String> {
+    parity_of(&[("case: predicted vs measured", PALETTE[0], cmp)], q)
 }
 
 /// The parity plot of several models `(label, colour, comparison)` on one
 /// chart: the first labelled by case, all with both kinds of error bar.
-pub fn parity_of(models: &[(&str, Rgb, &Comparison)], omega: bool) -> Result<String, String> {
-    let (q, unit) = if omega {
-        ("Omega_b", "Hz")
-    } else {
-        ("U", "mm/s")
-    };
+pub fn parity_of(
+    models: &[(&str, Rgb, &Comparison)],
+    quantity: Quantity,
+) -> Result<String, String> {
+    let (q, unit) = (quantity.label(), quantity.unit());
     let mut series = Vec::new();
     let mut has_band = false;
     let mut all = Vec::new();
@@ -32,16 +31,8 @@ pub fn parity_of(models: &[(&str, Rgb, &Comparison)], omega: bool) -> Result<Str
         let mut labels = Vec::new();
         let mut names = Vec::new();
         for k in &cmp.cases {
-            let (obs, ci, pred, sd) = if omega {
-                (
-                    k.omega_obs_hz,
-                    k.omega_ci_hz,
-                    k.omega_pred_hz,
-                    k.omega_input_sd_hz,
-                )
-            } else {
-                (k.u_obs_mm_s, k.u_ci_mm_s, k.u_pred_mm_s, k.u_input_sd_mm_s)
-            };
+            let c = &k[quantity];
+            let (obs, ci, pred, sd) = (c.obs, c.ci, c.pred, c.input_sd);
             let Some(obs) = obs else { continue };
             pts.push((obs, pred, 2.0 * sd.unwrap_or(0.0)));
             x_err.push(ci.unwrap_or(0.0));

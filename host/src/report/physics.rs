@@ -38,14 +38,14 @@ fn sigmas(x: Option<f64>) -> String {
 fn case_row(z: &CaseComparison, p: &CaseComparison) -> Vec<String> {
     vec![
         z.id.clone(),
-        measured(z.u_obs_mm_s, z.u_ci_mm_s),
-        predicted(z.u_pred_mm_s, z.u_input_sd_mm_s, z.u_rel_err),
-        sigmas(z.u_err_sigma_combined),
-        signed_pct(p.u_rel_err),
-        measured(z.omega_obs_hz, z.omega_ci_hz),
-        predicted(z.omega_pred_hz, z.omega_input_sd_hz, z.omega_rel_err),
-        sigmas(z.omega_err_sigma_combined),
-        signed_pct(p.omega_rel_err),
+        measured(z.u().obs, z.u().ci),
+        predicted(z.u().pred, z.u().input_sd, z.u().rel_err),
+        sigmas(z.u().err_sigma_combined),
+        signed_pct(p.u().rel_err),
+        measured(z.omega().obs, z.omega().ci),
+        predicted(z.omega().pred, z.omega().input_sd, z.omega().rel_err),
+        sigmas(z.omega().err_sigma_combined),
+        signed_pct(p.omega().rel_err),
     ]
 }
 

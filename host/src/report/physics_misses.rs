@@ -22,8 +22,8 @@ use crate::workbench::diagnose::Diagnosis;
 fn rel_err(cmp: &Comparison, case: &str, q: Quantity) -> Option<f64> {
     let k = cmp.cases.iter().find(|k| k.id == case)?;
     match q {
-        Quantity::U => k.u_rel_err,
-        Quantity::Omega => k.omega_rel_err,
+        Quantity::U => k.u().rel_err,
+        Quantity::Omega => k.omega().rel_err,
     }
 }
 
@@ -177,7 +177,7 @@ mod tests {
     fn with_tail3_u(e: f64) -> Comparison {
         let data = crate::data::paper();
         let mut c = compare(&crate::model::Model::base(), &data, 0).unwrap();
-        c.cases[2].u_rel_err = Some(e);
+        c.cases[2][crate::workbench::compare::Quantity::U].rel_err = Some(e);
         c
     }
 

@@ -43,8 +43,8 @@ pub fn residual_plots_of(
                     .zip(&cmp.cases)
                     .filter_map(|(c, k)| {
                         let e = match t.quantity {
-                            Quantity::U => k.u_rel_err,
-                            Quantity::Omega => k.omega_rel_err,
+                            Quantity::U => k.u().rel_err,
+                            Quantity::Omega => k.omega().rel_err,
                         }?;
                         Some(((f.of(c), 100.0 * e, 0.0), k.id.clone()))
                     })

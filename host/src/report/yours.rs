@@ -12,7 +12,7 @@ use super::wording::{describe, pct, signed_pct, stat, value_unc};
 use crate::chart::Rgb;
 use crate::data::Dataset;
 use crate::format::fmt_sig;
-use crate::workbench::compare::{CaseComparison, Comparison};
+use crate::workbench::compare::{CaseComparison, Comparison, Quantity};
 use crate::workbench::path::{Path, Step};
 
 /// The step before the last: grey, so the last step stands out.
@@ -99,22 +99,22 @@ pub fn impossible(cmp: &Comparison) -> Vec<String> {
         .iter()
         .flat_map(|k| {
             let mut v = Vec::new();
-            if flips(k.u_pred_mm_s, k.u_obs_mm_s) {
+            if flips(k.u().pred, k.u().obs) {
                 v.push(format!(
                     "{}: U = {} mm/s against {} measured ({})",
                     k.id,
-                    fmt_sig(k.u_pred_mm_s, 3),
-                    fmt_sig(k.u_obs_mm_s.unwrap_or(f64::NAN), 3),
-                    signed_pct(k.u_rel_err)
+                    fmt_sig(k.u().pred, 3),
+                    fmt_sig(k.u().obs.unwrap_or(f64::NAN), 3),
+                    signed_pct(k.u().rel_err)
                 ));
             }
-            if flips(k.omega_pred_hz, k.omega_obs_hz) {
+            if flips(k.omega().pred, k.omega().obs) {
                 v.push(format!(
                     "{}: Ω_b = {} Hz against {} measured ({})",
                     k.id,
-                    fmt_sig(k.omega_pred_hz, 3),
-                    fmt_sig(k.omega_obs_hz.unwrap_or(f64::NAN), 3),
-                    signed_pct(k.omega_rel_err)
+                    fmt_sig(k.omega().pred, 3),
+                    fmt_sig(k.omega().obs.unwrap_or(f64::NAN), 3),
+                    signed_pct(k.omega().rel_err)
                 ));
             }
             v
@@ -138,12 +138,8 @@ pub fn impossible_note(name: &str, cmp: &Comparison) -> Markup {
     }
 }
 
-fn cell_pred(k: &CaseComparison, omega: bool) -> Markup {
-    let (v, sd, e) = if omega {
-        (k.omega_pred_hz, k.omega_input_sd_hz, k.omega_rel_err)
-    } else {
-        (k.u_pred_mm_s, k.u_input_sd_mm_s, k.u_rel_err)
-    };
+fn cell_pred(k: &CaseComparison, q: Quantity) -> Markup {
+    let (v, sd, e) = (k[q].pred, k[q].input_sd, k[q].rel_err);
     let v = match sd {
         Some(s) if s > 0.0 => value_unc(v, 2.0 * s),
         _ => fmt_sig(v, 4),
@@ -184,12 +180,12 @@ fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> Markup {
         .enumerate()
         .map(|(i, k)| {
             let b = before.map(|b| &b.comparison.cases[i]);
-            let mut r = vec![html! { (k.id) }, cell_obs(k.u_obs_mm_s, k.u_ci_mm_s)];
-            r.extend(b.map(|b| cell_pred(b, false)));
-            r.push(cell_pred(k, false));
-            r.push(cell_obs(k.omega_obs_hz, k.omega_ci_hz));
-            r.extend(b.map(|b| cell_pred(b, true)));
-            r.push(cell_pred(k, true));
+            let mut r = vec![html! { (k.id) }, cell_obs(k.u().obs, k.u().ci)];
+            r.extend(b.map(|b| cell_pred(b, Quantity::U)));
+            r.push(cell_pred(k, Quantity::U));
+            r.push(cell_obs(k.omega().obs, k.omega().ci));
+            r.extend(b.map(|b| cell_pred(b, Quantity::Omega)));
+            r.push(cell_pred(k, Quantity::Omega));
             r
         })
         .collect();
@@ -297,8 +293,8 @@ pub fn section(data: &Dataset, path: &Path) -> Markup {
         (figure(
             "yours-parity",
             &[
-                super::parity::parity_of(&shown, false),
-                super::parity::parity_of(&shown, true),
+                super::parity::parity_of(&shown, Quantity::U),
+                super::parity::parity_of(&shown, Quantity::Omega),
             ],
             2,
             parity_caption,

@@ -103,14 +103,14 @@ impl Snapshot {
                 n_waves: c.n_waves,
                 amplitude_ratio: c.amplitude_ratio,
                 frequency_hz: c.frequency_hz,
-                u_pred_mm_s: c.u_pred_mm_s,
-                u_obs_mm_s: c.u_obs_mm_s,
-                u_ci_mm_s: c.u_ci_mm_s,
-                u_rel_err: c.u_rel_err,
-                omega_pred_hz: c.omega_pred_hz,
-                omega_obs_hz: c.omega_obs_hz,
-                omega_ci_hz: c.omega_ci_hz,
-                omega_rel_err: c.omega_rel_err,
+                u_pred_mm_s: c.u().pred,
+                u_obs_mm_s: c.u().obs,
+                u_ci_mm_s: c.u().ci,
+                u_rel_err: c.u().rel_err,
+                omega_pred_hz: c.omega().pred,
+                omega_obs_hz: c.omega().obs,
+                omega_ci_hz: c.omega().ci,
+                omega_rel_err: c.omega().rel_err,
             })
             .collect();
         Ok(Snapshot { stats, cases })

@@ -3,49 +3,12 @@
 //! errors in standard errors, and the summary statistics (MARE, max
 //! relative error, reduced chi-square).
 
+pub use super::case_comparison::{CaseComparison, Quantity, QuantityComparison};
 use super::input_covariance::{correlated_chi2_of, CorrelatedChi2};
 use crate::data::{Case, Dataset, Measured};
 use crate::model::{Model, ModelError, Prediction};
 use crate::stats::{summarise, FitSummary, Residual};
 use serde::Serialize;
-
-/// One case of a comparison.
-#[derive(Debug, Clone, Serialize)]
-pub struct CaseComparison {
-    pub id: String,
-    pub frequency_hz: f64,
-    pub n_waves: f64,
-    pub amplitude_ratio: f64,
-    pub u_pred_mm_s: f64,
-    pub u_obs_mm_s: Option<f64>,
-    pub u_ci_mm_s: Option<f64>,
-    pub omega_pred_hz: f64,
-    pub omega_obs_hz: Option<f64>,
-    pub omega_ci_hz: Option<f64>,
-    pub u_rel_err: Option<f64>,
-    pub omega_rel_err: Option<f64>,
-    /// Error in standard errors of the measured mean.
-    pub u_err_sigma: Option<f64>,
-    pub omega_err_sigma: Option<f64>,
-    pub u_over_u_wave_pred: f64,
-    pub omega_ratio_pred: f64,
-    /// Input-uncertainty band of the prediction (standard uncertainty,
-    /// [`super::propagate`]); `None` until [`Comparison::with_bands`].
-    pub u_input_sd_mm_s: Option<f64>,
-    pub omega_input_sd_hz: Option<f64>,
-    pub u_over_u_wave_input_sd: Option<f64>,
-    pub omega_ratio_input_sd: Option<f64>,
-    /// The input that dominates each band.
-    pub u_dominant_input: Option<String>,
-    pub omega_dominant_input: Option<String>,
-    /// Error in combined standard errors (measurement and inputs in quadrature).
-    pub u_err_sigma_combined: Option<f64>,
-    pub omega_err_sigma_combined: Option<f64>,
-    /// What the lab recorded beside the case (temperature, date, ...),
-    /// carried so that a residual can be read against it.
-    #[serde(skip_serializing_if = "crate::data::Recorded::is_empty")]
-    pub recorded: crate::data::Recorded,
-}
 
 #[derive(Debug, Clone, Serialize)]
 pub struct Comparison {
@@ -104,11 +67,10 @@ impl Coverage {
         let mut outside = Vec::new();
         let mut of = 0;
         for k in cases {
-            for (q, e) in [
-                (Quantity::U, k.u_err_sigma_combined),
-                (Quantity::Omega, k.omega_err_sigma_combined),
-            ] {
-                let Some(e) = e else { continue };
+            for q in Quantity::BOTH {
+                let Some(e) = k[q].err_sigma_combined else {
+                    continue;
+                };
                 of += 1;
                 if e.abs() > COVERAGE_SIGMAS {
                     outside.push(Outside {
@@ -134,12 +96,20 @@ impl Comparison {
     pub fn with_bands(mut self, data: &Dataset, bands: &[super::propagate::Band]) -> Self {
         let mut all = Vec::new();
         for ((k, case), b) in self.cases.iter_mut().zip(&data.cases).zip(bands) {
-            k.u_input_sd_mm_s = Some(b.u_sd_mm_s);
-            k.omega_input_sd_hz = Some(b.omega_sd_hz);
-            k.u_over_u_wave_input_sd = Some(b.u_over_u_wave_sd);
-            k.omega_ratio_input_sd = Some(b.omega_ratio_sd);
-            k.u_dominant_input = b.dominant_u.map(str::to_string);
-            k.omega_dominant_input = b.dominant_omega.map(str::to_string);
+            let bands = [
+                (Quantity::U, b.u_sd_mm_s, b.u_over_u_wave_sd, b.dominant_u),
+                (
+                    Quantity::Omega,
+                    b.omega_sd_hz,
+                    b.omega_ratio_sd,
+                    b.dominant_omega,
+                ),
+            ];
+            for (q, sd, ratio_sd, dominant) in bands {
+                k[q].input_sd = Some(sd);
+                k[q].ratio_input_sd = Some(ratio_sd);
+                k[q].dominant_input = dominant.map(str::to_string);
+            }
             let combined = |pred: f64, m: &Measured, u_in: f64| {
                 let c = super::propagate::combine(m, u_in);
                 Residual {
@@ -149,13 +119,13 @@ impl Comparison {
                 }
             };
             if let Some(m) = &case.u_mm_s {
-                let r = combined(k.u_pred_mm_s, m, b.u_sd_mm_s);
-                k.u_err_sigma_combined = Some(r.normalised());
+                let r = combined(k.u().pred, m, b.u_sd_mm_s);
+                k[Quantity::U].err_sigma_combined = Some(r.normalised());
                 all.push(r);
             }
             if let Some(m) = &case.omega_body_hz {
-                let r = combined(k.omega_pred_hz, m, b.omega_sd_hz);
-                k.omega_err_sigma_combined = Some(r.normalised());
+                let r = combined(k.omega().pred, m, b.omega_sd_hz);
+                k[Quantity::Omega].err_sigma_combined = Some(r.normalised());
                 all.push(r);
             }
         }
@@ -164,28 +134,11 @@ impl Comparison {
         let predicted: Vec<(f64, f64)> = self
             .cases
             .iter()
-            .map(|k| (k.u_pred_mm_s, k.omega_pred_hz))
+            .map(|k| (k.u().pred, k.omega().pred))
             .collect();
         self.chi2_correlated =
             correlated_chi2_of(data, &predicted, bands, self.summary.free_params);
         self
-    }
-}
-
-/// Which measured quantity.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Quantity {
-    U,
-    Omega,
-}
-
-impl Quantity {
-    pub fn label(self) -> &'static str {
-        match self {
-            Quantity::U => "U",
-            Quantity::Omega => "Omega_b",
-        }
     }
 }
 
@@ -234,26 +187,26 @@ pub fn compare(
             frequency_hz: case.frequency_hz,
             n_waves: case.n_waves(),
             amplitude_ratio: case.amplitude_ratio(),
-            u_pred_mm_s: p.u_mm_s,
-            u_obs_mm_s: case.u_mm_s.map(|m| m.mean),
-            u_ci_mm_s: case.u_mm_s.map(|m| m.ci_half_width),
-            omega_pred_hz: p.omega_body_hz,
-            omega_obs_hz: case.omega_body_hz.map(|m| m.mean),
-            omega_ci_hz: case.omega_body_hz.map(|m| m.ci_half_width),
-            u_rel_err: ru.map(|r| r.relative_error()),
-            omega_rel_err: ro.map(|r| r.relative_error()),
-            u_err_sigma: ru.map(|r| r.normalised()),
-            omega_err_sigma: ro.map(|r| r.normalised()),
-            u_over_u_wave_pred: p.u_over_u_wave,
-            omega_ratio_pred: p.omega_ratio,
-            u_input_sd_mm_s: None,
-            omega_input_sd_hz: None,
-            u_over_u_wave_input_sd: None,
-            omega_ratio_input_sd: None,
-            u_dominant_input: None,
-            omega_dominant_input: None,
-            u_err_sigma_combined: None,
-            omega_err_sigma_combined: None,
+            quantities: [
+                QuantityComparison {
+                    pred: p.u_mm_s,
+                    obs: case.u_mm_s.map(|m| m.mean),
+                    ci: case.u_mm_s.map(|m| m.ci_half_width),
+                    rel_err: ru.map(|r| r.relative_error()),
+                    err_sigma: ru.map(|r| r.normalised()),
+                    ratio_pred: p.u_over_u_wave,
+                    ..QuantityComparison::default()
+                },
+                QuantityComparison {
+                    pred: p.omega_body_hz,
+                    obs: case.omega_body_hz.map(|m| m.mean),
+                    ci: case.omega_body_hz.map(|m| m.ci_half_width),
+                    rel_err: ro.map(|r| r.relative_error()),
+                    err_sigma: ro.map(|r| r.normalised()),
+                    ratio_pred: p.omega_ratio,
+                    ..QuantityComparison::default()
+                },
+            ],
             recorded: case.recorded.clone(),
         });
         all.extend(res.into_iter().map(|(_, r)| r));

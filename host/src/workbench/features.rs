@@ -41,8 +41,8 @@ pub fn trends(data: &Dataset, cmp: &Comparison) -> Vec<Trend> {
             .iter()
             .enumerate()
             .filter_map(|(i, k)| match q {
-                Quantity::U => k.u_rel_err.map(|e| (i, e)),
-                Quantity::Omega => k.omega_rel_err.map(|e| (i, e)),
+                Quantity::U => k.u().rel_err.map(|e| (i, e)),
+                Quantity::Omega => k.omega().rel_err.map(|e| (i, e)),
             })
             .collect();
         if pts.len() < 3 {

@@ -6,6 +6,7 @@ mod audit_influence_words;
 pub mod audit_loo;
 pub mod audit_ratio;
 pub mod candidate;
+pub mod case_comparison;
 pub mod compare;
 pub mod data_quality;
 pub mod diagnose;
