@@ -305,6 +305,24 @@ impl TermLike for PlainLines {
     }
 }
 
+/// A computation's stages told to `bar`: its message (after `prefix`) and
+/// its position, the stage's number.
+pub fn to_bar(bar: &ProgressBar, prefix: &'static str) -> crate::workbench::progress::Progress {
+    let bar = bar.clone();
+    crate::workbench::progress::Progress::new(move |k, message| {
+        bar.set_message(format!("{prefix}{message}"));
+        bar.set_position(k);
+    })
+}
+
+/// A computation's stages told to `spinner` as its message only.
+pub fn to_message(spinner: &ProgressBar) -> crate::workbench::progress::Progress {
+    let spinner = spinner.clone();
+    crate::workbench::progress::Progress::new(move |_, message| {
+        spinner.set_message(message.to_string());
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -166,7 +166,7 @@ fn diagnose(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<Strin
     };
     let ds = data.inner.clone();
     py.allow_threads(|| {
-        let (d, ds) = api::diagnosed(&a, ds).map_err(cli_err)?;
+        let (d, ds) = api::diagnosed(&a, ds, None).map_err(cli_err)?;
         json(&api::diagnosis_json(&d, &ds, a.likelihood.get()).map_err(cli_err)?)
     })
 }
@@ -192,7 +192,7 @@ fn audit(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<String> 
         unreachable!("parsed as audit")
     };
     let ds = &data.inner;
-    py.allow_threads(|| json(&api::audited(&a, ds).map_err(cli_err)?))
+    py.allow_threads(|| json(&api::audited(&a, ds, None).map_err(cli_err)?))
 }
 
 fn c_predict(model: &swimbot::model::Model, c: &Case) -> Result<(f64, f64), String> {

@@ -6,6 +6,7 @@ use super::model_args::{DataArgs, ModelArgs};
 use super::output::{print_csv, print_json, TableJsonCsv};
 use super::CliError;
 use crate::workbench::audit::{audit, Audit, AuditSettings};
+use crate::workbench::progress::Progress;
 use clap::Args;
 
 #[derive(Args, Debug)]
@@ -33,21 +34,14 @@ pub struct AuditArgs {
     pub likelihood: super::likelihood::LikelihoodArgs,
 }
 
-/// The bar `audit` reports its stages to (a fn pointer cannot capture it).
-static SPINNER: std::sync::OnceLock<indicatif::ProgressBar> = std::sync::OnceLock::new();
-
-fn stage(k: u64, message: &str) {
-    if let Some(s) = SPINNER.get() {
-        s.set_message(format!("audit: {message}"));
-        s.set_position(k);
-    }
-}
-
 pub fn run(a: AuditArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
     let spinner = crate::progress::stages(crate::workbench::audit::AUDIT_STAGES, "audit");
-    let _ = SPINNER.set(spinner.clone());
-    let report = audited(&a, &data)?;
+    let report = audited(
+        &a,
+        &data,
+        Some(crate::progress::to_bar(&spinner, "audit: ")),
+    )?;
     spinner.finish_and_clear();
     match a.format {
         TableJsonCsv::Json => print_json(&report),
@@ -58,11 +52,12 @@ pub fn run(a: AuditArgs) -> Result<(), CliError> {
 }
 
 /// `audit`'s work on `data` with the flags in `a` (its `--data` is not
-/// read). The Python package calls it too, so that its numbers are the
-/// command's.
+/// read), its stages told to `progress`. The Python package calls it too,
+/// so that its numbers are the command's.
 pub fn audited(
     a: &AuditArgs,
     data: &crate::data::Dataset,
+    progress: Option<Progress>,
 ) -> Result<crate::workbench::audit::Audit, CliError> {
     if !(16..=100_000).contains(&a.family_samples) {
         return Err(CliError::input(format!(
@@ -82,7 +77,7 @@ pub fn audited(
         family_samples: a.family_samples,
         seed: a.seed,
         likelihood: a.likelihood.get(),
-        progress: Some(stage),
+        progress,
     };
     Ok(audit(&model, &data, &settings)?)
 }

@@ -6,9 +6,10 @@ use super::CliError;
 use crate::data::Dataset;
 use crate::format::{fmt_estimate, fmt_sig};
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
+use crate::workbench::diagnosis::DIAGNOSE_STAGES;
 use crate::workbench::discovery::Located;
+use crate::workbench::progress::Progress;
 use clap::Args;
-use indicatif::ProgressBar;
 
 #[derive(Args, Debug)]
 pub struct DiagnoseArgs {
@@ -54,34 +55,15 @@ pub struct DiagnoseArgs {
     pub max_seconds: Option<f64>,
 }
 
-/// The spinner `diagnose` reports its stages to (a fn pointer cannot capture it).
-static SPINNER: std::sync::OnceLock<ProgressBar> = std::sync::OnceLock::new();
-
-/// The diagnosis's stages in order (the messages `workbench::diagnose`
-/// reports as each starts), after the first: the data's quality and the
-/// base model's comparison.
-const STAGES: [&str; 5] = [
-    "fitting the catalogue's effects",
-    "forward selection: pairs of catalogue effects",
-    "searching beyond the catalogue: place x feature x form",
-    "locating what the best catalogue effects leave",
-    "stagewise: searching again on top of each step",
-];
-
-fn stage(message: &str) {
-    if let Some(s) = SPINNER.get() {
-        s.set_message(message.to_string());
-        if let Some(k) = STAGES.iter().position(|m| *m == message) {
-            s.set_position(k as u64 + 2);
-        }
-    }
-}
-
 /// `diagnose`'s work on `data` with the flags in `a` (its `--data` is not
 /// read): the diagnosis and the data it judged (with the input
-/// uncertainty folded in if asked). The Python package calls it too, so
-/// that its numbers are the command's.
-pub fn diagnosed(a: &DiagnoseArgs, data: Dataset) -> Result<(Diagnosis, Dataset), CliError> {
+/// uncertainty folded in if asked), its stages told to `progress`. The
+/// Python package calls it too, so that its numbers are the command's.
+pub fn diagnosed(
+    a: &DiagnoseArgs,
+    data: Dataset,
+    progress: Option<Progress>,
+) -> Result<(Diagnosis, Dataset), CliError> {
     if !(a.level > 0.5 && a.level < 1.0) {
         return Err(CliError::input(format!(
             "--level must be between 0.5 and 1, got {}",
@@ -118,7 +100,7 @@ pub fn diagnosed(a: &DiagnoseArgs, data: Dataset) -> Result<(Diagnosis, Dataset)
         second_effect: !a.no_pairs,
         include_costly: a.nonlocal,
         discover: !a.no_discovery,
-        progress: Some(stage),
+        progress,
         ..Default::default()
     };
     let budget = super::budget::parse_budget(a.max_seconds)?;
@@ -150,12 +132,11 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
     let data = a.data.load()?;
     // Shown once the work has lasted 2 s (paper-sized data takes less).
     let spinner = crate::progress::stages(
-        STAGES.len() as u64 + 1,
+        DIAGNOSE_STAGES,
         &format!("diagnosing {} cases: the data's quality", data.cases.len()),
     );
     spinner.set_position(1);
-    let _ = SPINNER.set(spinner.clone());
-    let (d, data) = diagnosed(&a, data)?;
+    let (d, data) = diagnosed(&a, data, Some(crate::progress::to_bar(&spinner, "")))?;
     let lik = a.likelihood.get();
     spinner.finish_and_clear();
     // The file the user asked for is written before stdout is touched: a

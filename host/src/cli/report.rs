@@ -39,15 +39,6 @@ pub struct ReportArgs {
     pub max_seconds: Option<f64>,
 }
 
-/// The spinner the diagnosis reports its stages to (a fn pointer cannot capture it).
-static SPINNER: std::sync::OnceLock<ProgressBar> = std::sync::OnceLock::new();
-
-fn stage(message: &str) {
-    if let Some(s) = SPINNER.get() {
-        s.set_message(message.to_string());
-    }
-}
-
 fn spinner(message: &str) -> ProgressBar {
     crate::progress::spinner(message)
 }
@@ -78,9 +69,8 @@ pub fn run(a: ReportArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
         }
     }
     let s = spinner("diagnosing");
-    let _ = SPINNER.set(s.clone());
     let settings = DiagnoseSettings {
-        progress: Some(stage),
+        progress: Some(crate::progress::to_message(&s)),
         ..Default::default()
     };
     let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;

@@ -93,7 +93,7 @@ pub struct AuditSettings {
     pub likelihood: super::robust::Likelihood,
     /// Called with the stage's number (from 1) and a short message as each
     /// of the [`AUDIT_STAGES`] starts (progress display).
-    pub progress: Option<fn(u64, &str)>,
+    pub progress: Option<super::progress::Progress>,
 }
 
 /// The audit's stages, for a progress display.
@@ -112,11 +112,7 @@ impl Default for AuditSettings {
 
 /// Run every check on `data`; `model` is the family's base.
 pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, ModelError> {
-    let say = |k: u64, m: &str| {
-        if let Some(p) = s.progress {
-            p(k, m)
-        }
-    };
+    let say = |k: u64, m: &str| super::progress::say(&s.progress, k, m);
     say(1, "chords and the inputs' uncertainty");
     let (mut flags, chords) = chord_checks(data);
     let combined = with_input_uncertainty(model, data)?;

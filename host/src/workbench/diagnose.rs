@@ -45,11 +45,7 @@ pub fn diagnose(
     data: &Dataset,
     s: &DiagnoseSettings,
 ) -> Result<Diagnosis, FitError> {
-    let say = |m: &str| {
-        if let Some(p) = s.progress {
-            p(m)
-        }
-    };
+    let say = |k: u64, m: &str| super::progress::say(&s.progress, k, m);
     // The data first: bad runs, intervals that look too narrow; what
     // follows is judged on the intervals trusted ([`super::data_quality`]).
     let (quality, widened) = super::data_quality::assess(model, data, s.level)?;
@@ -75,7 +71,7 @@ pub fn diagnose(
     };
     let trends = trends(data, &cmp);
     let base_len = model.effects.len();
-    say("fitting the catalogue's effects");
+    say(2, "fitting the catalogue's effects");
     let cands = candidates(model, s.include_costly);
     // Warm the memoised non-local solves in parallel over cases (a
     // catalogue fit walks its cases serially; milliseconds per case).
@@ -97,20 +93,20 @@ pub fn diagnose(
         && !baseline.at_noise_floor
         && !ranking.iter().any(|c| c.score.at_noise_floor)
     {
-        say("forward selection: pairs of catalogue effects");
+        say(3, "forward selection: pairs of catalogue effects");
         forward_selection(model, data, &ranking, &floor)
     } else {
         Vec::new()
     };
     let (discovery, remainder) = if s.discover && !baseline.at_noise_floor && searchable {
-        say("searching beyond the catalogue: place x feature x form");
+        say(4, "searching beyond the catalogue: place x feature x form");
         let reference = super::discovery::Reference {
             chi2: baseline.chi2,
             k: 0,
             floor: &floor,
         };
         let d = super::discovery::discover(model, data, &reference, &s.discovery)?;
-        say("locating what the best catalogue effects leave");
+        say(5, "locating what the best catalogue effects leave");
         let r = super::verdict::remainders(data, &baseline, &ranking, &d, &floor, s)?;
         (Some(d), r)
     } else {
@@ -129,7 +125,7 @@ pub fn diagnose(
             };
             let mut v = super::verdict::verdict(&evidence, s);
             if s.discover {
-                say("stagewise: searching again on top of each step");
+                say(6, "stagewise: searching again on top of each step");
                 let path = super::stagewise::stagewise(model, &evidence, &v, &floor, s)?;
                 super::stagewise_verdict::conclude(path, &mut v, &baseline, data);
             }

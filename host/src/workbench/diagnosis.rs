@@ -26,9 +26,13 @@ pub struct DiagnoseSettings {
     /// Search beyond the catalogue (true).
     pub discover: bool,
     pub discovery: DiscoverySettings,
-    /// Called with a short message as each stage starts (progress display).
-    pub progress: Option<fn(&str)>,
+    /// Told as each of the [`DIAGNOSE_STAGES`] starts (progress display).
+    pub progress: Option<super::progress::Progress>,
 }
+
+/// The diagnosis's stages: 1 is the data's quality and the base model's
+/// comparison, then the searches (`workbench::diagnose`).
+pub const DIAGNOSE_STAGES: u64 = 6;
 
 impl Default for DiagnoseSettings {
     fn default() -> Self {

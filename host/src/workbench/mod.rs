@@ -22,6 +22,7 @@ pub mod input_solve;
 pub mod input_sources;
 pub mod noise;
 pub mod path;
+pub mod progress;
 pub mod propagate;
 pub mod robust;
 pub mod score;
