@@ -4,18 +4,11 @@
 //! exit 2 (`/dev/full`, only read... and written, never replaced), and
 //! SIGINT / SIGTERM leave no temporary file and no new folder.
 
+use crate::common::run_in;
 use crate::common::stderr;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
-
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
 
 const SMALL_SWEEP: [&str; 7] = [
     "sweep",

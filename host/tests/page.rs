@@ -5,17 +5,10 @@
 
 use crate::common;
 
+use crate::common::run_in;
 use common::{stderr, stdout};
-use std::path::Path;
-use std::process::{Command, Output};
 
-fn run_in(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the swimbot binary runs")
-}
+use std::process::Output;
 
 fn ok(o: &Output) -> String {
     assert!(o.status.success(), "{}", stderr(o));

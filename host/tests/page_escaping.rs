@@ -6,9 +6,9 @@
 //! An effect's name cannot carry markup: it must be kebab-case, and a
 //! file whose name is not is refused before anything is written.
 
+use crate::common::run_in;
 use crate::common::stderr;
 use std::path::Path;
-use std::process::{Command, Output};
 
 /// Appended to every case name.
 const CASE_TAIL: &str = "<script>alert(1)</script>&\"q\"'s";
@@ -32,14 +32,6 @@ doc = "a factor <script>alert(4)</script>"
 [effect.places]
 "body.D_x" = "k"
 "#;
-
-fn run_in(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the swimbot binary runs")
-}
 
 fn ok(cwd: &Path, args: &[&str]) {
     let o = run_in(cwd, args);

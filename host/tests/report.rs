@@ -5,18 +5,8 @@
 
 use crate::common;
 
+use crate::common::run_in;
 use common::stderr;
-use std::path::Path;
-use std::process::{Command, Output};
-
-/// Run the binary in `cwd` (kept, so that the page can be read).
-fn run_in(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the swimbot binary runs")
-}
 
 /// The HTML of the `<figure id="...">` element.
 fn figure<'a>(page: &'a str, id: &str) -> &'a str {

@@ -4,17 +4,9 @@
 //! falls at every step, and the terminal, `steps --format json` and the
 //! page carry the same numbers.
 
+use crate::common::run_in;
 use crate::common::stderr;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn run_in(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the swimbot binary runs")
-}
 
 fn ok(cwd: &Path, args: &[&str]) -> String {
     let o = run_in(cwd, args);

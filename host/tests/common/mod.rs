@@ -10,9 +10,14 @@ use std::time::{Duration, Instant};
 /// outputs (`swimbot-out/`, `report/`) never land in the repository.
 pub fn swimbot(args: &[&str]) -> Output {
     let cwd = tempfile::tempdir().expect("a temporary directory");
+    run_in(cwd.path(), args)
+}
+
+/// Run the binary in `cwd` (kept by the caller, to read what it wrote).
+pub fn run_in(cwd: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_swimbot"))
         .args(args)
-        .current_dir(cwd.path())
+        .current_dir(cwd)
         .output()
         .expect("the swimbot binary runs")
 }
