@@ -19,20 +19,21 @@ use crate::physics::coefficients::{CoefficientError, CoefficientSet};
 use crate::physics::solve::{Dofs, ForceBalance, SolveError};
 use crate::physics::tail;
 use nalgebra::{Matrix6, Vector6};
-use std::cell::Cell;
 use std::f64::consts::PI;
 
+// Instrumentation of the test build only: the audit's time estimate counts
+// force balances, and a test holds the count to what the audit makes, on a
+// thread pool of its own (per thread, so that other tests do not count).
+// The library itself keeps no state between calls.
+#[cfg(test)]
 thread_local! {
-    /// Force balances assembled on this thread (every prediction assembles
-    /// one): what the audit's time estimate counts, and is tested against
-    /// on a thread pool of its own (per thread, so that other work in the
-    /// process does not count).
-    static FORCE_BALANCES: Cell<u64> = const { Cell::new(0) };
+    static FORCE_BALANCES: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 /// How many force balances (eq. 11) this thread has assembled so far.
+#[cfg(test)]
 pub fn force_balances_on_this_thread() -> u64 {
-    FORCE_BALANCES.with(Cell::get)
+    FORCE_BALANCES.with(std::cell::Cell::get)
 }
 
 /// How eq. 3 is evaluated.
@@ -274,6 +275,7 @@ impl Model {
         case: &Case,
         phase_rad: f64,
     ) -> Result<ForceBalance, ModelError> {
+        #[cfg(test)]
         FORCE_BALANCES.with(|n| n.set(n.get() + 1));
         // One check serves every stage of this prediction.
         self.check_effects(case)?;

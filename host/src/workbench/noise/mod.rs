@@ -42,18 +42,22 @@ const SEED: u64 = 0x5eed;
 mod leave_out;
 pub use leave_out::LeaveOutDraws;
 
+// Instrumentation of the test build only (as the model's force-balance
+// count): the estimates count the floors a command draws, and a test holds
+// them to that count. The library keeps no state between calls.
+#[cfg(test)]
 thread_local! {
     static DRAWN: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
-/// How many Monte Carlo floors (sets of draws) this thread has started:
-/// the estimates count the floors a command draws, and a test holds them
-/// to that count.
+/// How many Monte Carlo floors (sets of draws) this thread has started.
+#[cfg(test)]
 pub fn floors_drawn_on_this_thread() -> u64 {
     DRAWN.with(std::cell::Cell::get)
 }
 
 fn count_a_floor() {
+    #[cfg(test)]
     DRAWN.with(|c| c.set(c.get() + 1));
 }
 
