@@ -303,21 +303,33 @@ mod tests {
         generate(&truth, &design, s).unwrap()
     }
 
+    /// The audit's settings in these tests: a small family.
+    const COUNTED: AuditSettings = AuditSettings {
+        family_samples: 16,
+        seed: 5,
+        likelihood: crate::workbench::robust::Likelihood::Gaussian,
+        progress: None,
+    };
+
+    /// How much the per-thread counter `per_thread` grows while the audit
+    /// of `data` runs on a pool of its own (other tests' work does not count).
+    fn counted_in_audit(data: &crate::data::Dataset, per_thread: fn() -> u64) -> f64 {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let count = || -> u64 { pool.broadcast(|_| per_thread()).iter().sum() };
+        let before = count();
+        pool.install(|| audit(&Model::base(), data, &COUNTED).unwrap());
+        (count() - before) as f64
+    }
+
     /// The floors an audit draws, counted per thread on a pool of its own,
     /// against the estimate's [`FLOORS`]; a dataset whose cases each have
     /// their own degrees of freedom (combined with the inputs') once drew
     /// one floor per case.
     #[test]
     fn the_counted_floors_bound_the_audits_own() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        let count = || -> u64 {
-            pool.broadcast(|_| crate::workbench::noise::floors_drawn_on_this_thread())
-                .iter()
-                .sum()
-        };
         let mut data = fresh(45);
         // Trials that differ from case to case (more floors if each were drawn alone).
         for (i, c) in data.cases.iter_mut().enumerate() {
@@ -325,14 +337,7 @@ mod tests {
                 m.trials = 3 + (i as u32 % 7);
             }
         }
-        let settings = AuditSettings {
-            family_samples: 16,
-            seed: 5,
-            ..Default::default()
-        };
-        let before = count();
-        pool.install(|| audit(&Model::base(), &data, &settings).unwrap());
-        let drawn = (count() - before) as f64;
+        let drawn = counted_in_audit(&data, crate::workbench::noise::floors_drawn_on_this_thread);
         assert!(
             (1.0..=FLOORS).contains(&drawn),
             "{drawn} floors drawn, {FLOORS} estimated"
@@ -344,27 +349,10 @@ mod tests {
     /// count): a count, not a timing, so it holds on any machine.
     #[test]
     fn the_counted_predictions_match_the_audits_own() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        let count = || -> u64 {
-            pool.broadcast(|_| force_balances_on_this_thread())
-                .iter()
-                .sum()
-        };
         // One size with exact leave-one-out refits, one with the one-step deletion.
         for n in [9, 42] {
-            let data = fresh(n);
-            let settings = AuditSettings {
-                family_samples: 16,
-                seed: 5,
-                ..Default::default()
-            };
-            let before = count();
-            pool.install(|| audit(&Model::base(), &data, &settings).unwrap());
-            let made = (count() - before) as f64;
-            let (family, rest) = predictions(n, settings.family_samples);
+            let made = counted_in_audit(&fresh(n), force_balances_on_this_thread);
+            let (family, rest) = predictions(n, COUNTED.family_samples);
             let ratio = (family + rest) / made;
             println!(
                 "{n} cases: {made} predictions made, {} estimated",
