@@ -127,8 +127,8 @@ fn the_paper_data_audit_is_reported_in_the_documented_form() {
 /// and on data with a mis-recorded case.
 #[test]
 fn one_step_and_exact_leave_one_out_agree() {
-    use swimbot::workbench::audit_influence::influence_with;
-    use swimbot::workbench::audit_loo::LooMethod;
+    use swimbot::workbench::audit::influence::influence_with;
+    use swimbot::workbench::audit::loo::LooMethod;
     use swimbot::workbench::propagate::with_input_uncertainty;
     use swimbot::workbench::robust::Likelihood;
     let mut bad = consistent();
@@ -207,8 +207,8 @@ fn a_bad_run_is_named_as_an_outlier() {
 /// moved by 8 standard errors.
 #[test]
 fn a_claim_of_the_one_step_deletion_is_confirmed_by_exact_refits() {
-    use swimbot::workbench::audit_influence::{decide, influence_with, Finding};
-    use swimbot::workbench::audit_loo::LooMethod;
+    use swimbot::workbench::audit::influence::{decide, influence_with, Finding};
+    use swimbot::workbench::audit::loo::LooMethod;
     use swimbot::workbench::robust::Likelihood;
     use swimbot::workbench::synth::varied_design;
     let mut truth = Model::base();

@@ -96,7 +96,7 @@ pub fn audited(
 pub fn predictions(cases: usize, samples: usize) -> (f64, f64) {
     let n = cases as f64;
     let family = n * (samples as f64 + 1.0);
-    let per_case = if cases <= crate::workbench::audit_loo::EXACT_MAX_CASES {
+    let per_case = if cases <= crate::workbench::audit::loo::EXACT_MAX_CASES {
         959.0 + 85.0 * n
     } else {
         1_100.0
@@ -150,7 +150,7 @@ pub(super) fn estimate_seconds(
     });
     let geometries: usize = data.cases.iter().map(geometries_of).sum();
     let first_solves = (cold - per).max(0.0) * geometries as f64;
-    let overhead = if n <= crate::workbench::audit_loo::EXACT_MAX_CASES {
+    let overhead = if n <= crate::workbench::audit::loo::EXACT_MAX_CASES {
         OVERHEAD_EXACT
     } else {
         OVERHEAD_ONE_STEP
@@ -174,7 +174,7 @@ fn quantities(data: &crate::data::Dataset) -> usize {
 }
 
 /// CPU seconds of the ratio test's pair loop
-/// ([`crate::workbench::audit_ratio`]): for each quantity, every pair of
+/// ([`crate::workbench::audit::ratio`]): for each quantity, every pair of
 /// cases folds the members' ratios into a range, `n (n - 1) / 2` pairs of
 /// `samples + 1` divisions. Negligible up to a few hundred cases, it is
 /// most of an audit of 10 000 (5e7 pairs a quantity): the estimate that

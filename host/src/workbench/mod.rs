@@ -1,12 +1,7 @@
 //! The model-vs-measurement workbench: compare a model with a dataset, find
 //! where it fails, and test which physical effect explains the failure.
 pub mod audit;
-pub mod audit_influence;
-mod audit_influence_words;
-pub mod audit_loo;
-pub mod audit_ratio;
 pub mod candidate;
-pub mod case_comparison;
 pub mod compare;
 pub mod data_quality;
 pub mod diagnose;
@@ -17,9 +12,6 @@ pub mod features;
 pub mod fit;
 pub mod fit_uncertainty;
 pub mod input_covariance;
-pub mod input_covariance_text;
-pub mod input_solve;
-pub mod input_sources;
 pub mod noise;
 pub mod path;
 pub mod progress;

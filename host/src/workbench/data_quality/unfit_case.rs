@@ -1,5 +1,5 @@
 //! The audit's check for a case no candidate fits
-//! ([`crate::workbench::audit_influence`], module docs,
+//! ([`crate::workbench::audit::influence`], module docs,
 //! **Outliers**): a case that every candidate fitting the others to the
 //! noise misses by more than the one-bad-run limit; and the noise floors
 //! and limits it needs, for every case left out.
@@ -11,7 +11,7 @@
 
 use crate::data::Case;
 use crate::data::Dataset;
-use crate::workbench::audit_influence::Finding;
+use crate::workbench::audit::influence::Finding;
 use crate::workbench::compare::case_residuals;
 use crate::workbench::fit::FitResult;
 use crate::workbench::noise::{error_dofs, LeaveOutDraws};

@@ -29,11 +29,11 @@
 //! should hold. Only the out-of-range pairs' indices are kept while the
 //! pairs are tested, never all n^2/2 pairs.
 
-use super::audit::{AuditSettings, Flag, Severity};
-use super::propagate::bands;
+use super::{AuditSettings, Flag, Severity};
 use crate::data::Dataset;
 use crate::effects::{EffectInstance, CATALOGUE};
 use crate::model::{Model, ModelError};
+use crate::workbench::propagate::bands;
 use rand::rngs::StdRng;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};

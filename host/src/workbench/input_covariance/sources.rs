@@ -1,5 +1,5 @@
 //! The rows and the sources of error of the chi-square with the inputs'
-//! covariance ([`super::input_covariance`]): one row per measured quantity
+//! covariance ([`crate::workbench::input_covariance`]): one row per measured quantity
 //! (its residual and its measured standard error), one source per
 //! independent input error with its loads on the rows (the linear band's
 //! signed sensitivity times standard uncertainty). A per-case input is one
@@ -9,10 +9,10 @@
 //!
 //! References: JCGM 100:2008 (GUM) 5.2 (correlated inputs).
 
-use super::compare::Quantity;
-use super::propagate::Band;
 use crate::data::uncertainty::{field_value, Scope};
 use crate::data::Dataset;
+use crate::workbench::compare::Quantity;
+use crate::workbench::propagate::Band;
 
 /// One measured quantity: a row of the residual vector.
 #[derive(Debug, Clone, PartialEq)]

@@ -13,9 +13,9 @@
 //!    recorded values; beyond 2 is a warning, beyond 3 an error. The flag
 //!    names the single recorded value whose correction would reconcile the
 //!    case with the fewest standard uncertainties.
-//! 2. **Ratios** ([`super::audit_ratio`]): measured speeds and body rates
+//! 2. **Ratios** ([`self::ratio`]): measured speeds and body rates
 //!    of one case over another against the range the model family produces.
-//! 3. **Influence and outliers** ([`super::audit_influence`]): which single
+//! 3. **Influence and outliers** ([`self::influence`]): which single
 //!    case drives the best-supported effect or its fitted value; which case
 //!    no candidate fitted on the others can predict; and a case that stands
 //!    alone under the model ([`super::robust`]: its residual beyond the
@@ -32,6 +32,11 @@
 //!
 //! Reference for the chord relation: the paper's `alpha = L_t / ell`
 //! (eqs. 6-7 and the text on the fixed chord length).
+
+pub mod influence;
+mod influence_words;
+pub mod loo;
+pub mod ratio;
 
 use super::propagate::with_input_uncertainty;
 use crate::data::quantities::chord_length_mm;
@@ -79,8 +84,8 @@ pub struct Audit {
     pub model: String,
     pub flags: Vec<Flag>,
     pub chords: Vec<ChordCheck>,
-    pub ratio: super::audit_ratio::RatioSummary,
-    pub influence: super::audit_influence::InfluenceSummary,
+    pub ratio: self::ratio::RatioSummary,
+    pub influence: self::influence::InfluenceSummary,
 }
 
 /// Settings of [`audit`]; `Default` gives the documented values.
@@ -117,11 +122,10 @@ pub fn audit(model: &Model, data: &Dataset, s: &AuditSettings) -> Result<Audit, 
     let (mut flags, chords) = chord_checks(data);
     let combined = with_input_uncertainty(model, data)?;
     say(2, "ratio test against the model family");
-    let (ratio, ratio_flags) = super::audit_ratio::ratio_test(model, data, s)?;
+    let (ratio, ratio_flags) = self::ratio::ratio_test(model, data, s)?;
     flags.extend(ratio_flags);
     say(3, "influence: leave-one-out refits");
-    let (influence, influence_flags) =
-        super::audit_influence::influence(model, &combined, s.likelihood);
+    let (influence, influence_flags) = self::influence::influence(model, &combined, s.likelihood);
     flags.extend(influence_flags);
     // The bad runs ([`super::data_quality::bad_runs`]), judged in
     // measurement standard errors as `diagnose` judges them; an error when a

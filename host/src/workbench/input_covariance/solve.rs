@@ -1,5 +1,5 @@
 //! `C^-1 x` for the covariance of the chi-square with the inputs'
-//! covariance ([`super::input_covariance`]) without forming `C`: split
+//! covariance ([`crate::workbench::input_covariance`]) without forming `C`: split
 //! `C = B + S S^T`, `B` block-diagonal by case (the measurements and every
 //! source that reaches one case only) and `S` the loads of the sources
 //! that span several cases (a few shared inputs), then the Woodbury
@@ -13,7 +13,7 @@
 //! Statistical Research Group Memo 42 (1950); G. H. Golub & C. F. Van
 //! Loan, *Matrix Computations*, 4th ed., 2.1.4 and 4.2.
 
-use super::input_sources::{Row, Source};
+use super::sources::{Row, Source};
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 use std::collections::HashMap;
 

@@ -19,9 +19,9 @@
 //!
 //! **Outliers**: a case is an outlier when some candidate fitted without it
 //! reaches the noise floor on the other cases (chi-square below the 95 %
-//! quantile a perfect model shows, [`super::noise`]) and every such
+//! quantile a perfect model shows, [`crate::workbench::noise`]) and every such
 //! candidate misses the case by more than the limit of the one-bad-run
-//! test ([`super::data_quality::outliers::limit`], its own Student-t degrees of freedom,
+//! test ([`crate::workbench::data_quality::outliers::limit`], its own Student-t degrees of freedom,
 //! a false-alarm rate of 1 % per dataset) in combined standard errors: the
 //! others agree with a model, this case with none.
 //! When no candidate fits the others, the case cannot be called an outlier
@@ -31,20 +31,20 @@
 //! deviance of the audit's [`Likelihood`] (least squares by default, the
 //! Student-t with `--likelihood student-t`), and the AICc is that
 //! deviance's: `D + 2k + 2k(k+1)/(n-k-1)`. What is decided is here; how
-//! each finding is worded is [`super::audit_influence_words`].
+//! each finding is worded is [`super::influence_words`].
 //!
 //! References: K. P. Burnham & D. R. Anderson, *Model Selection and
 //! Multimodel Inference*, 2nd ed. (2002), ch. 2; R. D. Cook & S. Weisberg
 //! (1982).
 
-use super::audit::Flag;
-use super::audit_loo::{leave_one_out, FullFit, LooMethod};
-use super::data_quality::unfit_case::{outlier, NoiseFloors};
-use super::fit::{fit_with, free_params_of, FitResult};
-use super::robust::Likelihood;
+use super::loo::{leave_one_out, FullFit, LooMethod};
+use super::Flag;
 use crate::data::{Case, Dataset};
 use crate::effects::{EffectInstance, CATALOGUE};
 use crate::model::Model;
+use crate::workbench::data_quality::unfit_case::{outlier, NoiseFloors};
+use crate::workbench::fit::{fit_with, free_params_of, FitResult};
+use crate::workbench::robust::Likelihood;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -72,7 +72,7 @@ pub struct CandidateScore {
 }
 
 /// What the influence and outlier checks decide about one case (worded by
-/// [`super::audit_influence_words`]).
+/// [`super::influence_words`]).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Finding {
     /// No candidate is clearly best on all cases; without the case `without` is.
@@ -330,7 +330,7 @@ fn exact_loo(method: LooMethod, data: &Dataset) -> bool {
     match method {
         LooMethod::Exact => true,
         LooMethod::OneStep => false,
-        LooMethod::Auto => data.cases.len() <= super::audit_loo::EXACT_MAX_CASES,
+        LooMethod::Auto => data.cases.len() <= super::loo::EXACT_MAX_CASES,
     }
 }
 

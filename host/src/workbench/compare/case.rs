@@ -55,8 +55,8 @@ pub struct QuantityComparison {
     /// `U`, `Omega_b / omega` for `Omega_b`.
     pub ratio_pred: f64,
     /// Input-uncertainty band of the prediction (standard uncertainty,
-    /// [`super::propagate`]) and of its dimensionless form; `None` until
-    /// [`super::compare::Comparison::with_bands`].
+    /// [`crate::workbench::propagate`]) and of its dimensionless form; `None` until
+    /// [`super::Comparison::with_bands`].
     pub input_sd: Option<f64>,
     pub ratio_input_sd: Option<f64>,
     /// The input that dominates the band.

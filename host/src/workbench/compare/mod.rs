@@ -3,7 +3,9 @@
 //! errors in standard errors, and the summary statistics (MARE, max
 //! relative error, reduced chi-square).
 
-pub use super::case_comparison::{CaseComparison, Quantity, QuantityComparison};
+pub mod case;
+
+pub use self::case::{CaseComparison, Quantity, QuantityComparison};
 use super::input_covariance::{correlated_chi2_of, CorrelatedChi2};
 use crate::data::{Case, Dataset, Measured};
 use crate::model::{Model, ModelError, Prediction};

@@ -1,10 +1,10 @@
 //! The words for the chi-square with the inputs' covariance and for the
-//! shared inputs' pulls ([`super::input_covariance`]): the one wording that
+//! shared inputs' pulls ([`crate::workbench::input_covariance`]): the one wording that
 //! `compare` (table and JSON's `chi2_correlated`) and the page print.
 //!
-//! References: see [`super::input_covariance`].
+//! References: see [`crate::workbench::input_covariance`].
 
-use super::input_covariance::{CorrelatedChi2, Pull};
+use super::{CorrelatedChi2, Pull};
 use crate::format::fmt_sig;
 
 /// A p-value to two significant figures, or its bound below 1e-12.

@@ -1,5 +1,5 @@
 //! Leave-one-case-out fits for the audit's influence and outlier checks
-//! ([`super::audit_influence`]), in two ways:
+//! ([`super::influence`]), in two ways:
 //!
 //! - **Exact**: every candidate refitted on the data without case `i`,
 //!   started from its full-data fit. Cost: `n` fits of `n - 1` cases each,
@@ -16,7 +16,7 @@
 //!   per candidate: `n` predictions per parameter, so the cost is linear.
 //!   Under the Student-t likelihood the same step is taken on the
 //!   pseudo-residuals whose squares sum to the deviance
-//!   ([`super::robust::Likelihood::pseudo_residual`], their Jacobian by the
+//!   ([`crate::workbench::robust::Likelihood::pseudo_residual`], their Jacobian by the
 //!   chain rule), giving the deviance without the case; the chi-square
 //!   without it comes from the same formula in `r` at that step.
 //!
@@ -28,10 +28,10 @@
 //! Reference: R. D. Cook & S. Weisberg, *Residuals and Influence in
 //! Regression* (Chapman & Hall, 1982), ch. 3.
 
-use super::fit::{fit_with, rows, FitResult, FreeParam};
-use super::robust::Likelihood;
 use crate::data::{Case, Dataset};
 use crate::model::Model;
+use crate::workbench::fit::{fit_with, rows, FitResult, FreeParam};
+use crate::workbench::robust::Likelihood;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 

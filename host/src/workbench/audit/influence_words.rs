@@ -1,9 +1,9 @@
 //! How the audit's influence and outlier findings
-//! ([`super::audit_influence::Finding`]) are worded: one sentence a
+//! ([`super::influence::Finding`]) are worded: one sentence a
 //! scientist can act on per finding, with its severity.
 
-use super::audit::{Flag, Severity};
-use super::audit_influence::Finding;
+use super::influence::Finding;
+use super::{Flag, Severity};
 use crate::format::{fmt_sig, fmt_value_unc};
 
 impl Finding {

@@ -23,7 +23,7 @@
 //! assumed): `C_meas = diag(s_m^2)`. With `r = observed - predicted`,
 //! `chi2 = r^T (C_meas + C_in)^-1 r` (a Cholesky solve), on `n - k`
 //! degrees of freedom (`k` the model's free parameters; the solve by the
-//! Woodbury identity over the cases' blocks, [`super::input_solve`]), and its p-value
+//! Woodbury identity over the cases' blocks, [`self::solve`]), and its p-value
 //! `P(chi2(n - k) >= chi2)`. The covariance is treated as known (type-B
 //! inputs and measured standard errors alike), so the reference
 //! distribution is chi-square, not the Student-t mixture a few trials
@@ -47,8 +47,12 @@
 //! (correlated inputs); G. Cowan, *Statistical Data Analysis* (1998),
 //! section 7.6 (chi-square with correlated errors).
 
-use super::input_solve::Solver;
-pub use super::input_sources::{rows_and_sources, Row, Source};
+pub mod solve;
+pub mod sources;
+pub mod text;
+
+use self::solve::Solver;
+pub use self::sources::{rows_and_sources, Row, Source};
 use super::propagate::Band;
 use crate::data::uncertainty::{scope_of, Scope};
 use crate::data::Dataset;
