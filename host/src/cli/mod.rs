@@ -41,6 +41,7 @@ pub mod api {
     pub use super::study::definition;
 }
 
+use crate::provenance::Inputs;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser, Debug)]
@@ -125,37 +126,41 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     done
 }
 
+/// Runs the command. What it reads is recorded in one [`Inputs`] made
+/// here, for this command alone: its outputs name those files, and refuse
+/// to overwrite them.
 fn dispatch(cli: Cli) -> Result<(), CliError> {
     let st = &cli.study;
+    let inputs = &Inputs::new();
     match cli.command {
         Command::Compare(mut a) => {
-            study::fill_from_study(st, &mut a.data, &mut a.model)?;
-            compare::run(a)
+            study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;
+            compare::run(a, inputs)
         }
         Command::Audit(mut a) => {
-            study::fill_from_study(st, &mut a.data, &mut a.model)?;
-            audit::run(a)
+            study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;
+            audit::run(a, inputs)
         }
         Command::Helix(a) => helix::run(a),
-        Command::Sweep(a) => sweep::run(a),
-        Command::Effects(a) => effects::run(a),
+        Command::Sweep(a) => sweep::run(a, inputs),
+        Command::Effects(a) => effects::run(a, inputs),
         Command::Diagnose(mut a) => {
-            study::fill_from_study(st, &mut a.data, &mut a.model)?;
-            diagnose::run(a)
+            study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;
+            diagnose::run(a, inputs)
         }
         Command::Fit(mut a) => {
-            study::fill_from_study(st, &mut a.data, &mut a.model)?;
-            fit::run(a)
+            study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;
+            fit::run(a, inputs)
         }
-        Command::Synth(a) => synth::run(a),
-        Command::Report(a) => report::run(a, st),
-        Command::Sim(a) => sim::run(a),
-        Command::Body(a) => body::run(a),
-        Command::Convert(a) => convert::run(a),
-        Command::Log(a) => log::run(a),
-        Command::Init(a) => study::run_init(a, st),
-        Command::Add(a) => study::run_add(a, st),
-        Command::Steps(a) => study::run_steps(a, st),
-        Command::Undo(a) => study::run_undo(a, st),
+        Command::Synth(a) => synth::run(a, inputs),
+        Command::Report(a) => report::run(a, st, inputs),
+        Command::Sim(a) => sim::run(a, inputs),
+        Command::Body(a) => body::run(a, inputs),
+        Command::Convert(a) => convert::run(a, inputs),
+        Command::Log(a) => log::run(a, inputs),
+        Command::Init(a) => study::run_init(a, st, inputs),
+        Command::Add(a) => study::run_add(a, st, inputs),
+        Command::Steps(a) => study::run_steps(a, st, inputs),
+        Command::Undo(a) => study::run_undo(a, st, inputs),
     }
 }

@@ -21,8 +21,7 @@
 //! **Inputs are never outputs**: the run's inputs are every existing file
 //! named on its command line (`--data X`, `--flag=X`, a positional log)
 //! that is not a declared output file, and every file it has read
-//! ([`crate::provenance::record_input`]: a CSV's `# setup_file`, effect
-//! files). An output file that is, by device and inode, one of them
+//! (its [`Inputs`]: a CSV's `# setup_file`, effect files). An output file that is, by device and inode, one of them
 //! (`--data X --write-effect X`) is refused, and so is an output folder
 //! that holds one, after resolving links (`log --data L/trials.toml -o L`
 //! would replace the dataset it just read); the refusal names both.
@@ -42,6 +41,7 @@
 //! loss) is removed by the next run writing NAME, when process PID is gone.
 
 use super::CliError;
+use crate::provenance::Inputs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -101,19 +101,20 @@ pub fn resolve(path: &Path) -> Result<Target, CliError> {
 }
 
 /// Refuses `path` when it is, by device and inode, another file named on
-/// the command line (an input). A path that does not exist yet is no input.
-pub fn refuse_if_input(path: &Path) -> Result<(), CliError> {
+/// the command line or one the command has read (an input). A path that
+/// does not exist yet is no input.
+pub fn refuse_if_input(path: &Path, inputs: &Inputs) -> Result<(), CliError> {
     // The output itself is named once; a second name is an input.
-    refuse_if_named(path, 2)
+    refuse_if_named(path, 2, inputs)
 }
 
 /// [`refuse_if_input`] for an output the command line does not name (a
 /// file of the report's bundle, named by the folder): any name is an input.
-pub fn refuse_if_unnamed_input(path: &Path) -> Result<(), CliError> {
-    refuse_if_named(path, 1)
+pub fn refuse_if_unnamed_input(path: &Path, inputs: &Inputs) -> Result<(), CliError> {
+    refuse_if_named(path, 1, inputs)
 }
 
-fn refuse_if_named(path: &Path, inputs_from: usize) -> Result<(), CliError> {
+fn refuse_if_named(path: &Path, inputs_from: usize, inputs: &Inputs) -> Result<(), CliError> {
     let Some(id) = identity(path) else {
         return Ok(());
     };
@@ -121,8 +122,8 @@ fn refuse_if_named(path: &Path, inputs_from: usize) -> Result<(), CliError> {
         .iter()
         .filter(|a| identity(a) == Some(id))
         .count();
-    let read = crate::provenance::Provenance::capture()
-        .inputs
+    let read = inputs
+        .list()
         .iter()
         .any(|i| identity(Path::new(&i.path)) == Some(id));
     if named >= inputs_from || read {
@@ -164,12 +165,12 @@ pub fn declare_output_file(path: &Path) {
 }
 
 /// The run's input files (module docs), as given.
-fn input_files() -> Vec<PathBuf> {
+fn input_files(inputs: &Inputs) -> Vec<PathBuf> {
     let outputs = OUTPUT_FILES
         .lock()
         .unwrap_or_else(|e| e.into_inner())
         .clone();
-    let read = crate::provenance::Provenance::capture().inputs;
+    let read = inputs.list();
     named_paths()
         .into_iter()
         .chain(read.into_iter().map(|i| PathBuf::from(i.path)))
@@ -180,11 +181,11 @@ fn input_files() -> Vec<PathBuf> {
 
 /// Refuses an output folder that holds one of the run's input files
 /// (module docs), naming both.
-pub fn refuse_dir_holding_input(dir: &Path) -> Result<(), CliError> {
+pub fn refuse_dir_holding_input(dir: &Path, inputs: &Inputs) -> Result<(), CliError> {
     let Ok(dir_real) = std::fs::canonicalize(dir) else {
         return Ok(());
     };
-    for input in input_files() {
+    for input in input_files(inputs) {
         let Ok(real) = std::fs::canonicalize(&input) else {
             continue;
         };

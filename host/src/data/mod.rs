@@ -21,7 +21,8 @@ mod write;
 
 pub use csv_dialect::ReadOptions;
 pub use load::{
-    convert_file, convert_file_with, is_csv, load_file, read_csv_str, read_file, FileFormat, Loaded,
+    convert_file, convert_file_with, is_csv, load_file, load_recorded, read_csv_str, read_file,
+    FileFormat, Loaded,
 };
 pub use parse::parse_str;
 pub use profile::PROFILE_TOLERANCE;

@@ -9,6 +9,7 @@
 use super::formula::FormulaEffect;
 use super::user_file::{load_file, UserEffectError};
 use super::{Effect, CATALOGUE};
+use crate::provenance::Inputs;
 use std::path::{Path, PathBuf};
 use std::sync::RwLock;
 
@@ -68,8 +69,10 @@ fn from(source: &str) -> String {
     }
 }
 
-/// Load and register effects files; a file already loaded is skipped.
-pub fn load_effect_files(paths: &[PathBuf]) -> Result<(), UserEffectError> {
+/// Load and register effects files, each recorded in `inputs`; a file
+/// already loaded by this process is not registered again, but is still
+/// read and recorded: it is an input of this command too.
+pub fn load_effect_files(paths: &[PathBuf], inputs: &Inputs) -> Result<(), UserEffectError> {
     for path in paths {
         let key = path.canonicalize().unwrap_or_else(|_| path.clone());
         if FILES
@@ -77,14 +80,25 @@ pub fn load_effect_files(paths: &[PathBuf]) -> Result<(), UserEffectError> {
             .unwrap_or_else(|e| e.into_inner())
             .contains(&key)
         {
+            record_again(path, inputs);
             continue;
         }
-        let effects = load_file(path)?;
+        let effects = load_file(path, inputs)?;
         let names: Vec<String> = effects.iter().map(|e| e.spec().name.clone()).collect();
         register_user_effects(effects).map_err(|message| clash(path, &names, message))?;
         FILES.write().unwrap_or_else(|e| e.into_inner()).push(key);
     }
     Ok(())
+}
+
+/// Records a file registered by an earlier command as an input of this
+/// one, with its bytes as they are now. A file that cannot be read any
+/// more is left out: the effects in use are the ones registered.
+fn record_again(path: &Path, inputs: &Inputs) {
+    let limit = crate::data::limits::MAX_EFFECT_FILE_BYTES;
+    if let Ok(text) = crate::input_file::read_text(path, limit, "an effects file") {
+        inputs.record(path, text.as_bytes());
+    }
 }
 
 /// A registration clash, placed at the clashing name's line in the file.

@@ -282,10 +282,17 @@ pub type Guard<'a> = &'a dyn Fn(&Path) -> Result<(), String>;
 
 /// Write `page` and its bundle into `dir`, all-or-none (module docs);
 /// returns the page's path. Every file it would write or remove passes
-/// `guard` first, before any is touched.
-pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<PathBuf, String> {
+/// `guard` first, before any is touched; every file names `inputs` in its
+/// provenance.
+pub fn write(
+    dir: &Path,
+    command: &str,
+    page: &str,
+    guard: Guard,
+    inputs: &crate::provenance::Inputs,
+) -> Result<PathBuf, String> {
     check_dir(dir, command)?;
-    let provenance = crate::provenance::Provenance::capture();
+    let provenance = crate::provenance::Provenance::capture(inputs);
     let page = provenance.into_html(page);
     let (mut files, mut entries) = files(&page);
     // every file of the bundle can be traced back on its own
@@ -310,7 +317,7 @@ pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<Path
         swimbot_version: env!("CARGO_PKG_VERSION"),
         files: &entries,
     };
-    let manifest = crate::provenance::with_provenance(&manifest);
+    let manifest = crate::provenance::with_provenance(&manifest, inputs);
     files.push((
         "manifest.json".into(),
         (serde_json::to_string_pretty(&manifest).expect("serialisable") + "\n").into_bytes(),
@@ -371,6 +378,7 @@ fn previous_files(dir: &Path) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::provenance::Inputs;
 
     const PAGE: &str = "<h2 id=\"a\">1. One</h2><table><tr><th>x, y</th><th>U (mm/s)</th></tr>\
         <tr><td>tail-1</td><td>0.2609 &plusmn; 1<br><span class=\"fall\">falls</span></td></tr></table>\
@@ -404,7 +412,7 @@ mod tests {
     #[test]
     fn a_folder_another_command_wrote_is_refused() {
         let dir = tempfile::tempdir().unwrap();
-        write(dir.path(), "report", PAGE, &|_| Ok(())).unwrap();
+        write(dir.path(), "report", PAGE, &|_| Ok(()), &Inputs::new()).unwrap();
         assert!(check_dir(dir.path(), "report").is_ok());
         let e = check_dir(dir.path(), "compare").unwrap_err();
         assert!(e.contains("swimbot report") && e.contains("-o"), "{e}");

@@ -10,6 +10,7 @@
 //! line-edited on the way in; `serialport` puts it in raw mode, and works
 //! the same on a lab's Windows (`COM3`) or macOS (`/dev/cu.usbmodem*`) host.
 
+use crate::provenance::Inputs;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -81,8 +82,8 @@ fn err(source: &Source, message: impl Into<String>) -> LogError {
 
 /// Read and decode a log; also its raw bytes (to be saved when read from
 /// the port: the robot keeps only the last run).
-pub fn read_source(source: &Source) -> Result<(RunLog, Vec<u8>), LogError> {
-    let bytes = read_bytes(source)?;
+pub fn read_source(source: &Source, inputs: &Inputs) -> Result<(RunLog, Vec<u8>), LogError> {
+    let bytes = read_bytes(source, inputs)?;
     let log = decode_bytes(&bytes).map_err(|m| err(source, m))?;
     Ok((log, bytes))
 }
@@ -94,17 +95,20 @@ pub fn read_source(source: &Source) -> Result<(RunLog, Vec<u8>), LogError> {
 pub fn read_current(
     source: &Source,
     earlier: bool,
+    inputs: &Inputs,
 ) -> Result<(RunLog, Vec<u8>, Vec<String>), LogError> {
-    let bytes = read_bytes(source)?;
+    let bytes = read_bytes(source, inputs)?;
     let image = decode(&bytes).map_err(|e| err(source, describe(&e)))?;
     let warnings = super::power_up::check(&image, earlier).map_err(|m| err(source, m))?;
     let log = decode_bytes(&bytes).map_err(|m| err(source, m))?;
     Ok((log, bytes, warnings))
 }
 
-fn read_bytes(source: &Source) -> Result<Vec<u8>, LogError> {
+/// A file's bytes are recorded in `inputs`; a port's are the robot's
+/// flash, no file of the user's.
+fn read_bytes(source: &Source, inputs: &Inputs) -> Result<Vec<u8>, LogError> {
     match source {
-        Source::File(p) => read_file(p).map_err(|m| err(source, m)),
+        Source::File(p) => read_file(p, inputs).map_err(|m| err(source, m)),
         Source::Port(p) => read_port(p).map_err(|m| err(source, m)),
     }
 }
@@ -115,14 +119,14 @@ const MAX_IMAGE_BYTES: u64 = crate::input_file::cap::RUN_LOG;
 
 /// Bounded while reading ([`crate::input_file`]): a FIFO or `/dev/zero`
 /// costs at most the cap, never the machine.
-fn read_file(path: &Path) -> Result<Vec<u8>, String> {
+fn read_file(path: &Path, inputs: &Inputs) -> Result<Vec<u8>, String> {
     let bytes = crate::input_file::read(
         path,
         MAX_IMAGE_BYTES,
         "a run log (a 10-minute log is about 96 kB)",
     )
     .map_err(|e| e.to_string())?;
-    crate::provenance::record_input(path, &bytes);
+    inputs.record(path, &bytes);
     Ok(bytes)
 }
 
@@ -389,7 +393,7 @@ mod tests {
 
     #[test]
     fn an_absent_port_is_an_error_naming_it() {
-        let e = read_source(&Source::Port("/dev/ttyACM-none".into())).unwrap_err();
+        let e = read_source(&Source::Port("/dev/ttyACM-none".into()), &Inputs::new()).unwrap_err();
         assert_eq!(e.source_name, "/dev/ttyACM-none");
         assert!(e.message.contains("cannot open"), "{e}");
     }
@@ -433,7 +437,7 @@ mod port_tests {
             let _ = host_done.recv_timeout(Duration::from_secs(30));
             req
         });
-        let got = read_source(&Source::Port(name));
+        let got = read_source(&Source::Port(name), &Inputs::new());
         done.send(()).unwrap();
         assert_eq!(&served.join().unwrap(), b"LOG\n");
         let (log, bytes) = got.expect("the log");

@@ -6,6 +6,7 @@
 
 use crate::effects::formula::{to_toml, FormulaEffect};
 use crate::effects::{by_name, user_file, Effect};
+use crate::provenance::Inputs;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -47,9 +48,10 @@ impl Definition {
     }
 
     /// A user effect read from an effects file: `NAME` chooses among
-    /// several (one effect in the file needs none).
-    pub fn of_file(path: &Path, name: Option<&str>) -> Result<Self, String> {
-        let effects = user_file::load_file(path).map_err(|e| e.to_string())?;
+    /// several (one effect in the file needs none). The file is recorded
+    /// in `inputs`.
+    pub fn of_file(path: &Path, name: Option<&str>, inputs: &Inputs) -> Result<Self, String> {
+        let effects = user_file::load_file(path, inputs).map_err(|e| e.to_string())?;
         let names: Vec<&str> = effects.iter().map(|e| e.spec().name.as_str()).collect();
         let chosen = match name {
             Some(n) => effects.iter().find(|e| e.spec().name == n).ok_or_else(|| {
