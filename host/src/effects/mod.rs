@@ -29,6 +29,7 @@ mod coupler;
 mod error;
 pub mod expr;
 mod expr_lex;
+mod expr_parse;
 pub mod formula;
 mod motor_frame;
 mod nonlocal_tail;
