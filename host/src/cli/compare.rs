@@ -360,7 +360,7 @@ fn print_csv(c: &Comparison, inputs: &Inputs) -> Result<(), CliError> {
         .write_all(comments.as_bytes())
         .and_then(|()| writeln!(out, "{}", header.join(",")))
         .and_then(|()| out.write_all(rows.as_bytes()));
-    super::output_guard::stdout_written(done, "the CSV")
+    super::stdout::stdout_written(done, "the CSV")
 }
 
 /// `omega_pred_hz` -> `omega_body_counter_pred_hz`, and so on.

@@ -5,6 +5,7 @@
 mod audit;
 mod body;
 mod budget;
+mod cleanup;
 mod compare;
 mod convert;
 mod diagnose;
@@ -21,13 +22,14 @@ mod output;
 mod output_guard;
 mod report;
 mod sim;
+mod stdout;
 mod study;
 mod sweep;
 mod sweep_setup;
 mod synth;
 
 pub use error::CliError;
-pub use output_guard::note_stdout_closed_at_start;
+pub use stdout::note_stdout_closed_at_start;
 
 /// The commands' work without their printing, for the Python package
 /// (python/): the same flags (parsed by [`Cli`]), the same numbers.
@@ -106,22 +108,22 @@ pub enum Command {
 
 /// Run a parsed command line. A run that fails (or is interrupted by
 /// SIGINT or SIGTERM) leaves no temporary file and no folder it created
-/// ([`output_guard`]); a failure to write stdout is an error (exit 2).
+/// ([`cleanup`]); a failure to write stdout is an error (exit 2).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     crate::progress::set_quiet(cli.quiet);
-    output_guard::check_stdout_open()?;
-    output_guard::install_signal_cleanup();
-    output_guard::install_stdout_failure_exit();
+    stdout::check_stdout_open()?;
+    cleanup::install_signal_cleanup();
+    stdout::install_stdout_failure_exit();
     let done = dispatch(cli).and_then(|()| {
         use std::io::Write;
-        output_guard::stdout_written(std::io::stdout().flush(), "the output")
+        stdout::stdout_written(std::io::stdout().flush(), "the output")
     });
     match &done {
         Ok(()) => {
             output_guard::mark_claimed_dirs();
-            output_guard::keep_new_dirs();
+            cleanup::keep_new_dirs();
         }
-        Err(_) => output_guard::clean_up(),
+        Err(_) => cleanup::clean_up(),
     }
     done
 }

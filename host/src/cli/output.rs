@@ -4,6 +4,7 @@
 //! are replaced, followed, written through or refused is
 //! [`super::output_guard`]'s.
 
+use super::cleanup;
 use super::output_guard::{self as guard, Target};
 use super::CliError;
 use crate::provenance::{Inputs, Provenance};
@@ -54,7 +55,7 @@ pub fn print_csv<T: serde::Serialize>(rows: &[T], inputs: &Inputs) -> Result<(),
         write_csv_rows(rows, &mut bytes, inputs)?;
     }
     use std::io::Write;
-    guard::stdout_written(std::io::stdout().lock().write_all(&bytes), "the CSV")
+    super::stdout::stdout_written(std::io::stdout().lock().write_all(&bytes), "the CSV")
 }
 
 /// The help of every `--format`.
@@ -175,9 +176,9 @@ impl AtomicFile {
     pub fn create(dest: &Path, inputs: &Inputs) -> Result<AtomicFile, CliError> {
         match check_output_file(dest, inputs)? {
             Target::Replace(path) => {
-                guard::sweep_stale_temps(&path);
+                cleanup::sweep_stale_temps(&path);
                 let tmp = temp_sibling(&path);
-                let file = guard::create_temp(&tmp).map_err(|e| cannot_write(dest, &e))?;
+                let file = cleanup::create_temp(&tmp).map_err(|e| cannot_write(dest, &e))?;
                 Ok(AtomicFile {
                     dest: path,
                     tmp: Some(tmp),
@@ -219,7 +220,7 @@ impl AtomicFile {
         if done.is_err() {
             let _ = std::fs::remove_file(&tmp);
         }
-        guard::forget_temp(&tmp);
+        cleanup::forget_temp(&tmp);
         done
     }
 }
@@ -229,7 +230,7 @@ impl Drop for AtomicFile {
         self.file.take();
         if let Some(tmp) = self.tmp.take() {
             let _ = std::fs::remove_file(&tmp);
-            guard::forget_temp(&tmp);
+            cleanup::forget_temp(&tmp);
         }
     }
 }
@@ -272,7 +273,7 @@ pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<()
     }
     guard::refuse_dir_holding_input(dir, inputs)?;
     guard::claim_dir(dir, command)?;
-    guard::create_dir_all(dir).map_err(|e| {
+    cleanup::create_dir_all(dir).map_err(|e| {
         CliError::input(format!(
             "output directory {}: cannot create it: {e}",
             dir.display()
@@ -320,9 +321,9 @@ pub fn check_output_file(path: &Path, inputs: &Inputs) -> Result<Target, CliErro
 /// one: a SIGTERM between its creation and removal left it behind (the
 /// interrupt test saw `.big.csv.tmp-PID` on a loaded machine).
 fn probe(probe_path: &Path, shown: &Path) -> Result<(), CliError> {
-    drop(guard::create_temp(probe_path).map_err(|e| cannot_write(shown, &e))?);
+    drop(cleanup::create_temp(probe_path).map_err(|e| cannot_write(shown, &e))?);
     let _ = std::fs::remove_file(probe_path);
-    guard::forget_temp(probe_path);
+    cleanup::forget_temp(probe_path);
     Ok(())
 }
 

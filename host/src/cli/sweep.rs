@@ -303,7 +303,7 @@ fn write_csv(
     // fix: exit 2; a reader of stdout that stopped early ends the run quietly.
     let to = out.map_or("standard output".to_string(), |p| p.display().to_string());
     let fail = |e: std::io::Error| match out {
-        None => super::output_guard::stdout_error(e, "the sweep CSV"),
+        None => super::stdout::stdout_error(e, "the sweep CSV"),
         Some(_) => CliError::input(format!("cannot write the sweep CSV to {to}: {e}")),
     };
     let provenance = crate::provenance::Provenance::capture(inputs).comment_block();
