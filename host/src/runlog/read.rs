@@ -1,7 +1,6 @@
 //! Reading a run log: from a saved image file, or from the robot's USB CDC
 //! port (`LOG` request, `swimbot_shared::run_log::readout`), then decoded
-//! by the firmware's own [`decode`]: the host reads exactly the bytes the
-//! firmware writes, with the same checks.
+//! ([`super::decode`]).
 //!
 //! The port is opened through the `serialport` crate (default features
 //! off: no libudev, which only enumerates ports) rather than raw file I/O
@@ -10,19 +9,12 @@
 //! line-edited on the way in; `serialport` puts it in raw mode, and works
 //! the same on a lab's Windows (`COM3`) or macOS (`/dev/cu.usbmodem*`) host.
 
+use super::decode::{decode_bytes, describe, RunLog};
 use crate::provenance::Inputs;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-use swimbot_shared::run_log::image::{OLDEST_VERSION, VERSION};
-use swimbot_shared::run_log::{decode, DecodeError, Header, Record, HEADER_LEN};
-
-/// A decoded log: its header and records, in time order as recorded.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RunLog {
-    pub header: Header,
-    pub records: Vec<Record>,
-}
+use swimbot_shared::run_log::{decode, HEADER_LEN};
 
 /// Where the log comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -84,7 +76,7 @@ fn err(source: &Source, message: impl Into<String>) -> LogError {
 /// the port: the robot keeps only the last run).
 pub fn read_source(source: &Source, inputs: &Inputs) -> Result<(RunLog, Vec<u8>), LogError> {
     let bytes = read_bytes(source, inputs)?;
-    let log = decode_bytes(&bytes).map_err(|m| err(source, m))?;
+    let log = decode_bytes(&bytes).map_err(|e| err(source, e.to_string()))?;
     Ok((log, bytes))
 }
 
@@ -100,7 +92,7 @@ pub fn read_current(
     let bytes = read_bytes(source, inputs)?;
     let image = decode(&bytes).map_err(|e| err(source, describe(&e)))?;
     let warnings = super::power_up::check(&image, earlier).map_err(|m| err(source, m))?;
-    let log = decode_bytes(&bytes).map_err(|m| err(source, m))?;
+    let log = decode_bytes(&bytes).map_err(|e| err(source, e.to_string()))?;
     Ok((log, bytes, warnings))
 }
 
@@ -225,110 +217,6 @@ fn read_exact_by<R: Read>(
         }
     }
     Ok(())
-}
-
-/// Decode an image, with what is wrong said in words.
-pub fn decode_bytes(bytes: &[u8]) -> Result<RunLog, String> {
-    let image = decode(bytes).map_err(|e| describe(&e))?;
-    if image.is_empty() {
-        return Err("the log is empty: no record (was the motor started since power-up?)".into());
-    }
-    let records: Vec<Record> = image.records().collect();
-    check_time(&records, u32::from(image.header.sample_period_ms))?;
-    Ok(RunLog {
-        header: image.header,
-        records,
-    })
-}
-
-/// The longest plausible gap between two records while the motor runs,
-/// in sample periods and at least in ms: the recorder takes a record one
-/// period after the last (a main-loop pass, every 1 ms or sooner, is at
-/// most one pass late), so even a main loop held up by a flash erase
-/// stays far inside it. Between runs of one power-up (the motor stopped,
-/// then started again) any gap is real.
-const MAX_GAP_PERIODS: u64 = 100;
-const MAX_GAP_MS: u64 = 60_000;
-
-/// The motor runs from record `a` to record `b`: `a` is no stop and `b`
-/// no start.
-fn runs_across(a: &Record, b: &Record) -> bool {
-    use swimbot_shared::run_log::Events;
-    let stopped = [
-        Events::STOPPED_COMMAND,
-        Events::STOPPED_MAX_RUN_TIME,
-        Events::STOPPED_LOW_BATTERY,
-        Events::STOPPED_BATTERY_FAULT,
-        Events::USB_CONNECTED,
-    ]
-    .iter()
-    .any(|&e| a.events.contains(e));
-    let started = [Events::STARTED, Events::ON]
-        .iter()
-        .any(|&e| b.events.contains(e));
-    a.duty_per_10k > 0 && !stopped && !started
-}
-
-/// A CRC-valid image can still hold a time that runs backwards (two logs
-/// concatenated) or jumps by days (a corrupted clock): steady windows
-/// would count turns twice or span the jump. Refused, naming the record.
-fn check_time(records: &[Record], period_ms: u32) -> Result<(), String> {
-    let max_gap = (u64::from(period_ms) * MAX_GAP_PERIODS).max(MAX_GAP_MS);
-    for (i, w) in records.windows(2).enumerate() {
-        let (a, b) = (u64::from(w[0].t_ms), u64::from(w[1].t_ms));
-        let (n, m) = (i + 1, i + 2);
-        if b < a {
-            return Err(format!(
-                "record {m} (t = {:.3} s) is earlier than record {n} (t = {:.3} s): time runs backwards, so this is not one run as the robot records it (two logs joined?)",
-                b as f64 * 1e-3,
-                a as f64 * 1e-3
-            ));
-        }
-        if b - a > max_gap && runs_across(&w[0], &w[1]) {
-            return Err(format!(
-                "record {m} (t = {:.3} s) comes {:.3} s after record {n}: the robot records every {period_ms} ms while the motor runs, so a gap over {:.0} s is no real log (a damaged clock?)",
-                b as f64 * 1e-3,
-                (b - a) as f64 * 1e-3,
-                max_gap as f64 * 1e-3
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// A decode error in the words a lab needs.
-pub fn describe(e: &DecodeError) -> String {
-    match *e {
-        DecodeError::TooShort { len } => {
-            format!("{len} bytes: too short for a run log (its header alone is {HEADER_LEN} bytes)")
-        }
-        DecodeError::BadMagic(m) => {
-            format!("not a swimbot run log: it starts with {m:02x?}, a log with \"SWLG\"")
-        }
-        DecodeError::UnsupportedVersion(v) => format!(
-            "log format version {v}: this swimbot reads versions {OLDEST_VERSION}-{VERSION}"
-        ),
-        DecodeError::BadLengths {
-            header_len,
-            record_len,
-        } => format!(
-            "header and record lengths {header_len} and {record_len}: the log format has 32 and 16"
-        ),
-        DecodeError::ZeroPeriod => "the header's sample period is 0 ms".into(),
-        DecodeError::BadAddress(a) => format!("the header's paired address {a:#06x} is not 0-255"),
-        DecodeError::Truncated { expected, got } => {
-            format!("truncated: the header announces {expected} bytes, the log has {got}")
-        }
-        DecodeError::TrailingBytes { expected, got } => format!(
-            "{got} bytes where the header announces {expected}: bytes after the last record"
-        ),
-        DecodeError::Crc { stored, computed } => format!(
-            "bad CRC (stored {stored:#010x}, computed {computed:#010x}): the log is damaged"
-        ),
-        DecodeError::Record { index, error } => {
-            format!("record {index} is malformed: {error:?}")
-        }
-    }
 }
 
 #[cfg(test)]
