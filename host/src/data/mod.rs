@@ -15,6 +15,7 @@ mod parse;
 mod profile;
 pub mod quantities;
 pub mod recorded;
+mod resolve;
 pub mod rig;
 pub mod uncertainty;
 mod write;
