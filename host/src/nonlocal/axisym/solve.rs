@@ -94,7 +94,7 @@ pub fn build_mesh(
     centre_m: f64,
     s: &AxisymSettings,
 ) -> Result<Mesh, NonlocalError> {
-    profile.validate().map_err(geometry_error)?;
+    profile.validate()?;
     check_settings(s)?;
     if !centre_m.is_finite() {
         return Err(geometry_error(format!("body position {centre_m} m")));
