@@ -237,12 +237,13 @@ pub fn echo(s: &str) -> String {
 }
 
 /// Checks the quadrature resolution for a tail of `turns` turns.
-pub fn check_quadrature(nodes_per_wavelength: usize, turns: f64) -> Result<(), String> {
+pub fn check_quadrature(nodes_per_wavelength: usize, turns: f64) -> Result<(), LimitError> {
     let nodes = nodes_per_wavelength as f64 * turns.max(1.0);
     if nodes_per_wavelength < 2 || nodes > MAX_QUADRATURE_NODES {
-        return Err(format!(
-            "{nodes_per_wavelength} nodes per wavelength: needs at least 2, and at most {MAX_QUADRATURE_NODES:e} nodes on the tail ({turns} turns)"
-        ));
+        return Err(LimitError::Quadrature {
+            nodes_per_wavelength,
+            turns,
+        });
     }
     Ok(())
 }
@@ -263,7 +264,7 @@ pub fn limit_of(field: &str) -> Option<&'static Limit> {
 }
 
 /// Checks `value` of `field` (absolute value for the signed measured means).
-pub fn check_value(field: &str, value: f64) -> Result<(), String> {
+pub fn check_value(field: &str, value: f64) -> Result<(), LimitError> {
     let Some(l) = limit_of(field) else {
         return Ok(());
     };
@@ -273,40 +274,62 @@ pub fn check_value(field: &str, value: f64) -> Result<(), String> {
         value
     };
     if !v.is_finite() || v < l.min || v > l.max {
-        return Err(format!(
-            "{} is outside the allowed range {:e}..={:e} {} ({})",
-            show(value),
-            l.min,
-            l.max,
-            l.unit,
-            l.why
-        ));
+        return Err(LimitError::OutOfRange { value, limit: l });
     }
     Ok(())
 }
 
 /// A case or tail id: not empty, short, no control characters (they break
 /// the tables), no comma (`--cases` splits at commas), no outer spaces.
-pub fn check_id(id: &str) -> Result<(), String> {
+pub fn check_id(id: &str) -> Result<(), LimitError> {
     if id.trim().is_empty() {
-        return Err("the id is empty".into());
+        return Err(LimitError::EmptyId);
     }
     if id.chars().count() > MAX_ID_CHARS {
-        return Err(format!("the id is longer than {MAX_ID_CHARS} characters"));
+        return Err(LimitError::LongId);
     }
     if id.chars().any(|c| c.is_control() || c == ',') || id.trim() != id {
-        return Err(format!(
-            "the id {id:?} contains a control character, a comma or leading/trailing spaces"
-        ));
+        return Err(LimitError::IdCharacters(id.to_string()));
     }
     Ok(())
+}
+
+/// A value outside what the model and the data may hold, with the value
+/// and the limit as data (the field is the caller's to name).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LimitError {
+    /// `value` outside `limit`'s range (for a signed measured mean, its
+    /// absolute value).
+    #[error(
+        "{} is outside the allowed range {:e}..={:e} {} ({})",
+        show(*.value),
+        .limit.min,
+        .limit.max,
+        .limit.unit,
+        .limit.why
+    )]
+    OutOfRange { value: f64, limit: &'static Limit },
+    #[error(
+        "{nodes_per_wavelength} nodes per wavelength: needs at least 2, and at most {MAX_QUADRATURE_NODES:e} nodes on the tail ({turns} turns)"
+    )]
+    Quadrature {
+        nodes_per_wavelength: usize,
+        turns: f64,
+    },
+    #[error("the id is empty")]
+    EmptyId,
+    #[error("the id is longer than {MAX_ID_CHARS} characters")]
+    LongId,
+    /// The id as given.
+    #[error("the id {0:?} contains a control character, a comma or leading/trailing spaces")]
+    IdCharacters(String),
 }
 
 /// Checks a resolved case: id, field ranges, the measured values and the
 /// relations the geometry needs beyond those of the parser. The error is
 /// `(field, message)`.
 pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
-    check_id(&c.id).map_err(|m| ("id", m))?;
+    check_id(&c.id).map_err(|m| ("id", m.to_string()))?;
     let fields: [(&'static str, f64); 15] = [
         ("wavelength_mm", c.wavelength_mm),
         ("amplitude_mm", c.amplitude_mm),
@@ -325,15 +348,15 @@ pub fn check_case(c: &Case) -> Result<(), (&'static str, String)> {
         ("net_weight_g", c.net_weight_g),
     ];
     for (f, v) in fields {
-        check_value(f, v).map_err(|m| (f, m))?;
+        check_value(f, v).map_err(|m| (f, m.to_string()))?;
     }
     for (mean_f, ci_f, m) in [
         ("u_mm_s", "u_ci_mm_s", c.u_mm_s),
         ("omega_body_hz", "omega_body_ci_hz", c.omega_body_hz),
     ] {
         let Some(m) = m else { continue };
-        check_value(mean_f, m.mean).map_err(|e| (mean_f, e))?;
-        check_value("confidence", m.confidence).map_err(|e| ("confidence", e))?;
+        check_value(mean_f, m.mean).map_err(|e| (mean_f, e.to_string()))?;
+        check_value("confidence", m.confidence).map_err(|e| ("confidence", e.to_string()))?;
         if m.trials > MAX_TRIALS {
             return Err((
                 "trials",
