@@ -100,7 +100,7 @@ impl Definition {
                 .ok_or_else(|| format!("the definition does not define `{}`", self.name))?;
             let effect = FormulaEffect::new(spec, SOURCE)
                 .map_err(|e| format!("the formula at {}: {:?}", e.place.name(), e.error))?;
-            crate::effects::register_user_effects(vec![effect])?;
+            crate::effects::register_user_effects(vec![effect]).map_err(|e| e.to_string())?;
         }
         by_name(&self.name).ok_or_else(|| {
             format!(

@@ -359,7 +359,7 @@ impl Study {
             let why = with
                 .check_tail_compat()
                 .err()
-                .unwrap_or_else(|| "it conflicts with the model".into());
+                .map_or_else(|| "it conflicts with the model".into(), |e| e.to_string());
             return Err(eff_err(why));
         }
         let first_step = before_model.effects.len() - self.file.steps.len();
