@@ -100,8 +100,8 @@ pub fn read_current(
 /// flash, no file of the user's.
 fn read_bytes(source: &Source, inputs: &Inputs) -> Result<Vec<u8>, LogError> {
     match source {
-        Source::File(p) => read_file(p, inputs).map_err(|m| err(source, m)),
-        Source::Port(p) => read_port(p).map_err(|m| err(source, m)),
+        Source::File(p) => read_file(p, inputs).map_err(|e| err(source, e.to_string())),
+        Source::Port(p) => read_port(p).map_err(|e| err(source, e.to_string())),
     }
 }
 
@@ -111,13 +111,12 @@ const MAX_IMAGE_BYTES: u64 = crate::input_file::cap::RUN_LOG;
 
 /// Bounded while reading ([`crate::input_file`]): a FIFO or `/dev/zero`
 /// costs at most the cap, never the machine.
-fn read_file(path: &Path, inputs: &Inputs) -> Result<Vec<u8>, String> {
+fn read_file(path: &Path, inputs: &Inputs) -> Result<Vec<u8>, crate::input_file::ReadError> {
     let bytes = crate::input_file::read(
         path,
         MAX_IMAGE_BYTES,
         "a run log (a 10-minute log is about 96 kB)",
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     inputs.record(path, &bytes);
     Ok(bytes)
 }
@@ -141,15 +140,15 @@ fn port_deadline(start: Instant, bytes: u64) -> Instant {
 
 /// Ask the robot for its log: `LOG\n`, then the header, then the records
 /// the header announces, all before the deadline ([`port_deadline`]).
-fn read_port(name: &str) -> Result<Vec<u8>, String> {
+fn read_port(name: &str) -> Result<Vec<u8>, PortError> {
     let mut port = serialport::new(name, 115_200)
         .timeout(PORT_SILENCE)
         .open()
-        .map_err(|e| format!("cannot open the robot's port: {e}"))?;
+        .map_err(PortError::Open)?;
     let _ = port.clear(serialport::ClearBuffer::All);
     port.write_all(b"LOG\n")
         .and_then(|()| port.flush())
-        .map_err(|e| format!("cannot send the LOG request: {e}"))?;
+        .map_err(PortError::Request)?;
     let start = Instant::now();
     let mut timeout = |p: &mut Box<dyn serialport::SerialPort>, t: Duration| {
         let _ = p.set_timeout(t.min(PORT_SILENCE));
@@ -164,7 +163,7 @@ fn read_image<R: Read>(
     port: &mut R,
     start: Instant,
     set_timeout: &mut dyn FnMut(&mut R, Duration),
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, PortError> {
     let mut bytes = vec![0u8; HEADER_LEN];
     read_exact_by(
         port,
@@ -172,7 +171,7 @@ fn read_image<R: Read>(
         port_deadline(start, HEADER_LEN as u64),
         set_timeout,
     )
-    .map_err(|e| format!("no log header from the robot: {e}"))?;
+    .map_err(PortError::NoHeader)?;
     let count = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]) as u64;
     let total = HEADER_LEN as u64 + count.saturating_mul(16);
     if &bytes[..4] != b"SWLG" || total > MAX_IMAGE_BYTES {
@@ -181,8 +180,10 @@ fn read_image<R: Read>(
     }
     let mut rest = vec![0u8; (total as usize) - HEADER_LEN];
     let deadline = port_deadline(start, total);
-    read_exact_by(port, &mut rest, deadline, set_timeout)
-        .map_err(|e| format!("the robot sent the header of {count} records, then stopped: {e}"))?;
+    read_exact_by(port, &mut rest, deadline, set_timeout).map_err(|why| PortError::Stopped {
+        records: count,
+        why,
+    })?;
     bytes.extend_from_slice(&rest);
     Ok(bytes)
 }
@@ -193,30 +194,50 @@ fn read_exact_by<R: Read>(
     buf: &mut [u8],
     deadline: Instant,
     set_timeout: &mut dyn FnMut(&mut R, Duration),
-) -> Result<(), String> {
+) -> Result<(), ShortRead> {
     let mut filled = 0;
-    while filled < buf.len() {
+    let wanted = buf.len();
+    while filled < wanted {
         let left = deadline.saturating_duration_since(Instant::now());
         if left.is_zero() {
-            return Err(format!(
-                "{filled} of {} bytes arrived before the read's deadline; the port is too slow or not the robot",
-                buf.len()
-            ));
+            return Err(ShortRead::Deadline { filled, wanted });
         }
         set_timeout(r, left);
         match r.read(&mut buf[filled..]) {
-            Ok(0) => {
-                return Err(format!(
-                    "the port closed after {filled} of {} bytes",
-                    buf.len()
-                ))
-            }
+            Ok(0) => return Err(ShortRead::Closed { filled, wanted }),
             Ok(n) => filled += n,
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e.to_string()),
+            Err(e) => return Err(ShortRead::Io(e)),
         }
     }
     Ok(())
+}
+
+/// Why the robot's port gave no log.
+#[derive(Debug, thiserror::Error)]
+pub enum PortError {
+    #[error("cannot open the robot's port: {0}")]
+    Open(serialport::Error),
+    #[error("cannot send the LOG request: {0}")]
+    Request(std::io::Error),
+    #[error("no log header from the robot: {0}")]
+    NoHeader(ShortRead),
+    /// The header announced `records` records; fewer bytes followed.
+    #[error("the robot sent the header of {records} records, then stopped: {why}")]
+    Stopped { records: u64, why: ShortRead },
+}
+
+/// Fewer bytes than wanted from the port: how many, and why it stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum ShortRead {
+    #[error(
+        "{filled} of {wanted} bytes arrived before the read's deadline; the port is too slow or not the robot"
+    )]
+    Deadline { filled: usize, wanted: usize },
+    #[error("the port closed after {filled} of {wanted} bytes")]
+    Closed { filled: usize, wanted: usize },
+    #[error("{0}")]
+    Io(std::io::Error),
 }
 
 #[cfg(test)]
@@ -247,7 +268,9 @@ mod tests {
         // Started long ago: the deadline has nearly passed.
         let start = Instant::now() - PORT_BASE_DEADLINE + Duration::from_millis(100);
         let t = Instant::now();
-        let e = read_image(&mut port, start, &mut |_, _| {}).unwrap_err();
+        let e = read_image(&mut port, start, &mut |_, _| {})
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("before the read's deadline"), "{e}");
         assert!(t.elapsed() < Duration::from_secs(2), "{:?}", t.elapsed());
         // The time left is what each read may wait.
