@@ -451,7 +451,8 @@ impl Study {
     fn report(&self, py: Python<'_>, dir: std::path::PathBuf) -> PyResult<std::path::PathBuf> {
         let inputs = self.with(|s| s.inputs().clone());
         api::check_output_dir(&dir, "report", &inputs).map_err(cli_err)?;
-        swimbot::report::check_bundle_dir(&dir, "report").map_err(SwimbotError::new_err)?;
+        swimbot::report::check_bundle_dir(&dir, "report")
+            .map_err(|e| SwimbotError::new_err(e.to_string()))?;
         let guard = |p: &std::path::Path| api::not_an_input(p, &inputs);
         py.allow_threads(|| {
             self.with(|s| {

@@ -35,10 +35,11 @@ pub use story::{StoryInput, ZeroParam};
 pub use parity::parity;
 
 use crate::provenance::Inputs;
+pub use bundle::BundleError;
 pub use residuals::residual_plots;
 
 /// Refuse `dir` before any work when another command's page is in it.
-pub fn check_bundle_dir(dir: &std::path::Path, command: &str) -> Result<(), String> {
+pub fn check_bundle_dir(dir: &std::path::Path, command: &str) -> Result<(), BundleError> {
     bundle::check_dir(dir, command)
 }
 
@@ -50,8 +51,8 @@ pub fn write_story(
     input: &StoryInput,
     guard: bundle::Guard,
     inputs: &Inputs,
-) -> Result<std::path::PathBuf, String> {
-    let page = story::page(input).map_err(|e| e.to_string())?;
+) -> Result<std::path::PathBuf, BundleError> {
+    let page = story::page(input)?;
     bundle::write(dir, input.command, &page, guard, inputs)
 }
 
@@ -66,7 +67,7 @@ pub fn write_report(
     diagnosis: Option<&crate::workbench::diagnose::Diagnosis>,
     guard: bundle::Guard,
     inputs: &Inputs,
-) -> Result<std::path::PathBuf, String> {
+) -> Result<std::path::PathBuf, BundleError> {
     write_story(
         dir,
         &StoryInput {
@@ -92,6 +93,6 @@ pub fn write_study(
     study: &crate::study::Study,
     guard: bundle::Guard,
     inputs: &Inputs,
-) -> Result<std::path::PathBuf, String> {
+) -> Result<std::path::PathBuf, BundleError> {
     bundle::write(dir, "report", &study_page::page(study), guard, inputs)
 }
