@@ -366,7 +366,7 @@ fn row_table(
         };
         let value = kind.read(cell, decimal_comma).map_err(|m| DataError {
             case: id.map(super::limits::echo),
-            ..fail(&at, Some(name), m)
+            ..fail(&at, Some(name), m.to_string())
         })?;
         match column {
             Column::Recorded => insert_in(&mut row, RECORDED, bare(name, RECORDED), value),
