@@ -244,7 +244,7 @@ pub(super) fn resolve(
     };
     for (field, _) in &case.inputs.uncertainties {
         super::body_inputs::check(&case, field)
-            .map_err(|m| r.fail(&format!("uncertainty.{field}"), m))?;
+            .map_err(|m| r.fail(&format!("uncertainty.{field}"), m.to_string()))?;
     }
     Ok(case)
 }
