@@ -155,7 +155,7 @@ pub fn read(
     };
     let dialect = Dialect {
         separator,
-        decimal_comma: decimal.map_err(|m| fail(file, None, m))?,
+        decimal_comma: decimal.map_err(|m| fail(file, None, m.to_string()))?,
     };
     classify(&mut columns, &records, dialect.decimal_comma);
     unnamed_with_cells(file, &names, &columns, &records)?;

@@ -127,6 +127,8 @@ pub fn convert_file_with(
     };
     match to {
         FileFormat::Toml => Ok(csv_write::to_toml(&raw)),
-        FileFormat::Csv => csv_write::to_csv(&raw).map_err(|m| err(&file, None, None, m)),
+        FileFormat::Csv => {
+            csv_write::to_csv(&raw).map_err(|m| err(&file, None, None, m.to_string()))
+        }
     }
 }
