@@ -9,6 +9,7 @@ mod csv_dialect;
 mod csv_header;
 mod csv_read;
 mod csv_write;
+mod limit_check;
 pub mod limits;
 mod load;
 mod parse;
