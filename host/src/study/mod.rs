@@ -298,7 +298,10 @@ impl Study {
                 field: field.into(),
                 message,
             };
-            let effect = s.effect.effect().map_err(|m| err("effect", m))?;
+            let effect = s
+                .effect
+                .effect()
+                .map_err(|m| err("effect", m.to_string()))?;
             let mut inst = EffectInstance::default_of(effect);
             set_values(&mut inst, &s.params).map_err(|m| err("param", m))?;
             model.effects.push(inst);
@@ -339,7 +342,7 @@ impl Study {
             effect: def.name.clone(),
             message: m,
         };
-        let effect = def.effect().map_err(eff_err)?;
+        let effect = def.effect().map_err(|e| eff_err(e.to_string()))?;
         let before_model = self.model()?;
         if let Some(i) = before_model
             .effects
