@@ -154,7 +154,7 @@ pub fn build_mesh(
     let mut elements = Vec::new();
     for (pieces, part) in [(&meridian.pieces, Part::Body), (&wall_pieces, Part::Wall)] {
         for p in pieces.iter() {
-            elements.extend(discretize(p, &sizing, part, s.max_elements).map_err(geometry_error)?);
+            elements.extend(discretize(p, &sizing, part, s.max_elements)?);
             if elements.len() > s.max_elements {
                 return Err(NonlocalError::Settings(format!(
                     "the mesh needs more than {} elements; lower the resolution",

@@ -260,7 +260,7 @@ fn build(
             Part::Wall
         };
         for p in &pieces {
-            let e = discretize(p, &sizing, part, s.max_elements).map_err(geometry)?;
+            let e = discretize(p, &sizing, part, s.max_elements)?;
             kinds.extend(std::iter::repeat_n(kind, e.len()));
             els.extend(e);
             if els.len() > s.max_elements {
