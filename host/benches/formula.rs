@@ -20,7 +20,7 @@ fn predict_all(model: &Model, cases: &[swimbot::data::Case]) -> f64 {
 fn formula_vs_catalogue(c: &mut Criterion) {
     let fixture =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/restated.toml");
-    load_effect_files(&[fixture]).unwrap();
+    load_effect_files(&[fixture], &swimbot::provenance::Inputs::new()).unwrap();
     let cases = swimbot::data::paper().cases;
     let pairs = [
         (

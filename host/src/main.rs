@@ -22,7 +22,7 @@ extern "C" fn note_closed_stdout() {
 
 fn main() -> ExitCode {
     // A reader that stops early (`| head`) is handled in the CLI
-    // (`cli::output_guard::end_on_closed_stdout`): exit 0, as ripgrep does.
+    // (`cli::stdout::end_on_closed_stdout`): exit 0, as ripgrep does.
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,

@@ -2,10 +2,14 @@
 //! commit it was built from, when the build knew it), the full command
 //! line, every input file's path and SHA-256, and the date (UTC).
 //!
-//! Input files are recorded where they are read ([`record_input`]: the
+//! Input files are recorded where they are read ([`Inputs::record`]: the
 //! dataset, a CSV's setup file, effect files, a robot file), so that no
-//! command can forget one; [`Provenance::capture`] takes what this process
-//! has read so far. JSON outputs carry it as a top-level `swimbot` object,
+//! command can forget one. The record is a value, [`Inputs`], that a
+//! command (or one call of the library) creates and hands to what reads
+//! and to what writes: an output lists what its own command read, never
+//! what an earlier call in the same process left behind (the Python
+//! package calls the library many times in one interpreter).
+//! [`Provenance::capture`] takes it. JSON outputs carry it as a top-level `swimbot` object,
 //! CSV and TOML outputs as `#` comment lines above their content, the
 //! report page as its last paragraph.
 //!
@@ -41,7 +45,64 @@ pub struct Provenance {
     pub date_utc: String,
 }
 
-static INPUTS: Mutex<Vec<Input>> = Mutex::new(Vec::new());
+/// The files one command, or one call of the library, has read: each
+/// path once, with the SHA-256 of its latest bytes, in the order first
+/// read. Shared by reference (`&Inputs`) between what reads and what
+/// writes; the lock lets readers on other threads (rayon, a Python call
+/// without the GIL) record too.
+#[derive(Debug, Default)]
+pub struct Inputs {
+    read: Mutex<Vec<Input>>,
+}
+
+impl Inputs {
+    /// An empty record, for one command or one call.
+    pub fn new() -> Inputs {
+        Inputs::default()
+    }
+
+    /// Records that `path` was read with these bytes (once per path).
+    pub fn record(&self, path: &Path, bytes: &[u8]) {
+        self.record_named(&path.display().to_string(), bytes);
+    }
+
+    /// Records a built-in input (the paper's data) under a descriptive name.
+    pub fn record_named(&self, name: &str, bytes: &[u8]) {
+        self.put(Input {
+            path: name.to_string(),
+            sha256: sha256_hex(bytes),
+        });
+    }
+
+    /// Records every input of `other` (a study's files, for the command
+    /// that works on the study).
+    pub fn record_all(&self, other: &Inputs) {
+        other.list().into_iter().for_each(|i| self.put(i));
+    }
+
+    /// A path read again replaces its hash in place: the list keeps the
+    /// order in which files were first read.
+    fn put(&self, input: Input) {
+        let mut inputs = self.read.lock().unwrap_or_else(|e| e.into_inner());
+        match inputs.iter_mut().find(|i| i.path == input.path) {
+            Some(known) => *known = input,
+            None => inputs.push(input),
+        }
+    }
+
+    /// What was read so far, in the order first read.
+    pub fn list(&self) -> Vec<Input> {
+        self.read.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+}
+
+impl Clone for Inputs {
+    fn clone(&self) -> Inputs {
+        Inputs {
+            read: Mutex::new(self.list()),
+        }
+    }
+}
 
 /// Hex SHA-256 of `bytes`.
 pub fn sha256_hex(bytes: &[u8]) -> String {
@@ -51,35 +112,17 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
         .collect()
 }
 
-/// Records that this run read `path` with these bytes (once per path).
-pub fn record_input(path: &Path, bytes: &[u8]) {
-    record_named(&path.display().to_string(), bytes);
-}
-
-/// Records a built-in input (the paper's data) under a descriptive name.
-pub fn record_named(name: &str, bytes: &[u8]) {
-    let input = Input {
-        path: name.to_string(),
-        sha256: sha256_hex(bytes),
-    };
-    let mut inputs = INPUTS.lock().unwrap_or_else(|e| e.into_inner());
-    match inputs.iter_mut().find(|i| i.path == input.path) {
-        Some(known) => *known = input,
-        None => inputs.push(input),
-    }
-}
-
 impl Provenance {
-    /// This process's provenance now: its command line and the inputs it
-    /// has read so far.
-    pub fn capture() -> Provenance {
+    /// The provenance of an output made now: this process's command line
+    /// and the inputs its command has read so far.
+    pub fn capture(inputs: &Inputs) -> Provenance {
         Provenance {
             version: env!("CARGO_PKG_VERSION").to_string(),
             commit: GIT_COMMIT.unwrap_or("unknown").to_string(),
             command: std::env::args_os()
                 .map(|a| a.to_string_lossy().into_owned())
                 .collect(),
-            inputs: INPUTS.lock().unwrap_or_else(|e| e.into_inner()).clone(),
+            inputs: inputs.list(),
             date_utc: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
         }
     }
@@ -184,9 +227,9 @@ pub struct WithProvenance<'a, T: Serialize> {
 
 /// `value` with this run's provenance (see [`WithProvenance`]); `value`
 /// must serialise as a JSON object (a struct or a map).
-pub fn with_provenance<T: Serialize>(value: &T) -> WithProvenance<'_, T> {
+pub fn with_provenance<'a, T: Serialize>(value: &'a T, inputs: &Inputs) -> WithProvenance<'a, T> {
     WithProvenance {
-        swimbot: Provenance::capture(),
+        swimbot: Provenance::capture(inputs),
         value,
     }
 }
@@ -215,16 +258,17 @@ mod tests {
     #[test]
     fn a_recorded_input_is_captured_and_rerecorded_on_change() {
         let p = Path::new("/nonexistent/provenance-test-input.toml");
-        record_input(p, b"one");
-        record_input(p, b"two");
-        let mine: Vec<Input> = Provenance::capture()
+        let inputs = Inputs::new();
+        inputs.record(p, b"one");
+        inputs.record(p, b"two");
+        let mine: Vec<Input> = Provenance::capture(&inputs)
             .inputs
             .into_iter()
             .filter(|i| i.path == p.display().to_string())
             .collect();
         assert_eq!(mine.len(), 1);
         assert_eq!(mine[0].sha256, sha256_hex(b"two"));
-        let date = Provenance::capture().date_utc;
+        let date = Provenance::capture(&inputs).date_utc;
         assert!(date.ends_with('Z') && date.len() == 20, "{date}");
     }
 

@@ -14,7 +14,7 @@ fn s(p: &Path) -> &str {
 fn simulated_records(dir: &Path) -> Vec<Record> {
     let log = dir.join("base.swlog");
     write_simulated_log(&log, &dir.join("sim"));
-    swimbot::runlog::read::decode_bytes(&std::fs::read(&log).unwrap())
+    swimbot::runlog::decode::decode_bytes(&std::fs::read(&log).unwrap())
         .unwrap()
         .records
 }

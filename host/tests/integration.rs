@@ -41,6 +41,7 @@ mod outputs;
 mod page;
 mod page_escaping;
 mod physics_tail;
+mod provenance;
 mod rate_control;
 mod report;
 mod robust;

@@ -43,7 +43,11 @@ fn assert_same_predictions(a: &Model, b: &Model) {
 
 #[test]
 fn catalogue_effects_restated_as_formulas_predict_the_same() {
-    load_effect_files(&[fixture("restated.toml")]).unwrap();
+    load_effect_files(
+        &[fixture("restated.toml")],
+        &swimbot::provenance::Inputs::new(),
+    )
+    .unwrap();
     for (t, r) in [(16.0, 1.4), (4.5, 3.4), (0.3, 7.0)] {
         let cat = with(
             Model::base(),

@@ -10,10 +10,11 @@
 //! protocol before Python 3.11, and a copy costs nanoseconds against a
 //! model evaluation's microsecond.
 //!
-//! Process-wide state of the library that a long-lived interpreter meets:
-//! the provenance's list of inputs grows with every file read (the results
-//! here leave the provenance block out, so it never shows), and effect
-//! files given with `--effect-file` stay registered for the process.
+//! Each call records the files it reads in an [`Inputs`] of its own, so a
+//! report written by a notebook names the files its study read, not every
+//! file read before in the interpreter. Process-wide state the library
+//! still keeps: effect files given with `--effect-file` stay registered for
+//! the process.
 
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
@@ -22,6 +23,7 @@ use pyo3::types::PyBytes;
 use rayon::prelude::*;
 use swimbot::cli::{api, Cli, CliError, Command};
 use swimbot::data::{self, Case, DataError, ReadOptions};
+use swimbot::provenance::Inputs;
 
 create_exception!(
     _swimbot,
@@ -95,7 +97,7 @@ fn paper() -> Dataset {
 fn load(py: Python<'_>, path: std::path::PathBuf, decimal_comma: bool) -> PyResult<Dataset> {
     let options = ReadOptions { decimal_comma };
     let loaded = py
-        .allow_threads(|| data::read_file(&path, &options))
+        .allow_threads(|| data::read_file(&path, &options, &Inputs::new()))
         .map_err(data_err)?;
     Ok(Dataset {
         inner: loaded.dataset,
@@ -109,8 +111,8 @@ fn load(py: Python<'_>, path: std::path::PathBuf, decimal_comma: bool) -> PyResu
 #[pyo3(signature = (text, name, decimal_comma = false))]
 fn from_csv(text: &str, name: &str, decimal_comma: bool) -> PyResult<Dataset> {
     let options = ReadOptions { decimal_comma };
-    let loaded =
-        data::read_csv_str(text, name, std::path::Path::new("."), &options).map_err(data_err)?;
+    let dir = std::path::Path::new(".");
+    let loaded = data::read_csv_str(text, name, dir, &options, &Inputs::new()).map_err(data_err)?;
     Ok(Dataset {
         inner: loaded.dataset,
         note: loaded.note,
@@ -152,7 +154,7 @@ fn compare(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<(Strin
     };
     let ds = &data.inner;
     py.allow_threads(|| {
-        let c = api::compared(&a, ds).map_err(cli_err)?;
+        let c = api::compared(&a, ds, &Inputs::new()).map_err(cli_err)?;
         let cmp = &c.path.last().comparison;
         Ok((json(cmp)?, figures(ds, cmp)))
     })
@@ -166,7 +168,7 @@ fn diagnose(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<Strin
     };
     let ds = data.inner.clone();
     py.allow_threads(|| {
-        let (d, ds) = api::diagnosed(&a, ds, None).map_err(cli_err)?;
+        let (d, ds) = api::diagnosed(&a, ds, None, &Inputs::new()).map_err(cli_err)?;
         json(&api::diagnosis_json(&d, &ds, a.likelihood.get()).map_err(cli_err)?)
     })
 }
@@ -180,7 +182,7 @@ fn fit(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<(String, V
     };
     let ds = &data.inner;
     py.allow_threads(|| {
-        let f = api::fitted(&a, ds).map_err(cli_err)?;
+        let f = api::fitted(&a, ds, &Inputs::new()).map_err(cli_err)?;
         Ok((json(&f.to_json())?, figures(ds, &f.all)))
     })
 }
@@ -192,7 +194,7 @@ fn audit(py: Python<'_>, data: &Dataset, args: Vec<String>) -> PyResult<String> 
         unreachable!("parsed as audit")
     };
     let ds = &data.inner;
-    py.allow_threads(|| json(&api::audited(&a, ds, None).map_err(cli_err)?))
+    py.allow_threads(|| json(&api::audited(&a, ds, None, &Inputs::new()).map_err(cli_err)?))
 }
 
 fn c_predict(model: &swimbot::model::Model, c: &Case) -> Result<(f64, f64), String> {
@@ -236,7 +238,7 @@ fn sweep<'py>(
     let Command::Compare(a) = parse("compare", args)? else {
         unreachable!("parsed as compare")
     };
-    let model = a.model.model().map_err(cli_err)?;
+    let model = a.model.model(&Inputs::new()).map_err(cli_err)?;
     let base = template.map_or_else(data::paper, |d| d.inner.clone());
     let mut t: Case = match &case {
         Some(id) => base
@@ -425,7 +427,7 @@ impl Study {
         force: bool,
         diagnose: bool,
     ) -> PyResult<String> {
-        let def = api::definition(effect).map_err(cli_err)?;
+        let def = api::definition(effect, &Inputs::new()).map_err(cli_err)?;
         let o = swimbot::study::AddOptions {
             refit_all,
             force,
@@ -444,13 +446,17 @@ impl Study {
         py.allow_threads(|| self.with(|s| json(&s.apply_to(d).map_err(study_err)?)))
     }
     /// `swimbot report` of the study: the page's bundle written to `dir`
-    /// (refused where `report` refuses it); the page's path.
+    /// (refused where `report` refuses it); the page's path. Its inputs
+    /// are the files the study read, whatever else this process has read.
     fn report(&self, py: Python<'_>, dir: std::path::PathBuf) -> PyResult<std::path::PathBuf> {
-        api::check_output_dir(&dir, "report").map_err(cli_err)?;
-        swimbot::report::check_bundle_dir(&dir, "report").map_err(SwimbotError::new_err)?;
+        let inputs = self.with(|s| s.inputs().clone());
+        api::check_output_dir(&dir, "report", &inputs).map_err(cli_err)?;
+        swimbot::report::check_bundle_dir(&dir, "report")
+            .map_err(|e| SwimbotError::new_err(e.to_string()))?;
+        let guard = |p: &std::path::Path| api::not_an_input(p, &inputs);
         py.allow_threads(|| {
             self.with(|s| {
-                swimbot::report::write_study(&dir, s, &api::not_an_input).map_err(|e| {
+                swimbot::report::write_study(&dir, s, &guard, &inputs).map_err(|e| {
                     SwimbotError::new_err(format!("writing the report to {}: {e}", dir.display()))
                 })
             })

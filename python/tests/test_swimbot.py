@@ -237,6 +237,28 @@ def test_the_study_from_python_is_the_clis(tmp_path):
         s.add("no-such-effect")
 
 
+def test_each_reports_inputs_are_its_own_studys_files(tmp_path):
+    """Two studies in one interpreter: each report names the files its own
+    study read, not what earlier calls read (a notebook makes many)."""
+    import hashlib
+
+    swimbot.load(PAPER_TOML)  # an earlier call's read
+    listed = []
+    for name, source in [("a.csv", PAPER_CSV), ("b.toml", PAPER_TOML)]:
+        folder = tmp_path / name.split(".")[0]
+        folder.mkdir()
+        data = folder / name
+        data.write_bytes(source.read_bytes())
+        s = swimbot.Study.init(folder / "swimbot-study.toml", data, diagnose=False)
+        page = Path(s.report(folder / "report"))
+        manifest = json.loads((page.parent / "manifest.json").read_text())
+        inputs = manifest["swimbot"]["inputs"]
+        sha = hashlib.sha256(data.read_bytes()).hexdigest()
+        listed.append([(Path(i["path"]).name, i["sha256"]) for i in inputs])
+        assert listed[-1] == [(name, sha)], inputs
+    assert listed[0] != listed[1]
+
+
 def test_bad_arguments_are_swimbot_errors_naming_them():
     # `-1` reaches the flag's own check (it read as another flag).
     with pytest.raises(swimbot.SwimbotError, match="mc-draws"):

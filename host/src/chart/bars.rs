@@ -10,7 +10,7 @@ use super::svg::{rgb, Anchor, Stroke, Svg};
 use super::svg_text::{power_of_ten, width};
 use super::ticks::Axis;
 use super::Rgb;
-use super::{PlotResult, PALETTE};
+use super::{ChartError, PlotResult, PALETTE};
 use crate::format::fmt_sig;
 
 const CATEGORY_FONT_PX: f64 = 10.0;
@@ -74,7 +74,9 @@ impl Bars {
         let bottom = BOTTOM_PX - 14.0 + 12.0 * extra_rows as f64;
         let plot = Rect::new(left, top, w - left - RIGHT_PX, h - top - bottom);
         if plot.width() < 60.0 || plot.height() < 40.0 {
-            return Err(format!("bar chart '{}' is too small to draw", self.title));
+            return Err(ChartError::BarsTooSmall {
+                title: self.title.clone(),
+            });
         }
         let slot = plot.width() / n as f64;
         let py = |v: f64| y.frac(v).map(|f| plot.y1 - f * plot.height());

@@ -9,8 +9,8 @@ use super::panel::draw_panel;
 use super::series::Series;
 use super::svg::{Anchor, Svg};
 use super::ticks::Axis;
-use super::PlotResult;
 use super::Rgb;
+use super::{ChartError, PlotResult};
 
 pub(super) const REFERENCE: Rgb = Rgb(110, 110, 110);
 
@@ -155,7 +155,7 @@ impl Chart {
 pub fn legend_only(chart: &Chart, series: &[Series]) -> PlotResult {
     let entries = super::panel::entries_of(chart, series);
     if entries.is_empty() {
-        return Err("no legend entries".into());
+        return Err(ChartError::NoLegendEntries);
     }
     let (w, h) = super::legend::size(&entries);
     let mut svg = Svg::default();
@@ -166,7 +166,7 @@ pub fn legend_only(chart: &Chart, series: &[Series]) -> PlotResult {
 /// Panels stacked top to bottom under one title, each laid out on its own.
 pub fn stack(title: &str, panels: &[(Chart, Vec<Series>)]) -> PlotResult {
     if panels.is_empty() {
-        return Err("no panels to draw".into());
+        return Err(ChartError::NoPanels);
     }
     let mut svg = Svg::default();
     let mut y = if title.is_empty() { 0.0 } else { 28.0 };

@@ -42,7 +42,36 @@ pub use svg_text::{
 };
 pub use ticks::Axis;
 
-pub type PlotResult = Result<String, String>;
+/// An SVG figure, or why it cannot be drawn.
+pub type PlotResult = Result<String, ChartError>;
+
+/// Why a figure cannot be drawn, its title as data.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ChartError {
+    /// A bar chart whose plot area is smaller than its labels leave room for.
+    #[error("bar chart '{title}' is too small to draw")]
+    BarsTooSmall { title: String },
+    /// A panel whose plot area is smaller than its axes leave room for.
+    #[error("chart '{title}' is too small to draw ({width_px} x {height_px} px)")]
+    PanelTooSmall {
+        title: String,
+        width_px: f64,
+        height_px: f64,
+    },
+    #[error("no legend entries")]
+    NoLegendEntries,
+    #[error("no panels to draw")]
+    NoPanels,
+    /// A figure of panels without one panel to take its legend from.
+    #[error("no panel")]
+    NoPanel,
+    /// Every value of the figure's `what` (e.g. "step") is NaN or infinite.
+    #[error("no {what} has a finite value")]
+    NoFiniteValue { what: &'static str },
+    /// A figure of a feature (`crate::data::quantities`) this build does not know.
+    #[error("unknown feature {id}")]
+    UnknownFeature { id: String },
+}
 
 pub const PALETTE: [Rgb; 6] = [
     Rgb(31, 119, 180),

@@ -212,17 +212,18 @@ pub fn draw_panel(
     series: &[Series],
     origin: (f64, f64),
     left: f64,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64), super::ChartError> {
     let (x, y) = axes(c, series);
     let (y_ticks, _) = y_ticks_and_left(c, series);
     let top = top_px(&c.title);
     let (w, h) = c.size;
     let x_ticks = x.ticks((w - left - RIGHT_PX) / X_TICK_PX);
     if w - left - RIGHT_PX < 60.0 || h - top - BOTTOM_PX < 40.0 {
-        return Err(format!(
-            "chart '{}' is too small to draw ({w} x {h} px)",
-            c.title
-        ));
+        return Err(super::ChartError::PanelTooSmall {
+            title: c.title.clone(),
+            width_px: w,
+            height_px: h,
+        });
     }
     let plot = Rect::new(
         origin.0 + left,

@@ -5,6 +5,7 @@
 use super::model_args::{DataArgs, ModelArgs};
 use super::output::{print_csv, print_json, TableJsonCsv};
 use super::CliError;
+use crate::provenance::Inputs;
 use crate::workbench::audit::{audit, Audit, AuditSettings};
 use crate::workbench::progress::Progress;
 use clap::Args;
@@ -34,18 +35,19 @@ pub struct AuditArgs {
     pub likelihood: super::likelihood::LikelihoodArgs,
 }
 
-pub fn run(a: AuditArgs) -> Result<(), CliError> {
-    let data = a.data.load()?;
+pub fn run(a: AuditArgs, inputs: &Inputs) -> Result<(), CliError> {
+    let data = a.data.load(inputs)?;
     let spinner = crate::progress::stages(crate::workbench::audit::AUDIT_STAGES, "audit");
     let report = audited(
         &a,
         &data,
         Some(crate::progress::to_bar(&spinner, "audit: ")),
+        inputs,
     )?;
     spinner.finish_and_clear();
     match a.format {
-        TableJsonCsv::Json => print_json(&report),
-        TableJsonCsv::Csv => print_csv(&report.flags)?,
+        TableJsonCsv::Json => print_json(&report, inputs),
+        TableJsonCsv::Csv => print_csv(&report.flags, inputs)?,
         TableJsonCsv::Table => print_table(&report),
     }
     Ok(())
@@ -58,6 +60,7 @@ pub fn audited(
     a: &AuditArgs,
     data: &crate::data::Dataset,
     progress: Option<Progress>,
+    inputs: &Inputs,
 ) -> Result<crate::workbench::audit::Audit, CliError> {
     if !(16..=100_000).contains(&a.family_samples) {
         return Err(CliError::input(format!(
@@ -67,7 +70,7 @@ pub fn audited(
     }
     let budget = super::budget::parse_budget(a.max_seconds)?;
     let data = data.clone();
-    let model = a.model.model()?;
+    let model = a.model.model(inputs)?;
     super::budget::check(
         &format!("the audit of {} cases", data.cases.len()),
         estimate_seconds(&model, &data, a.family_samples),

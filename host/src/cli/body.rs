@@ -18,6 +18,7 @@ use super::output::{print_json, TableOrJson};
 use super::CliError;
 use crate::nonlocal::axisym::{annular_formula, solve_body, AxisymSettings, Confinement};
 use crate::physics::profile::BodyProfile;
+use crate::provenance::Inputs;
 use clap::Args;
 
 #[derive(Args, Debug)]
@@ -101,7 +102,7 @@ fn positive(flag: &str, v: f64) -> Result<f64, CliError> {
 /// may let through and still be printed.
 const FLUX_ERROR_LIMIT: f64 = 1e-2;
 
-pub fn run(a: BodyArgs) -> Result<(), CliError> {
+pub fn run(a: BodyArgs, inputs: &Inputs) -> Result<(), CliError> {
     let mut mu = 3.5;
     let mut channel: Option<(f64, f64, bool)> = None;
     let profile = if let Some(spec) = &a.profile {
@@ -234,7 +235,7 @@ pub fn run(a: BodyArgs) -> Result<(), CliError> {
         )));
     }
     match a.format {
-        TableOrJson::Json => print_json(&out),
+        TableOrJson::Json => print_json(&out, inputs),
         TableOrJson::Table => print_table(&out),
     }
     Ok(())

@@ -4,6 +4,7 @@ use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_json, Format};
 use super::CliError;
 use crate::format::{fmt_sig, fmt_value_unc};
+use crate::provenance::Inputs;
 use crate::workbench::compare::Comparison;
 use crate::workbench::input_covariance::CorrelatedChi2;
 use crate::workbench::path::{user_path, Path};
@@ -60,9 +61,14 @@ pub struct Compared {
 }
 
 /// `compare`'s work on `data` with the flags in `args` (its `--data` is
-/// not read: the caller loaded the data).
-pub fn compared(args: &CompareArgs, data: &crate::data::Dataset) -> Result<Compared, CliError> {
-    let model = args.model.model()?;
+/// not read: the caller loaded the data); effect files it reads are
+/// recorded in `inputs`.
+pub fn compared(
+    args: &CompareArgs,
+    data: &crate::data::Dataset,
+    inputs: &Inputs,
+) -> Result<Compared, CliError> {
+    let model = args.model.model(inputs)?;
     let declared = has_input_uncertainty(data);
     let cheap = affordable(&model);
     if declared && !cheap && !args.input_uncertainty {
@@ -103,10 +109,10 @@ pub fn compared(args: &CompareArgs, data: &crate::data::Dataset) -> Result<Compa
     Ok(Compared { path, checks })
 }
 
-pub fn run(args: CompareArgs) -> Result<(), CliError> {
-    let data = args.data.load()?;
+pub fn run(args: CompareArgs, inputs: &Inputs) -> Result<(), CliError> {
+    let data = args.data.load(inputs)?;
     if !args.no_report {
-        super::output::check_output_dir(&args.output, "compare")?;
+        super::output::check_output_dir(&args.output, "compare", inputs)?;
         crate::report::check_bundle_dir(&args.output, "compare").map_err(CliError::input)?;
     }
     let spinner = crate::progress::stages(
@@ -114,7 +120,7 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
         &format!("compare: the model on {} cases", data.cases.len()),
     );
     spinner.set_position(1);
-    let Compared { path, checks } = compared(&args, &data)?;
+    let Compared { path, checks } = compared(&args, &data, inputs)?;
     let cmp = path.last().comparison.clone();
     spinner.set_message("compare: writing the report");
     spinner.set_position(2);
@@ -130,7 +136,8 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
                 &path,
                 &data,
                 None,
-                &super::output::not_an_input,
+                &|p| super::output::not_an_input(p, inputs),
+                inputs,
             )
             .map_err(|e| {
                 CliError::input(format!(
@@ -146,8 +153,8 @@ pub fn run(args: CompareArgs) -> Result<(), CliError> {
             print_table(&cmp, args.input_uncertainty, &checks);
             print_steps(&path);
         }
-        Format::Json => print_json(&cmp),
-        Format::Csv => print_csv(&cmp)?,
+        Format::Json => print_json(&cmp, inputs),
+        Format::Csv => print_csv(&cmp, inputs)?,
     }
     if let Some(path) = report {
         if args.format == Format::Table {
@@ -333,9 +340,9 @@ fn print_steps(path: &Path) {
 /// The CSV: one row per case, the body rate's columns named
 /// `omega_body_counter_*` as the README and the data format call Ω_b
 /// (the JSON keeps the field names of the library's types).
-fn print_csv(c: &Comparison) -> Result<(), CliError> {
+fn print_csv(c: &Comparison, inputs: &Inputs) -> Result<(), CliError> {
     let mut bytes = Vec::new();
-    super::output::write_csv_rows(&c.cases, &mut bytes)?;
+    super::output::write_csv_rows(&c.cases, &mut bytes, inputs)?;
     let text = String::from_utf8(bytes).expect("the CSV writer writes UTF-8");
     // the provenance block's `#` lines come first, then the header
     let table_at = text
@@ -353,7 +360,7 @@ fn print_csv(c: &Comparison) -> Result<(), CliError> {
         .write_all(comments.as_bytes())
         .and_then(|()| writeln!(out, "{}", header.join(",")))
         .and_then(|()| out.write_all(rows.as_bytes()));
-    super::output_guard::stdout_written(done, "the CSV")
+    super::stdout::stdout_written(done, "the CSV")
 }
 
 /// `omega_pred_hz` -> `omega_body_counter_pred_hz`, and so on.

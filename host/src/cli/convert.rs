@@ -5,6 +5,7 @@
 
 use super::CliError;
 use crate::data::{convert_file_with, FileFormat, ReadOptions};
+use crate::provenance::Inputs;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -32,7 +33,7 @@ pub enum ToArg {
     Toml,
 }
 
-pub fn run(a: ConvertArgs) -> Result<(), CliError> {
+pub fn run(a: ConvertArgs, inputs: &Inputs) -> Result<(), CliError> {
     let to = match (a.to, &a.output) {
         (Some(ToArg::Csv), _) => FileFormat::Csv,
         (Some(ToArg::Toml), _) => FileFormat::Toml,
@@ -43,7 +44,7 @@ pub fn run(a: ConvertArgs) -> Result<(), CliError> {
         },
     };
     if let Some(out) = &a.output {
-        super::output::check_output_file(out)?;
+        super::output::check_output_file(out, inputs)?;
         if out.extension().is_some() && FileFormat::of(out) != to {
             return Err(CliError::input(format!(
                 "--output {}: the extension says {}, --to says {}",
@@ -56,10 +57,10 @@ pub fn run(a: ConvertArgs) -> Result<(), CliError> {
     let options = ReadOptions {
         decimal_comma: a.decimal_comma,
     };
-    let body = convert_file_with(&a.input, to, &options)?;
-    let text = crate::provenance::Provenance::capture().comment_block() + &body;
+    let body = convert_file_with(&a.input, to, &options, inputs)?;
+    let text = crate::provenance::Provenance::capture(inputs).comment_block() + &body;
     match &a.output {
-        Some(out) => super::output::write_atomically(out, text.as_bytes()),
+        Some(out) => super::output::write_atomically(out, text.as_bytes(), inputs),
         None => {
             print!("{text}");
             Ok(())

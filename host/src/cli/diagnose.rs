@@ -5,6 +5,7 @@ use super::output::{opt, print_csv, print_json, TableJsonCsv};
 use super::CliError;
 use crate::data::Dataset;
 use crate::format::{fmt_estimate, fmt_sig};
+use crate::provenance::Inputs;
 use crate::workbench::diagnose::{diagnose, Candidate, DiagnoseSettings, Diagnosis};
 use crate::workbench::diagnosis::DIAGNOSE_STAGES;
 use crate::workbench::discovery::Located;
@@ -63,6 +64,7 @@ pub fn diagnosed(
     a: &DiagnoseArgs,
     data: Dataset,
     progress: Option<Progress>,
+    inputs: &Inputs,
 ) -> Result<(Diagnosis, Dataset), CliError> {
     if !(a.level > 0.5 && a.level < 1.0) {
         return Err(CliError::input(format!(
@@ -88,7 +90,7 @@ pub fn diagnosed(
             data.cases.len()
         )));
     }
-    let model = a.model.model()?;
+    let model = a.model.model(inputs)?;
     let data = if a.input_uncertainty {
         crate::workbench::propagate::with_input_uncertainty(&model, &data)?
     } else {
@@ -125,29 +127,36 @@ pub fn diagnosed(
     Ok((d, data))
 }
 
-pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
+pub fn run(a: DiagnoseArgs, inputs: &Inputs) -> Result<(), CliError> {
     if let Some(path) = &a.write_effect {
-        super::output::check_output_file(path)?;
+        super::output::check_output_file(path, inputs)?;
     }
-    let data = a.data.load()?;
+    let data = a.data.load(inputs)?;
     // Shown once the work has lasted 2 s (paper-sized data takes less).
     let spinner = crate::progress::stages(
         DIAGNOSE_STAGES,
         &format!("diagnosing {} cases: the data's quality", data.cases.len()),
     );
     spinner.set_position(1);
-    let (d, data) = diagnosed(&a, data, Some(crate::progress::to_bar(&spinner, "")))?;
+    let (d, data) = diagnosed(
+        &a,
+        data,
+        Some(crate::progress::to_bar(&spinner, "")),
+        inputs,
+    )?;
     let lik = a.likelihood.get();
     spinner.finish_and_clear();
     // The file the user asked for is written before stdout is touched: a
     // reader that stops early (`| head`) ends the process by SIGPIPE while
     // the table is printed, and the file must already be there.
     if let Some(path) = &a.write_effect {
-        write_effect(&d, &data.name, path)?;
+        write_effect(&d, &data.name, path, inputs)?;
     }
     match a.format {
-        TableJsonCsv::Json => print_json(&super::likelihood::diagnosis_json(&d, &data, lik)?),
-        TableJsonCsv::Csv => print_csv(&ranking_rows(&d))?,
+        TableJsonCsv::Json => {
+            print_json(&super::likelihood::diagnosis_json(&d, &data, lik)?, inputs)
+        }
+        TableJsonCsv::Csv => print_csv(&ranking_rows(&d), inputs)?,
         TableJsonCsv::Table => {
             if a.input_uncertainty {
                 println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
@@ -167,7 +176,12 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
 /// stagewise verdict, in order), else the search's best (a partial finding
 /// is still a starting point to refine). A verdict of none-needed writes
 /// nothing: that is an answer, not an error.
-fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<(), CliError> {
+fn write_effect(
+    d: &Diagnosis,
+    dataset: &str,
+    path: &std::path::Path,
+    inputs: &Inputs,
+) -> Result<(), CliError> {
     use crate::workbench::diagnose::VerdictKind;
     let list: Vec<Located> = if d.verdict.kind == VerdictKind::NoneNeeded {
         Vec::new()
@@ -190,9 +204,9 @@ fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<
         );
         return Ok(());
     }
-    let text = crate::provenance::Provenance::capture().comment_block()
+    let text = crate::provenance::Provenance::capture(inputs).comment_block()
         + &crate::workbench::discovery::write::to_toml_steps(&list, dataset);
-    super::output::write_atomically(path, text.as_bytes())?;
+    super::output::write_atomically(path, text.as_bytes(), inputs)?;
     let what: Vec<String> = list.iter().map(Located::describe).collect();
     eprintln!("wrote {} ({})", path.display(), what.join("; then "));
     Ok(())

@@ -7,6 +7,7 @@ use super::output::{print_json, TableOrJson};
 use super::CliError;
 use crate::data::quantities::{FEATURES, FIELDS};
 use crate::format::{fmt_trim, with_unit};
+use crate::provenance::Inputs;
 use clap::Args;
 
 #[derive(Args, Debug)]
@@ -43,7 +44,7 @@ struct QuantityEntry {
     doc: &'static str,
 }
 
-fn quantities(format: TableOrJson) {
+fn quantities(format: TableOrJson, inputs: &Inputs) {
     let entries: Vec<QuantityEntry> = FEATURES
         .iter()
         .map(|q| (q, "feature"))
@@ -57,7 +58,7 @@ fn quantities(format: TableOrJson) {
         })
         .collect();
     if format == TableOrJson::Json {
-        print_json(&entries);
+        print_json(&entries, inputs);
         return;
     }
     for q in &entries {
@@ -72,10 +73,10 @@ fn quantities(format: TableOrJson) {
     }
 }
 
-pub fn run(args: EffectsArgs) -> Result<(), CliError> {
-    args.effect_files.load()?;
+pub fn run(args: EffectsArgs, inputs: &Inputs) -> Result<(), CliError> {
+    args.effect_files.load(inputs)?;
     if args.quantities {
-        quantities(args.format);
+        quantities(args.format, inputs);
         return Ok(());
     }
     let user = crate::effects::user_effects();
@@ -101,7 +102,7 @@ pub fn run(args: EffectsArgs) -> Result<(), CliError> {
         })
         .collect();
     if args.format == TableOrJson::Json {
-        print_json(&entries);
+        print_json(&entries, inputs);
         return Ok(());
     }
     for e in &entries {

@@ -5,6 +5,7 @@ use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, pct, print_csv, print_json, TableJsonCsv};
 use super::CliError;
 use crate::format::{fmt_estimate, fmt_sig, with_unit};
+use crate::provenance::Inputs;
 use crate::workbench::compare::compare;
 use crate::workbench::fit::{fit_with, free_params_of};
 use clap::Args;
@@ -44,9 +45,13 @@ impl Fitted {
 }
 
 /// `fit`'s work on `data` with the flags in `a` (its `--data` is not read).
-pub fn fitted(a: &FitArgs, data: &crate::data::Dataset) -> Result<Fitted, CliError> {
+pub fn fitted(
+    a: &FitArgs,
+    data: &crate::data::Dataset,
+    inputs: &Inputs,
+) -> Result<Fitted, CliError> {
     let data = data.clone();
-    let model = a.model.model()?;
+    let model = a.model.model(inputs)?;
     if a.model.effects.is_empty() {
         return Err(CliError::input(
             "give the effect(s) to calibrate with --effect NAME",
@@ -123,15 +128,15 @@ pub fn fitted(a: &FitArgs, data: &crate::data::Dataset) -> Result<Fitted, CliErr
     Ok(Fitted { result, all, lone })
 }
 
-pub fn run(a: FitArgs) -> Result<(), CliError> {
-    let data = a.data.load()?;
-    let Fitted { result, all, lone } = fitted(&a, &data)?;
+pub fn run(a: FitArgs, inputs: &Inputs) -> Result<(), CliError> {
+    let data = a.data.load(inputs)?;
+    let Fitted { result, all, lone } = fitted(&a, &data, inputs)?;
     match a.format {
         TableJsonCsv::Json => {
-            print_json(&Fitted { result, all, lone }.to_json());
+            print_json(&Fitted { result, all, lone }.to_json(), inputs);
             return Ok(());
         }
-        TableJsonCsv::Csv => return print_csv(&result.estimates),
+        TableJsonCsv::Csv => return print_csv(&result.estimates, inputs),
         TableJsonCsv::Table => {}
     }
     println!(

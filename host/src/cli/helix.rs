@@ -10,6 +10,7 @@ use crate::format::fmt_sig;
 use crate::physics::coefficients::CoefficientSet;
 use crate::physics::geometry::{Handedness, Helix};
 use crate::physics::tail;
+use crate::provenance::Inputs;
 use clap::{Args, ValueEnum};
 
 #[derive(Args, Debug)]
@@ -370,7 +371,8 @@ fn print(
     };
     super::output::check_finite("resistance matrix", &out)?;
     match a.format {
-        TableOrJson::Json => print_json(&out),
+        // The helix is all flags: no file is read, none is named.
+        TableOrJson::Json => print_json(&out, &Inputs::new()),
         TableOrJson::Table => print_table(&out),
     }
     Ok(())

@@ -6,6 +6,7 @@
 
 use super::model_args::load_data;
 use super::CliError;
+use crate::provenance::Inputs;
 use crate::runlog::steady::{pool, show_rate, Pooled, CONFIDENCE, MIN_TURNS};
 use crate::runlog::{figure, read_current, steady_windows, trials, Source, SteadyWindow, Trace};
 use clap::Args;
@@ -35,14 +36,15 @@ pub struct LogArgs {
     pub output: PathBuf,
 }
 
-pub fn run(args: LogArgs) -> Result<(), CliError> {
+pub fn run(args: LogArgs, inputs: &Inputs) -> Result<(), CliError> {
     let source = Source::of(&args.source);
     let base = match &args.case {
-        Some(id) => Some(named_case(&args.data, id)?),
+        Some(id) => Some(named_case(&args.data, id, inputs)?),
         None => None,
     };
-    super::output::check_output_dir(&args.output, "log")?;
-    let (log, bytes, warnings) = read_current(&source, args.earlier).map_err(CliError::input)?;
+    super::output::check_output_dir(&args.output, "log", inputs)?;
+    let (log, bytes, warnings) =
+        read_current(&source, args.earlier, inputs).map_err(CliError::input)?;
     for w in &warnings {
         eprintln!("warning: {}: {w}", source.name());
     }
@@ -52,7 +54,7 @@ pub fn run(args: LogArgs) -> Result<(), CliError> {
     let title = format!("run log {}", source.name());
     let svg = figure::svg(&trace, &windows, &title)
         .map_err(|e| CliError::failure(format!("drawing the trace: {e}")))?;
-    let provenance = crate::provenance::Provenance::capture();
+    let provenance = crate::provenance::Provenance::capture(inputs);
     let mut files = vec![
         (
             args.output.join("log.svg"),
@@ -79,7 +81,7 @@ pub fn run(args: LogArgs) -> Result<(), CliError> {
     if matches!(source, Source::Port(_)) {
         files.push((args.output.join("run.swlog"), bytes));
     }
-    super::output::write_all_atomically(&files)?;
+    super::output::write_all_atomically(&files, inputs)?;
     print!("{}", summary(&trace, &windows, &pooled, &log.header));
     if base.is_none() {
         println!(
@@ -98,8 +100,12 @@ fn warning_comments(warnings: &[String]) -> String {
         .collect()
 }
 
-fn named_case(data: &Option<PathBuf>, id: &str) -> Result<crate::data::Case, CliError> {
-    let data = load_data(data)?;
+fn named_case(
+    data: &Option<PathBuf>,
+    id: &str,
+    inputs: &Inputs,
+) -> Result<crate::data::Case, CliError> {
+    let data = load_data(data, inputs)?;
     data.cases
         .iter()
         .find(|c| c.id == id)

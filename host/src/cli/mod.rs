@@ -5,6 +5,7 @@
 mod audit;
 mod body;
 mod budget;
+mod cleanup;
 mod compare;
 mod convert;
 mod diagnose;
@@ -21,13 +22,14 @@ mod output;
 mod output_guard;
 mod report;
 mod sim;
+mod stdout;
 mod study;
 mod sweep;
 mod sweep_setup;
 mod synth;
 
 pub use error::CliError;
-pub use output_guard::note_stdout_closed_at_start;
+pub use stdout::note_stdout_closed_at_start;
 
 /// The commands' work without their printing, for the Python package
 /// (python/): the same flags (parsed by [`Cli`]), the same numbers.
@@ -41,6 +43,7 @@ pub mod api {
     pub use super::study::definition;
 }
 
+use crate::provenance::Inputs;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser, Debug)]
@@ -105,57 +108,61 @@ pub enum Command {
 
 /// Run a parsed command line. A run that fails (or is interrupted by
 /// SIGINT or SIGTERM) leaves no temporary file and no folder it created
-/// ([`output_guard`]); a failure to write stdout is an error (exit 2).
+/// ([`cleanup`]); a failure to write stdout is an error (exit 2).
 pub fn run(cli: Cli) -> Result<(), CliError> {
     crate::progress::set_quiet(cli.quiet);
-    output_guard::check_stdout_open()?;
-    output_guard::install_signal_cleanup();
-    output_guard::install_stdout_failure_exit();
+    stdout::check_stdout_open()?;
+    cleanup::install_signal_cleanup();
+    stdout::install_stdout_failure_exit();
     let done = dispatch(cli).and_then(|()| {
         use std::io::Write;
-        output_guard::stdout_written(std::io::stdout().flush(), "the output")
+        stdout::stdout_written(std::io::stdout().flush(), "the output")
     });
     match &done {
         Ok(()) => {
             output_guard::mark_claimed_dirs();
-            output_guard::keep_new_dirs();
+            cleanup::keep_new_dirs();
         }
-        Err(_) => output_guard::clean_up(),
+        Err(_) => cleanup::clean_up(),
     }
     done
 }
 
+/// Runs the command. What it reads is recorded in one [`Inputs`] made
+/// here, for this command alone: its outputs name those files, and refuse
+/// to overwrite them.
 fn dispatch(cli: Cli) -> Result<(), CliError> {
     let st = &cli.study;
+    let inputs = &Inputs::new();
     match cli.command {
         Command::Compare(mut a) => {
-            study::fill_from_study(st, &mut a.data, &mut a.model)?;
-            compare::run(a)
+            study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;
+            compare::run(a, inputs)
         }
         Command::Audit(mut a) => {
-            study::fill_from_study(st, &mut a.data, &mut a.model)?;
-            audit::run(a)
+            study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;
+            audit::run(a, inputs)
         }
         Command::Helix(a) => helix::run(a),
-        Command::Sweep(a) => sweep::run(a),
-        Command::Effects(a) => effects::run(a),
+        Command::Sweep(a) => sweep::run(a, inputs),
+        Command::Effects(a) => effects::run(a, inputs),
         Command::Diagnose(mut a) => {
-            study::fill_from_study(st, &mut a.data, &mut a.model)?;
-            diagnose::run(a)
+            study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;
+            diagnose::run(a, inputs)
         }
         Command::Fit(mut a) => {
-            study::fill_from_study(st, &mut a.data, &mut a.model)?;
-            fit::run(a)
+            study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;
+            fit::run(a, inputs)
         }
-        Command::Synth(a) => synth::run(a),
-        Command::Report(a) => report::run(a, st),
-        Command::Sim(a) => sim::run(a),
-        Command::Body(a) => body::run(a),
-        Command::Convert(a) => convert::run(a),
-        Command::Log(a) => log::run(a),
-        Command::Init(a) => study::run_init(a, st),
-        Command::Add(a) => study::run_add(a, st),
-        Command::Steps(a) => study::run_steps(a, st),
-        Command::Undo(a) => study::run_undo(a, st),
+        Command::Synth(a) => synth::run(a, inputs),
+        Command::Report(a) => report::run(a, st, inputs),
+        Command::Sim(a) => sim::run(a, inputs),
+        Command::Body(a) => body::run(a, inputs),
+        Command::Convert(a) => convert::run(a, inputs),
+        Command::Log(a) => log::run(a, inputs),
+        Command::Init(a) => study::run_init(a, st, inputs),
+        Command::Add(a) => study::run_add(a, st, inputs),
+        Command::Steps(a) => study::run_steps(a, st, inputs),
+        Command::Undo(a) => study::run_undo(a, st, inputs),
     }
 }

@@ -6,6 +6,7 @@ use crate::effects::parse_effect_spec;
 use crate::model::{preset, Model, TailMethod, PRESETS};
 use crate::physics::coefficients::CoefficientSet;
 use crate::physics::solve::Dofs;
+use crate::provenance::Inputs;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -96,15 +97,17 @@ pub struct EffectFiles {
 }
 
 impl EffectFiles {
-    /// Load and register the files (a file already loaded is skipped).
-    pub fn load(&self) -> Result<(), CliError> {
-        crate::effects::load_effect_files(&self.files).map_err(CliError::input)
+    /// Load and register the files (a file already loaded is not
+    /// registered again), each recorded in `inputs`.
+    pub fn load(&self, inputs: &Inputs) -> Result<(), CliError> {
+        crate::effects::load_effect_files(&self.files, inputs).map_err(CliError::input)
     }
 }
 
 impl ModelArgs {
-    pub fn model(&self) -> Result<Model, CliError> {
-        self.effect_files.load()?;
+    /// The model the flags name; effect files read are recorded in `inputs`.
+    pub fn model(&self, inputs: &Inputs) -> Result<Model, CliError> {
+        self.effect_files.load(inputs)?;
         let name = self.preset.as_deref().unwrap_or("base");
         let mut model = preset(name).ok_or_else(|| {
             let known: Vec<&str> = PRESETS.iter().map(|p| p.0).collect();
@@ -234,12 +237,12 @@ pub struct DataArgs {
 }
 
 impl DataArgs {
-    /// The dataset, or the built-in paper data.
-    pub fn load(&self) -> Result<Dataset, CliError> {
+    /// The dataset, or the built-in paper data, recorded in `inputs`.
+    pub fn load(&self, inputs: &Inputs) -> Result<Dataset, CliError> {
         let options = data::ReadOptions {
             decimal_comma: self.decimal_comma,
         };
-        load_data_with(&self.data, &options)
+        load_data_with(&self.data, &options, inputs)
     }
 }
 
@@ -256,9 +259,9 @@ pub fn in_data(path: &Option<PathBuf>) -> impl Fn(crate::model::ModelError) -> C
     }
 }
 
-/// `path` or the built-in paper data.
-pub fn load_data(path: &Option<PathBuf>) -> Result<Dataset, CliError> {
-    load_data_with(path, &data::ReadOptions::default())
+/// `path` or the built-in paper data, recorded in `inputs`.
+pub fn load_data(path: &Option<PathBuf>, inputs: &Inputs) -> Result<Dataset, CliError> {
+    load_data_with(path, &data::ReadOptions::default(), inputs)
 }
 
 /// [`load_data`] with what the user said of a CSV's dialect; what the
@@ -267,17 +270,18 @@ pub fn load_data(path: &Option<PathBuf>) -> Result<Dataset, CliError> {
 pub fn load_data_with(
     path: &Option<PathBuf>,
     options: &data::ReadOptions,
+    inputs: &Inputs,
 ) -> Result<Dataset, CliError> {
     match path {
         Some(p) => {
-            let loaded = data::read_file(p, options)?;
+            let loaded = data::read_file(p, options, inputs)?;
             if let Some(note) = loaded.note {
                 eprintln!("note: {note}");
             }
             Ok(loaded.dataset)
         }
         None => {
-            crate::provenance::record_named("<built-in paper data>", data::PAPER_TOML.as_bytes());
+            inputs.record_named("<built-in paper data>", data::PAPER_TOML.as_bytes());
             Ok(data::paper())
         }
     }

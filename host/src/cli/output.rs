@@ -4,8 +4,10 @@
 //! are replaced, followed, written through or refused is
 //! [`super::output_guard`]'s.
 
+use super::cleanup;
 use super::output_guard::{self as guard, Target};
 use super::CliError;
+use crate::provenance::{Inputs, Provenance};
 use clap::ValueEnum;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -45,19 +47,15 @@ pub enum TableJsonCsv {
 
 /// `rows` as CSV on stdout (provenance block first); an empty table still
 /// gets its provenance, so a script reading it sees where it came from.
-pub fn print_csv<T: serde::Serialize>(rows: &[T]) -> Result<(), CliError> {
+pub fn print_csv<T: serde::Serialize>(rows: &[T], inputs: &Inputs) -> Result<(), CliError> {
     let mut bytes = Vec::new();
     if rows.is_empty() {
-        bytes.extend(
-            crate::provenance::Provenance::capture()
-                .comment_block()
-                .into_bytes(),
-        );
+        bytes.extend(Provenance::capture(inputs).comment_block().into_bytes());
     } else {
-        write_csv_rows(rows, &mut bytes)?;
+        write_csv_rows(rows, &mut bytes, inputs)?;
     }
     use std::io::Write;
-    guard::stdout_written(std::io::stdout().lock().write_all(&bytes), "the CSV")
+    super::stdout::stdout_written(std::io::stdout().lock().write_all(&bytes), "the CSV")
 }
 
 /// The help of every `--format`.
@@ -73,13 +71,14 @@ pub const DEFAULT_SIM_DIR: &str = "swimbot-out/sim";
 
 /// Print JSON to stdout (serialisation of our own types cannot fail). An
 /// object gains the run's provenance as its first key, `swimbot`
-/// ([`crate::provenance`]); a list (`effects`) is printed as it is.
-pub fn print_json<T: serde::Serialize>(value: &T) {
+/// ([`crate::provenance`], naming `inputs`); a list (`effects`) is printed
+/// as it is.
+pub fn print_json<T: serde::Serialize>(value: &T, inputs: &Inputs) {
     // Keys stay in their declared order: the value is not rebuilt as a
     // (sorted) `serde_json::Value`, only checked for being an object.
     let is_object = serde_json::to_value(value).is_ok_and(|v| v.is_object());
     let text = if is_object {
-        serde_json::to_string_pretty(&crate::provenance::with_provenance(value))
+        serde_json::to_string_pretty(&crate::provenance::with_provenance(value, inputs))
     } else {
         serde_json::to_string_pretty(value)
     };
@@ -94,6 +93,7 @@ pub fn print_json<T: serde::Serialize>(value: &T) {
 pub fn write_csv_rows<T: serde::Serialize>(
     rows: &[T],
     out: impl std::io::Write,
+    inputs: &Inputs,
 ) -> Result<(), CliError> {
     // Our rows always serialise; what fails is the write (a full disk, a
     // closed device), the user's to fix: exit 2, as every output.
@@ -112,12 +112,8 @@ pub fn write_csv_rows<T: serde::Serialize>(
         .map(str::to_string)
         .collect();
     let mut out = out;
-    out.write_all(
-        crate::provenance::Provenance::capture()
-            .comment_block()
-            .as_bytes(),
-    )
-    .map_err(|e| fail(&e))?;
+    out.write_all(Provenance::capture(inputs).comment_block().as_bytes())
+        .map_err(|e| fail(&e))?;
     let mut w = csv::Writer::from_writer(out);
     w.write_record(&header).map_err(|e| fail(&e))?;
     for row in rows {
@@ -175,13 +171,14 @@ pub struct AtomicFile {
 }
 
 impl AtomicFile {
-    /// Opens the temporary file; an unwritable destination is a user error.
-    pub fn create(dest: &Path) -> Result<AtomicFile, CliError> {
-        match check_output_file(dest)? {
+    /// Opens the temporary file; an unwritable destination, or one of
+    /// `inputs`, is a user error.
+    pub fn create(dest: &Path, inputs: &Inputs) -> Result<AtomicFile, CliError> {
+        match check_output_file(dest, inputs)? {
             Target::Replace(path) => {
-                guard::sweep_stale_temps(&path);
+                cleanup::sweep_stale_temps(&path);
                 let tmp = temp_sibling(&path);
-                let file = guard::create_temp(&tmp).map_err(|e| cannot_write(dest, &e))?;
+                let file = cleanup::create_temp(&tmp).map_err(|e| cannot_write(dest, &e))?;
                 Ok(AtomicFile {
                     dest: path,
                     tmp: Some(tmp),
@@ -223,7 +220,7 @@ impl AtomicFile {
         if done.is_err() {
             let _ = std::fs::remove_file(&tmp);
         }
-        guard::forget_temp(&tmp);
+        cleanup::forget_temp(&tmp);
         done
     }
 }
@@ -233,14 +230,14 @@ impl Drop for AtomicFile {
         self.file.take();
         if let Some(tmp) = self.tmp.take() {
             let _ = std::fs::remove_file(&tmp);
-            guard::forget_temp(&tmp);
+            cleanup::forget_temp(&tmp);
         }
     }
 }
 
 /// Writes `bytes` to `path` atomically (see [`AtomicFile`]).
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let mut f = AtomicFile::create(path)?;
+pub fn write_atomically(path: &Path, bytes: &[u8], inputs: &Inputs) -> Result<(), CliError> {
+    let mut f = AtomicFile::create(path, inputs)?;
     f.writer()
         .write_all(bytes)
         .map_err(|e| cannot_write(path, &e))?;
@@ -250,10 +247,10 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
 /// Writes several files of one output atomically as a group as far as a
 /// file system allows: every temporary file is complete before the first
 /// rename, so a failure while producing or writing any of them leaves none.
-pub fn write_all_atomically(files: &[(PathBuf, Vec<u8>)]) -> Result<(), CliError> {
+pub fn write_all_atomically(files: &[(PathBuf, Vec<u8>)], inputs: &Inputs) -> Result<(), CliError> {
     let mut pending = Vec::with_capacity(files.len());
     for (path, bytes) in files {
-        let mut f = AtomicFile::create(path)?;
+        let mut f = AtomicFile::create(path, inputs)?;
         f.writer()
             .write_all(bytes)
             .map_err(|e| cannot_write(path, &e))?;
@@ -267,16 +264,16 @@ pub fn write_all_atomically(files: &[(PathBuf, Vec<u8>)]) -> Result<(), CliError
 /// computation does not end in an I/O error; that it holds none of the
 /// run's inputs and no other command's output ([`guard::claim_dir`]).
 /// Output files named beside it (`--write-log`) are checked first.
-pub fn check_output_dir(dir: &Path, command: &str) -> Result<(), CliError> {
+pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<(), CliError> {
     if dir.exists() && !dir.is_dir() {
         return Err(CliError::input(format!(
             "output directory {}: exists and is not a directory",
             dir.display()
         )));
     }
-    guard::refuse_dir_holding_input(dir)?;
+    guard::refuse_dir_holding_input(dir, inputs)?;
     guard::claim_dir(dir, command)?;
-    guard::create_dir_all(dir).map_err(|e| {
+    cleanup::create_dir_all(dir).map_err(|e| {
         CliError::input(format!(
             "output directory {}: cannot create it: {e}",
             dir.display()
@@ -288,17 +285,17 @@ pub fn check_output_dir(dir: &Path, command: &str) -> Result<(), CliError> {
 /// The report bundle's guard ([`crate::report::Guard`]): refuses a file
 /// of the bundle that is one of the command's inputs
 /// ([`guard::refuse_if_unnamed_input`]), e.g. `--data out/tables/paper-1.csv`.
-pub fn not_an_input(path: &Path) -> Result<(), String> {
-    guard::refuse_if_unnamed_input(path).map_err(|e| e.to_string())
+pub fn not_an_input(path: &Path, inputs: &Inputs) -> Result<(), String> {
+    guard::refuse_if_unnamed_input(path, inputs).map_err(|e| e.to_string())
 }
 
 /// Checks, before any work, that `path` can be written: what kind of file
 /// it names ([`guard::resolve`]), that it is no input of the command, and
 /// for a regular file that its directory exists and is writable. Returns
 /// how it will be written.
-pub fn check_output_file(path: &Path) -> Result<Target, CliError> {
+pub fn check_output_file(path: &Path, inputs: &Inputs) -> Result<Target, CliError> {
     let target = guard::resolve(path)?;
-    guard::refuse_if_input(path)?;
+    guard::refuse_if_input(path, inputs)?;
     guard::declare_output_file(path);
     let Target::Replace(file) = &target else {
         // Opening a FIFO to probe it would wait for a reader.
@@ -324,9 +321,9 @@ pub fn check_output_file(path: &Path) -> Result<Target, CliError> {
 /// one: a SIGTERM between its creation and removal left it behind (the
 /// interrupt test saw `.big.csv.tmp-PID` on a loaded machine).
 fn probe(probe_path: &Path, shown: &Path) -> Result<(), CliError> {
-    drop(guard::create_temp(probe_path).map_err(|e| cannot_write(shown, &e))?);
+    drop(cleanup::create_temp(probe_path).map_err(|e| cannot_write(shown, &e))?);
     let _ = std::fs::remove_file(probe_path);
-    guard::forget_temp(probe_path);
+    cleanup::forget_temp(probe_path);
     Ok(())
 }
 
@@ -353,18 +350,24 @@ mod tests {
     fn atomic_write_replaces_whole_files_and_cleans_up() {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("a.csv");
-        write_atomically(&p, b"one").unwrap();
-        write_atomically(&p, b"two").unwrap();
+        let inputs = Inputs::new();
+        write_atomically(&p, b"one", &inputs).unwrap();
+        write_atomically(&p, b"two", &inputs).unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"two");
         // A dropped, uncommitted file leaves neither the target nor a temp.
         let q = dir.path().join("b.csv");
-        drop(AtomicFile::create(&q).unwrap());
+        drop(AtomicFile::create(&q, &inputs).unwrap());
         let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
         assert_eq!(names.len(), 1, "only a.csv: {names:?}");
         // Unwritable destinations are user errors (exit 2).
-        let e = write_atomically(&dir.path().join("no/such/dir/x"), b"").unwrap_err();
+        let e = write_atomically(&dir.path().join("no/such/dir/x"), b"", &inputs).unwrap_err();
         assert_eq!(e.exit_code(), 2);
-        assert_eq!(check_output_dir(&p, "test").unwrap_err().exit_code(), 2);
+        assert_eq!(
+            check_output_dir(&p, "test", &inputs)
+                .unwrap_err()
+                .exit_code(),
+            2
+        );
     }
 
     #[test]
@@ -385,7 +388,7 @@ mod tests {
             none: None,
         }];
         let mut out = Vec::new();
-        write_csv_rows(&rows, &mut out).unwrap();
+        write_csv_rows(&rows, &mut out, &Inputs::new()).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(text.starts_with("# swimbot "), "{text}");
         let rows: String = text

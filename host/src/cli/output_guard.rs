@@ -1,7 +1,6 @@
 //! What stands between a run and the user's files: which kind of file an
 //! output path names and how it is written, the refusal of an output that
-//! is one of the run's inputs, and the removal of temporary files and new
-//! folders when the run fails or is interrupted (SIGINT, SIGTERM).
+//! is one of the run's inputs, and which command's output a folder holds.
 //!
 //! **Kinds of output path** ([`resolve`]):
 //! - a regular file, or a name that does not exist yet: written to a
@@ -21,8 +20,7 @@
 //! **Inputs are never outputs**: the run's inputs are every existing file
 //! named on its command line (`--data X`, `--flag=X`, a positional log)
 //! that is not a declared output file, and every file it has read
-//! ([`crate::provenance::record_input`]: a CSV's `# setup_file`, effect
-//! files). An output file that is, by device and inode, one of them
+//! (its [`Inputs`]: a CSV's `# setup_file`, effect files). An output file that is, by device and inode, one of them
 //! (`--data X --write-effect X`) is refused, and so is an output folder
 //! that holds one, after resolving links (`log --data L/trials.toml -o L`
 //! would replace the dataset it just read); the refusal names both.
@@ -32,16 +30,11 @@
 //! folder whose marker (or report manifest) names another command is
 //! refused ([`claim_dir`]).
 //!
-//! **Clean-up**: temporary files, staging folders
-//! ([`crate::atomic_dir`]) and the folders a run created are registered
-//! here; when the run ends with an error, and on SIGINT, SIGTERM and
-//! SIGHUP (a thread of the `signal-hook` crate, which then ends the
-//! process by the signal's default action), they are removed, folders only
-//! when empty (nothing the user put there is touched). A temporary file
-//! `.NAME.tmp-PID` left by a run that was killed outright (SIGKILL, power
-//! loss) is removed by the next run writing NAME, when process PID is gone.
+//! Removing what a failed run wrote is [`super::cleanup`]'s; a closed or
+//! failing standard output is [`super::stdout`]'s.
 
 use super::CliError;
+use crate::provenance::Inputs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -101,19 +94,20 @@ pub fn resolve(path: &Path) -> Result<Target, CliError> {
 }
 
 /// Refuses `path` when it is, by device and inode, another file named on
-/// the command line (an input). A path that does not exist yet is no input.
-pub fn refuse_if_input(path: &Path) -> Result<(), CliError> {
+/// the command line or one the command has read (an input). A path that
+/// does not exist yet is no input.
+pub fn refuse_if_input(path: &Path, inputs: &Inputs) -> Result<(), CliError> {
     // The output itself is named once; a second name is an input.
-    refuse_if_named(path, 2)
+    refuse_if_named(path, 2, inputs)
 }
 
 /// [`refuse_if_input`] for an output the command line does not name (a
 /// file of the report's bundle, named by the folder): any name is an input.
-pub fn refuse_if_unnamed_input(path: &Path) -> Result<(), CliError> {
-    refuse_if_named(path, 1)
+pub fn refuse_if_unnamed_input(path: &Path, inputs: &Inputs) -> Result<(), CliError> {
+    refuse_if_named(path, 1, inputs)
 }
 
-fn refuse_if_named(path: &Path, inputs_from: usize) -> Result<(), CliError> {
+fn refuse_if_named(path: &Path, inputs_from: usize, inputs: &Inputs) -> Result<(), CliError> {
     let Some(id) = identity(path) else {
         return Ok(());
     };
@@ -121,8 +115,8 @@ fn refuse_if_named(path: &Path, inputs_from: usize) -> Result<(), CliError> {
         .iter()
         .filter(|a| identity(a) == Some(id))
         .count();
-    let read = crate::provenance::Provenance::capture()
-        .inputs
+    let read = inputs
+        .list()
         .iter()
         .any(|i| identity(Path::new(&i.path)) == Some(id));
     if named >= inputs_from || read {
@@ -164,12 +158,12 @@ pub fn declare_output_file(path: &Path) {
 }
 
 /// The run's input files (module docs), as given.
-fn input_files() -> Vec<PathBuf> {
+fn input_files(inputs: &Inputs) -> Vec<PathBuf> {
     let outputs = OUTPUT_FILES
         .lock()
         .unwrap_or_else(|e| e.into_inner())
         .clone();
-    let read = crate::provenance::Provenance::capture().inputs;
+    let read = inputs.list();
     named_paths()
         .into_iter()
         .chain(read.into_iter().map(|i| PathBuf::from(i.path)))
@@ -180,11 +174,11 @@ fn input_files() -> Vec<PathBuf> {
 
 /// Refuses an output folder that holds one of the run's input files
 /// (module docs), naming both.
-pub fn refuse_dir_holding_input(dir: &Path) -> Result<(), CliError> {
+pub fn refuse_dir_holding_input(dir: &Path, inputs: &Inputs) -> Result<(), CliError> {
     let Ok(dir_real) = std::fs::canonicalize(dir) else {
         return Ok(());
     };
-    for input in input_files() {
+    for input in input_files(inputs) {
         let Ok(real) = std::fs::canonicalize(&input) else {
             continue;
         };
@@ -262,62 +256,6 @@ pub fn mark_claimed_dirs() {
     }
 }
 
-/// Removes `.NAME.tmp-PID` files next to `dest` left by runs that were
-/// killed outright (process PID gone; a regular file of ours by name).
-pub fn sweep_stale_temps(dest: &Path) {
-    let (Some(name), parent) = (dest.file_name(), dest.parent()) else {
-        return;
-    };
-    let parent = match parent {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let prefix = format!(".{}.tmp-", name.to_string_lossy());
-    let Ok(entries) = std::fs::read_dir(parent) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let file = e.file_name().to_string_lossy().into_owned();
-        let Some(pid) = file
-            .strip_prefix(&prefix)
-            .and_then(|p| p.parse::<u32>().ok())
-        else {
-            continue;
-        };
-        if pid != std::process::id()
-            && e.file_type().is_ok_and(|t| t.is_file())
-            && !crate::atomic_dir::process_alive(pid)
-        {
-            let _ = std::fs::remove_file(e.path());
-        }
-    }
-}
-
-/// Whether descriptor 1 was closed when the process started, before the
-/// Rust runtime's start-up reopened it on /dev/null (which it does so that
-/// no file the run opens takes descriptor 1): set by the binary
-/// ([`note_stdout_closed_at_start`]), which alone can look that early.
-static STDOUT_CLOSED_AT_START: std::sync::atomic::AtomicBool =
-    std::sync::atomic::AtomicBool::new(false);
-
-/// Called by the binary's start-up hook when descriptor 1 was closed.
-pub fn note_stdout_closed_at_start() {
-    STDOUT_CLOSED_AT_START.store(true, std::sync::atomic::Ordering::SeqCst);
-}
-
-/// Standard output must have been open: started with it closed (`>&-`),
-/// every print went to /dev/null and the run ended with exit 0, its
-/// output lost. A reader that closed a pipe (`| head`) is another case,
-/// a quiet success ([`end_on_closed_stdout`]).
-pub fn check_stdout_open() -> Result<(), CliError> {
-    if STDOUT_CLOSED_AT_START.load(std::sync::atomic::Ordering::SeqCst) {
-        return Err(CliError::input(
-            "standard output is closed (`>&-`?): the results would be lost; redirect it to a file or /dev/null instead",
-        ));
-    }
-    Ok(())
-}
-
 #[cfg(unix)]
 fn identity(path: &Path) -> Option<(u64, u64)> {
     use std::os::unix::fs::MetadataExt;
@@ -328,166 +266,4 @@ fn identity(path: &Path) -> Option<(u64, u64)> {
 #[cfg(not(unix))]
 fn identity(_: &Path) -> Option<(u64, u64)> {
     None
-}
-
-/// Temporary files and new folders to remove if the run does not succeed.
-struct Pending {
-    temps: Vec<PathBuf>,
-    new_dirs: Vec<PathBuf>,
-}
-
-static PENDING: Mutex<Pending> = Mutex::new(Pending {
-    temps: Vec::new(),
-    new_dirs: Vec::new(),
-});
-
-fn pending() -> std::sync::MutexGuard<'static, Pending> {
-    PENDING.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// Creates the temporary file `p` and registers it, both under the lock
-/// that [`clean_up`] takes: a signal that arrives between the two would
-/// otherwise leave the file behind (seen once in a loaded test run).
-pub fn create_temp(p: &Path) -> std::io::Result<std::fs::File> {
-    let mut pending = pending();
-    let file = std::fs::File::create(p)?;
-    pending.temps.push(p.to_path_buf());
-    Ok(file)
-}
-
-pub fn forget_temp(p: &Path) {
-    pending().temps.retain(|t| t != p);
-}
-
-/// Creates `dir` and its missing parents, registering each new one.
-pub fn create_dir_all(dir: &Path) -> std::io::Result<()> {
-    let mut missing = Vec::new();
-    let mut at = Some(dir);
-    while let Some(d) = at.filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
-        missing.push(d.to_path_buf());
-        at = d.parent();
-    }
-    std::fs::create_dir_all(dir)?;
-    // Deepest first, the order they must be removed in.
-    pending().new_dirs.extend(missing);
-    Ok(())
-}
-
-/// The run succeeded: its folders are outputs now.
-pub fn keep_new_dirs() {
-    pending().new_dirs.clear();
-}
-
-/// Removes the registered temporary files, this process's temporary files
-/// in new folders (`.NAME.tmp-PID`, written by other writers too) and the
-/// new folders that are then empty.
-pub fn clean_up() {
-    crate::atomic_dir::remove_pending();
-    let p = pending();
-    for t in &p.temps {
-        let _ = std::fs::remove_file(t);
-    }
-    let suffix = format!(".tmp-{}", std::process::id());
-    for d in &p.new_dirs {
-        if let Ok(entries) = std::fs::read_dir(d) {
-            for e in entries.flatten() {
-                let name = e.file_name().to_string_lossy().into_owned();
-                if name.starts_with('.') && name.ends_with(&suffix) {
-                    let _ = std::fs::remove_file(e.path());
-                }
-            }
-        }
-        let _ = std::fs::remove_dir(d);
-    }
-}
-
-/// SIGINT, SIGTERM and SIGHUP (a closed terminal) clean up, then end the
-/// process by the signal's default action (its exit status still says
-/// which signal ended it).
-#[cfg(unix)]
-pub fn install_signal_cleanup() {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
-        return;
-    };
-    std::thread::spawn(move || {
-        if let Some(sig) = signals.forever().next() {
-            clean_up();
-            let _ = signal_hook::low_level::emulate_default_handler(sig);
-            std::process::exit(128 + sig);
-        }
-    });
-}
-
-#[cfg(not(unix))]
-pub fn install_signal_cleanup() {}
-
-/// Rust's `println!` panics when stdout cannot be written (a full disk,
-/// `> /dev/full`); turn that one panic into the CLI's exit 2 with a
-/// message, after the clean-up, or, when the reader closed the pipe, into
-/// a quiet end ([`end_on_closed_stdout`]); `eprintln!`'s on stderr into
-/// exit 2. Every other panic keeps the default report.
-pub fn install_stdout_failure_exit() {
-    let default = std::panic::take_hook();
-    std::panic::set_hook(Box::new(move |info| {
-        let msg = info
-            .payload()
-            .downcast_ref::<String>()
-            .map(String::as_str)
-            .or_else(|| info.payload().downcast_ref::<&str>().copied())
-            .unwrap_or("");
-        if let Some(why) = msg.strip_prefix("failed printing to stdout: ") {
-            if is_broken_pipe(why) {
-                end_on_closed_stdout();
-            }
-            clean_up();
-            eprintln!("swimbot: error: cannot write to standard output: {why}");
-            std::process::exit(2);
-        }
-        // A note on a closed stderr (`2>&1 | head`): the run cannot say
-        // what it did, so it fails (exit 2) rather than panic (exit 101).
-        if msg.starts_with("failed printing to stderr: ") {
-            clean_up();
-            std::process::exit(2);
-        }
-        default(info);
-    }));
-}
-
-/// The result of a write to stdout: a reader that stopped early (`| head`)
-/// ends the run quietly with exit 0 ([`end_on_closed_stdout`]); any other
-/// failure (a full disk, a closed device) is the user's to fix: exit 2.
-pub fn stdout_written(done: std::io::Result<()>, what: &str) -> Result<(), CliError> {
-    done.map_err(|e| stdout_error(e, what))
-}
-
-/// [`stdout_written`]'s error: ends the run quietly on a closed pipe.
-pub fn stdout_error(e: std::io::Error, what: &str) -> CliError {
-    if e.kind() == std::io::ErrorKind::BrokenPipe {
-        end_on_closed_stdout();
-    }
-    CliError::input(format!("cannot write {what} to standard output: {e}"))
-}
-
-/// `println!`'s panic message after its prefix, e.g. "Broken pipe (os error 32)".
-#[cfg(unix)]
-fn is_broken_pipe(why: &str) -> bool {
-    why.starts_with(&std::io::Error::from_raw_os_error(libc::EPIPE).to_string())
-}
-
-#[cfg(not(unix))]
-fn is_broken_pipe(_: &str) -> bool {
-    false
-}
-
-/// The reader of stdout is gone (`swimbot sweep | head`): end as ripgrep
-/// does, exit 0 and no message, for every command alike. The process
-/// ignores SIGPIPE (Rust's default), so a closed pipe is a write error
-/// rather than a death by signal that only the commands with more output
-/// than a pipe buffer met (exit 141 in a shell, a failure under
-/// `set -o pipefail`). Files already renamed into place stay; a temporary
-/// file or an empty new folder does not.
-pub fn end_on_closed_stdout() -> ! {
-    clean_up();
-    std::process::exit(0)
 }

@@ -5,6 +5,7 @@
 use super::model_args::{in_data, DataArgs, ModelArgs};
 use super::CliError;
 use crate::model::preset;
+use crate::provenance::Inputs;
 use crate::report::{write_story, StoryInput, ZeroParam};
 use crate::workbench::audit::{audit, AuditSettings};
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
@@ -43,13 +44,13 @@ fn spinner(message: &str) -> ProgressBar {
     crate::progress::spinner(message)
 }
 
-pub fn run(a: ReportArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
-    if let Some(s) = super::study::active_study(study, &a.data, &a.model)? {
-        return run_study(&a, &s);
+pub fn run(a: ReportArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), CliError> {
+    if let Some(s) = super::study::active_study(study, &a.data, &a.model, inputs)? {
+        return run_study(&a, &s, inputs);
     }
-    let data = a.data.load()?;
-    let model = a.model.model()?;
-    super::output::check_output_dir(&a.output, "report")?;
+    let data = a.data.load(inputs)?;
+    let model = a.model.model(inputs)?;
+    super::output::check_output_dir(&a.output, "report", inputs)?;
     crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
     let to_input = in_data(&a.data.data);
     // Every model on the page must predict every case: a bad case is the
@@ -104,7 +105,8 @@ pub fn run(a: ReportArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
             zero_param,
             audit: Some(&audited),
         },
-        &super::output::not_an_input,
+        &|p| super::output::not_an_input(p, inputs),
+        inputs,
     )
     .map_err(|e| CliError::input(format!("writing the report to {}: {e}", a.output.display())))?;
     println!("{}", path.display());
@@ -176,13 +178,13 @@ fn estimate_seconds(
 }
 
 /// Inside a study: the study's page, rendered from the study file alone.
-fn run_study(a: &ReportArgs, s: &crate::study::Study) -> Result<(), CliError> {
-    super::output::check_output_dir(&a.output, "report")?;
+fn run_study(a: &ReportArgs, s: &crate::study::Study, inputs: &Inputs) -> Result<(), CliError> {
+    super::output::check_output_dir(&a.output, "report", inputs)?;
     crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
-    let path =
-        crate::report::write_study(&a.output, s, &super::output::not_an_input).map_err(|e| {
-            CliError::input(format!("writing the report to {}: {e}", a.output.display()))
-        })?;
+    let guard = |p: &std::path::Path| super::output::not_an_input(p, inputs);
+    let path = crate::report::write_study(&a.output, s, &guard, inputs).map_err(|e| {
+        CliError::input(format!("writing the report to {}: {e}", a.output.display()))
+    })?;
     println!("{}", path.display());
     eprintln!(
         "report: wrote {} from the study {} ({} step(s))",

@@ -6,6 +6,7 @@
 use super::model_args::{load_data, ModelArgs};
 use super::CliError;
 use crate::physics::solve::Dofs;
+use crate::provenance::Inputs;
 use crate::runlog::{read_current, Source, Trace};
 use crate::sim::{
     self, calibrate, log_overlay, output, rate_figure, replay, Options, RateRun, Robot, Script,
@@ -73,11 +74,11 @@ impl From<SimError> for CliError {
     }
 }
 
-fn robot_with_model(args: &SimArgs) -> Result<Robot, CliError> {
+fn robot_with_model(args: &SimArgs, inputs: &Inputs) -> Result<Robot, CliError> {
     // A robot file may name user effects: load them first.
-    args.model.effect_files.load()?;
+    args.model.effect_files.load(inputs)?;
     let mut robot = match &args.robot {
-        Some(p) => Robot::load_file(p).map_err(SimError::from)?,
+        Some(p) => Robot::load_file(p, inputs).map_err(SimError::from)?,
         None => sim::default_robot(),
     };
     let m = &args.model;
@@ -86,7 +87,7 @@ fn robot_with_model(args: &SimArgs) -> Result<Robot, CliError> {
         effects: Vec::new(),
         ..m.clone()
     }
-    .model()?;
+    .model(inputs)?;
     if !replace {
         from_args.coefficients = robot.model.coefficients;
         from_args.effects = robot.model.effects.clone();
@@ -180,17 +181,17 @@ fn check_finite(o: &sim::Outcome) -> Result<(), CliError> {
     }
 }
 
-pub fn run(args: SimArgs) -> Result<(), CliError> {
-    let robot = robot_with_model(&args)?;
+pub fn run(args: SimArgs, inputs: &Inputs) -> Result<(), CliError> {
+    let robot = robot_with_model(&args, inputs)?;
     if args.fit_motor {
-        let data = load_data(&args.data)?;
+        let data = load_data(&args.data, inputs)?;
         let fit = calibrate::fit_motor(&robot, &data)?;
         print!("{}", calibrate::report(&robot, &data, &fit));
         return Ok(());
     }
     let tail = tail_index(&robot, &args.tail)?;
     let replayed = match &args.set_points_from {
-        Some(src) => Some(replayed_log(src, &robot)?),
+        Some(src) => Some(replayed_log(src, &robot, inputs)?),
         None => None,
     };
     let script = match (&args.script, &args.script_file) {
@@ -199,7 +200,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         (None, Some(p)) => {
             let text = crate::input_file::read_text(p, crate::input_file::cap::SCRIPT, "a script")
                 .map_err(|e| CliError::input(format!("{}: the script: {e}", p.display())))?;
-            crate::provenance::record_input(p, text.as_bytes());
+            inputs.record(p, text.as_bytes());
             Script::parse(&text).map_err(|e| CliError::input(format!("{}: {e}", p.display())))?
         }
         (None, None) => Script::on_at_zero(),
@@ -214,9 +215,9 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         // An earlier --write-log file in the folder is an output, not an input.
         super::output_guard::declare_output_file(p);
     }
-    super::output::check_output_dir(&args.output, "sim")?;
+    super::output::check_output_dir(&args.output, "sim", inputs)?;
     if let Some(p) = &args.write_log {
-        super::output::check_output_file(p)?;
+        super::output::check_output_file(p, inputs)?;
     }
     // A replay ends with the log (a second after its last record) unless
     // the simulated robot stops first.
@@ -241,7 +242,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
     // together, so a failure leaves none.
     let svg = output::figure(&robot, &outcome)
         .map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
-    let provenance = crate::provenance::Provenance::capture();
+    let provenance = crate::provenance::Provenance::capture(inputs);
     let mut files = vec![
         (
             args.output.join("sim.csv"),
@@ -277,7 +278,7 @@ pub fn run(args: SimArgs) -> Result<(), CliError> {
         let image = replay::log_image(&outcome.log_records).map_err(CliError::failure)?;
         files.push((p.clone(), image));
     }
-    super::output::write_all_atomically(&files)?;
+    super::output::write_all_atomically(&files, inputs)?;
     print!("{}", output::summary(&robot, &outcome));
     for n in &notes {
         println!("log vs sim, {n}");
@@ -305,12 +306,16 @@ fn rate_run(args: &SimArgs) -> Result<Option<RateRun>, CliError> {
 
 /// A run log's trace, and its commands and set-points as a script and a
 /// schedule for the board's controller.
-fn replayed_log(src: &str, robot: &Robot) -> Result<(Trace, Script, RateRun), CliError> {
+fn replayed_log(
+    src: &str,
+    robot: &Robot,
+    inputs: &Inputs,
+) -> Result<(Trace, Script, RateRun), CliError> {
     let source = Source::of(src);
     // Replaying an earlier power-up's set-points is a legitimate choice
     // here (the set-points, not the record of today's run, are wanted), so
     // a dropped run does not refuse; it is said, as `swimbot log` says it.
-    let (log, _, warnings) = read_current(&source, true).map_err(CliError::input)?;
+    let (log, _, warnings) = read_current(&source, true, inputs).map_err(CliError::input)?;
     for w in &warnings {
         eprintln!("warning: {}: {w}", source.name());
     }

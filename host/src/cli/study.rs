@@ -7,6 +7,7 @@ use super::model_args::{DataArgs, ModelArgs};
 use super::output::{opt, print_csv, print_json, TableJsonCsv};
 use super::CliError;
 use crate::format::fmt_sig;
+use crate::provenance::Inputs;
 use crate::study::{
     AddOptions, Application, Definition, InitOptions, Snapshot, StepRecord, Study, StudyError,
     DEFAULT_FILE,
@@ -76,16 +77,19 @@ pub fn locate(explicit: &Option<PathBuf>) -> Option<PathBuf> {
     Study::locate(explicit.as_deref(), Path::new("."))
 }
 
-fn open(explicit: &Option<PathBuf>) -> Result<Study, CliError> {
+/// The study, its files recorded in `inputs`.
+fn open(explicit: &Option<PathBuf>, inputs: &Inputs) -> Result<Study, CliError> {
     let path = locate(explicit).ok_or_else(|| {
         CliError::input(format!(
             "no study in this folder ({DEFAULT_FILE}); start one with `swimbot init --data FILE`, or give --study FILE"
         ))
     })?;
-    Ok(Study::open(&path)?)
+    let s = Study::open(&path)?;
+    inputs.record_all(s.inputs());
+    Ok(s)
 }
 
-pub fn run_init(a: InitArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
+pub fn run_init(a: InitArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), CliError> {
     let path = study.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_FILE));
     let spinner = crate::progress::spinner("diagnosing the base model");
     let s = Study::init(
@@ -100,6 +104,7 @@ pub fn run_init(a: InitArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
     );
     spinner.finish_and_clear();
     let s = s?;
+    inputs.record_all(s.inputs());
     println!(
         "started the study {} on {}",
         path.display(),
@@ -110,14 +115,15 @@ pub fn run_init(a: InitArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
 }
 
 /// `EFFECT` or `FILE[#NAME]`: a file when the text names one.
-pub fn definition(text: &str) -> Result<Definition, CliError> {
+/// A file read is recorded in `inputs`.
+pub fn definition(text: &str, inputs: &Inputs) -> Result<Definition, CliError> {
     let (file, name) = match text.split_once('#') {
         Some((f, n)) => (f, Some(n)),
         None => (text, None),
     };
     let looks_like_file = name.is_some() || file.ends_with(".toml") || Path::new(file).is_file();
     if looks_like_file {
-        return Definition::of_file(Path::new(file), name).map_err(CliError::input);
+        return Definition::of_file(Path::new(file), name, inputs).map_err(CliError::input);
     }
     let effect = crate::effects::by_name(text).ok_or_else(|| {
         let known: Vec<&str> = crate::effects::all().iter().map(|e| e.name()).collect();
@@ -130,9 +136,9 @@ pub fn definition(text: &str) -> Result<Definition, CliError> {
     Ok(Definition::of_catalogue(effect))
 }
 
-pub fn run_add(a: AddArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
-    let mut s = open(study)?;
-    let def = definition(&a.effect)?;
+pub fn run_add(a: AddArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), CliError> {
+    let mut s = open(study, inputs)?;
+    let def = definition(&a.effect, inputs)?;
     let spinner = crate::progress::spinner(&format!("calibrating {}", def.name));
     let r = s.add(
         def,
@@ -153,8 +159,8 @@ pub fn run_add(a: AddArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
     Ok(())
 }
 
-pub fn run_undo(_a: UndoArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
-    let mut s = open(study)?;
+pub fn run_undo(_a: UndoArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), CliError> {
+    let mut s = open(study, inputs)?;
     let n = s.steps().len();
     let gone = s.undo()?;
     println!(
@@ -166,16 +172,16 @@ pub fn run_undo(_a: UndoArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
     Ok(())
 }
 
-pub fn run_steps(a: StepsArgs, study: &Option<PathBuf>) -> Result<(), CliError> {
-    let s = open(study)?;
+pub fn run_steps(a: StepsArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), CliError> {
+    let s = open(study, inputs)?;
     if let Some(other) = &a.data {
-        let data = crate::data::load_file(other)?;
+        let data = crate::data::load_recorded(other, inputs)?;
         let app = s.apply_to(&data)?;
-        return print_application(&s, &app, a.format);
+        return print_application(&s, &app, a.format, inputs);
     }
     match a.format {
-        TableJsonCsv::Json => print_json(s.file()),
-        TableJsonCsv::Csv => print_csv(&rows(&s))?,
+        TableJsonCsv::Json => print_json(s.file(), inputs),
+        TableJsonCsv::Csv => print_csv(&rows(&s), inputs)?,
         TableJsonCsv::Table => print_table(&s),
     }
     Ok(())
@@ -367,7 +373,12 @@ struct AppliedRow {
     mare_on_study_data: f64,
 }
 
-fn print_application(s: &Study, app: &Application, format: TableJsonCsv) -> Result<(), CliError> {
+fn print_application(
+    s: &Study,
+    app: &Application,
+    format: TableJsonCsv,
+    inputs: &Inputs,
+) -> Result<(), CliError> {
     let mut rows = vec![AppliedRow {
         step: 0,
         effect: format!("(base: {})", s.file().model.preset),
@@ -387,8 +398,8 @@ fn print_application(s: &Study, app: &Application, format: TableJsonCsv) -> Resu
         });
     }
     match format {
-        TableJsonCsv::Json => print_json(app),
-        TableJsonCsv::Csv => print_csv(&rows)?,
+        TableJsonCsv::Json => print_json(app, inputs),
+        TableJsonCsv::Csv => print_csv(&rows, inputs)?,
         TableJsonCsv::Table => {
             println!(
                 "the study {} (calibrated on {}) applied to {}, every parameter held:",
@@ -423,8 +434,9 @@ pub fn fill_from_study(
     study: &Option<PathBuf>,
     data: &mut DataArgs,
     model: &mut ModelArgs,
+    inputs: &Inputs,
 ) -> Result<bool, CliError> {
-    let Some(s) = active_study(study, data, model)? else {
+    let Some(s) = active_study(study, data, model, inputs)? else {
         return Ok(false);
     };
     let m = s.model()?;
@@ -447,11 +459,13 @@ pub fn fill_from_study(
 /// The study a command works in: one is found (`--study FILE`, or
 /// [`DEFAULT_FILE`] here) and the command has no `--data` or model flag.
 /// With such flags, `--study` is refused as contradictory and a study
-/// found in the folder is left alone, with a note.
+/// found in the folder is left alone, with a note. The study's files are
+/// recorded in `inputs`.
 pub fn active_study(
     study: &Option<PathBuf>,
     data: &DataArgs,
     model: &ModelArgs,
+    inputs: &Inputs,
 ) -> Result<Option<Study>, CliError> {
     let Some(path) = locate(study) else {
         return Ok(None);
@@ -473,5 +487,7 @@ pub fn active_study(
         );
         return Ok(None);
     }
-    Ok(Some(Study::open(&path)?))
+    let s = Study::open(&path)?;
+    inputs.record_all(s.inputs());
+    Ok(Some(s))
 }

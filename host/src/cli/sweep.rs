@@ -5,6 +5,7 @@ use super::model_args::ModelArgs;
 use super::CliError;
 use crate::data::Case;
 use crate::model::Model;
+use crate::provenance::Inputs;
 use clap::Args;
 use rayon::prelude::*;
 use std::io::Write;
@@ -168,8 +169,8 @@ struct Row {
     omega_ratio: f64,
 }
 
-pub fn run(a: SweepArgs) -> Result<(), CliError> {
-    let mut template = super::sweep_setup::template(a.data.as_ref(), a.case.as_deref())?;
+pub fn run(a: SweepArgs, inputs: &Inputs) -> Result<(), CliError> {
+    let mut template = super::sweep_setup::template(a.data.as_ref(), a.case.as_deref(), inputs)?;
     let channel = match &a.channel_diameter_mm {
         Some(text) => text.clone(),
         None => template.channel_diameter_mm.to_string(),
@@ -181,7 +182,7 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
         frequency: parse_range("frequency-hz", &a.frequency_hz)?,
         channel: parse_range("channel-diameter-mm", &channel)?,
     };
-    let model = a.model.model()?;
+    let model = a.model.model(inputs)?;
     template.id = "sweep".into();
     template.u_mm_s = None;
     template.omega_body_hz = None;
@@ -193,7 +194,7 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
         )));
     }
     if let Some(p) = &a.output {
-        super::output::check_output_file(p)?;
+        super::output::check_output_file(p, inputs)?;
     }
     let budget = super::budget::parse_budget(a.max_seconds)?;
     // 32 points spread over the grid: the cost of one varies with the geometry.
@@ -217,7 +218,7 @@ pub fn run(a: SweepArgs) -> Result<(), CliError> {
     // Writing millions of rows takes longer than computing them.
     bar.set_message("sweep: writing");
     bar.set_position(0);
-    let written = write_csv(&grid, &template, &rows?, a.output.as_ref(), &bar);
+    let written = write_csv(&grid, &template, &rows?, a.output.as_ref(), &bar, inputs);
     bar.finish_and_clear();
     written
 }
@@ -285,11 +286,12 @@ fn write_csv(
     rows: &[Row],
     out: Option<&PathBuf>,
     bar: &indicatif::ProgressBar,
+    inputs: &Inputs,
 ) -> Result<(), CliError> {
     // A file is written to a temporary sibling and renamed at the end, so
     // a failure never leaves half a CSV under the requested name.
     let mut pending = match out {
-        Some(p) => Some(super::output::AtomicFile::create(p)?),
+        Some(p) => Some(super::output::AtomicFile::create(p, inputs)?),
         None => None,
     };
     let sink: Box<dyn Write + '_> = match pending.as_mut() {
@@ -301,10 +303,10 @@ fn write_csv(
     // fix: exit 2; a reader of stdout that stopped early ends the run quietly.
     let to = out.map_or("standard output".to_string(), |p| p.display().to_string());
     let fail = |e: std::io::Error| match out {
-        None => super::output_guard::stdout_error(e, "the sweep CSV"),
+        None => super::stdout::stdout_error(e, "the sweep CSV"),
         Some(_) => CliError::input(format!("cannot write the sweep CSV to {to}: {e}")),
     };
-    let provenance = crate::provenance::Provenance::capture().comment_block();
+    let provenance = crate::provenance::Provenance::capture(inputs).comment_block();
     w.write_all(provenance.as_bytes()).map_err(fail)?;
     writeln!(
         w,

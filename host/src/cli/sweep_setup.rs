@@ -7,6 +7,7 @@
 use super::CliError;
 use crate::data::quantities::FIELDS;
 use crate::data::Case;
+use crate::provenance::Inputs;
 use std::path::PathBuf;
 
 /// The fields the grid sets; every other numeric field is the setup's.
@@ -18,13 +19,18 @@ const GRID_FIELDS: [&str; 4] = [
 ];
 
 /// The case whose setup the sweep uses.
-pub fn template(data: Option<&PathBuf>, case: Option<&str>) -> Result<Case, CliError> {
+/// The files read are recorded in `inputs`.
+pub fn template(
+    data: Option<&PathBuf>,
+    case: Option<&str>,
+    inputs: &Inputs,
+) -> Result<Case, CliError> {
     let Some(path) = data else {
         let paper = crate::data::PAPER_TOML.as_bytes();
-        crate::provenance::record_named("<built-in paper data>", paper);
+        inputs.record_named("<built-in paper data>", paper);
         return Ok(crate::data::paper().cases[0].clone());
     };
-    let d = crate::data::load_file(path)?;
+    let d = crate::data::load_recorded(path, inputs)?;
     let file = path.display();
     if let Some(id) = case {
         return d.cases.iter().find(|c| c.id == id).cloned().ok_or_else(|| {

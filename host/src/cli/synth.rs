@@ -4,6 +4,7 @@ use super::CliError;
 use crate::effects::parse_effect_spec;
 use crate::model::{preset, Model, PRESETS};
 use crate::physics::coefficients::CoefficientSet;
+use crate::provenance::Inputs;
 use crate::workbench::synth::{generate, SynthSettings};
 use clap::Args;
 use std::path::PathBuf;
@@ -86,7 +87,7 @@ pub fn parse_truth(text: &str) -> Result<Model, CliError> {
     Ok(model)
 }
 
-pub fn run(a: SynthArgs) -> Result<(), CliError> {
+pub fn run(a: SynthArgs, inputs: &Inputs) -> Result<(), CliError> {
     if !(a.noise.is_finite() && (0.0..1.0).contains(&a.noise)) {
         return Err(CliError::input(format!(
             "--noise must be in [0, 1), got {}",
@@ -100,9 +101,9 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
             a.trials
         )));
     }
-    super::output::check_output_file(&a.output)?;
-    a.effect_files.load()?;
-    let design = super::model_args::load_data(&a.data)?;
+    super::output::check_output_file(&a.output, inputs)?;
+    a.effect_files.load(inputs)?;
+    let design = super::model_args::load_data(&a.data, inputs)?;
     let truth = super::model_args::with_bases(parse_truth(&a.truth)?)?;
     let settings = SynthSettings {
         noise_rel: a.noise,
@@ -122,9 +123,9 @@ pub fn run(a: SynthArgs) -> Result<(), CliError> {
             ))
         })?;
     }
-    let text =
-        crate::provenance::Provenance::capture().comment_block() + &crate::data::to_toml(&data);
-    super::output::write_atomically(&a.output, text.as_bytes())?;
+    let text = crate::provenance::Provenance::capture(inputs).comment_block()
+        + &crate::data::to_toml(&data);
+    super::output::write_atomically(&a.output, text.as_bytes(), inputs)?;
     let drawn = settings.draw_inputs && design.cases.iter().any(|c| !c.inputs.is_empty());
     eprintln!(
         "wrote {} cases from truth `{}` to {}{}",

@@ -87,14 +87,24 @@ fn scale(case: &mut Case, f: fn(&mut crate::physics::profile::Section, f64), k: 
 
 /// The parser's check: an end-section uncertainty needs a profile of at
 /// least three sections. The error is the message for `uncertainty.KEY`.
-pub fn check(case: &Case, field: &str) -> Result<(), String> {
+pub fn check(case: &Case, field: &str) -> Result<(), EndSectionWithoutProfile> {
     if matches!(field, NOSE | REAR) && sections_of(case).is_none() {
-        return Err(format!(
-            "`{field}` needs a `body_profile` of at least three sections (nose, inner, rear): \
-             the inner neighbour takes up the change so that the body keeps its length"
-        ));
+        return Err(EndSectionWithoutProfile {
+            field: field.to_string(),
+        });
     }
     Ok(())
+}
+
+/// An end section's uncertainty (`field`) on a body without the profile
+/// of three sections it moves.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "`{field}` needs a `body_profile` of at least three sections (nose, inner, rear): \
+     the inner neighbour takes up the change so that the body keeps its length"
+)]
+pub struct EndSectionWithoutProfile {
+    pub field: String,
 }
 
 #[cfg(test)]
@@ -122,6 +132,9 @@ mod tests {
         assert!(!set(&mut c, "amplitude_mm", 1.0));
         c.body_profile = None;
         assert!(value(&c, NOSE).unwrap().is_nan());
-        assert!(check(&c, REAR).unwrap_err().contains("three sections"));
+        assert!(check(&c, REAR)
+            .unwrap_err()
+            .to_string()
+            .contains("three sections"));
     }
 }

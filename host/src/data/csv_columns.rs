@@ -102,14 +102,15 @@ impl Kind {
     /// The raw value of a non-empty cell, or what is wrong with it (the
     /// cell echoed at most [`super::limits::MAX_ECHO_CHARS`] characters).
     /// Under a decimal comma, `0,586` is a number.
-    pub fn read(self, cell: &str, decimal_comma: bool) -> Result<toml::Value, String> {
+    pub fn read(self, cell: &str, decimal_comma: bool) -> Result<toml::Value, CellError> {
         use toml::Value as V;
-        let shown = super::limits::echo(cell);
+        let bad = |problem| CellError {
+            shown: super::limits::echo(cell),
+            problem,
+        };
         let number = |cell: &str| {
             if decimal_comma && super::csv_dialect::is_decimal_point(cell) {
-                return Err(format!(
-                    "`{shown}` has a decimal point, but the file writes decimal commas"
-                ));
+                return Err(bad(CellProblem::DecimalPointAmongCommas));
             }
             number(
                 &super::csv_dialect::number_text(cell, decimal_comma),
@@ -121,38 +122,65 @@ impl Kind {
             Kind::Flag => match cell.to_ascii_lowercase().as_str() {
                 "true" => Ok(V::Boolean(true)),
                 "false" => Ok(V::Boolean(false)),
-                _ => Err(format!("`{shown}` is not true or false")),
+                _ => Err(bad(CellProblem::NotAFlag)),
             },
             Kind::Count => cell
                 .parse::<u32>()
                 .map(|n| V::Integer(i64::from(n)))
-                .map_err(|_| format!("`{shown}` is not a whole number >= 0")),
+                .map_err(|_| bad(CellProblem::NotACount)),
             Kind::Number => number(cell),
             Kind::Uncertainty if cell.ends_with('%') => Ok(V::String(cell.to_string())),
             Kind::Uncertainty => number(cell),
             Kind::Inline => toml::from_str::<toml::Table>(&format!("v = {cell}"))
                 .ok()
                 .and_then(|mut t| t.remove("v"))
-                .ok_or_else(|| {
-                    format!("`{shown}` is not a TOML value like [[20.0, 12.0], [30.0, 20.0]]")
-                }),
+                .ok_or_else(|| bad(CellProblem::NotAnInlineValue)),
         }
     }
 }
 
-fn number(cell: &str, decimal_comma: bool) -> Result<toml::Value, String> {
+fn number(cell: &str, decimal_comma: bool) -> Result<toml::Value, CellError> {
     // Rust's parser also takes `nan` and `inf`: the validator then names
     // them ("must be a finite number"), rather than "not a number".
     cell.parse::<f64>().map(toml::Value::Float).map_err(|_| {
-        let shown = super::limits::echo(cell);
-        if !decimal_comma && super::csv_dialect::is_decimal_comma(cell) {
-            format!("`{shown}` is not a number with a decimal point; if the file writes decimal commas, pass --decimal-comma")
+        let problem = if !decimal_comma && super::csv_dialect::is_decimal_comma(cell) {
+            CellProblem::DecimalCommaUndeclared
         } else if decimal_comma && super::csv_dialect::is_decimal_point(cell) {
-            format!("`{shown}` has a decimal point, but the file writes decimal commas")
+            CellProblem::DecimalPointAmongCommas
         } else {
-            format!("`{shown}` is not a number")
+            CellProblem::NotANumber
+        };
+        CellError {
+            shown: super::limits::echo(cell),
+            problem,
         }
     })
+}
+
+/// A cell that is not a value of its column's kind: the cell as shown
+/// (cut to [`super::limits::MAX_ECHO_CHARS`]) and what is wrong.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{shown}` {problem}")]
+pub struct CellError {
+    pub shown: String,
+    pub problem: CellProblem,
+}
+
+/// What is wrong with a cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum CellProblem {
+    #[error("has a decimal point, but the file writes decimal commas")]
+    DecimalPointAmongCommas,
+    #[error("is not a number with a decimal point; if the file writes decimal commas, pass --decimal-comma")]
+    DecimalCommaUndeclared,
+    #[error("is not a number")]
+    NotANumber,
+    #[error("is not true or false")]
+    NotAFlag,
+    #[error("is not a whole number >= 0")]
+    NotACount,
+    #[error("is not a TOML value like [[20.0, 12.0], [30.0, 20.0]]")]
+    NotAnInlineValue,
 }
 
 #[cfg(test)]
@@ -168,6 +196,7 @@ mod tests {
         assert!(Kind::Flag
             .read("yes", false)
             .unwrap_err()
+            .to_string()
             .contains("true or false"));
         assert_eq!(Kind::Count.read("5", false), Ok(toml::Value::Integer(5)));
         assert!(Kind::Count.read("-1", false).is_err() && Kind::Count.read("2.5", false).is_err());
@@ -175,6 +204,7 @@ mod tests {
         assert!(Kind::Number
             .read("0,586", false)
             .unwrap_err()
+            .to_string()
             .contains("--decimal-comma"));
         assert_eq!(
             Kind::Number.read("0,586", true),
@@ -195,7 +225,7 @@ mod tests {
         assert_eq!(profile.as_array().map(Vec::len), Some(2));
         assert!(Kind::Inline.read("[[20.0, 12.0]", false).is_err());
         let long = format!("[[{}", "1.0, ".repeat(200));
-        let e = Kind::Inline.read(&long, false).unwrap_err();
+        let e = Kind::Inline.read(&long, false).unwrap_err().to_string();
         assert!(e.len() < 300 && e.contains("characters in all"), "{e}");
         assert_eq!(kind_of("uncertainty.amplitude_mm"), Some(Kind::Uncertainty));
         assert_eq!(kind_of("uncertainty."), None);

@@ -92,7 +92,7 @@ pub fn is_decimal_point(cell: &str) -> bool {
 pub fn decimal_comma<'a>(
     cells: impl Iterator<Item = (u64, &'a str)>,
     options: &ReadOptions,
-) -> Result<bool, String> {
+) -> Result<bool, DecimalMarkError> {
     let (mut comma, mut point) = (None, None);
     for (row, cell) in cells {
         if comma.is_none() && is_decimal_comma(cell) {
@@ -106,14 +106,34 @@ pub fn decimal_comma<'a>(
         }
     }
     match (comma, point) {
-        (Some((rc, c)), Some((rp, p))) => Err(format!(
-            "the numbers are written two ways: a decimal comma in row {rc} (`{c}`) and a decimal point in row {rp} (`{p}`); write every number one way (with `--decimal-comma`, a point is refused)"
-        )),
-        (None, Some((rp, p))) if options.decimal_comma => Err(format!(
-            "`--decimal-comma` was given, but row {rp} writes `{p}` with a decimal point; drop the flag, or write every number with a comma"
-        )),
+        (Some((rc, c)), Some((rp, p))) => Err(DecimalMarkError::Mixed {
+            comma: (rc, c.to_string()),
+            point: (rp, p.to_string()),
+        }),
+        (None, Some((rp, p))) if options.decimal_comma => Err(DecimalMarkError::PointUnderFlag {
+            point: (rp, p.to_string()),
+        }),
         (comma, _) => Ok(options.decimal_comma || comma.is_some()),
     }
+}
+
+/// A file whose numbers are written with two decimal marks: each mark's
+/// first `(row, cell)` as data.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DecimalMarkError {
+    #[error(
+        "the numbers are written two ways: a decimal comma in row {} (`{}`) and a decimal point in row {} (`{}`); write every number one way (with `--decimal-comma`, a point is refused)",
+        .comma.0, .comma.1, .point.0, .point.1
+    )]
+    Mixed {
+        comma: (u64, String),
+        point: (u64, String),
+    },
+    #[error(
+        "`--decimal-comma` was given, but row {} writes `{}` with a decimal point; drop the flag, or write every number with a comma",
+        .point.0, .point.1
+    )]
+    PointUnderFlag { point: (u64, String) },
 }
 
 /// A number cell as Rust reads numbers: `0,586` -> `0.586` under a
@@ -246,7 +266,9 @@ mod tests {
         let cells = [(3, "1"), (4, "0,5")];
         assert_eq!(decimal_comma(cells.into_iter(), &plain), Ok(true));
         let mixed = [(3, "1.5"), (4, "0,5")];
-        let e = decimal_comma(mixed.into_iter(), &plain).unwrap_err();
+        let e = decimal_comma(mixed.into_iter(), &plain)
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("row 4 (`0,5`)") && e.contains("row 3 (`1.5`)"),
             "{e}"

@@ -23,6 +23,7 @@ use super::csv_dialect::{self, Dialect, ReadOptions};
 use super::csv_header::{bare, classify, column_kinds, note, Column, LABELS, RECORDED};
 use super::limits::{MAX_CASES, MAX_TRIALS};
 use super::DataError;
+use crate::provenance::Inputs;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -99,8 +100,15 @@ pub struct Read {
 }
 
 /// The raw tables of a CSV dataset and where each case is written. `dir`
-/// is where a `setup_file` named in the header is looked for.
-pub fn read(text: &str, file: &str, dir: &Path, options: &ReadOptions) -> Result<Read, DataError> {
+/// is where a `setup_file` named in the header is looked for; that file is
+/// recorded in `inputs`.
+pub fn read(
+    text: &str,
+    file: &str,
+    dir: &Path,
+    options: &ReadOptions,
+    inputs: &Inputs,
+) -> Result<Read, DataError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     // Excel's `sep=;` first line names the separator; it is no header line.
     let declared = declared_separator(text.lines().next().unwrap_or(""));
@@ -147,11 +155,18 @@ pub fn read(text: &str, file: &str, dir: &Path, options: &ReadOptions) -> Result
     };
     let dialect = Dialect {
         separator,
-        decimal_comma: decimal.map_err(|m| fail(file, None, m))?,
+        decimal_comma: decimal.map_err(|m| fail(file, None, m.to_string()))?,
     };
     classify(&mut columns, &records, dialect.decimal_comma);
     unnamed_with_cells(file, &names, &columns, &records)?;
-    let (mut top, _) = header(text, skipped, declared.is_some(), file, dir, &dialect)?;
+    let (mut top, _) = header(
+        text,
+        skipped,
+        declared.is_some(),
+        file,
+        (dir, inputs),
+        &dialect,
+    )?;
     let mut groups: Vec<Group> = Vec::new();
     let mut by_id: HashMap<String, usize> = HashMap::new();
     for (line, record) in &records {
@@ -351,7 +366,7 @@ fn row_table(
         };
         let value = kind.read(cell, decimal_comma).map_err(|m| DataError {
             case: id.map(super::limits::echo),
-            ..fail(&at, Some(name), m)
+            ..fail(&at, Some(name), m.to_string())
         })?;
         match column {
             Column::Recorded => insert_in(&mut row, RECORDED, bare(name, RECORDED), value),
@@ -492,7 +507,7 @@ fn header(
     skipped: usize,
     sep_line: bool,
     file: &str,
-    dir: &Path,
+    (dir, inputs): (&Path, &Inputs),
     dialect: &Dialect,
 ) -> Result<(toml::Table, usize), DataError> {
     let mut block = String::new();
@@ -537,7 +552,7 @@ fn header(
                 "header: `setup_file` must be a quoted file name",
             ));
         };
-        top = side_file(&dir.join(name), top, &mut setup)?;
+        top = side_file(&dir.join(name), top, &mut setup, inputs)?;
     }
     top.insert("setup".into(), toml::Value::Table(setup));
     Ok((top, lines))
@@ -557,11 +572,12 @@ fn side_file(
     path: &Path,
     mut top: toml::Table,
     setup: &mut toml::Table,
+    inputs: &Inputs,
 ) -> Result<toml::Table, DataError> {
     let shown = path.display().to_string();
     let bytes = crate::input_file::read(path, crate::input_file::cap::SETUP_FILE, "a setup file")
         .map_err(|e| fail(&shown, None, format!("the setup file: {e}")))?;
-    crate::provenance::record_input(path, &bytes);
+    inputs.record(path, &bytes);
     let text = String::from_utf8_lossy(&bytes);
     let mut side: toml::Table = toml::from_str(&text).map_err(|e| {
         fail(

@@ -13,7 +13,7 @@ use std::fmt::Write;
 
 /// A raw dataset (validated) as CSV: a `# key = value` header block for
 /// `name`, `source` and `[setup]`, then one row per case or per trial.
-pub fn to_csv(raw: &toml::Table) -> Result<String, String> {
+pub fn to_csv(raw: &toml::Table) -> Result<String, CsvFormError> {
     let mut out = String::new();
     for (key, value) in top_and_setup(raw) {
         let _ = writeln!(out, "# {key} = {}", inline(&value));
@@ -37,7 +37,7 @@ pub fn to_csv(raw: &toml::Table) -> Result<String, String> {
     }
     columns.sort_by_key(|c| order_of(c));
     let mut w = csv::Writer::from_writer(Vec::new());
-    let fail = |e: csv::Error| format!("writing CSV: {e}");
+    let fail = |e: csv::Error| CsvFormError::Write(e.to_string());
     w.write_record(&columns).map_err(fail)?;
     for row in &rows {
         w.write_record(
@@ -47,9 +47,25 @@ pub fn to_csv(raw: &toml::Table) -> Result<String, String> {
         )
         .map_err(fail)?;
     }
-    let bytes = w.into_inner().map_err(|e| format!("writing CSV: {e}"))?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| CsvFormError::Write(e.to_string()))?;
     out.push_str(&String::from_utf8_lossy(&bytes));
     Ok(out)
+}
+
+/// A dataset that has no CSV form, or a CSV that could not be written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CsvFormError {
+    /// Case `case` gives raw trials and `key` (a mean or a case-only
+    /// column): a CSV row is a case or a trial, not both.
+    #[error(
+        "case `{case}`: raw trials and `{key}` in one case have no CSV form (a CSV row is either a case or a trial); keep this dataset in TOML, or give both quantities the same way"
+    )]
+    TrialsBesideCaseValue { case: String, key: &'static str },
+    /// The csv crate's writer failed (its message).
+    #[error("writing CSV: {0}")]
+    Write(String),
 }
 
 /// A raw dataset (validated) as TOML: `name`, `source`, `[setup]`, then a
@@ -158,7 +174,7 @@ fn flatten(case: &toml::Table) -> toml::Table {
 /// One row for a case with means, one per trial for a case with raw
 /// trials (then it needs an id to tie its rows together: `#n`, the name
 /// the parser would give it).
-fn case_rows(index: usize, case: &toml::Table) -> Result<Vec<toml::Table>, String> {
+fn case_rows(index: usize, case: &toml::Table) -> Result<Vec<toml::Table>, CsvFormError> {
     let mut flat = flatten(case);
     let trials: Vec<Vec<toml::Value>> = TRIAL_COLUMNS
         .iter()
@@ -183,9 +199,7 @@ fn case_rows(index: usize, case: &toml::Table) -> Result<Vec<toml::Table>, Strin
         .chain(CASE_ONLY_COLUMNS)
         .find(|k| flat.contains_key(*k));
     if let Some(k) = mixed {
-        return Err(format!(
-            "case `{id}`: raw trials and `{k}` in one case have no CSV form (a CSV row is either a case or a trial); keep this dataset in TOML, or give both quantities the same way"
-        ));
+        return Err(CsvFormError::TrialsBesideCaseValue { case: id, key: k });
     }
     Ok((0..n)
         .map(|i| {

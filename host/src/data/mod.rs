@@ -9,19 +9,22 @@ mod csv_dialect;
 mod csv_header;
 mod csv_read;
 mod csv_write;
+mod limit_check;
 pub mod limits;
 mod load;
 mod parse;
 mod profile;
 pub mod quantities;
 pub mod recorded;
+mod resolve;
 pub mod rig;
 pub mod uncertainty;
 mod write;
 
 pub use csv_dialect::ReadOptions;
 pub use load::{
-    convert_file, convert_file_with, is_csv, load_file, read_csv_str, read_file, FileFormat, Loaded,
+    convert_file, convert_file_with, is_csv, load_file, load_recorded, read_csv_str, read_file,
+    FileFormat, Loaded,
 };
 pub use parse::parse_str;
 pub use profile::PROFILE_TOLERANCE;

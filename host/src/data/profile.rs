@@ -69,7 +69,9 @@ pub(super) fn resolve(
             .collect(),
         rounded_mm: rounded_mm.unwrap_or(0.0),
     };
-    profile.validate().map_err(|e| fail("body_rounded_mm", e))?;
+    profile
+        .validate()
+        .map_err(|e| fail("body_rounded_mm", e.to_string()))?;
     let (len, dia) = (profile.length_mm(), profile.max_diameter_mm());
     if (len / case.body_length_mm - 1.0).abs() > PROFILE_TOLERANCE {
         return Err(fail(

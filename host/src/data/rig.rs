@@ -43,7 +43,7 @@ pub fn parse(table: Option<toml::Table>, file: &str) -> Result<RigLimits, DataEr
     for (key, value) in table {
         let field = format!("rig.{key}");
         let fail = |m: String| err(file, None, Some(&field), m);
-        let numbers = numbers(&value).map_err(fail)?;
+        let numbers = numbers(&value).map_err(|e| fail(e.to_string()))?;
         match key.as_str() {
             "channel_diameter_mm" => {
                 if numbers.is_empty() {
@@ -81,10 +81,22 @@ pub fn parse(table: Option<toml::Table>, file: &str) -> Result<RigLimits, DataEr
     Ok(rig)
 }
 
+/// A `[rig]` value that is no list of positive numbers: the value as
+/// written (or the number) as data.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RigValueError {
+    #[error("{0} is not a list of numbers")]
+    NotAList(String),
+    #[error("{0} is not a number")]
+    NotANumber(String),
+    #[error("{0} must be positive and finite")]
+    NotPositive(f64),
+}
+
 /// An array of positive finite numbers (integers accepted).
-fn numbers(value: &toml::Value) -> Result<Vec<f64>, String> {
+fn numbers(value: &toml::Value) -> Result<Vec<f64>, RigValueError> {
     let Some(items) = value.as_array() else {
-        return Err(format!("{value} is not a list of numbers"));
+        return Err(RigValueError::NotAList(value.to_string()));
     };
     items
         .iter()
@@ -92,11 +104,11 @@ fn numbers(value: &toml::Value) -> Result<Vec<f64>, String> {
             let x = v
                 .as_float()
                 .or_else(|| v.as_integer().map(|i| i as f64))
-                .ok_or_else(|| format!("{v} is not a number"))?;
+                .ok_or_else(|| RigValueError::NotANumber(v.to_string()))?;
             if x.is_finite() && x > 0.0 {
                 Ok(x)
             } else {
-                Err(format!("{x} must be positive and finite"))
+                Err(RigValueError::NotPositive(x))
             }
         })
         .collect()

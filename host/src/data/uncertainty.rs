@@ -47,37 +47,36 @@ impl Uncertainty {
     }
 
     /// Parse a TOML value: a number >= 0, or a string `"N%"` with N >= 0.
-    pub fn from_toml(v: &toml::Value) -> Result<Self, String> {
-        let check = |x: f64, what: &str| -> Result<f64, String> {
+    pub fn from_toml(v: &toml::Value) -> Result<Self, UncertaintyError> {
+        let check = |x: f64, relative: bool| -> Result<f64, UncertaintyError> {
             if !x.is_finite() {
-                return Err(format!("{what} must be a finite number, got {x}"));
+                return Err(UncertaintyError::NotFinite { value: x, relative });
             }
             if x < 0.0 {
-                return Err(format!("{what} must be >= 0, got {x}"));
+                return Err(UncertaintyError::Negative { value: x, relative });
             }
             Ok(x)
         };
         match v {
-            toml::Value::Float(x) => Ok(Uncertainty::Absolute(check(*x, "an uncertainty")?)),
-            toml::Value::Integer(i) => {
-                Ok(Uncertainty::Absolute(check(*i as f64, "an uncertainty")?))
-            }
+            toml::Value::Float(x) => Ok(Uncertainty::Absolute(check(*x, false)?)),
+            toml::Value::Integer(i) => Ok(Uncertainty::Absolute(check(*i as f64, false)?)),
             toml::Value::String(s) => {
-                let num = s.trim().strip_suffix('%').ok_or_else(|| {
-                    format!("`{s}` is neither a number (absolute) nor a percentage like \"2%\"")
-                })?;
-                let p: f64 = num
+                let num = s
                     .trim()
-                    .parse()
-                    .map_err(|_| format!("`{s}` is not a percentage: `{num}` is not a number"))?;
-                Ok(Uncertainty::RelativePercent(check(
-                    p,
-                    "a relative uncertainty",
-                )?))
+                    .strip_suffix('%')
+                    .ok_or_else(|| UncertaintyError::NotAPercentage { text: s.clone() })?;
+                let p: f64 =
+                    num.trim()
+                        .parse()
+                        .map_err(|_| UncertaintyError::PercentageNotANumber {
+                            text: s.clone(),
+                            number: num.to_string(),
+                        })?;
+                Ok(Uncertainty::RelativePercent(check(p, true)?))
             }
-            other => Err(format!(
-                "must be a number (absolute) or a string like \"2%\" (relative), got {other}"
-            )),
+            other => Err(UncertaintyError::NotAValue {
+                given: other.to_string(),
+            }),
         }
     }
 
@@ -87,6 +86,31 @@ impl Uncertainty {
             Uncertainty::Absolute(u) => format!("{u:?}"),
             Uncertainty::RelativePercent(p) => format!("\"{p:?}%\""),
         }
+    }
+}
+
+/// An uncertainty the data cannot hold: the value or text as given.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum UncertaintyError {
+    /// `relative`: a percentage's number, else an absolute uncertainty.
+    #[error("{} must be a finite number, got {value}", what(*.relative))]
+    NotFinite { value: f64, relative: bool },
+    #[error("{} must be >= 0, got {value}", what(*.relative))]
+    Negative { value: f64, relative: bool },
+    #[error("`{text}` is neither a number (absolute) nor a percentage like \"2%\"")]
+    NotAPercentage { text: String },
+    #[error("`{text}` is not a percentage: `{number}` is not a number")]
+    PercentageNotANumber { text: String, number: String },
+    /// Neither a number nor a string (`given`: the TOML value as written).
+    #[error("must be a number (absolute) or a string like \"2%\" (relative), got {given}")]
+    NotAValue { given: String },
+}
+
+fn what(relative: bool) -> &'static str {
+    if relative {
+        "a relative uncertainty"
+    } else {
+        "an uncertainty"
     }
 }
 
@@ -301,7 +325,7 @@ pub fn merge_tables(
                     ),
                 )
             })?;
-            let u = Uncertainty::from_toml(v).map_err(|m| (field.clone(), m))?;
+            let u = Uncertainty::from_toml(v).map_err(|m| (field.clone(), m.to_string()))?;
             match out.iter_mut().find(|(f, _)| *f == id) {
                 Some(slot) => slot.1 = u,
                 None => out.push((id, u)),
@@ -335,9 +359,11 @@ mod tests {
         );
         assert!(Uncertainty::from_toml(&v("-0.1"))
             .unwrap_err()
+            .to_string()
             .contains(">= 0"));
         assert!(Uncertainty::from_toml(&v("nan"))
             .unwrap_err()
+            .to_string()
             .contains("finite"));
         assert!(Uncertainty::from_toml(&v("\"2\"")).is_err());
         assert!(Uncertainty::from_toml(&v("\"-2%\"")).is_err());

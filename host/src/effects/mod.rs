@@ -29,6 +29,7 @@ mod coupler;
 mod error;
 pub mod expr;
 mod expr_lex;
+mod expr_parse;
 pub mod formula;
 mod motor_frame;
 mod nonlocal_tail;
@@ -43,7 +44,7 @@ pub mod user_file;
 mod wall_contact;
 
 pub use error::{EffectError, UnusablePlace};
-pub use registry::{all, load_effect_files, register_user_effects, user_effects};
+pub use registry::{all, load_effect_files, register_user_effects, user_effects, RegistryError};
 pub use spec::{parse_effect_list, parse_effect_spec, EffectSpecError};
 
 use crate::data::Case;

@@ -47,8 +47,8 @@ pub enum TailModel {
 }
 
 /// The first combination of `effects` (in the model's order) that cannot
-/// act with `tail`, as a sentence naming the effect, why, and what to use.
-pub fn check(tail: TailModel, effects: &[&dyn Effect]) -> Result<(), String> {
+/// act with `tail`: the effect, why, and what to use.
+pub fn check(tail: TailModel, effects: &[&dyn Effect]) -> Result<(), TailConflict> {
     for (i, e) in effects.iter().enumerate() {
         let others: Vec<&dyn Effect> = effects
             .iter()
@@ -64,58 +64,87 @@ pub fn check(tail: TailModel, effects: &[&dyn Effect]) -> Result<(), String> {
 }
 
 /// Why `effect` cannot act beside `others` with `tail`; `None` when it acts.
-pub fn conflict(effect: &dyn Effect, others: &[&dyn Effect], tail: TailModel) -> Option<String> {
+pub fn conflict(
+    effect: &dyn Effect,
+    others: &[&dyn Effect],
+    tail: TailModel,
+) -> Option<TailConflict> {
     let replacer = others.iter().find(|o| o.replaces_tail());
-    let name = describe(effect);
     if effect.acts_on_local_drag() {
-        if let TailModel::NonLocal(t) = tail {
-            return Some(format!(
-                "--tail-model {t}: {name}, a local drag coefficient of resistive-force theory, \
-                 which the non-local tail models do not have (it would change nothing); \
-                 use --tail-model rft with it, or an effect at the tail matrix{}",
-                INSTEAD
-            ));
+        if let TailModel::NonLocal(tail) = tail {
+            return Some(TailConflict::LocalDragWithNonLocalTail {
+                tail,
+                effect: describe(effect),
+            });
         }
         if let Some(r) = replacer {
-            return Some(format!(
-                "{name}, a local drag coefficient of resistive-force theory, but effect `{}` replaces \
-                 the whole tail matrix by its own non-local solve (it would change nothing); \
-                 give one of the two{}",
-                r.name(),
-                INSTEAD
-            ));
+            return Some(TailConflict::LocalDragWithTailReplaced {
+                effect: describe(effect),
+                replacer: r.name().to_string(),
+            });
         }
     }
     if effect.replaces_body() {
         if let Some(r) = others.iter().find(|o| o.replaces_body()) {
-            return Some(format!(
-                "effects `{}` and `{}` both replace the body's axial resistances: only the one \
-                 applied last would act; give one of them",
-                effect.name(),
-                r.name()
-            ));
+            return Some(TailConflict::BodyReplacedTwice {
+                first: effect.name().to_string(),
+                second: r.name().to_string(),
+            });
         }
     }
     if effect.replaces_tail() {
-        if let TailModel::NonLocal(t) = tail {
-            return Some(format!(
-                "--tail-model {t}: effect `{}` replaces the tail matrix by its own non-local solve, \
-                 so the tail model would be ignored; drop --tail-model {t} (the effect already \
-                 includes the helix's non-local hydrodynamics) or drop the effect",
-                effect.name()
-            ));
+        if let TailModel::NonLocal(tail) = tail {
+            return Some(TailConflict::TailReplacedWithNonLocalTail {
+                tail,
+                effect: effect.name().to_string(),
+            });
         }
         if let Some(r) = replacer {
-            return Some(format!(
-                "effects `{}` and `{}` both replace the tail matrix by a non-local solve: only the \
-                 one applied last would act; give one of them (`tail-confinement-stokeslets` \
-                 includes the helix's non-local hydrodynamics and the tube wall)",
-                effect.name(),
-                r.name()
-            ));
+            return Some(TailConflict::TailReplacedTwice {
+                first: effect.name().to_string(),
+                second: r.name().to_string(),
+            });
         }
     }
     None
+}
+
+/// Effects that cannot act together, or with the tail model: the names as
+/// data, the sentence saying why and what to use instead.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TailConflict {
+    /// A local drag effect (`effect`: its description) with a non-local
+    /// tail model (`tail`, as `--tail-model` spells it).
+    #[error(
+        "--tail-model {tail}: {effect}, a local drag coefficient of resistive-force theory, \
+         which the non-local tail models do not have (it would change nothing); \
+         use --tail-model rft with it, or an effect at the tail matrix{INSTEAD}"
+    )]
+    LocalDragWithNonLocalTail { tail: &'static str, effect: String },
+    /// A local drag effect beside an effect that replaces the tail matrix.
+    #[error(
+        "{effect}, a local drag coefficient of resistive-force theory, but effect `{replacer}` replaces \
+         the whole tail matrix by its own non-local solve (it would change nothing); \
+         give one of the two{INSTEAD}"
+    )]
+    LocalDragWithTailReplaced { effect: String, replacer: String },
+    #[error(
+        "effects `{first}` and `{second}` both replace the body's axial resistances: only the one \
+         applied last would act; give one of them"
+    )]
+    BodyReplacedTwice { first: String, second: String },
+    #[error(
+        "--tail-model {tail}: effect `{effect}` replaces the tail matrix by its own non-local solve, \
+         so the tail model would be ignored; drop --tail-model {tail} (the effect already \
+         includes the helix's non-local hydrodynamics) or drop the effect"
+    )]
+    TailReplacedWithNonLocalTail { tail: &'static str, effect: String },
+    #[error(
+        "effects `{first}` and `{second}` both replace the tail matrix by a non-local solve: only the \
+         one applied last would act; give one of them (`tail-confinement-stokeslets` \
+         includes the helix's non-local hydrodynamics and the tube wall)"
+    )]
+    TailReplacedTwice { first: String, second: String },
 }
 
 const INSTEAD: &str = " (`tail-confinement-stokeslets` resolves the tube wall around the \
@@ -159,9 +188,13 @@ mod tests {
     fn local_drag_effects_are_refused_with_either_kind_of_non_local_tail() {
         let tc = e("tail-confinement");
         assert!(check(TailModel::Local, &[tc]).is_ok());
-        let err = check(TailModel::NonLocal("sbt"), &[tc]).unwrap_err();
+        let err = check(TailModel::NonLocal("sbt"), &[tc])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("`tail-confinement`") && err.contains("--tail-model sbt"));
-        let err = check(TailModel::Local, &[e("tail-confinement-stokeslets"), tc]).unwrap_err();
+        let err = check(TailModel::Local, &[e("tail-confinement-stokeslets"), tc])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("`tail-confinement`") && err.contains("replaces"));
     }
 
@@ -171,9 +204,11 @@ mod tests {
         assert!(check(TailModel::Local, &[nl]).is_ok());
         assert!(check(TailModel::NonLocal("stokeslets"), &[tube])
             .unwrap_err()
+            .to_string()
             .contains("would be ignored"));
         assert!(check(TailModel::Local, &[nl, tube])
             .unwrap_err()
+            .to_string()
             .contains("both replace"));
     }
 
@@ -181,7 +216,9 @@ mod tests {
     fn two_body_replacing_effects_are_refused() {
         let (approx, exact) = (e("body-confinement"), e("body-confinement-exact"));
         assert!(check(TailModel::Local, &[approx]).is_ok());
-        let err = check(TailModel::Local, &[exact, approx]).unwrap_err();
+        let err = check(TailModel::Local, &[exact, approx])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("both replace the body"), "{err}");
     }
 

@@ -342,8 +342,11 @@ fn place_list() -> String {
         .join(", ")
 }
 
-/// Read, check and compile an effects file.
-pub fn load_file(path: &std::path::Path) -> Result<Vec<FormulaEffect>, UserEffectError> {
+/// Read, check and compile an effects file, recorded in `inputs`.
+pub fn load_file(
+    path: &std::path::Path,
+    inputs: &crate::provenance::Inputs,
+) -> Result<Vec<FormulaEffect>, UserEffectError> {
     let file = path.display().to_string();
     let whole = |message: String| UserEffectError {
         file: file.clone(),
@@ -357,7 +360,7 @@ pub fn load_file(path: &std::path::Path) -> Result<Vec<FormulaEffect>, UserEffec
     // Bounded while reading, even for a file that grows or a device without a size.
     let text = crate::input_file::read_text(path, limit, "an effects file")
         .map_err(|e| whole(e.to_string()))?;
-    crate::provenance::record_input(path, text.as_bytes());
+    inputs.record(path, text.as_bytes());
     let specs = parse(&text, &file)?;
     specs
         .into_iter()

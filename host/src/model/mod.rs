@@ -139,7 +139,7 @@ impl Model {
 
     /// Refuses effects that would change nothing with this model's tail
     /// (a local drag effect with a non-local tail, ...): [`tail_compat`].
-    pub fn check_tail_compat(&self) -> Result<(), String> {
+    pub fn check_tail_compat(&self) -> Result<(), tail_compat::TailConflict> {
         let effects: Vec<&dyn Effect> = self.effects.iter().map(|e| e.effect).collect();
         tail_compat::check(self.tail_model(), &effects)
     }

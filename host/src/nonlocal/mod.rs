@@ -84,6 +84,12 @@ use nalgebra::Matrix6;
 pub enum NonlocalError {
     #[error("invalid geometry: {0}")]
     Geometry(String),
+    /// The body's profile, with what is wrong as data.
+    #[error("invalid geometry: {0}")]
+    Profile(#[from] crate::physics::profile::ProfileError),
+    /// A surface that cannot be cut into elements.
+    #[error("invalid geometry: {0}")]
+    Mesh(#[from] axisym::mesh::MeshError),
     #[error("invalid settings: {0}")]
     Settings(String),
     #[error("the linear system could not be solved: {0}")]

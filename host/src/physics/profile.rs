@@ -146,19 +146,22 @@ impl BodyProfile {
     }
 
     /// `length:diameter,...` in mm, nose first (the `--profile` flag).
-    pub fn parse_sections(spec: &str, rounded_mm: f64) -> Result<Self, String> {
+    pub fn parse_sections(spec: &str, rounded_mm: f64) -> Result<Self, ProfileError> {
         let mut sections = Vec::new();
         for (i, part) in spec.split(',').enumerate() {
-            let (l, d) = part.split_once(':').ok_or_else(|| {
-                format!(
-                    "section {} `{part}`: expected `length_mm:diameter_mm`",
-                    i + 1
-                )
+            let (l, d) = part.split_once(':').ok_or_else(|| ProfileError::NotAPair {
+                section: i + 1,
+                text: part.to_string(),
             })?;
-            let num = |v: &str, what: &str| {
-                v.trim().parse::<f64>().map_err(|_| {
-                    format!("section {} `{part}`: {what} `{v}` is not a number", i + 1)
-                })
+            let num = |v: &str, what: &'static str| {
+                v.trim()
+                    .parse::<f64>()
+                    .map_err(|_| ProfileError::NotANumber {
+                        section: i + 1,
+                        text: part.to_string(),
+                        what,
+                        value: v.to_string(),
+                    })
             };
             sections.push(Section {
                 length_mm: num(l, "length")?,
@@ -174,12 +177,12 @@ impl BodyProfile {
     }
 
     /// Every length positive and finite, roundings that fit.
-    pub fn validate(&self) -> Result<(), String> {
-        let positive = |v: f64, what: String| {
+    pub fn validate(&self) -> Result<(), ProfileError> {
+        let positive = |v: f64, field: String| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{what} must be a positive finite number, got {v}"))
+                Err(ProfileError::NotPositive { field, value: v })
             }
         };
         match self {
@@ -195,7 +198,7 @@ impl BodyProfile {
                 rounded_mm,
             } => {
                 if sections.is_empty() {
-                    return Err("the profile has no sections".into());
+                    return Err(ProfileError::NoSections);
                 }
                 for (i, s) in sections.iter().enumerate() {
                     positive(s.length_mm, format!("section {} length_mm", i + 1))?;
@@ -203,7 +206,7 @@ impl BodyProfile {
                 }
                 let r = *rounded_mm;
                 if !(r.is_finite() && r >= 0.0) {
-                    return Err(format!("rounded_mm must be finite and >= 0, got {r}"));
+                    return Err(ProfileError::BadRounding(r));
                 }
                 let (first, last) = (sections[0], sections[sections.len() - 1]);
                 let fits = if sections.len() == 1 {
@@ -215,9 +218,7 @@ impl BodyProfile {
                         && r <= 0.5 * last.diameter_mm
                 };
                 if !fits {
-                    return Err(format!(
-                        "rounded_mm {r} does not fit: it must not exceed the end sections' radii and lengths (half the length for a single section)"
-                    ));
+                    return Err(ProfileError::RoundingDoesNotFit(r));
                 }
                 Ok(())
             }
@@ -371,6 +372,34 @@ fn sections_meridian(sections: &[Section], rf: f64, centre_x: f64) -> Meridian {
     Meridian { pieces, corners }
 }
 
+/// A body profile that is no body: the section (1-based, nose first) or
+/// the field, and what is wrong.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ProfileError {
+    /// A section of a `--profile` spec, as written, without its `:`.
+    #[error("section {section} `{text}`: expected `length_mm:diameter_mm`")]
+    NotAPair { section: usize, text: String },
+    /// A section's `length` or `diameter` that is not a number.
+    #[error("section {section} `{text}`: {what} `{value}` is not a number")]
+    NotANumber {
+        section: usize,
+        text: String,
+        what: &'static str,
+        value: String,
+    },
+    /// A length (`field`, e.g. `section 2 diameter_mm`) not positive and finite.
+    #[error("{field} must be a positive finite number, got {value}")]
+    NotPositive { field: String, value: f64 },
+    #[error("the profile has no sections")]
+    NoSections,
+    #[error("rounded_mm must be finite and >= 0, got {0}")]
+    BadRounding(f64),
+    #[error(
+        "rounded_mm {0} does not fit: it must not exceed the end sections' radii and lengths (half the length for a single section)"
+    )]
+    RoundingDoesNotFit(f64),
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -406,9 +435,13 @@ mod tests {
 
     #[test]
     fn bad_profiles_are_rejected_with_the_section_named() {
-        let e = BodyProfile::parse_sections("10:20,x:18", 0.0).unwrap_err();
+        let e = BodyProfile::parse_sections("10:20,x:18", 0.0)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("section 2"), "{e}");
-        let e = BodyProfile::parse_sections("10:20,5:-1", 0.0).unwrap_err();
+        let e = BodyProfile::parse_sections("10:20,5:-1", 0.0)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("section 2 diameter_mm"), "{e}");
         assert!(BodyProfile::cylinder(10.0, 20.0, 6.0).validate().is_err());
         assert!(BodyProfile::cylinder(20.0, 20.0, 10.0).validate().is_ok());

@@ -37,7 +37,7 @@ struct Manifest<'a> {
 }
 
 /// Refuse `dir` when another command's page is in it.
-pub fn check_dir(dir: &Path, command: &str) -> Result<(), String> {
+pub fn check_dir(dir: &Path, command: &str) -> Result<(), BundleError> {
     let manifest = dir.join("manifest.json");
     match read_manifest(&manifest) {
         Ok(text) => {
@@ -46,24 +46,56 @@ pub fn check_dir(dir: &Path, command: &str) -> Result<(), String> {
                 .and_then(|v| v.get("command")?.as_str().map(str::to_string));
             match written_by {
                 Some(c) if c == command => Ok(()),
-                Some(c) => Err(format!(
-                    "output directory {}: holds the page `swimbot {c}` wrote; give this \
-                     `swimbot {command}` another folder with -o, or remove that one",
-                    dir.display()
-                )),
-                None => Err(format!(
-                    "{}: not a manifest swimbot wrote; give another folder with -o",
-                    manifest.display()
-                )),
+                Some(other) => Err(BundleError::OtherCommand {
+                    dir: dir.to_path_buf(),
+                    other,
+                    command: command.to_string(),
+                }),
+                None => Err(BundleError::NotOurManifest { manifest }),
             }
         }
-        Err(_) if dir.join("index.html").exists() => Err(format!(
-            "output directory {}: holds an index.html that no `swimbot {command}` wrote; give \
-             another folder with -o, or remove it",
-            dir.display()
-        )),
+        Err(_) if dir.join("index.html").exists() => Err(BundleError::ForeignPage {
+            dir: dir.to_path_buf(),
+            command: command.to_string(),
+        }),
         Err(_) => Ok(()),
     }
+}
+
+/// Why a page's bundle was not written: the folder and the command as
+/// data. The folder is as it was.
+#[derive(Debug, thiserror::Error)]
+pub enum BundleError {
+    /// `dir` holds the page that command `other` wrote.
+    #[error(
+        "output directory {}: holds the page `swimbot {other}` wrote; give this `swimbot {command}` another folder with -o, or remove that one",
+        .dir.display()
+    )]
+    OtherCommand {
+        dir: PathBuf,
+        other: String,
+        command: String,
+    },
+    #[error("{}: not a manifest swimbot wrote; give another folder with -o", .manifest.display())]
+    NotOurManifest { manifest: PathBuf },
+    /// `dir` holds an `index.html` without a manifest of ours.
+    #[error(
+        "output directory {}: holds an index.html that no `swimbot {command}` wrote; give another folder with -o, or remove it",
+        .dir.display()
+    )]
+    ForeignPage { dir: PathBuf, command: String },
+    /// A file of the bundle the command's [`Guard`] refused, in its words.
+    #[error("{0}")]
+    Refused(String),
+    /// Writing `path` (the folder, or a file in it) failed.
+    #[error("{}: {error} (the folder is as it was)", .path.display())]
+    Write {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    /// The page's model could not predict a case.
+    #[error("{0}")]
+    Model(#[from] crate::model::ModelError),
 }
 
 /// A manifest read back, bounded ([`crate::input_file`]).
@@ -282,10 +314,17 @@ pub type Guard<'a> = &'a dyn Fn(&Path) -> Result<(), String>;
 
 /// Write `page` and its bundle into `dir`, all-or-none (module docs);
 /// returns the page's path. Every file it would write or remove passes
-/// `guard` first, before any is touched.
-pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<PathBuf, String> {
+/// `guard` first, before any is touched; every file names `inputs` in its
+/// provenance.
+pub fn write(
+    dir: &Path,
+    command: &str,
+    page: &str,
+    guard: Guard,
+    inputs: &crate::provenance::Inputs,
+) -> Result<PathBuf, BundleError> {
     check_dir(dir, command)?;
-    let provenance = crate::provenance::Provenance::capture();
+    let provenance = crate::provenance::Provenance::capture(inputs);
     let page = provenance.into_html(page);
     let (mut files, mut entries) = files(&page);
     // every file of the bundle can be traced back on its own
@@ -310,7 +349,7 @@ pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<Path
         swimbot_version: env!("CARGO_PKG_VERSION"),
         files: &entries,
     };
-    let manifest = crate::provenance::with_provenance(&manifest);
+    let manifest = crate::provenance::with_provenance(&manifest, inputs);
     files.push((
         "manifest.json".into(),
         (serde_json::to_string_pretty(&manifest).expect("serialisable") + "\n").into_bytes(),
@@ -321,20 +360,26 @@ pub fn write(dir: &Path, command: &str, page: &str, guard: Guard) -> Result<Path
     // folders deleted whatever else a user had put in them)
     let previous = previous_files(dir);
     for rel in previous.iter().chain(files.iter().map(|f| &f.0)) {
-        guard(&dir.join(rel))?;
+        guard(&dir.join(rel)).map_err(BundleError::Refused)?;
     }
     let replaced: std::collections::HashSet<PathBuf> = previous
         .iter()
         .chain(files.iter().map(|f| &f.0))
         .map(PathBuf::from)
         .collect();
-    let say = |e: std::io::Error| format!("{}: {e} (the folder is as it was)", dir.display());
+    let say = |error| BundleError::Write {
+        path: dir.to_path_buf(),
+        error,
+    };
     let staging =
         crate::atomic_dir::Staging::begin(dir, &|rel| replaced.contains(rel)).map_err(say)?;
     for (rel, bytes) in &files {
         staging
             .write(rel, bytes)
-            .map_err(|e| format!("{}: {e} (the folder is as it was)", dir.join(rel).display()))?;
+            .map_err(|error| BundleError::Write {
+                path: dir.join(rel),
+                error,
+            })?;
     }
     staging.commit().map_err(say)?;
     Ok(dir.join("index.html"))
@@ -371,6 +416,7 @@ fn previous_files(dir: &Path) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::provenance::Inputs;
 
     const PAGE: &str = "<h2 id=\"a\">1. One</h2><table><tr><th>x, y</th><th>U (mm/s)</th></tr>\
         <tr><td>tail-1</td><td>0.2609 &plusmn; 1<br><span class=\"fall\">falls</span></td></tr></table>\
@@ -404,9 +450,9 @@ mod tests {
     #[test]
     fn a_folder_another_command_wrote_is_refused() {
         let dir = tempfile::tempdir().unwrap();
-        write(dir.path(), "report", PAGE, &|_| Ok(())).unwrap();
+        write(dir.path(), "report", PAGE, &|_| Ok(()), &Inputs::new()).unwrap();
         assert!(check_dir(dir.path(), "report").is_ok());
-        let e = check_dir(dir.path(), "compare").unwrap_err();
+        let e = check_dir(dir.path(), "compare").unwrap_err().to_string();
         assert!(e.contains("swimbot report") && e.contains("-o"), "{e}");
         let other = tempfile::tempdir().unwrap();
         std::fs::write(other.path().join("index.html"), "<p>mine</p>").unwrap();

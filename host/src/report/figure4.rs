@@ -201,7 +201,7 @@ pub fn figure4(data: &Dataset, layers: &[Layer]) -> Figure4 {
     let groups = amplitude_groups(data);
     let ci = super::intro::confidence(data);
     let mut panels = Vec::new();
-    let mut legend = Err("no panel".to_string());
+    let mut legend = Err(crate::chart::ChartError::NoPanel);
     let mut letter = b'a';
     for omega in [false, true] {
         for (b, cases) in &groups {

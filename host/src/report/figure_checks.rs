@@ -17,6 +17,7 @@ fn figures(model: &crate::model::Model, data: &crate::data::Dataset) -> Vec<Stri
         data,
         None,
         &|_| Ok(()),
+        &crate::provenance::Inputs::new(),
     )
     .unwrap();
     let page = std::fs::read_to_string(path).unwrap();

@@ -12,7 +12,7 @@ use maud::DOCTYPE;
 pub use maud::{html, Markup, Render};
 
 /// A chart's SVG, or why it could not be drawn.
-pub type Chart = Result<String, String>;
+pub type Chart = crate::chart::PlotResult;
 
 /// The stylesheet: screen first, then print.
 const STYLE: &str = "\

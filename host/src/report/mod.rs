@@ -33,22 +33,27 @@ pub use crate::format::fmt_sig;
 pub use story::{StoryInput, ZeroParam};
 // The page's figures of one comparison, for the Python package's HTML.
 pub use parity::parity;
+
+use crate::provenance::Inputs;
+pub use bundle::BundleError;
 pub use residuals::residual_plots;
 
 /// Refuse `dir` before any work when another command's page is in it.
-pub fn check_bundle_dir(dir: &std::path::Path, command: &str) -> Result<(), String> {
+pub fn check_bundle_dir(dir: &std::path::Path, command: &str) -> Result<(), BundleError> {
     bundle::check_dir(dir, command)
 }
 
 /// Write the story page from `input` into `dir`, with its bundle (every
-/// figure as SVG, every table as CSV and JSON, `manifest.json`).
+/// figure as SVG, every table as CSV and JSON, `manifest.json`), each
+/// naming the files in `inputs` as its own.
 pub fn write_story(
     dir: &std::path::Path,
     input: &StoryInput,
     guard: bundle::Guard,
-) -> Result<std::path::PathBuf, String> {
-    let page = story::page(input).map_err(|e| e.to_string())?;
-    bundle::write(dir, input.command, &page, guard)
+    inputs: &Inputs,
+) -> Result<std::path::PathBuf, BundleError> {
+    let page = story::page(input)?;
+    bundle::write(dir, input.command, &page, guard, inputs)
 }
 
 /// Write the story page for the model at the end of `path` on `data`
@@ -61,7 +66,8 @@ pub fn write_report(
     data: &crate::data::Dataset,
     diagnosis: Option<&crate::workbench::diagnose::Diagnosis>,
     guard: bundle::Guard,
-) -> Result<std::path::PathBuf, String> {
+    inputs: &Inputs,
+) -> Result<std::path::PathBuf, BundleError> {
     write_story(
         dir,
         &StoryInput {
@@ -76,6 +82,7 @@ pub fn write_report(
             audit: None,
         },
         guard,
+        inputs,
     )
 }
 
@@ -85,6 +92,7 @@ pub fn write_study(
     dir: &std::path::Path,
     study: &crate::study::Study,
     guard: bundle::Guard,
-) -> Result<std::path::PathBuf, String> {
-    bundle::write(dir, "report", &study_page::page(study), guard)
+    inputs: &Inputs,
+) -> Result<std::path::PathBuf, BundleError> {
+    bundle::write(dir, "report", &study_page::page(study), guard, inputs)
 }

@@ -11,7 +11,7 @@ use crate::workbench::compare::{Comparison, Quantity};
 const REF: Rgb = Rgb(80, 80, 80);
 
 /// The parity plot of one comparison.
-pub fn parity(cmp: &Comparison, q: Quantity) -> Result<String, String> {
+pub fn parity(cmp: &Comparison, q: Quantity) -> crate::chart::PlotResult {
     parity_of(&[("case: predicted vs measured", PALETTE[0], cmp)], q)
 }
 
@@ -20,7 +20,7 @@ pub fn parity(cmp: &Comparison, q: Quantity) -> Result<String, String> {
 pub fn parity_of(
     models: &[(&str, Rgb, &Comparison)],
     quantity: Quantity,
-) -> Result<String, String> {
+) -> crate::chart::PlotResult {
     let (q, unit) = (quantity.label(), quantity.unit());
     let mut series = Vec::new();
     let mut has_band = false;

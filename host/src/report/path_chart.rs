@@ -130,10 +130,10 @@ pub fn chart(
     m: Metric,
     floor: Option<f64>,
     mare_noise: f64,
-) -> Result<String, String> {
+) -> crate::chart::PlotResult {
     let vals: Vec<f64> = steps.iter().filter_map(|s| value(s, m)).collect();
     if vals.is_empty() {
-        return Err("no step has a finite value".into());
+        return Err(crate::chart::ChartError::NoFiniteValue { what: "step" });
     }
     let floor = floor.filter(|f| f.is_finite() && *f > 0.0 && m == Metric::Chi2);
     let all = vals.iter().copied().chain(floor);

@@ -12,7 +12,7 @@ use crate::workbench::features::{trends, FEATURES};
 /// Plots per quantity.
 const PER_QUANTITY: usize = 2;
 
-pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<Result<String, String>> {
+pub fn residual_plots(data: &Dataset, cmp: &Comparison) -> Vec<crate::chart::PlotResult> {
     residual_plots_of(data, ("cases", cmp), None, PALETTE[1])
 }
 
@@ -23,7 +23,7 @@ pub fn residual_plots_of(
     (label, cmp): (&str, &Comparison),
     before: Option<(&str, &Comparison)>,
     color: Rgb,
-) -> Vec<Result<String, String>> {
+) -> Vec<crate::chart::PlotResult> {
     let all = trends(data, cmp);
     [Quantity::U, Quantity::Omega]
         .into_iter()
@@ -36,7 +36,9 @@ pub fn residual_plots_of(
             let f = FEATURES
                 .iter()
                 .find(|f| f.id == t.feature_id)
-                .ok_or_else(|| format!("unknown feature {}", t.feature_id))?;
+                .ok_or_else(|| crate::chart::ChartError::UnknownFeature {
+                    id: t.feature_id.to_string(),
+                })?;
             let points = |cmp: &Comparison| -> (Vec<_>, Vec<_>) {
                 data.cases
                     .iter()

@@ -9,7 +9,7 @@ use crate::data::quantities::{by_id, FEATURES};
 use crate::data::Dataset;
 use crate::study::CaseRow;
 
-pub fn parity(before: &[CaseRow], after: &[CaseRow], omega: bool) -> Result<String, String> {
+pub fn parity(before: &[CaseRow], after: &[CaseRow], omega: bool) -> crate::chart::PlotResult {
     let (q, unit) = if omega {
         ("Omega_b", "Hz")
     } else {
@@ -102,7 +102,7 @@ pub fn residuals(
     q: &crate::data::quantities::Quantity,
     before: &[CaseRow],
     after: &[CaseRow],
-) -> Result<String, String> {
+) -> crate::chart::PlotResult {
     let x_of = |id: &str| data.cases.iter().find(|c| c.id == id).map(|c| q.of(c));
     let mut series = Vec::new();
     for (label, rows, color, hollow) in [

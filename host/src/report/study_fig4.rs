@@ -91,7 +91,7 @@ pub fn figure(
     let g_before = groups(before);
     let ci = super::intro::confidence(data);
     let mut panels = Vec::new();
-    let mut legend = Err("no panel".to_string());
+    let mut legend = Err(crate::chart::ChartError::NoPanel);
     let mut letter = b'a';
     for omega in [false, true] {
         for (i, (ratio, rows)) in g_after.iter().enumerate() {

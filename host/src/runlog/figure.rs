@@ -137,7 +137,7 @@ pub fn rate_series(trace: &Trace, windows: &[SteadyWindow], label: &str) -> Vec<
 }
 
 /// The whole figure.
-pub fn svg(trace: &Trace, windows: &[SteadyWindow], title: &str) -> Result<String, String> {
+pub fn svg(trace: &Trace, windows: &[SteadyWindow], title: &str) -> crate::chart::PlotResult {
     let [c0, ..] = PALETTE;
     let pts = &trace.points;
     let t_end = pts.last().map_or(1.0, |p| p.t_s).max(1e-3);

@@ -1,7 +1,7 @@
 //! The robot's run log on the host: the log image the
 //! firmware keeps in flash and hands out over USB (`swimbot_shared::run_log`,
 //! whose module doc has the byte layout), read from a saved file or the
-//! robot's port ([`read`]) and checked to be the run of the power-up that
+//! robot's port ([`read`]), decoded ([`decode`]) and checked to be the run of the power-up that
 //! read it out ([`power_up`]: a run the robot could not log is refused,
 //! not read as the earlier run it falls back to), turned into a time
 //! series ([`trace`]), cut into steady windows ([`steady`]: set-point constant, rate settled), and those
@@ -19,6 +19,7 @@
 //! variance of a mean from correlated samples: G. S. Fishman, *Discrete-Event
 //! Simulation*, Springer 2001, section 6.6.
 
+pub mod decode;
 pub mod figure;
 pub mod power_up;
 pub mod read;
@@ -26,6 +27,7 @@ pub mod steady;
 pub mod trace;
 pub mod trials;
 
-pub use read::{read_current, read_source, LogError, RunLog, Source};
+pub use decode::{LogContentError, RunLog};
+pub use read::{read_current, read_source, LogError, Source};
 pub use steady::{steady_windows, SteadyWindow, STEADY_BAND};
 pub use trace::{LogPoint, Trace};

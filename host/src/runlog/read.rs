@@ -1,7 +1,6 @@
 //! Reading a run log: from a saved image file, or from the robot's USB CDC
 //! port (`LOG` request, `swimbot_shared::run_log::readout`), then decoded
-//! by the firmware's own [`decode`]: the host reads exactly the bytes the
-//! firmware writes, with the same checks.
+//! ([`super::decode`]).
 //!
 //! The port is opened through the `serialport` crate (default features
 //! off: no libudev, which only enumerates ports) rather than raw file I/O
@@ -10,18 +9,12 @@
 //! line-edited on the way in; `serialport` puts it in raw mode, and works
 //! the same on a lab's Windows (`COM3`) or macOS (`/dev/cu.usbmodem*`) host.
 
+use super::decode::{decode_bytes, describe, RunLog};
+use crate::provenance::Inputs;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-use swimbot_shared::run_log::image::{OLDEST_VERSION, VERSION};
-use swimbot_shared::run_log::{decode, DecodeError, Header, Record, HEADER_LEN};
-
-/// A decoded log: its header and records, in time order as recorded.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RunLog {
-    pub header: Header,
-    pub records: Vec<Record>,
-}
+use swimbot_shared::run_log::{decode, HEADER_LEN};
 
 /// Where the log comes from.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -81,9 +74,9 @@ fn err(source: &Source, message: impl Into<String>) -> LogError {
 
 /// Read and decode a log; also its raw bytes (to be saved when read from
 /// the port: the robot keeps only the last run).
-pub fn read_source(source: &Source) -> Result<(RunLog, Vec<u8>), LogError> {
-    let bytes = read_bytes(source)?;
-    let log = decode_bytes(&bytes).map_err(|m| err(source, m))?;
+pub fn read_source(source: &Source, inputs: &Inputs) -> Result<(RunLog, Vec<u8>), LogError> {
+    let bytes = read_bytes(source, inputs)?;
+    let log = decode_bytes(&bytes).map_err(|e| err(source, e.to_string()))?;
     Ok((log, bytes))
 }
 
@@ -94,18 +87,21 @@ pub fn read_source(source: &Source) -> Result<(RunLog, Vec<u8>), LogError> {
 pub fn read_current(
     source: &Source,
     earlier: bool,
+    inputs: &Inputs,
 ) -> Result<(RunLog, Vec<u8>, Vec<String>), LogError> {
-    let bytes = read_bytes(source)?;
+    let bytes = read_bytes(source, inputs)?;
     let image = decode(&bytes).map_err(|e| err(source, describe(&e)))?;
     let warnings = super::power_up::check(&image, earlier).map_err(|m| err(source, m))?;
-    let log = decode_bytes(&bytes).map_err(|m| err(source, m))?;
+    let log = decode_bytes(&bytes).map_err(|e| err(source, e.to_string()))?;
     Ok((log, bytes, warnings))
 }
 
-fn read_bytes(source: &Source) -> Result<Vec<u8>, LogError> {
+/// A file's bytes are recorded in `inputs`; a port's are the robot's
+/// flash, no file of the user's.
+fn read_bytes(source: &Source, inputs: &Inputs) -> Result<Vec<u8>, LogError> {
     match source {
-        Source::File(p) => read_file(p).map_err(|m| err(source, m)),
-        Source::Port(p) => read_port(p).map_err(|m| err(source, m)),
+        Source::File(p) => read_file(p, inputs).map_err(|e| err(source, e.to_string())),
+        Source::Port(p) => read_port(p).map_err(|e| err(source, e.to_string())),
     }
 }
 
@@ -115,14 +111,13 @@ const MAX_IMAGE_BYTES: u64 = crate::input_file::cap::RUN_LOG;
 
 /// Bounded while reading ([`crate::input_file`]): a FIFO or `/dev/zero`
 /// costs at most the cap, never the machine.
-fn read_file(path: &Path) -> Result<Vec<u8>, String> {
+fn read_file(path: &Path, inputs: &Inputs) -> Result<Vec<u8>, crate::input_file::ReadError> {
     let bytes = crate::input_file::read(
         path,
         MAX_IMAGE_BYTES,
         "a run log (a 10-minute log is about 96 kB)",
-    )
-    .map_err(|e| e.to_string())?;
-    crate::provenance::record_input(path, &bytes);
+    )?;
+    inputs.record(path, &bytes);
     Ok(bytes)
 }
 
@@ -145,15 +140,15 @@ fn port_deadline(start: Instant, bytes: u64) -> Instant {
 
 /// Ask the robot for its log: `LOG\n`, then the header, then the records
 /// the header announces, all before the deadline ([`port_deadline`]).
-fn read_port(name: &str) -> Result<Vec<u8>, String> {
+fn read_port(name: &str) -> Result<Vec<u8>, PortError> {
     let mut port = serialport::new(name, 115_200)
         .timeout(PORT_SILENCE)
         .open()
-        .map_err(|e| format!("cannot open the robot's port: {e}"))?;
+        .map_err(PortError::Open)?;
     let _ = port.clear(serialport::ClearBuffer::All);
     port.write_all(b"LOG\n")
         .and_then(|()| port.flush())
-        .map_err(|e| format!("cannot send the LOG request: {e}"))?;
+        .map_err(PortError::Request)?;
     let start = Instant::now();
     let mut timeout = |p: &mut Box<dyn serialport::SerialPort>, t: Duration| {
         let _ = p.set_timeout(t.min(PORT_SILENCE));
@@ -168,7 +163,7 @@ fn read_image<R: Read>(
     port: &mut R,
     start: Instant,
     set_timeout: &mut dyn FnMut(&mut R, Duration),
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, PortError> {
     let mut bytes = vec![0u8; HEADER_LEN];
     read_exact_by(
         port,
@@ -176,7 +171,7 @@ fn read_image<R: Read>(
         port_deadline(start, HEADER_LEN as u64),
         set_timeout,
     )
-    .map_err(|e| format!("no log header from the robot: {e}"))?;
+    .map_err(PortError::NoHeader)?;
     let count = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]) as u64;
     let total = HEADER_LEN as u64 + count.saturating_mul(16);
     if &bytes[..4] != b"SWLG" || total > MAX_IMAGE_BYTES {
@@ -185,8 +180,10 @@ fn read_image<R: Read>(
     }
     let mut rest = vec![0u8; (total as usize) - HEADER_LEN];
     let deadline = port_deadline(start, total);
-    read_exact_by(port, &mut rest, deadline, set_timeout)
-        .map_err(|e| format!("the robot sent the header of {count} records, then stopped: {e}"))?;
+    read_exact_by(port, &mut rest, deadline, set_timeout).map_err(|why| PortError::Stopped {
+        records: count,
+        why,
+    })?;
     bytes.extend_from_slice(&rest);
     Ok(bytes)
 }
@@ -197,134 +194,50 @@ fn read_exact_by<R: Read>(
     buf: &mut [u8],
     deadline: Instant,
     set_timeout: &mut dyn FnMut(&mut R, Duration),
-) -> Result<(), String> {
+) -> Result<(), ShortRead> {
     let mut filled = 0;
-    while filled < buf.len() {
+    let wanted = buf.len();
+    while filled < wanted {
         let left = deadline.saturating_duration_since(Instant::now());
         if left.is_zero() {
-            return Err(format!(
-                "{filled} of {} bytes arrived before the read's deadline; the port is too slow or not the robot",
-                buf.len()
-            ));
+            return Err(ShortRead::Deadline { filled, wanted });
         }
         set_timeout(r, left);
         match r.read(&mut buf[filled..]) {
-            Ok(0) => {
-                return Err(format!(
-                    "the port closed after {filled} of {} bytes",
-                    buf.len()
-                ))
-            }
+            Ok(0) => return Err(ShortRead::Closed { filled, wanted }),
             Ok(n) => filled += n,
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e.to_string()),
+            Err(e) => return Err(ShortRead::Io(e)),
         }
     }
     Ok(())
 }
 
-/// Decode an image, with what is wrong said in words.
-pub fn decode_bytes(bytes: &[u8]) -> Result<RunLog, String> {
-    let image = decode(bytes).map_err(|e| describe(&e))?;
-    if image.is_empty() {
-        return Err("the log is empty: no record (was the motor started since power-up?)".into());
-    }
-    let records: Vec<Record> = image.records().collect();
-    check_time(&records, u32::from(image.header.sample_period_ms))?;
-    Ok(RunLog {
-        header: image.header,
-        records,
-    })
+/// Why the robot's port gave no log.
+#[derive(Debug, thiserror::Error)]
+pub enum PortError {
+    #[error("cannot open the robot's port: {0}")]
+    Open(serialport::Error),
+    #[error("cannot send the LOG request: {0}")]
+    Request(std::io::Error),
+    #[error("no log header from the robot: {0}")]
+    NoHeader(ShortRead),
+    /// The header announced `records` records; fewer bytes followed.
+    #[error("the robot sent the header of {records} records, then stopped: {why}")]
+    Stopped { records: u64, why: ShortRead },
 }
 
-/// The longest plausible gap between two records while the motor runs,
-/// in sample periods and at least in ms: the recorder takes a record one
-/// period after the last (a main-loop pass, every 1 ms or sooner, is at
-/// most one pass late), so even a main loop held up by a flash erase
-/// stays far inside it. Between runs of one power-up (the motor stopped,
-/// then started again) any gap is real.
-const MAX_GAP_PERIODS: u64 = 100;
-const MAX_GAP_MS: u64 = 60_000;
-
-/// The motor runs from record `a` to record `b`: `a` is no stop and `b`
-/// no start.
-fn runs_across(a: &Record, b: &Record) -> bool {
-    use swimbot_shared::run_log::Events;
-    let stopped = [
-        Events::STOPPED_COMMAND,
-        Events::STOPPED_MAX_RUN_TIME,
-        Events::STOPPED_LOW_BATTERY,
-        Events::STOPPED_BATTERY_FAULT,
-        Events::USB_CONNECTED,
-    ]
-    .iter()
-    .any(|&e| a.events.contains(e));
-    let started = [Events::STARTED, Events::ON]
-        .iter()
-        .any(|&e| b.events.contains(e));
-    a.duty_per_10k > 0 && !stopped && !started
-}
-
-/// A CRC-valid image can still hold a time that runs backwards (two logs
-/// concatenated) or jumps by days (a corrupted clock): steady windows
-/// would count turns twice or span the jump. Refused, naming the record.
-fn check_time(records: &[Record], period_ms: u32) -> Result<(), String> {
-    let max_gap = (u64::from(period_ms) * MAX_GAP_PERIODS).max(MAX_GAP_MS);
-    for (i, w) in records.windows(2).enumerate() {
-        let (a, b) = (u64::from(w[0].t_ms), u64::from(w[1].t_ms));
-        let (n, m) = (i + 1, i + 2);
-        if b < a {
-            return Err(format!(
-                "record {m} (t = {:.3} s) is earlier than record {n} (t = {:.3} s): time runs backwards, so this is not one run as the robot records it (two logs joined?)",
-                b as f64 * 1e-3,
-                a as f64 * 1e-3
-            ));
-        }
-        if b - a > max_gap && runs_across(&w[0], &w[1]) {
-            return Err(format!(
-                "record {m} (t = {:.3} s) comes {:.3} s after record {n}: the robot records every {period_ms} ms while the motor runs, so a gap over {:.0} s is no real log (a damaged clock?)",
-                b as f64 * 1e-3,
-                (b - a) as f64 * 1e-3,
-                max_gap as f64 * 1e-3
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// A decode error in the words a lab needs.
-pub fn describe(e: &DecodeError) -> String {
-    match *e {
-        DecodeError::TooShort { len } => {
-            format!("{len} bytes: too short for a run log (its header alone is {HEADER_LEN} bytes)")
-        }
-        DecodeError::BadMagic(m) => {
-            format!("not a swimbot run log: it starts with {m:02x?}, a log with \"SWLG\"")
-        }
-        DecodeError::UnsupportedVersion(v) => format!(
-            "log format version {v}: this swimbot reads versions {OLDEST_VERSION}-{VERSION}"
-        ),
-        DecodeError::BadLengths {
-            header_len,
-            record_len,
-        } => format!(
-            "header and record lengths {header_len} and {record_len}: the log format has 32 and 16"
-        ),
-        DecodeError::ZeroPeriod => "the header's sample period is 0 ms".into(),
-        DecodeError::BadAddress(a) => format!("the header's paired address {a:#06x} is not 0-255"),
-        DecodeError::Truncated { expected, got } => {
-            format!("truncated: the header announces {expected} bytes, the log has {got}")
-        }
-        DecodeError::TrailingBytes { expected, got } => format!(
-            "{got} bytes where the header announces {expected}: bytes after the last record"
-        ),
-        DecodeError::Crc { stored, computed } => format!(
-            "bad CRC (stored {stored:#010x}, computed {computed:#010x}): the log is damaged"
-        ),
-        DecodeError::Record { index, error } => {
-            format!("record {index} is malformed: {error:?}")
-        }
-    }
+/// Fewer bytes than wanted from the port: how many, and why it stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum ShortRead {
+    #[error(
+        "{filled} of {wanted} bytes arrived before the read's deadline; the port is too slow or not the robot"
+    )]
+    Deadline { filled: usize, wanted: usize },
+    #[error("the port closed after {filled} of {wanted} bytes")]
+    Closed { filled: usize, wanted: usize },
+    #[error("{0}")]
+    Io(std::io::Error),
 }
 
 #[cfg(test)]
@@ -355,7 +268,9 @@ mod tests {
         // Started long ago: the deadline has nearly passed.
         let start = Instant::now() - PORT_BASE_DEADLINE + Duration::from_millis(100);
         let t = Instant::now();
-        let e = read_image(&mut port, start, &mut |_, _| {}).unwrap_err();
+        let e = read_image(&mut port, start, &mut |_, _| {})
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("before the read's deadline"), "{e}");
         assert!(t.elapsed() < Duration::from_secs(2), "{:?}", t.elapsed());
         // The time left is what each read may wait.
@@ -389,7 +304,7 @@ mod tests {
 
     #[test]
     fn an_absent_port_is_an_error_naming_it() {
-        let e = read_source(&Source::Port("/dev/ttyACM-none".into())).unwrap_err();
+        let e = read_source(&Source::Port("/dev/ttyACM-none".into()), &Inputs::new()).unwrap_err();
         assert_eq!(e.source_name, "/dev/ttyACM-none");
         assert!(e.message.contains("cannot open"), "{e}");
     }
@@ -433,7 +348,7 @@ mod port_tests {
             let _ = host_done.recv_timeout(Duration::from_secs(30));
             req
         });
-        let got = read_source(&Source::Port(name));
+        let got = read_source(&Source::Port(name), &Inputs::new());
         done.send(()).unwrap();
         assert_eq!(&served.join().unwrap(), b"LOG\n");
         let (log, bytes) = got.expect("the log");

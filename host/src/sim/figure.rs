@@ -54,18 +54,18 @@ impl Observed {
 
 /// The run as an SVG of stacked panels sharing the time axis, without
 /// observed reference values.
-pub fn svg(o: &Outcome) -> Result<String, String> {
+pub fn svg(o: &Outcome) -> crate::chart::PlotResult {
     svg_with(o, &Observed::default())
 }
 
 /// The run as an SVG with the robot's and the paper's observed f, U and
 /// Omega_b for this tail drawn as reference lines.
-pub fn figure(robot: &Robot, o: &Outcome) -> Result<String, String> {
+pub fn figure(robot: &Robot, o: &Outcome) -> crate::chart::PlotResult {
     svg_with(o, &Observed::of(robot, &o.tail_id))
 }
 
 /// Stacked panels: height, U, rates, cell voltage, currents.
-pub fn svg_with(o: &Outcome, obs: &Observed) -> Result<String, String> {
+pub fn svg_with(o: &Outcome, obs: &Observed) -> crate::chart::PlotResult {
     let line = |label: &str, color, f: fn(&Sample) -> f64| {
         Series::curve(
             label,

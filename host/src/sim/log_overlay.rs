@@ -107,7 +107,7 @@ pub fn overlay_svg(
     sim: &Trace,
     tail: &str,
     notes: &[String],
-) -> Result<String, String> {
+) -> crate::chart::PlotResult {
     let [c0, c1, _, c3, ..] = PALETTE;
     let (pts, spts) = (&log.points, &sim.points);
     let t_end = pts.iter().chain(spts).map(|p| p.t_s).fold(1e-3, f64::max);

@@ -44,57 +44,48 @@ impl RateRun {
     /// `0.8` (from the start) or `0.6@0s,0.9@20s,...` (times as in scripts;
     /// a bare number is seconds). Two set-points at one time are refused:
     /// one of them would silently never apply.
-    pub fn parse_schedule(text: &str) -> Result<Vec<(u64, f64)>, String> {
+    pub fn parse_schedule(text: &str) -> Result<Vec<(u64, f64)>, RateError> {
         let mut out: Vec<(u64, f64, &str)> = Vec::new();
         for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let (hz, at) = item.split_once('@').unwrap_or((item, "0"));
-            let at_us = parse_time_us(at.trim()).ok_or_else(|| {
-                format!(
-                    "rate set-point `{item}`: the time must be a non-negative number of seconds \
-                     (a bare number) or with ms, s or min, e.g. 0.8@20, 0.8@500ms, 0.8@2min"
-                )
-            })?;
-            let hz: f64 = hz.trim().parse().map_err(|_| {
-                format!("rate set-point `{item}`: expected a rate in Hz, e.g. 0.8 or 0.8@10s")
-            })?;
+            let bad = |problem| RateError::Item {
+                item: item.to_string(),
+                problem,
+            };
+            let at_us = parse_time_us(at.trim()).ok_or_else(|| bad(ItemProblem::Time))?;
+            let hz: f64 = hz.trim().parse().map_err(|_| bad(ItemProblem::Rate))?;
             if !(hz.is_finite() && hz > 0.0) {
-                return Err(format!(
-                    "rate set-point `{item}`: the rate must be a positive number of Hz"
-                ));
+                return Err(bad(ItemProblem::NotPositive));
             }
             out.push((at_us, hz, item));
         }
         if out.is_empty() {
-            return Err("--rate-hz is empty: give a rate, e.g. 0.8".into());
+            return Err(RateError::Empty);
         }
         out.sort_by_key(|p| p.0);
         if let Some(w) = out.windows(2).find(|w| w[0].0 == w[1].0) {
-            return Err(format!(
-                "--rate-hz: set-points `{}` and `{}` are both at {} s (a set-point without @ is at 0 s): \
-                 give each its own time, e.g. 0.6@0s,0.9@20s",
-                w[0].2,
-                w[1].2,
-                show(w[0].0 as f64 * 1e-6)
-            ));
+            return Err(RateError::SameTime {
+                first: w[0].2.to_string(),
+                second: w[1].2.to_string(),
+                at_s: w[0].0 as f64 * 1e-6,
+            });
         }
         Ok(out.into_iter().map(|(t, hz, _)| (t, hz)).collect())
     }
 
     /// Refuses a set-point at or after the run's end (`max_time_s`): the
     /// controller would never be given it, and the run would not show it.
-    pub fn check_reached(&self, max_time_s: f64) -> Result<(), String> {
+    pub fn check_reached(&self, max_time_s: f64) -> Result<(), RateError> {
         match self
             .set_points
             .iter()
             .find(|p| p.0 as f64 * 1e-6 >= max_time_s)
         {
-            Some(p) => Err(format!(
-                "rate set-point {} Hz at {} s is not before the run's end (--max-time-s {}): \
-                 it would never be reached; give a longer --max-time-s or an earlier time",
-                show(p.1),
-                show(p.0 as f64 * 1e-6),
-                show(max_time_s)
-            )),
+            Some(p) => Err(RateError::NotReached {
+                hz: p.1,
+                at_s: p.0 as f64 * 1e-6,
+                max_time_s,
+            }),
             None => Ok(()),
         }
     }
@@ -109,22 +100,71 @@ impl RateRun {
     }
 
     /// Set-points the controller cannot take (outside its allowed range).
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), RateError> {
         let (lo, hi) = (self.config.min_rate_mhz, self.config.max_rate_mhz);
         match self
             .set_points
             .iter()
             .find(|p| !(f64::from(lo)..=f64::from(hi)).contains(&(p.1 * 1e3)))
         {
-            Some(p) => Err(format!(
-                "rate set-point {} Hz is outside the controller's range {}..={} Hz",
-                show(p.1),
-                f64::from(lo) / 1e3,
-                f64::from(hi) / 1e3
-            )),
+            Some(p) => Err(RateError::OutOfRange {
+                hz: p.1,
+                min_hz: f64::from(lo) / 1e3,
+                max_hz: f64::from(hi) / 1e3,
+            }),
             None => Ok(()),
         }
     }
+}
+
+/// A rate schedule (`--rate-hz`) the board's controller cannot run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RateError {
+    /// One comma-separated set-point, as written, and what is wrong with it.
+    #[error("rate set-point `{item}`: {problem}")]
+    Item { item: String, problem: ItemProblem },
+    #[error("--rate-hz is empty: give a rate, e.g. 0.8")]
+    Empty,
+    /// Two set-points, as written, at one time.
+    #[error(
+        "--rate-hz: set-points `{first}` and `{second}` are both at {} s (a set-point without @ is at 0 s): \
+         give each its own time, e.g. 0.6@0s,0.9@20s",
+        show(*.at_s)
+    )]
+    SameTime {
+        first: String,
+        second: String,
+        at_s: f64,
+    },
+    /// A set-point at or after the run's end.
+    #[error(
+        "rate set-point {} Hz at {} s is not before the run's end (--max-time-s {}): \
+         it would never be reached; give a longer --max-time-s or an earlier time",
+        show(*.hz),
+        show(*.at_s),
+        show(*.max_time_s)
+    )]
+    NotReached { hz: f64, at_s: f64, max_time_s: f64 },
+    /// A set-point outside the controller's allowed range.
+    #[error(
+        "rate set-point {} Hz is outside the controller's range {min_hz}..={max_hz} Hz",
+        show(*.hz)
+    )]
+    OutOfRange { hz: f64, min_hz: f64, max_hz: f64 },
+}
+
+/// What is wrong with one set-point of a schedule.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum ItemProblem {
+    #[error(
+        "the time must be a non-negative number of seconds \
+         (a bare number) or with ms, s or min, e.g. 0.8@20, 0.8@500ms, 0.8@2min"
+    )]
+    Time,
+    #[error("expected a rate in Hz, e.g. 0.8 or 0.8@10s")]
+    Rate,
+    #[error("the rate must be a positive number of Hz")]
+    NotPositive,
 }
 
 /// One point of a rate-controlled run's trace.
@@ -273,7 +313,7 @@ mod tests {
             Ok(vec![(0, 0.6), (20_000_000, 0.9)])
         );
         for bad in ["", "fast", "-1", "0.8@later", "NaN"] {
-            let e = RateRun::parse_schedule(bad).unwrap_err();
+            let e = RateRun::parse_schedule(bad).unwrap_err().to_string();
             assert!(e.contains("rate") || e.contains("--rate-hz"), "{bad}: {e}");
         }
         let run = RateRun::new(vec![(0, 0.6), (5_000_000, 0.9)]);
@@ -289,7 +329,7 @@ mod tests {
             ("0.8,0.9", "0.8", "0.9"),
             ("0.6@20s, 0.9@20000ms", "0.6@20s", "0.9@20000ms"),
         ] {
-            let e = RateRun::parse_schedule(bad).unwrap_err();
+            let e = RateRun::parse_schedule(bad).unwrap_err().to_string();
             assert!(
                 e.contains(&format!("`{a}`")) && e.contains(&format!("`{b}`")),
                 "{e}"
@@ -302,12 +342,15 @@ mod tests {
         );
         let run = RateRun::new(vec![(0, 0.6), (20_000_000, 0.9)]);
         assert!(run.check_reached(20.001).is_ok());
-        let e = run.check_reached(20.0).unwrap_err();
+        let e = run.check_reached(20.0).unwrap_err().to_string();
         assert!(
             e.contains("0.9 Hz at 20 s") && e.contains("--max-time-s 20"),
             "{e}"
         );
-        let e = RateRun::new(vec![(0, 1e300)]).check().unwrap_err();
+        let e = RateRun::new(vec![(0, 1e300)])
+            .check()
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("1e300 Hz") && e.len() < 200, "{e}");
     }
 }

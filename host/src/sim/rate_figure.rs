@@ -43,7 +43,7 @@ pub fn rate_csv(trace: &[RatePoint]) -> String {
 }
 
 /// Stacked panels: rates with the set-point band, duty, cell voltage.
-pub fn rate_svg(o: &Outcome) -> Result<String, String> {
+pub fn rate_svg(o: &Outcome) -> crate::chart::PlotResult {
     let step = o.rate_trace.len().div_ceil(MAX_POINTS).max(1);
     let pts: Vec<&RatePoint> = o.rate_trace.iter().step_by(step).collect();
     let curve = |label: &str, color, f: &dyn Fn(&RatePoint) -> f64| {

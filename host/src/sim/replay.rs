@@ -16,14 +16,14 @@ use swimbot_shared::KeyMap;
 /// frame that much earlier, so the simulated robot decodes it at the same
 /// time. Other stops (low battery, run-time limit, a fault) are the
 /// simulation's own to reach or not.
-pub fn replay(trace: &Trace, keys: &KeyMap) -> Result<(Script, RateRun), String> {
+pub fn replay(trace: &Trace, keys: &KeyMap) -> Result<(Script, RateRun), ReplayError> {
     let commands = trace.commands();
     if !commands.iter().any(|c| c.1) {
-        return Err("the log holds no On command: there is no run to replay".into());
+        return Err(ReplayError::NoOnCommand);
     }
     let set_points = trace.set_points();
     if set_points.is_empty() {
-        return Err("the log holds no set-point: the motor never ran rate-controlled".into());
+        return Err(ReplayError::NoSetPoint);
     }
     // The frame's length: from its first edge to its last, after which
     // the pass decodes it.
@@ -38,6 +38,21 @@ pub fn replay(trace: &Trace, keys: &KeyMap) -> Result<(Script, RateRun), String>
         .collect();
     Ok((Script { items }, RateRun::new(set_points)))
 }
+
+/// A log with nothing to replay.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum ReplayError {
+    #[error("the log holds no On command: there is no run to replay")]
+    NoOnCommand,
+    #[error("the log holds no set-point: the motor never ran rate-controlled")]
+    NoSetPoint,
+}
+
+/// Simulated records the firmware's log format cannot hold (the shared
+/// crate's `EncodeError`, shown as the firmware names it).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0:?}")]
+pub struct ImageError(pub swimbot_shared::run_log::image::EncodeError);
 
 /// The header of a simulated log: the board's period, closed, unpaired,
 /// nothing dropped, no foreign remote.
@@ -61,10 +76,10 @@ pub fn log_trace(records: &[Record]) -> Trace {
 }
 
 /// The log image of simulated records.
-pub fn log_image(records: &[Record]) -> Result<Vec<u8>, String> {
+pub fn log_image(records: &[Record]) -> Result<Vec<u8>, ImageError> {
     let header = header(records);
     let mut out = vec![0u8; HEADER_LEN + RECORD_LEN * records.len()];
-    let n = encode(&header, records, &mut out).map_err(|e| format!("{e:?}"))?;
+    let n = encode(&header, records, &mut out).map_err(ImageError)?;
     out.truncate(n);
     Ok(out)
 }
@@ -128,7 +143,9 @@ mod tests {
             dropped_records: 0,
             sample_period_s: 0.1,
         };
-        let e = replay(&trace, &default_robot().keys).unwrap_err();
+        let e = replay(&trace, &default_robot().keys)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no On"), "{e}");
     }
 

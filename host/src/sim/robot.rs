@@ -82,12 +82,16 @@ pub struct Robot {
 }
 
 impl Robot {
-    pub fn load_file(path: &std::path::Path) -> Result<Robot, RobotError> {
+    /// A robot file read, recorded in `inputs`, and checked.
+    pub fn load_file(
+        path: &std::path::Path,
+        inputs: &crate::provenance::Inputs,
+    ) -> Result<Robot, RobotError> {
         let file = path.display().to_string();
         let text =
             crate::input_file::read_text(path, crate::input_file::cap::ROBOT, "a robot file")
                 .map_err(|e| fail(&file, None, e.to_string()))?;
-        crate::provenance::record_input(path, text.as_bytes());
+        inputs.record(path, text.as_bytes());
         Robot::from_toml(&text, &file)
     }
 

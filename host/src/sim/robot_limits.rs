@@ -117,7 +117,7 @@ pub(super) fn check(r: &Robot, file: &str) -> Result<(), RobotError> {
     }
     for (i, t) in r.tails.iter().enumerate() {
         let field = |name: &str| format!("tail[{i}].{name}");
-        check_id(&t.id).map_err(|e| fail(file, Some(&field("id")), e))?;
+        check_id(&t.id).map_err(|e| fail(file, Some(&field("id")), e.to_string()))?;
         if r.tails[..i].iter().any(|o| o.id == t.id) {
             return Err(fail(
                 file,

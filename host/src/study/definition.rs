@@ -6,6 +6,7 @@
 
 use crate::effects::formula::{to_toml, FormulaEffect};
 use crate::effects::{by_name, user_file, Effect};
+use crate::provenance::Inputs;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -47,27 +48,29 @@ impl Definition {
     }
 
     /// A user effect read from an effects file: `NAME` chooses among
-    /// several (one effect in the file needs none).
-    pub fn of_file(path: &Path, name: Option<&str>) -> Result<Self, String> {
-        let effects = user_file::load_file(path).map_err(|e| e.to_string())?;
-        let names: Vec<&str> = effects.iter().map(|e| e.spec().name.as_str()).collect();
+    /// several (one effect in the file needs none). The file is recorded
+    /// in `inputs`.
+    pub fn of_file(
+        path: &Path,
+        name: Option<&str>,
+        inputs: &Inputs,
+    ) -> Result<Self, DefinitionError> {
+        let effects = user_file::load_file(path, inputs)?;
+        let names = || effects.iter().map(|e| e.spec().name.clone()).collect();
         let chosen = match name {
             Some(n) => effects.iter().find(|e| e.spec().name == n).ok_or_else(|| {
-                format!(
-                    "{} has no effect `{n}`; it has: {}",
-                    path.display(),
-                    names.join(", ")
-                )
+                DefinitionError::NoSuchEffect {
+                    file: path.to_path_buf(),
+                    name: n.to_string(),
+                    has: names(),
+                }
             })?,
             None if effects.len() == 1 => &effects[0],
             None => {
-                return Err(format!(
-                    "{} holds {} effects ({}); choose one with {}#NAME",
-                    path.display(),
-                    effects.len(),
-                    names.join(", "),
-                    path.display()
-                ))
+                return Err(DefinitionError::WhichEffect {
+                    file: path.to_path_buf(),
+                    has: names(),
+                })
             }
         };
         let mut spec = chosen.spec().clone();
@@ -89,22 +92,60 @@ impl Definition {
     }
 
     /// The effect it defines, registering a user effect first.
-    pub fn effect(&self) -> Result<&'static dyn Effect, String> {
+    pub fn effect(&self) -> Result<&'static dyn Effect, DefinitionError> {
         if let Some(text) = &self.definition {
-            let specs = user_file::parse(text, SOURCE).map_err(|e| e.to_string())?;
+            let specs = user_file::parse(text, SOURCE)?;
             let spec = specs
                 .into_iter()
                 .find(|s| s.name == self.name)
-                .ok_or_else(|| format!("the definition does not define `{}`", self.name))?;
-            let effect = FormulaEffect::new(spec, SOURCE)
-                .map_err(|e| format!("the formula at {}: {:?}", e.place.name(), e.error))?;
+                .ok_or_else(|| DefinitionError::NotDefined(self.name.clone()))?;
+            let effect =
+                FormulaEffect::new(spec, SOURCE).map_err(|e| DefinitionError::Formula {
+                    place: e.place.name().to_string(),
+                    error: e.error,
+                })?;
             crate::effects::register_user_effects(vec![effect])?;
         }
-        by_name(&self.name).ok_or_else(|| {
-            format!(
-                "no effect `{}` in this swimbot (`swimbot effects` lists them)",
-                self.name
-            )
-        })
+        by_name(&self.name).ok_or_else(|| DefinitionError::Unknown(self.name.clone()))
     }
+}
+
+/// A step's effect that cannot be read or rebuilt: the file, the names
+/// and the formula's place as data.
+#[derive(Debug, thiserror::Error)]
+pub enum DefinitionError {
+    /// The effects file, or a stored definition, does not load.
+    #[error("{0}")]
+    File(#[from] user_file::UserEffectError),
+    /// `FILE#NAME` names no effect of the file (`has`: its effects).
+    #[error("{} has no effect `{name}`; it has: {}", .file.display(), .has.join(", "))]
+    NoSuchEffect {
+        file: std::path::PathBuf,
+        name: String,
+        has: Vec<String>,
+    },
+    /// A file of several effects without `#NAME`.
+    #[error(
+        "{} holds {} effects ({}); choose one with {}#NAME",
+        .file.display(),
+        .has.len(),
+        .has.join(", "),
+        .file.display()
+    )]
+    WhichEffect {
+        file: std::path::PathBuf,
+        has: Vec<String>,
+    },
+    #[error("the definition does not define `{0}`")]
+    NotDefined(String),
+    /// The stored formula at `place` does not compile.
+    #[error("the formula at {place}: {error:?}")]
+    Formula {
+        place: String,
+        error: crate::effects::expr::ExprError,
+    },
+    #[error("{0}")]
+    Register(#[from] crate::effects::RegistryError),
+    #[error("no effect `{0}` in this swimbot (`swimbot effects` lists them)")]
+    Unknown(String),
 }

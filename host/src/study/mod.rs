@@ -32,6 +32,7 @@ pub use snapshot::{CaseRow, Snapshot, Stats};
 use crate::data::Dataset;
 use crate::effects::EffectInstance;
 use crate::model::{preset, Model};
+use crate::provenance::Inputs;
 use crate::workbench::robust::Likelihood;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -90,6 +91,9 @@ pub struct Study {
     /// SHA-256 of the file's bytes as this process last read or wrote
     /// them: a write over anything else is refused (`StudyFile::write_over`).
     opened_sha256: String,
+    /// The files the study read (its dataset, a CSV's setup file): the
+    /// inputs of what is made from it (its report).
+    inputs: Inputs,
 }
 
 /// The study's models on other data, parameters held.
@@ -146,7 +150,8 @@ impl Study {
                 file: path.to_path_buf(),
             });
         }
-        let (data, sha256) = load_pinned(path, data_path)?;
+        let inputs = Inputs::new();
+        let (data, sha256) = load_pinned(path, data_path, &inputs)?;
         let model = preset(&o.preset).ok_or_else(|| StudyError::Format {
             file: path.to_path_buf(),
             field: "model.preset".into(),
@@ -193,6 +198,7 @@ impl Study {
             file,
             data,
             opened_sha256,
+            inputs,
         })
     }
 
@@ -201,7 +207,8 @@ impl Study {
     pub fn open(path: &Path) -> Result<Study, StudyError> {
         let (file, opened_sha256) = StudyFile::read_hashed(path)?;
         let data_path = resolve(path, &file.dataset.path);
-        let (data, sha256) = load_pinned(path, &data_path)?;
+        let inputs = Inputs::new();
+        let (data, sha256) = load_pinned(path, &data_path, &inputs)?;
         if sha256 != file.dataset.sha256 {
             return Err(StudyError::DatasetChanged {
                 file: path.to_path_buf(),
@@ -215,6 +222,7 @@ impl Study {
             file,
             data,
             opened_sha256,
+            inputs,
         };
         study.likelihood()?;
         study.model()?;
@@ -223,6 +231,11 @@ impl Study {
 
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// The files the study has read (its dataset, a CSV's setup file).
+    pub fn inputs(&self) -> &Inputs {
+        &self.inputs
     }
 
     pub fn file(&self) -> &StudyFile {
@@ -285,7 +298,10 @@ impl Study {
                 field: field.into(),
                 message,
             };
-            let effect = s.effect.effect().map_err(|m| err("effect", m))?;
+            let effect = s
+                .effect
+                .effect()
+                .map_err(|m| err("effect", m.to_string()))?;
             let mut inst = EffectInstance::default_of(effect);
             set_values(&mut inst, &s.params).map_err(|m| err("param", m))?;
             model.effects.push(inst);
@@ -326,7 +342,7 @@ impl Study {
             effect: def.name.clone(),
             message: m,
         };
-        let effect = def.effect().map_err(eff_err)?;
+        let effect = def.effect().map_err(|e| eff_err(e.to_string()))?;
         let before_model = self.model()?;
         if let Some(i) = before_model
             .effects
@@ -346,7 +362,7 @@ impl Study {
             let why = with
                 .check_tail_compat()
                 .err()
-                .unwrap_or_else(|| "it conflicts with the model".into());
+                .map_or_else(|| "it conflicts with the model".into(), |e| e.to_string());
             return Err(eff_err(why));
         }
         let first_step = before_model.effects.len() - self.file.steps.len();
@@ -536,8 +552,12 @@ fn set_values(inst: &mut EffectInstance, records: &[file::ParamRecord]) -> Resul
     Ok(())
 }
 
-/// The dataset and the SHA-256 of its bytes.
-fn load_pinned(study: &Path, data_path: &Path) -> Result<(Dataset, String), StudyError> {
+/// The dataset and the SHA-256 of its bytes, the files read recorded in `inputs`.
+fn load_pinned(
+    study: &Path,
+    data_path: &Path,
+    inputs: &Inputs,
+) -> Result<(Dataset, String), StudyError> {
     // Bounded while reading, as every input (a dataset path edited to
     // /dev/zero costs the cap, not the machine).
     let bytes = crate::input_file::read(data_path, crate::input_file::cap::DATASET, "a dataset")
@@ -545,7 +565,7 @@ fn load_pinned(study: &Path, data_path: &Path) -> Result<(Dataset, String), Stud
             file: study.to_path_buf(),
             message: format!("{}: {e}", data_path.display()),
         })?;
-    let data = crate::data::load_file(data_path).map_err(|e| StudyError::Data {
+    let data = crate::data::load_recorded(data_path, inputs).map_err(|e| StudyError::Data {
         file: study.to_path_buf(),
         message: e.to_string(),
     })?;

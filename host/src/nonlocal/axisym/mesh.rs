@@ -77,27 +77,36 @@ impl Sizing {
     }
 }
 
+/// A piece of the surface that cannot be cut into elements.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    /// The sizing asked for an element of this (non-finite or non-positive) size.
+    #[error("element size {0} along a piece")]
+    ElementSize(f64),
+    /// The piece needs more elements than this bound.
+    #[error("more than {0} elements on one piece of the surface")]
+    TooManyElements(usize),
+}
+
 /// Elements along one piece; `max_elements` guards against a runaway size.
 pub fn discretize(
     piece: &Piece,
     sizing: &Sizing,
     part: Part,
     max_elements: usize,
-) -> Result<Vec<Element>, String> {
+) -> Result<Vec<Element>, MeshError> {
     let mut ts = vec![0.0];
     let mut t = 0.0;
     while t < 1.0 {
         let speed = piece.speed(t).max(1e-300);
         let dt = sizing.at(piece.point(t)) / speed;
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(format!("element size {dt} along a piece"));
+            return Err(MeshError::ElementSize(dt));
         }
         t += dt;
         ts.push(t);
         if ts.len() > max_elements + 1 {
-            return Err(format!(
-                "more than {max_elements} elements on one piece of the surface"
-            ));
+            return Err(MeshError::TooManyElements(max_elements));
         }
     }
     // Rescale so the last node is the piece's end; at least two elements

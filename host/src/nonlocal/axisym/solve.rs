@@ -94,7 +94,7 @@ pub fn build_mesh(
     centre_m: f64,
     s: &AxisymSettings,
 ) -> Result<Mesh, NonlocalError> {
-    profile.validate().map_err(geometry_error)?;
+    profile.validate()?;
     check_settings(s)?;
     if !centre_m.is_finite() {
         return Err(geometry_error(format!("body position {centre_m} m")));
@@ -154,7 +154,7 @@ pub fn build_mesh(
     let mut elements = Vec::new();
     for (pieces, part) in [(&meridian.pieces, Part::Body), (&wall_pieces, Part::Wall)] {
         for p in pieces.iter() {
-            elements.extend(discretize(p, &sizing, part, s.max_elements).map_err(geometry_error)?);
+            elements.extend(discretize(p, &sizing, part, s.max_elements)?);
             if elements.len() > s.max_elements {
                 return Err(NonlocalError::Settings(format!(
                     "the mesh needs more than {} elements; lower the resolution",

@@ -162,9 +162,9 @@ fn build(
     centre_m: f64,
     s: &AxisymSettings,
 ) -> Result<(Vec<Element>, Vec<Surface>), NonlocalError> {
-    stack.rotor.validate().map_err(geometry)?;
+    stack.rotor.validate()?;
     if let Some(st) = &stack.stator {
-        st.validate().map_err(geometry)?;
+        st.validate()?;
     }
     super::solve::check_settings(s)?;
     let a_rotor = 0.5e-3 * stack.rotor.max_diameter_mm();
@@ -260,7 +260,7 @@ fn build(
             Part::Wall
         };
         for p in &pieces {
-            let e = discretize(p, &sizing, part, s.max_elements).map_err(geometry)?;
+            let e = discretize(p, &sizing, part, s.max_elements)?;
             kinds.extend(std::iter::repeat_n(kind, e.len()));
             els.extend(e);
             if els.len() > s.max_elements {

@@ -1,0 +1,138 @@
+//! What a run leaves behind when it fails or is interrupted: nothing of
+//! its own. Temporary files, staging folders ([`crate::atomic_dir`]) and
+//! the folders a run created are registered here; when the run ends with
+//! an error, and on SIGINT, SIGTERM and SIGHUP (a thread of the
+//! `signal-hook` crate, which then ends the process by the signal's
+//! default action), they are removed, folders only when empty (nothing the
+//! user put there is touched). A temporary file `.NAME.tmp-PID` left by a
+//! run that was killed outright (SIGKILL, power loss) is removed by the
+//! next run writing NAME, when process PID is gone.
+//!
+//! The registry is process-wide on purpose: a signal handler has no other
+//! way to find what to remove.
+
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Temporary files and new folders to remove if the run does not succeed.
+struct Pending {
+    temps: Vec<PathBuf>,
+    new_dirs: Vec<PathBuf>,
+}
+
+static PENDING: Mutex<Pending> = Mutex::new(Pending {
+    temps: Vec::new(),
+    new_dirs: Vec::new(),
+});
+
+fn pending() -> std::sync::MutexGuard<'static, Pending> {
+    PENDING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Creates the temporary file `p` and registers it, both under the lock
+/// that [`clean_up`] takes: a signal that arrives between the two would
+/// otherwise leave the file behind (seen once in a loaded test run).
+pub fn create_temp(p: &Path) -> std::io::Result<std::fs::File> {
+    let mut pending = pending();
+    let file = std::fs::File::create(p)?;
+    pending.temps.push(p.to_path_buf());
+    Ok(file)
+}
+
+pub fn forget_temp(p: &Path) {
+    pending().temps.retain(|t| t != p);
+}
+
+/// Creates `dir` and its missing parents, registering each new one.
+pub fn create_dir_all(dir: &Path) -> std::io::Result<()> {
+    let mut missing = Vec::new();
+    let mut at = Some(dir);
+    while let Some(d) = at.filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
+        missing.push(d.to_path_buf());
+        at = d.parent();
+    }
+    std::fs::create_dir_all(dir)?;
+    // Deepest first, the order they must be removed in.
+    pending().new_dirs.extend(missing);
+    Ok(())
+}
+
+/// The run succeeded: its folders are outputs now.
+pub fn keep_new_dirs() {
+    pending().new_dirs.clear();
+}
+
+/// Removes the registered temporary files, this process's temporary files
+/// in new folders (`.NAME.tmp-PID`, written by other writers too) and the
+/// new folders that are then empty.
+pub fn clean_up() {
+    crate::atomic_dir::remove_pending();
+    let p = pending();
+    for t in &p.temps {
+        let _ = std::fs::remove_file(t);
+    }
+    let suffix = format!(".tmp-{}", std::process::id());
+    for d in &p.new_dirs {
+        if let Ok(entries) = std::fs::read_dir(d) {
+            for e in entries.flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                if name.starts_with('.') && name.ends_with(&suffix) {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+        let _ = std::fs::remove_dir(d);
+    }
+}
+
+/// SIGINT, SIGTERM and SIGHUP (a closed terminal) clean up, then end the
+/// process by the signal's default action (its exit status still says
+/// which signal ended it).
+#[cfg(unix)]
+pub fn install_signal_cleanup() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            clean_up();
+            let _ = signal_hook::low_level::emulate_default_handler(sig);
+            std::process::exit(128 + sig);
+        }
+    });
+}
+
+#[cfg(not(unix))]
+pub fn install_signal_cleanup() {}
+
+/// Removes `.NAME.tmp-PID` files next to `dest` left by runs that were
+/// killed outright (process PID gone; a regular file of ours by name).
+pub fn sweep_stale_temps(dest: &Path) {
+    let (Some(name), parent) = (dest.file_name(), dest.parent()) else {
+        return;
+    };
+    let parent = match parent {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let prefix = format!(".{}.tmp-", name.to_string_lossy());
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let file = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = file
+            .strip_prefix(&prefix)
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != std::process::id()
+            && e.file_type().is_ok_and(|t| t.is_file())
+            && !crate::atomic_dir::process_alive(pid)
+        {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
