@@ -6,6 +6,7 @@
 //! the body rate is reported as the counter-rotation rate (positive when
 //! opposite to the tail), as the paper's Table IV does.
 
+pub mod columns;
 mod presets;
 pub mod time_domain;
 
@@ -264,6 +265,26 @@ impl Model {
         Ok(b)
     }
 
+    /// Whether an effect reads the model's own quantities
+    /// ([`crate::data::model_quantities`]).
+    pub fn reads_model_quantities(&self) -> bool {
+        self.effects.iter().any(|e| e.effect.reads_model_quantities())
+    }
+
+    /// The model whose quantities a law in a model quantity reads: the
+    /// effects before the first effect that reads one ([`columns`]).
+    pub fn quantities_model(&self) -> Model {
+        let first = self
+            .effects
+            .iter()
+            .position(|e| e.effect.reads_model_quantities())
+            .unwrap_or(self.effects.len());
+        Model {
+            effects: self.effects[..first].to_vec(),
+            ..self.clone()
+        }
+    }
+
     /// Eq. 11 assembled for a case, before solving.
     pub fn force_balance(&self, case: &Case) -> Result<ForceBalance, ModelError> {
         self.force_balance_at(case, 0.0)
@@ -275,6 +296,19 @@ impl Model {
         case: &Case,
         phase_rad: f64,
     ) -> Result<ForceBalance, ModelError> {
+        // A case read from a file carries no model quantities: a law that
+        // reads them gets those of the model beneath it, solved here once
+        // per call (a diagnosis attaches them once per dataset instead).
+        if case.derived.model.is_none() && self.reads_model_quantities() {
+            let values = columns::of_case(&self.quantities_model(), case)?;
+            let with = Case {
+                derived: crate::data::model_quantities::Derived {
+                    model: Some(values),
+                },
+                ..case.clone()
+            };
+            return self.force_balance_at(&with, phase_rad);
+        }
         #[cfg(test)]
         FORCE_BALANCES.with(|n| n.set(n.get() + 1));
         // One check serves every stage of this prediction.
