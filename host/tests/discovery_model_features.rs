@@ -10,6 +10,7 @@ use crate::fixtures;
 
 use fixtures::diagnosed::drawn_data;
 use fixtures::{drawn, load_slip};
+use swimbot::effects::correction::Form;
 use swimbot::model::Model;
 use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, Diagnosis, VerdictKind};
 
@@ -45,13 +46,32 @@ fn a_slip_set_by_the_load_torque_is_a_law_in_the_load_torque_at_the_drive() {
     assert_eq!(l.feature, Some("model_tail_torque_n_m"), "{}", v.note);
     assert!(l.score.at_noise_floor, "{}", v.note);
     assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
+    // The truth is the search's `1 + k x` with x = tau/tau_ref exactly:
+    // k = -tau_ref/tau_s, within its interval.
+    let design = drawn::design(&swimbot::data::paper(), SEED);
+    let tau_s = load_slip::stall_torque(&design, SEED);
+    assert_eq!(l.form, Form::Linear, "{}", l.describe());
+    let tau_ref = l.correction.scale;
+    let k = &l.params[0];
+    let ci = k.ci95.expect("identifiable");
+    let want = -tau_ref / tau_s;
+    assert!(
+        (k.value - want).abs() < 3.0 * ci,
+        "k = {} ± {ci}, truth {want}",
+        k.value
+    );
 }
 
 #[test]
 fn the_paper_verdict_is_still_stated_with_the_model_quantities_offered() {
     let data = swimbot::data::paper();
     let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).unwrap();
-    assert_eq!(d.verdict.kind, VerdictKind::Unexplained, "{}", d.verdict.note);
+    assert_eq!(
+        d.verdict.kind,
+        VerdictKind::Unexplained,
+        "{}",
+        d.verdict.note
+    );
     assert!(!d.verdict.note.is_empty() && !d.verdict.located.is_empty());
     // The library offered them: the load torque trends with Omega_b's error.
     assert!(

@@ -38,10 +38,14 @@ pub const PREFIX: &str = "model_";
 pub const N_MODEL: usize = 8;
 
 /// Values the tool computed for a case from a model, in the order of
-/// [`MODEL_QUANTITIES`]; `None` until a caller attaches them.
+/// [`MODEL_QUANTITIES`]; `None` until a caller attaches them. `key`
+/// identifies the model they came from within one run
+/// ([`crate::model::columns::key`]), so that a law fitted on top of
+/// another model is never fed the quantities of the wrong one.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Derived {
     pub model: Option<[f64; N_MODEL]>,
+    pub key: u64,
 }
 
 impl Derived {

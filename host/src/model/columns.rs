@@ -51,6 +51,38 @@ pub fn of_case(model: &Model, case: &Case) -> Result<[f64; N_MODEL], ModelError>
     Ok(out)
 }
 
+/// Identifies a model within one run: its coefficients, tail method,
+/// degrees of freedom and every effect (by identity) with its values.
+/// Attached quantities carry the key of the model they came from; a model
+/// whose [`Model::quantities_model`] has another key recomputes them.
+pub fn key(model: &Model) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    format!(
+        "{:?} {:?} {:?}",
+        model.coefficients, model.tail_method, model.dofs
+    )
+    .hash(&mut h);
+    for e in &model.effects {
+        (e.effect as *const dyn crate::effects::Effect as *const () as usize).hash(&mut h);
+        for v in &e.values {
+            v.to_bits().hash(&mut h);
+        }
+    }
+    h.finish()
+}
+
+/// `case` carrying the quantities of `model` (all its effects).
+pub fn with_quantities(model: &Model, case: &Case) -> Result<Case, ModelError> {
+    Ok(Case {
+        derived: Derived {
+            model: Some(of_case(model, case)?),
+            key: key(model),
+        },
+        ..case.clone()
+    })
+}
+
 /// `data` with every case carrying the model quantities of
 /// [`Model::quantities_model`] (parallel over cases; one force balance
 /// each).
@@ -59,15 +91,7 @@ pub fn attach(model: &Model, data: &Dataset) -> Result<Dataset, ModelError> {
     let cases = data
         .cases
         .par_iter()
-        .map(|c| {
-            let values = of_case(&beneath, c)?;
-            Ok(Case {
-                derived: Derived {
-                    model: Some(values),
-                },
-                ..c.clone()
-            })
-        })
+        .map(|c| with_quantities(&beneath, c))
         .collect::<Result<Vec<Case>, ModelError>>()?;
     Ok(Dataset {
         cases,
@@ -106,7 +130,8 @@ mod tests {
             let u = -a.thrust_n_s * w / (dx + a.drag_n_s_per_m);
             let big_w = -a.torque_n_m_s * w / ex;
             let torque = a.thrust_n_s * u + a.torque_n_m_s * w;
-            let power = a.drag_n_s_per_m * u * u + 2.0 * a.thrust_n_s * u * w + a.torque_n_m_s * w * w;
+            let power =
+                a.drag_n_s_per_m * u * u + 2.0 * a.thrust_n_s * u * w + a.torque_n_m_s * w * w;
             let want = [
                 ("model_tail_torque_n_m", torque),
                 ("model_thrust_n", -a.thrust_n_s * w),
@@ -148,8 +173,7 @@ mod tests {
         }
         let b = attach(&Model::base(), &denser).unwrap();
         for (x, y) in a.cases.iter().zip(&b.cases) {
-            let re = x.density_kg_m3 * x.derived.model(slot::U) * 1e-3 * x.body_diameter_mm
-                * 1e-3
+            let re = x.density_kg_m3 * x.derived.model(slot::U) * 1e-3 * x.body_diameter_mm * 1e-3
                 / x.viscosity_pa_s;
             let got = x.derived.model(slot::BODY_REYNOLDS);
             assert!((got - re).abs() <= 1e-12 * re.abs());

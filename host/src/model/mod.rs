@@ -268,7 +268,9 @@ impl Model {
     /// Whether an effect reads the model's own quantities
     /// ([`crate::data::model_quantities`]).
     pub fn reads_model_quantities(&self) -> bool {
-        self.effects.iter().any(|e| e.effect.reads_model_quantities())
+        self.effects
+            .iter()
+            .any(|e| e.effect.reads_model_quantities())
     }
 
     /// The model whose quantities a law in a model quantity reads: the
@@ -296,18 +298,16 @@ impl Model {
         case: &Case,
         phase_rad: f64,
     ) -> Result<ForceBalance, ModelError> {
-        // A case read from a file carries no model quantities: a law that
-        // reads them gets those of the model beneath it, solved here once
-        // per call (a diagnosis attaches them once per dataset instead).
-        if case.derived.model.is_none() && self.reads_model_quantities() {
-            let values = columns::of_case(&self.quantities_model(), case)?;
-            let with = Case {
-                derived: crate::data::model_quantities::Derived {
-                    model: Some(values),
-                },
-                ..case.clone()
-            };
-            return self.force_balance_at(&with, phase_rad);
+        // A law in a model quantity reads those of the model beneath it:
+        // attached once per dataset by a diagnosis (then the key matches
+        // and this costs a hash), solved here once per call otherwise (a
+        // case read from a file, or a law found on top of another model).
+        if self.reads_model_quantities() {
+            let beneath = self.quantities_model();
+            if case.derived.model.is_none() || case.derived.key != columns::key(&beneath) {
+                let with = columns::with_quantities(&beneath, case)?;
+                return self.force_balance_at(&with, phase_rad);
+            }
         }
         #[cfg(test)]
         FORCE_BALANCES.with(|n| n.set(n.get() + 1));

@@ -11,7 +11,7 @@
 //! | `model_thrust_n` (the tail's thrust) | `tail.thrust`, `tail.drag`, `load.force`, `load.torque` | the thrust is the tail's axial force balance; it presses the shaft on its thrust bearing, whose friction is a torque on the body |
 //! | `model_body_drag_n` (the body's drag) | `body.D_x`, `load.force` | the body's axial force balance: a resistance that is not linear in U, or an axial load that grows with the drag |
 //! | `model_u_mm_s` (the predicted U) | `body.D_x`, `tail.drag`, `load.force` | a speed sets translational resistances (a drag not linear in U, a back-flow growing with U) and speed-dependent axial loads (a wall's friction) |
-//! | `model_omega_body_hz` (the predicted Omega_b) | `body.E_x`, `load.torque`, `drive.rate` | the body's rotation sets its rotational resistance and a rotating seal's friction torque; a motor whose rate is held relative to the body turns the tail at f plus Omega_b |
+//! | `model_omega_body_hz` (the predicted Omega_b) | `body.E_x`, `load.torque` | the body's rotation sets its rotational resistance and a rotating seal's friction torque; not the drive: a motor held relative to the body is the catalogue's `motor-frame` (exact, in `f + Omega_b`), and the body's balance `E_x Omega_b` is the torque the motor carries, so a drive law in Omega_b would only shadow one in the load torque |
 //! | `model_body_reynolds` (Re_b at the predicted U) | `body.D_x`, `body.E_x` | a Reynolds number changes the resistance of the body it is built on (inertial corrections to Stokes drag), and nothing else |
 //! | `model_tail_reynolds` (Re_t at the wire's speed) | `tail.c_t`, `tail.c_n`, `tail.viscosity`, `tail.drag`, `tail.thrust`, `tail.torque` | the same for the wire: its local resistances and the tail matrix built on them |
 //! | every other feature | every place | geometry, kinematics, viscosity and the recorded Reynolds numbers can each set a resistance, a coupling, a load or the drive |
@@ -21,6 +21,15 @@
 //! translational resistance would be a number that happens to order the
 //! cases, not a mechanism.
 //!
+//! The model's Reynolds numbers must also be large enough to act at all
+//! ([`large_enough`]): inertia changes a Stokes resistance by a relative
+//! `O(Re)` (Oseen's `3 Re/16` for a sphere), under 2 % below `Re = 0.1`,
+//! the size of a good measurement's noise; a law in a Reynolds number that
+//! stays below it on every case would put a visible change where inertia
+//! can make none (the paper's robot: `Re_t` about 0.01). They then stay
+//! out of the library. (The recorded `reynolds` and `body_reynolds`
+//! groups are features of the setup and stay in it as before.)
+//!
 //! References: J. Lighthill, *Mathematical Biofluiddynamics* (1975), ch. 3
 //! (resistive-force theory at zero Reynolds number); E. M. Purcell, Am. J.
 //! Phys. 45 (1977) 3 (life at low Reynolds number); P. Oseen, *Neuere
@@ -29,7 +38,22 @@
 //! 4th ed. (2013), ch. 3 (a DC motor's torque-speed line).
 
 use crate::data::quantities::Quantity;
+use crate::data::Dataset;
 use crate::effects::place::Place;
+
+/// Below this on every case a model Reynolds number cannot act (module docs).
+pub const MIN_ACTING_REYNOLDS: f64 = 0.1;
+
+/// Whether `feature` can act at all on this design: false for a model
+/// Reynolds number below [`MIN_ACTING_REYNOLDS`] on every case (module docs).
+pub fn large_enough(feature: &Quantity, data: &Dataset) -> bool {
+    if !matches!(feature.id, "model_body_reynolds" | "model_tail_reynolds") {
+        return true;
+    }
+    data.cases
+        .iter()
+        .any(|c| feature.of(c).abs() >= MIN_ACTING_REYNOLDS)
+}
 
 /// Where each model quantity's physics can act (module docs).
 const MODEL_PLACES: &[(&str, &[Place])] = &[
@@ -60,7 +84,7 @@ const MODEL_PLACES: &[(&str, &[Place])] = &[
     ),
     (
         "model_omega_body_hz",
-        &[Place::BodyRotation, Place::LoadTorque, Place::DriveRate],
+        &[Place::BodyRotation, Place::LoadTorque],
     ),
     (
         "model_body_reynolds",
@@ -101,6 +125,25 @@ mod tests {
     }
 
     #[test]
+    fn the_papers_reynolds_numbers_are_too_small_to_act() {
+        let paper = crate::data::paper();
+        let data = crate::model::columns::attach(&crate::model::Model::base(), &paper).unwrap();
+        let re_t = MODEL_QUANTITIES
+            .iter()
+            .find(|q| q.id == "model_tail_reynolds")
+            .unwrap();
+        assert!(!large_enough(re_t, &data));
+        // The same oil a hundred times thinner: Re a hundred times larger.
+        let mut thin = paper.clone();
+        for c in &mut thin.cases {
+            c.viscosity_pa_s /= 100.0;
+        }
+        let thin = crate::model::columns::attach(&crate::model::Model::base(), &thin).unwrap();
+        assert!(large_enough(re_t, &thin));
+        assert!(large_enough(&MODEL_QUANTITIES[0], &data));
+    }
+
+    #[test]
     fn density_acts_only_as_an_axial_load() {
         let rho = FIELDS.iter().find(|q| q.id == "density_kg_m3").unwrap();
         assert_eq!(places_of(rho), vec![Place::LoadForce]);
@@ -128,6 +171,8 @@ mod tests {
             .iter()
             .find(|q| q.id == "model_body_reynolds")
             .unwrap();
-        assert!(places_of(re_b).iter().all(|p| p.name().starts_with("body.")));
+        assert!(places_of(re_b)
+            .iter()
+            .all(|p| p.name().starts_with("body.")));
     }
 }

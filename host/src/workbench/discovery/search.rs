@@ -47,7 +47,8 @@ pub struct Screened {
 /// criterion's tie rules, not the library, decide. On a design that varies
 /// one thing only (a rate sweep, say), U is that thing's monotone function
 /// and is left out. A quantity that is not positive on every case (U of a
-/// tail-first swimmer) is left out like any other.
+/// tail-first swimmer) is left out like any other, and so is a model
+/// Reynolds number too small to act ([`super::acts::large_enough`]).
 pub fn usable_features(data: &Dataset) -> Vec<(&'static Quantity, f64)> {
     let mut out: Vec<(&'static Quantity, f64)> = FEATURES
         .iter()
@@ -55,6 +56,9 @@ pub fn usable_features(data: &Dataset) -> Vec<(&'static Quantity, f64)> {
         .collect();
     for q in SETUP_GROUPS.iter().chain(FIELDS).chain(MODEL_QUANTITIES) {
         let Some(m) = varying(q, data) else { continue };
+        if !super::acts::large_enough(q, data) {
+            continue;
+        }
         if !out.iter().any(|(o, _)| super::equivalent(o, q, data)) {
             out.push((q, m));
         }
