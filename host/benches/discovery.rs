@@ -1,6 +1,8 @@
 //! Speed of discovery beyond the catalogue on the paper's data: building
 //! the response table (11 places x 161 multipliers x 6 cases), screening
-//! every law on it, and the whole search with exact refits.
+//! every law on it, and the whole search with exact refits; and the
+//! model's own quantities attached to the cases (once per diagnosis), on
+//! the paper's data and on the rich synthetic design.
 //! Run: `cargo bench -p swimbot --bench discovery`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -25,6 +27,14 @@ fn discovery(c: &mut Criterion) {
                 .sum::<f64>()
         })
     });
+    c.bench_function("model quantities attached, paper data", |b| {
+        b.iter(|| swimbot::model::columns::attach(black_box(&model), &data).unwrap())
+    });
+    let big = swimbot::workbench::synth::rich_design(&data);
+    c.bench_function(
+        &format!("model quantities attached, {} cases", big.cases.len()),
+        |b| b.iter(|| swimbot::model::columns::attach(black_box(&model), &big).unwrap()),
+    );
     let floor = |_k: usize| Some(1e300);
     let chi2 = swimbot::workbench::compare::compare(&model, &data, 0)
         .unwrap()

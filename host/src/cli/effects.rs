@@ -5,6 +5,7 @@
 use super::model_args::EffectFiles;
 use super::output::{print_json, TableOrJson};
 use super::CliError;
+use crate::data::model_quantities::MODEL_QUANTITIES;
 use crate::data::quantities::{FEATURES, FIELDS};
 use crate::format::{fmt_trim, with_unit};
 use crate::provenance::Inputs;
@@ -16,7 +17,9 @@ pub struct EffectsArgs {
     pub format: TableOrJson,
     #[command(flatten)]
     pub effect_files: EffectFiles,
-    /// List the case quantities (features and fields) usable in formulas instead.
+    /// List the case quantities (features, fields and the model's own
+    /// quantities, which a formula reads from the effects beneath it)
+    /// usable in formulas instead.
     #[arg(long)]
     pub quantities: bool,
 }
@@ -49,6 +52,7 @@ fn quantities(format: TableOrJson, inputs: &Inputs) {
         .iter()
         .map(|q| (q, "feature"))
         .chain(FIELDS.iter().map(|q| (q, "field")))
+        .chain(MODEL_QUANTITIES.iter().map(|q| (q, "model")))
         .map(|(q, kind)| QuantityEntry {
             id: q.id,
             name: q.name,

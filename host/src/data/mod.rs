@@ -12,6 +12,7 @@ mod csv_write;
 mod limit_check;
 pub mod limits;
 mod load;
+pub mod model_quantities;
 mod parse;
 mod profile;
 pub mod quantities;
@@ -135,6 +136,9 @@ pub struct Case {
     /// What the lab recorded beside the case that the model does not read
     /// ([`recorded`]): numbers offered to `diagnose`, labels carried.
     pub recorded: Recorded,
+    /// Quantities the tool computed for the case from a model
+    /// ([`model_quantities`]); none as read from a file.
+    pub derived: model_quantities::Derived,
 }
 
 impl Case {

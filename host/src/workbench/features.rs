@@ -7,7 +7,12 @@
 //! Recorded setup fields and their groups (viscosity, Reynolds number, ...)
 //! are in the library when they vary in the data and are not a monotone
 //! function of a feature already in it; so are the lab's recorded numbers
-//! ([`crate::data::recorded`]: the oil's temperature, ...).
+//! ([`crate::data::recorded`]: the oil's temperature, ...) and, when the
+//! cases carry them (`diagnose` attaches them once:
+//! [`crate::model::columns`]), the model's own quantities (load torque,
+//! thrust, drag, power, predicted U and Omega_b, Reynolds numbers:
+//! [`crate::data::model_quantities`]), so that an error which follows the
+//! load shows as a trend in the load.
 
 use super::compare::{Comparison, Quantity};
 use crate::data::{Case, Dataset};

@@ -27,6 +27,9 @@ pub enum Family {
     /// A recorded setup field or one of its groups (the oil, the channel's
     /// length, the body and coupler).
     Setup,
+    /// One of the model's own quantities (load torque, thrust, U, ...:
+    /// [`crate::data::model_quantities`]).
+    Model,
 }
 
 pub fn family(q: &Quantity) -> Family {
@@ -35,6 +38,7 @@ pub fn family(q: &Quantity) -> Family {
         | "wavelength_ratio" => Family::TailWall,
         "body_ratio" | "body_gap_ratio" | "body_over_gap" => Family::BodyWall,
         "frequency" | "shear_rate" | "wave_speed" => Family::Rate,
+        _ if crate::data::model_quantities::is_model_quantity(q) => Family::Model,
         id if crate::data::quantities::SETUP_GROUPS
             .iter()
             .chain(crate::data::quantities::FIELDS)
@@ -204,6 +208,17 @@ pub fn interpret(
         (Part::Body, Family::BodyWall) => format!(
             "{what} {} with confinement ({}): the narrow annular gap around the body",
             updown(towards_wall),
+            q.name
+        ),
+        (Part::Drive, Family::Model) => format!(
+            "the tail's true rate {} as the model's {} grows: a motor {} under load (a torque-speed line)",
+            if rising { "gaining" } else { "lagging" },
+            q.name,
+            if rising { "speeding up" } else { "slowing" }
+        ),
+        (_, Family::Model) => format!(
+            "{what} {} with the model's own {}: a resistance or load set by the motion or the loads the model computes, not by a dataset field alone",
+            updown(rising),
             q.name
         ),
         (Part::Drive, Family::Rate) => format!(

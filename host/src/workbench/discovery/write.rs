@@ -5,6 +5,12 @@
 //! each carries its base (`base = ["NAME:k=v,...", ...]`), the model it
 //! was fitted on top of, which commands add when they load it.
 //!
+//! A law in one of the model's own quantities (`model_tail_torque_n_m`,
+//! ...) is written as it is: the formula language reads the quantity by
+//! its id, and a model that holds the law computes it from the effects
+//! beneath the law ([`crate::model::columns`]), the model `diagnose`
+//! fitted it on, so the written law means the same thing.
+//!
 //! Serialised by the effect file's own writer
 //! ([`crate::effects::formula::to_toml`]), so what is written is exactly
 //! what the loader reads back.
@@ -85,6 +91,15 @@ pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
         ));
         specs.push(spec_of(l, name.clone(), base, dataset));
         names.push((crate::effects::Effect::name(l.correction), name));
+    }
+    if steps.iter().any(|l| {
+        l.correction
+            .feature
+            .is_some_and(crate::data::model_quantities::is_model_quantity)
+    }) {
+        header.push_str(
+            "# A `model_*` name in a formula is the model's own quantity (`swimbot effects --quantities`): a command that loads the law computes it from the model beneath the law (its base, and any effect listed before it), once per case, as `diagnose` did.\n",
+        );
     }
     header.push_str("# Rename them, refine the formulas, and use them with --effect-file FILE.\n");
     format!("{header}{}", formula::to_toml(&specs))
