@@ -8,9 +8,12 @@
 //! meaningful (`--data <(gen)`, `swimbot log /dev/stdin < run.swlog`), so
 //! it is read too, through the same cap. A FIFO that no process writes
 //! must not hang the run: it is opened with `O_NONBLOCK` (which does not
-//! wait for a writer) and the flag is then cleared, so reading it returns
-//! what its writer sends, or end-of-file at once when it has none (then
-//! refused as empty by the caller's parser). A character device is read
+//! wait for a writer), then given [`FIFO_WRITER_WAIT_MS`] for a writer to
+//! appear (a writer started beside the reader, `mkfifo f; gen > f &
+//! swimbot log f`, may open it a moment later; reading before it would see
+//! end-of-file and refuse a good log as empty), and the flag is then
+//! cleared, so reading it returns what its writer sends, or end-of-file
+//! when it has none (then refused as empty by the caller's parser). A character device is read
 //! through the cap (`/dev/zero` ends at the cap, `/dev/null` is empty). A
 //! directory, socket or block device is refused with its kind named.
 
@@ -99,6 +102,9 @@ fn open(path: &Path) -> Result<std::fs::File, ReadError> {
     if kind.is_socket() {
         return Err(ReadError::Kind("a socket"));
     }
+    if kind.is_fifo() {
+        wait_for_a_writer(&file);
+    }
     // Back to blocking reads: a pipe's writer may be slower than us.
     // SAFETY: fcntl on a descriptor this function owns, with integer flags.
     let fd = file.as_raw_fd();
@@ -110,6 +116,32 @@ fn open(path: &Path) -> Result<std::fs::File, ReadError> {
         return Err(ReadError::Io(std::io::Error::last_os_error().to_string()));
     }
     Ok(file)
+}
+
+/// How long a FIFO without a writer is given for one to open it (module
+/// docs): far longer than a process started beside the reader takes, short
+/// enough that a FIFO nobody writes costs the user a moment, not a hang.
+#[cfg(unix)]
+pub const FIFO_WRITER_WAIT_MS: i32 = 3000;
+
+/// Waits until the FIFO has data or a writer has come and gone, at most
+/// [`FIFO_WRITER_WAIT_MS`]. On Linux `poll` reports neither for a FIFO that
+/// has never had a writer, so a FIFO nobody writes waits the whole time and
+/// is then read as empty; a FIFO whose writer is already there returns at
+/// once.
+#[cfg(unix)]
+fn wait_for_a_writer(file: &std::fs::File) {
+    use std::os::unix::io::AsRawFd;
+    let mut p = libc::pollfd {
+        fd: file.as_raw_fd(),
+        events: libc::POLLIN,
+        revents: 0,
+    };
+    // SAFETY: one pollfd on a descriptor the caller owns; the result only
+    // decides how long we waited, so an error (EINTR) is as good as a timeout.
+    unsafe {
+        libc::poll(&mut p, 1, FIFO_WRITER_WAIT_MS);
+    }
 }
 
 #[cfg(not(unix))]
