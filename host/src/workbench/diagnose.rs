@@ -113,7 +113,7 @@ pub fn diagnose(
         (None, None)
     };
     let mut verdict = match quality.explains_all() {
-        true => super::stagewise_verdict::data_quality_verdict(&baseline),
+        true => super::search::verdict::data_quality_verdict(&baseline),
         false => {
             let evidence = super::verdict::Evidence {
                 data,
@@ -125,11 +125,11 @@ pub fn diagnose(
             };
             let mut v = super::verdict::verdict(&evidence, s);
             if s.discover {
-                say(6, "stagewise: searching again on top of each step");
-                let path = super::stagewise::stagewise(model, &evidence, &v, &floor, s)?;
-                super::stagewise_verdict::conclude(path, &mut v, &baseline, data);
+                say(6, "searching over sets of laws, each refitted jointly");
+                let path = super::search::search(model, &evidence, &v, &floor, s)?;
+                super::search::verdict::conclude(path, &mut v, &baseline, data);
             }
-            super::stagewise_verdict::dedup_located(&mut v.located);
+            super::search::verdict::dedup_located(&mut v.located);
             v
         }
     };

@@ -100,7 +100,7 @@ pub struct Verdict {
     /// For a set of two steps or more: what its joint fit fixes only
     /// together (parameters of different steps that trade, places with two
     /// laws, strengths whose interval spans no effect; `null` otherwise).
-    pub joint: Option<super::stagewise_joint::JointReading>,
+    pub joint: Option<super::search::joint::JointReading>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

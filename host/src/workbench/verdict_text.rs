@@ -1,11 +1,11 @@
 //! How the verdict of `diagnose` is worded: numbers as every command and
 //! the page print them, and the sentences of each kind. What is decided is
-//! in [`super::verdict`] (a [`Decision`]) and [`super::stagewise`].
+//! in [`super::verdict`] (a [`Decision`]) and [`super::search`].
 
 use super::diagnosis::{Baseline, DiagnoseSettings, Verdict, VerdictKind};
 use super::discovery::Located;
 use super::experiments::separation::Suggestion;
-use super::stagewise::{Level, Path};
+use super::search::level::{Found, Level};
 use super::verdict::{Decision, Evidence};
 
 /// A reduced chi-square in a note: 3 significant figures (`crate::format`).
@@ -33,7 +33,7 @@ pub fn hint(g: &Suggestion) -> String {
 
 /// The note of a stagewise verdict: every step in order with what it
 /// removes, then the errors before and after.
-pub fn stagewise_note(base: &Baseline, path: &Path, last: &Level) -> String {
+pub fn stagewise_note(base: &Baseline, path: &Found, last: &Level) -> String {
     let steps: Vec<String> = path
         .steps
         .iter()

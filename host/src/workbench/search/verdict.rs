@@ -1,26 +1,26 @@
 //! The stagewise path put into the verdict of `diagnose`: the steps in
 //! order, and (when the path goes beyond the single-step verdict) the kind,
 //! the named catalogue effects, the located laws and the note
-//! ([`super::verdict_text::stagewise_note`]); the verdict when one case
+//! ([`crate::workbench::verdict_text::stagewise_note`]); the verdict when one case
 //! stands alone; and the located list without repeats. A set of two steps
 //! or more carries what its joint fit fixes only together
-//! ([`super::stagewise_joint`]), in `verdict.joint` and the note.
+//! ([`crate::workbench::stagewise_joint`]), in `verdict.joint` and the note.
 
-use super::diagnosis::{Baseline, Verdict, VerdictKind};
-use super::discovery::Located;
-use super::stagewise::Path;
-use super::stagewise_joint_text::joint_sentences;
-use super::verdict_text::{fmt, verdict_of};
+use crate::workbench::diagnosis::{Baseline, Verdict, VerdictKind};
+use crate::workbench::discovery::Located;
+use super::level::Found;
+use super::joint_text::joint_sentences;
+use crate::workbench::verdict_text::{fmt, verdict_of};
 use crate::data::Dataset;
 
 /// Put the path into the verdict: its steps always; when the path goes
 /// beyond the single-step verdict (or is the first thing found), the kind,
 /// the named effects, the located laws in order and the note; for a set of
 /// two steps or more, what its joint fit fixes only together.
-pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline, data: &Dataset) {
+pub fn conclude(path: Found, v: &mut Verdict, base: &Baseline, data: &Dataset) {
     v.steps = path.steps.iter().map(|p| p.0.clone()).collect();
     put_path(&path, v, base);
-    let joint = super::stagewise_joint::joint_reading(&path, data);
+    let joint = super::joint::joint_reading(&path, data);
     match joint {
         Ok(Some(j)) => {
             let said = joint_sentences(&j);
@@ -35,7 +35,7 @@ pub fn conclude(path: Path, v: &mut Verdict, base: &Baseline, data: &Dataset) {
     }
 }
 
-fn put_path(path: &Path, v: &mut Verdict, base: &Baseline) {
+fn put_path(path: &Found, v: &mut Verdict, base: &Baseline) {
     let Some(last) = path.steps.last().map(|p| &p.1) else {
         return;
     };
@@ -65,11 +65,11 @@ fn put_path(path: &Path, v: &mut Verdict, base: &Baseline) {
     v.indistinguishable.clear();
     v.suggestion = None;
     v.located = path.steps.iter().filter_map(|p| p.2.clone()).collect();
-    v.note = super::verdict_text::stagewise_note(base, path, last);
+    v.note = crate::workbench::verdict_text::stagewise_note(base, path, last);
 }
 
 /// `none-needed` because bad runs or intervals stated too narrow account
-/// for the whole excess ([`super::data_quality`]); its sentences are put
+/// for the whole excess ([`crate::workbench::data_quality`]); its sentences are put
 /// in front of the note by the caller.
 pub fn data_quality_verdict(base: &Baseline) -> Verdict {
     verdict_of(

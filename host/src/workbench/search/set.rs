@@ -1,47 +1,54 @@
-//! The arithmetic of a backfitted set ([`super`]): its members, their
-//! joint fit and key `AICc + sum 2 ln M`, and the path a set is listed as.
-//! What is decided about a set is in [`super`].
+//! The arithmetic of a set of laws and effects ([`super`]): its members,
+//! their joint fit and key `AICc + sum 2 ln M`, and the path a set is
+//! listed as. What is decided about a set is in [`super`].
 //!
 //! References: C. M. Hurvich & C.-L. Tsai, Biometrika 76 (1989) 297 (AICc);
 //! K. P. Burnham & D. R. Anderson, *Model Selection and Multimodel
 //! Inference*, 2nd ed. (2002), ch. 2.
 
 use crate::data::Dataset;
+use crate::effects::correction::LocatedCorrection;
 use crate::effects::EffectInstance;
 use crate::model::Model;
 use crate::workbench::candidate::{candidates, cross_validated_mare};
 use crate::workbench::compare::compare;
+use crate::workbench::discovery::places::AtPlace;
 use crate::workbench::discovery::{interpretation_of, Located};
 use crate::workbench::fit::{fit, free_params_of, Estimate, FitError, FitResult};
 use crate::workbench::robust::t_deviance_of;
 use crate::workbench::score::Deviance;
-use crate::workbench::stagewise::{n_obs, step_of, Floor, Level, Steps};
+use super::level::{n_obs, step_of, Floor, Level, Steps};
 
 /// One step of the set: the effects it adds, and the law (for a located
 /// step) or the catalogue name.
 #[derive(Clone)]
 pub(super) struct Member {
+    /// What the member is, independent of its values: the catalogue name,
+    /// or `place|feature|form` for a law.
+    pub id: String,
     pub insts: Vec<EffectInstance>,
     pub located: Option<Located>,
     pub name: String,
     /// `2 ln M`: the charge for having chosen it among `M`.
     pub charge: f64,
+    /// The place of a law (`None` for a catalogue effect).
+    pub place: Option<&'static str>,
+    /// A screened law not yet refitted alone: located once it is kept.
+    pub pending: Option<std::sync::Arc<AtPlace>>,
 }
 
-impl Member {
-    /// The same catalogue effect, or a law at the same place: which form
-    /// and feature a place takes is the parsimony rule's business
-    /// ([`super::verdict_rules::parsimonious`]), not backfitting's.
-    pub fn same(&self, other: &Member) -> bool {
-        match (&self.located, &other.located) {
-            (Some(a), Some(b)) => a.place == b.place,
-            (None, None) => self.name == other.name,
-            _ => false,
-        }
-    }
+/// The id of a law: place, feature and form.
+pub(super) fn law_id(c: &LocatedCorrection) -> String {
+    format!(
+        "{}|{}|{:?}",
+        c.place.name(),
+        c.feature.map_or("-", |q| q.id),
+        c.form
+    )
 }
 
 /// A set of members fitted jointly on top of the starting model.
+#[derive(Clone)]
 pub(super) struct Joint {
     pub fit: FitResult,
     pub k: usize,
@@ -100,6 +107,12 @@ pub(super) fn members(model0: &Model, path: &Steps, laws: usize) -> Vec<Member> 
             let insts = level.model.effects[prev..].to_vec();
             prev = level.model.effects.len();
             Member {
+                id: match located {
+                    Some(l) => law_id(l.correction),
+                    None => step.name.clone(),
+                },
+                place: located.as_ref().map(|l| l.place),
+                pending: None,
                 insts,
                 located: located.clone(),
                 name: step.name.clone(),
