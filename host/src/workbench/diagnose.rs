@@ -127,7 +127,7 @@ pub fn diagnose(
             if s.discover {
                 say(6, "searching over sets of laws, each refitted jointly");
                 let path = super::search::search(model, &evidence, &v, &floor, s)?;
-                super::search::verdict::conclude(path, &mut v, &baseline, data);
+                super::search::verdict::conclude(path, &mut v, &baseline, data, s.clear_margin);
             }
             super::search::verdict::dedup_located(&mut v.located);
             v

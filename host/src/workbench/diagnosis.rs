@@ -101,6 +101,34 @@ pub struct Verdict {
     /// together (parameters of different steps that trade, places with two
     /// laws, strengths whose interval spans no effect; `null` otherwise).
     pub joint: Option<super::search::joint::JointReading>,
+    /// The sets of laws and effects the data cannot tell apart (a model
+    /// confidence set, [`super::search::rivals`]): the found set first,
+    /// then every other set at other places whose key is within the AICc
+    /// margin of it (and at the noise floor when it is); empty when one set
+    /// stands alone.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<ExplainingSet>,
+    /// For an `indistinguishable` verdict of several sets: the places every
+    /// set has, stated as found.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub agreed_places: Vec<String>,
+}
+
+/// One set of a model confidence set ([`Verdict::sets`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct ExplainingSet {
+    /// Each member: the law `place = formula (values)` or the catalogue
+    /// effect's name.
+    pub members: Vec<String>,
+    /// The places (and catalogue names) of its members, sorted.
+    pub places: Vec<String>,
+    /// Its key (`AICc + sum 2 ln M`) minus the found set's (0 for the found
+    /// set itself).
+    pub key_difference: f64,
+    pub at_noise_floor: bool,
+    /// The measurement that best tells it from the found set, inside the
+    /// rig (`None` for the found set itself).
+    pub suggestion: Option<Suggestion>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -92,6 +92,8 @@ pub(crate) fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
         located: Vec::new(),
         steps: Vec::new(),
         joint: None,
+        sets: Vec::new(),
+        agreed_places: Vec::new(),
     }
 }
 

@@ -49,6 +49,23 @@ pub struct Found {
     pub steps: Vec<(Step, Level, Option<Located>)>,
     /// Steps beyond the ones the single-step verdict already named.
     pub added: usize,
+    /// The other sets the data cannot tell from this one
+    /// ([`super::rivals`]), best key first.
+    pub rivals: Vec<Rival>,
+}
+
+/// A set at other places whose key is within the AICc margin of the found
+/// set's ([`super::rivals`]).
+pub struct Rival {
+    /// Each member as the verdict names it.
+    pub members: Vec<String>,
+    /// Its places and catalogue names, sorted.
+    pub places: Vec<String>,
+    /// Its key minus the found set's.
+    pub key_difference: f64,
+    pub at_floor: bool,
+    /// The starting model with the set at its joint values.
+    pub model: Model,
 }
 
 pub(super) struct Proposal {

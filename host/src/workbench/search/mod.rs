@@ -82,6 +82,7 @@ pub mod joint;
 mod joint_text;
 pub mod level;
 pub mod ranges;
+mod rivals;
 pub mod verdict;
 
 use level::{first_steps, n_obs, Floor, Found, Level, Steps, MIN_SHARE};
@@ -121,6 +122,9 @@ pub const PAIRED: usize = 8;
 struct Fitted {
     members: Vec<Member>,
     joint: Joint,
+    /// Why a member's fitted law lies outside what its place allows
+    /// ([`ranges`]); `None` when every member is inside.
+    outside: Option<String>,
 }
 
 impl Fitted {
@@ -138,6 +142,21 @@ impl Fitted {
         v.sort();
         v
     }
+}
+
+/// The first member whose law, at its fitted values, puts its place
+/// outside what the place's physics allows, in words ([`ranges`]).
+fn outside_range(members: &[Member], data: &Dataset) -> Option<String> {
+    members.iter().find_map(|m| {
+        let law = m.law()?;
+        let values = &m.insts.first()?.values;
+        let (case, v, (lo, hi)) = ranges::outside(law, values, data)?;
+        Some(format!(
+            "{} is {} on case {case}, outside {lo} .. {hi}",
+            law.place.name(),
+            crate::format::fmt_sig(v, 3)
+        ))
+    })
 }
 
 fn sorted_ids(members: &[Member]) -> Vec<String> {
@@ -166,9 +185,14 @@ impl Ctx<'_> {
         }
         let out = joint(self.model0, &members, self.data, self.floor)
             .ok()
-            .map(|j| Fitted {
-                members: with_values(&members, self.model0, &j),
-                joint: j,
+            .map(|j| {
+                let members = with_values(&members, self.model0, &j);
+                let outside = outside_range(&members, self.data);
+                Fitted {
+                    members,
+                    joint: j,
+                    outside,
+                }
             });
         self.cache
             .lock()
@@ -216,6 +240,7 @@ pub fn search(
     let empty = Found {
         steps: Vec::new(),
         added: 0,
+        rivals: Vec::new(),
     };
     if matches!(
         v.kind,
@@ -232,6 +257,7 @@ pub fn search(
         return Ok(Found {
             added: 0,
             steps: first,
+            rivals: Vec::new(),
         });
     };
     // One member at the floor: only a single could replace it, and the
@@ -240,6 +266,7 @@ pub fn search(
         return Ok(Found {
             added: 0,
             steps: first,
+            rivals: Vec::new(),
         });
     }
     let ctx = Ctx {
@@ -298,14 +325,17 @@ pub fn search(
         all.extend(next.iter().cloned());
         level = next;
     }
-    let chosen = choose(&ctx, all, incumbent.as_ref());
+    all.sort_by(|a, b| a.joint.key.total_cmp(&b.joint.key));
+    let chosen = choose(&ctx, all.clone(), incumbent.as_ref());
     let Some(chosen) = chosen else {
         return Ok(empty);
     };
+    let rivals = rivals::of(&ctx, &all, &chosen);
     if incumbent.as_ref().is_some_and(|i| i.ids() == chosen.ids()) {
         return Ok(Found {
             added: 0,
             steps: first,
+            rivals,
         });
     }
     let inc_ids = incumbent.as_ref().map(Fitted::ids).unwrap_or_default();
@@ -315,7 +345,9 @@ pub fn search(
         .filter(|m| !inc_ids.contains(&m.id))
         .count()
         .max(1);
-    listed(&ctx, chosen, added)
+    let mut found = listed(&ctx, chosen, added)?;
+    found.rivals = rivals;
+    Ok(found)
 }
 
 /// Every single: catalogue effects, the search's exact refits, the best
@@ -601,6 +633,9 @@ fn nested(ctx: &Ctx, all: &[Fitted]) -> Option<Fitted> {
 /// Whether the set beats the starting model by its charges on both
 /// deviances, and every member pays for itself (module docs).
 fn acceptable(ctx: &Ctx, f: &Fitted) -> bool {
+    if f.outside.is_some() {
+        return false;
+    }
     let cost: f64 = f
         .members
         .iter()
@@ -679,5 +714,9 @@ fn listed(ctx: &Ctx, chosen: Fitted, added: usize) -> Result<Found, FitError> {
         }
         prev = level.chi2;
     }
-    Ok(Found { steps, added })
+    Ok(Found {
+        steps,
+        added,
+        rivals: Vec::new(),
+    })
 }

@@ -37,6 +37,39 @@ pub(super) struct Member {
     pub pending: Option<std::sync::Arc<AtPlace>>,
 }
 
+impl Member {
+    /// The law of a located or screened member (`None` for a catalogue
+    /// effect).
+    pub fn law(&self) -> Option<&'static LocatedCorrection> {
+        match (&self.located, &self.pending) {
+            (Some(l), _) => Some(l.correction),
+            (None, Some(at)) => Some(at.screened.correction),
+            (None, None) => None,
+        }
+    }
+
+    /// The member as a verdict names it: `place = formula (k=.., p=..)` at
+    /// its current values, or the catalogue effect's name.
+    pub fn describe(&self) -> String {
+        let (Some(law), Some(inst)) = (self.law(), self.insts.first()) else {
+            return self.name.clone();
+        };
+        let params: Vec<String> = inst
+            .effect
+            .params()
+            .iter()
+            .zip(&inst.values)
+            .map(|(p, v)| format!("{}={}", p.name, crate::format::fmt_sig(*v, 4)))
+            .collect();
+        format!(
+            "{} = {} ({})",
+            law.place.name(),
+            law.formula(),
+            params.join(", ")
+        )
+    }
+}
+
 /// The id of a law: place, feature and form.
 pub(super) fn law_id(c: &LocatedCorrection) -> String {
     format!(

@@ -9,6 +9,8 @@
 use crate::workbench::diagnosis::{Baseline, Verdict, VerdictKind};
 use crate::workbench::discovery::Located;
 use super::level::Found;
+use crate::workbench::diagnosis::ExplainingSet;
+use crate::workbench::experiments::separation::best_discriminating_case;
 use super::joint_text::joint_sentences;
 use crate::workbench::verdict_text::{fmt, verdict_of};
 use crate::data::Dataset;
@@ -17,9 +19,10 @@ use crate::data::Dataset;
 /// beyond the single-step verdict (or is the first thing found), the kind,
 /// the named effects, the located laws in order and the note; for a set of
 /// two steps or more, what its joint fit fixes only together.
-pub fn conclude(path: Found, v: &mut Verdict, base: &Baseline, data: &Dataset) {
+pub fn conclude(path: Found, v: &mut Verdict, base: &Baseline, data: &Dataset, margin: f64) {
     v.steps = path.steps.iter().map(|p| p.0.clone()).collect();
     put_path(&path, v, base);
+    put_rivals(&path, v, data, margin);
     let joint = super::joint::joint_reading(&path, data);
     match joint {
         Ok(Some(j)) => {
@@ -33,6 +36,95 @@ pub fn conclude(path: Found, v: &mut Verdict, base: &Baseline, data: &Dataset) {
         // The set stands as found; only what its parts fix is unknown.
         Err(e) => v.note = format!("{} (the steps could not be refitted jointly: {e})", v.note),
     }
+}
+
+/// The places (and catalogue names) of the found set, sorted.
+fn places_of(path: &Found) -> Vec<String> {
+    let mut v: Vec<String> = path
+        .steps
+        .iter()
+        .map(|(step, _, l)| l.as_ref().map_or(step.name.clone(), |l| l.place.to_string()))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Several sets at different places that the data cannot tell apart
+/// ([`super::rivals`]): the verdict is `indistinguishable`, lists each set
+/// with its key difference and the measurement that would separate it from
+/// the found set, and states as found only the places every set has.
+fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
+    let Some((_, last, _)) = path.steps.last() else {
+        return;
+    };
+    if path.rivals.is_empty() {
+        return;
+    }
+    let found = places_of(path);
+    let mut sets = vec![ExplainingSet {
+        members: path.steps.iter().map(|p| p.0.name.clone()).collect(),
+        places: found.clone(),
+        key_difference: 0.0,
+        at_noise_floor: last.at_floor,
+        suggestion: None,
+    }];
+    for r in &path.rivals {
+        sets.push(ExplainingSet {
+            members: r.members.clone(),
+            places: r.places.clone(),
+            key_difference: r.key_difference,
+            at_noise_floor: r.at_floor,
+            suggestion: best_discriminating_case(data, &last.model, &r.model),
+        });
+    }
+    let agreed: Vec<String> = found
+        .iter()
+        .filter(|p| path.rivals.iter().all(|r| r.places.contains(p)))
+        .cloned()
+        .collect();
+    let listed: Vec<String> = sets
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let diff = match i {
+                0 => "the set chosen: fewest members, then key".to_string(),
+                _ => format!("key {:+.1}", s.key_difference),
+            };
+            format!("({}) {} [{diff}]", i + 1, s.members.join(" + "))
+        })
+        .collect();
+    let agreed_said = match agreed.is_empty() {
+        true => "the sets share no place: nothing is located for certain".to_string(),
+        false => format!("every set has {}: that much is found", agreed.join(", ")),
+    };
+    let separations: Vec<String> = sets
+        .iter()
+        .enumerate()
+        .skip(1)
+        .filter_map(|(i, s)| {
+            s.suggestion
+                .as_ref()
+                .map(|g| format!("set 1 against set {}{}", i + 1, g.hint()))
+        })
+        .collect();
+    let floor = match last.at_floor {
+        true => ", each at the noise floor",
+        false => "",
+    };
+    v.note = format!(
+        "indistinguishable on this data: {} sets of laws at different places explain it equally well (AICc + charges within {margin}{floor}): {}. {agreed_said}. {}. The first set in detail: {}",
+        sets.len(),
+        listed.join("; "),
+        separations.join(". "),
+        v.note
+    );
+    v.kind = VerdictKind::Indistinguishable;
+    v.explained = last.at_floor;
+    v.effect = None;
+    v.indistinguishable = sets.iter().map(|s| s.members.join(" + ")).collect();
+    v.suggestion = sets.get(1).and_then(|s| s.suggestion.clone());
+    v.agreed_places = agreed;
+    v.sets = sets;
 }
 
 fn put_path(path: &Found, v: &mut Verdict, base: &Baseline) {
