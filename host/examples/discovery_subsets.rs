@@ -41,7 +41,7 @@ mod drawn;
 
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::time::Instant;
-use swimbot::data::quantities::FIELDS;
+use swimbot::data::quantities::by_id;
 use swimbot::data::Dataset;
 use swimbot::effects::correction::{Form, LocatedCorrection};
 use swimbot::effects::place::Place;
@@ -56,10 +56,7 @@ fn rng(seed: u64, salt: u64) -> StdRng {
 }
 
 fn field(id: &str) -> &'static swimbot::data::quantities::Quantity {
-    FIELDS
-        .iter()
-        .find(|q| q.id == id)
-        .expect("a field of the dataset")
+    by_id(id).expect("a quantity of the dataset")
 }
 
 fn median(data: &Dataset, id: &str) -> f64 {

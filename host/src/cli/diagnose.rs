@@ -202,7 +202,7 @@ fn print_steps(steps: &[crate::workbench::diagnose::Step]) {
     if steps.is_empty() {
         return;
     }
-    println!("\nstagewise, each step fitted on top of the ones before it:");
+    println!("\nthe found set, at its joint values (each row: the members up to it):");
     println!(
         "  {:<3} {:<62} {:>8} {:>8} {:>10} {:>8} {:>5}",
         "", "step", "MARE", "CV MARE", "chi2_red", "explains", "noise"
@@ -220,6 +220,30 @@ fn print_steps(steps: &[crate::workbench::diagnose::Step]) {
                 .unwrap_or_else(|| "-".into()),
             if s.at_noise_floor { "yes" } else { "no" }
         );
+    }
+}
+
+/// The sets the data cannot tell apart, each with its key difference and
+/// the measurement that would separate it from the first.
+fn print_sets(v: &crate::workbench::diagnose::Verdict) {
+    if v.sets.is_empty() {
+        return;
+    }
+    println!("\nsets the data cannot tell apart (AICc + charges within the margin):");
+    for (i, s) in v.sets.iter().enumerate() {
+        println!(
+            "  {}. {} (key {:+.1}{})",
+            i + 1,
+            s.members.join(" + "),
+            s.key_difference,
+            if s.at_noise_floor { ", at the noise floor" } else { "" }
+        );
+        if let Some(g) = &s.suggestion {
+            println!("     {}", g.hint().trim_start_matches("; "));
+        }
+    }
+    if !v.agreed_places.is_empty() {
+        println!("  found in every set: {}", v.agreed_places.join(", "));
     }
 }
 
@@ -355,6 +379,7 @@ fn print_table(d: &Diagnosis) {
         );
     }
     print_steps(&d.verdict.steps);
+    print_sets(&d.verdict);
     println!("\nverdict ({}): {}", d.verdict.kind.name(), d.verdict.note);
 }
 

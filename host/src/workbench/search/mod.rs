@@ -20,16 +20,18 @@
 //!    the set (each member of the incumbent alone is extended too); the
 //!    [`EXTEND`] best of those by screened AICc, and the
 //!    [`CATALOGUE_EXTEND`] best catalogue effects not in the set, are
-//!    added and every parameter of the new set is refitted jointly. A set
-//!    at the noise floor is not extended: nothing is left to explain.
+//!    added and every parameter of the new set is refitted jointly. Sets
+//!    at the noise floor are extended too: a larger set may tie them
+//!    within the noise, and the verdict must say so ([`rivals`]).
 //!    Beside them, the best single law at each of the [`PAIRED`] best places
 //!    is paired with each other's, from scratch: two effects at two places
 //!    are each found alone in their own form, while whatever is screened on
 //!    top of a first step that took shares of both is biased by it.
-//! 3. **Choice**: at the noise floor nothing is left to explain, so the
-//!    fewest members that reach it win (among as many, the key decides);
-//!    when no set reaches it, the sets in order of their key. The first
-//!    that is **acceptable** wins. A set is acceptable when it lowers the
+//! 3. **Choice**: the sets at the noise floor in order of their key, then
+//!    (when none reaches it) the others in order of their key. The first
+//!    that is **acceptable** wins. A set is acceptable when every law in it
+//!    lies inside its place's physical range on every case ([`ranges`]: a
+//!    drive at a tenth of its recorded rate explains nothing), it lowers the
 //!    chi-square and the Student-t deviance ([`super::robust`]: one bad
 //!    run cannot pay for it) below the starting model's by at least its
 //!    charges (`sum 2k + 2 ln M`), and **every member pays for itself**:
@@ -59,9 +61,14 @@
 //! floor, or (the incumbent above the floor) removes at least half of what
 //! the incumbent leaves above it.
 //!
-//! The chosen set is listed as a path ([`super::stagewise`]): its members
-//! in the order the beam added them, each level the starting model with
-//! the members up to it at the joint values.
+//! 4. **What the data cannot tell apart** ([`rivals`]): every other
+//!    acceptable set at other places whose key is within the AICc margin
+//!    of the chosen one (at the floor when it is); the verdict then lists
+//!    them all ([`verdict`]).
+//!
+//! The chosen set is listed as levels ([`level::Found`]): its members in
+//! the order the beam added them, each level the starting model with the
+//! members up to it at the joint values.
 //!
 //! References: A. J. Miller, *Subset Selection in Regression*, 2nd ed.
 //! (2002), ch. 3 (searches over subsets, their bias); K. P. Burnham &
@@ -419,14 +426,16 @@ fn pending_member(at: super::discovery::places::AtPlace, charge: f64) -> Member 
 /// the incumbent's always among them when it has that size; sets at the
 /// floor are not extended.
 fn best_of(level: &[Fitted], size: usize, beam: usize, inc: Option<&Fitted>) -> Vec<Fitted> {
-    let mut v: Vec<&Fitted> = level
-        .iter()
-        .filter(|f| f.members.len() == size && !f.joint.at_floor)
-        .collect();
-    v.sort_by(|a, b| a.joint.key.total_cmp(&b.joint.key));
+    // Sets at the floor are extended too: a set one member larger can tie
+    // them within the margin, and the verdict must know it (`rivals`).
+    let mut v: Vec<&Fitted> = level.iter().filter(|f| f.members.len() == size).collect();
+    // Sets inside their places' ranges first: only they can be chosen.
+    v.sort_by(|a, b| {
+        (a.outside.is_some(), a.joint.key).partial_cmp(&(b.outside.is_some(), b.joint.key)).unwrap_or(std::cmp::Ordering::Equal)
+    });
     let mut seen: Vec<Vec<String>> = Vec::new();
     let mut out: Vec<Fitted> = Vec::new();
-    if let Some(i) = inc.filter(|i| i.members.len() == size && !i.joint.at_floor) {
+    if let Some(i) = inc.filter(|i| i.members.len() == size) {
         seen.push(i.signature());
         out.push(i.clone());
     }
@@ -556,16 +565,11 @@ fn choose(ctx: &Ctx, mut all: Vec<Fitted>, inc: Option<&Fitted>) -> Option<Fitte
 }
 
 fn first_choice(ctx: &Ctx, all: &[Fitted], inc: Option<&Fitted>) -> Option<Fitted> {
-    // At the floor nothing is left to explain: the fewest members that
-    // reach it, then the key.
-    for size in 1..=MAX_LAWS {
-        let at: Vec<&Fitted> = all
-            .iter()
-            .filter(|f| f.members.len() == size && f.joint.at_floor)
-            .collect();
-        if let Some(f) = pick(ctx, &at, inc) {
-            return Some(f);
-        }
+    // A set at the floor explains the data; among those the key decides
+    // (an extra member is in only when it pays for itself, `acceptable`).
+    let at: Vec<&Fitted> = all.iter().filter(|f| f.joint.at_floor).collect();
+    if let Some(f) = pick(ctx, &at, inc) {
+        return Some(f);
     }
     let above: Vec<&Fitted> = all.iter().filter(|f| !f.joint.at_floor).collect();
     pick(ctx, &above, inc).or_else(|| inc.cloned())
