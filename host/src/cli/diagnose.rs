@@ -101,6 +101,7 @@ pub fn diagnosed(
         include_costly: a.nonlocal,
         discover: !a.no_discovery,
         progress,
+        likelihood: a.likelihood.get(),
         ..Default::default()
     };
     let budget = super::budget::parse_budget(a.max_seconds)?;
@@ -109,18 +110,14 @@ pub fn diagnosed(
             progress: None,
             ..settings.clone()
         };
-        let lik = a.likelihood.get();
-        let estimate = estimate_seconds(&model, &data, &quiet, lik);
+        let estimate = estimate_seconds(&model, &data, &quiet);
         let what = format!("the diagnosis of {} cases", data.cases.len());
         match estimate {
             Some(s) => super::budget::check(&what, s, budget)?,
             None => super::budget::unestimated(&what, budget),
         }
     }
-    let lik = a.likelihood.get();
-    let d = crate::workbench::fit::with_likelihood(lik, || diagnose(&model, &data, &settings))
-        .map_err(|e| CliError::failure(format!("could not start the worker threads: {e}")))?
-        .map_err(CliError::input)?;
+    let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
     super::output::check_finite("diagnosis", &d)?;
     Ok((d, data))
 }
@@ -433,14 +430,13 @@ pub(super) fn estimate_seconds(
     model: &crate::model::Model,
     data: &crate::data::Dataset,
     settings: &DiagnoseSettings,
-    lik: crate::workbench::robust::Likelihood,
 ) -> Option<f64> {
     super::budget::extrapolate(data.cases.len(), |k| {
         let part = super::budget::subset(data, k);
         let (done, s) = super::budget::timed(|| {
-            crate::workbench::fit::with_likelihood(lik, || diagnose(model, &part, settings))
+            diagnose(model, &part, settings)
         });
-        done.ok()?.ok()?;
+        done.ok()?;
         Some(s)
     })
 }

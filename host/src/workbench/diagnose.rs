@@ -85,7 +85,7 @@ pub fn diagnose(
         .par_iter()
         .filter_map(|e| {
             let m = model.clone().with_effect(EffectInstance::default_of(*e));
-            evaluate(&m, &[base_len], data, &floor).ok()
+            evaluate(&m, &[base_len], data, &floor, s.likelihood).ok()
         })
         .collect();
     sort_by_aicc(&mut ranking);
@@ -94,7 +94,7 @@ pub fn diagnose(
         && !ranking.iter().any(|c| c.score.at_noise_floor)
     {
         say(3, "forward selection: pairs of catalogue effects");
-        forward_selection(model, data, &ranking, &floor)
+        forward_selection(model, data, &ranking, &floor, s.likelihood)
     } else {
         Vec::new()
     };
@@ -104,6 +104,7 @@ pub fn diagnose(
             chi2: baseline.chi2,
             k: 0,
             floor: &floor,
+            likelihood: s.likelihood,
         };
         let d = super::discovery::discover(model, data, &reference, &s.discovery)?;
         say(5, "locating what the best catalogue effects leave");
@@ -127,7 +128,7 @@ pub fn diagnose(
             if s.discover {
                 say(6, "searching over sets of laws, each refitted jointly");
                 let path = super::search::search(model, &evidence, &v, &floor, s)?;
-                super::search::verdict::conclude(path, &mut v, &baseline, data, s.clear_margin);
+                super::search::verdict::conclude(path, &mut v, &baseline, data, s);
             }
             super::search::verdict::dedup_located(&mut v.located);
             v

@@ -28,6 +28,9 @@ pub struct DiagnoseSettings {
     pub discovery: DiscoverySettings,
     /// Told as each of the [`DIAGNOSE_STAGES`] starts (progress display).
     pub progress: Option<super::progress::Progress>,
+    /// The likelihood every fit of the diagnosis minimises (Gaussian: least
+    /// squares); passed to each fit, never kept in a thread.
+    pub likelihood: super::robust::Likelihood,
 }
 
 /// The diagnosis's stages: 1 is the data's quality and the base model's
@@ -44,6 +47,7 @@ impl Default for DiagnoseSettings {
             discover: true,
             discovery: DiscoverySettings::default(),
             progress: None,
+            likelihood: super::robust::Likelihood::Gaussian,
         }
     }
 }

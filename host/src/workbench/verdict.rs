@@ -144,6 +144,7 @@ pub fn remainders(
             chi2: c.score.chi2,
             k: c.params.len(),
             floor,
+            likelihood: s.likelihood,
         };
         let d = discover(&c.model, data, &reference, &settings)?;
         let key = |d: &Discovery| d.located.first().map_or(f64::INFINITY, aicc);

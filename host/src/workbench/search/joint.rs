@@ -23,7 +23,7 @@
 //!
 //! The joint fit starts from the path's values (one start), with every
 //! parameter the steps added free, by the likelihood of the enclosing
-//! diagnosis ([`crate::workbench::fit::fit`]).
+//! diagnosis ([`crate::workbench::fit::fit_with`]).
 //!
 //! References: D. A. Belsley, E. Kuh & R. E. Welsch, *Regression
 //! Diagnostics* (1980), ch. 3 (collinearity; a variance inflation factor
@@ -31,7 +31,8 @@
 //! mark of a combination fixed rather than its parts).
 
 use crate::workbench::discovery::interpret::equivalents;
-use crate::workbench::fit::{fit, free_params_of, FitError, FitResult, FreeParam};
+use crate::workbench::fit::{fit_with, free_params_of, FitError, FitResult, FreeParam};
+use crate::workbench::robust::Likelihood;
 use super::level::Found;
 use crate::data::Dataset;
 use crate::effects::correction::Form;
@@ -94,7 +95,11 @@ impl JointReading {
 
 /// The reading of `path` on `data`; `None` for a path of fewer than two
 /// steps (a single law's own fit says what it fixes).
-pub fn joint_reading(path: &Found, data: &Dataset) -> Result<Option<JointReading>, FitError> {
+pub fn joint_reading(
+    path: &Found,
+    data: &Dataset,
+    lik: Likelihood,
+) -> Result<Option<JointReading>, FitError> {
     let (Some(first), Some(last)) = (path.steps.first(), path.steps.last()) else {
         return Ok(None);
     };
@@ -119,7 +124,7 @@ pub fn joint_reading(path: &Found, data: &Dataset) -> Result<Option<JointReading
     else {
         return Ok(None);
     };
-    let joint = fit(model, data, None, &free, false)?;
+    let joint = fit_with(model, data, None, &free, false, lik)?;
     let params: Vec<StepParam> = joint
         .estimates
         .iter()

@@ -83,7 +83,7 @@ use super::discovery::places::best_at_each_place;
 use super::discovery::search::Screen;
 use super::discovery::{aicc, explained_fraction, Reference, Table};
 use super::fit::FitError;
-use super::robust::t_deviance_of;
+use super::robust::{t_deviance_of, Likelihood};
 use super::score::Deviance;
 pub mod joint;
 mod joint_text;
@@ -190,7 +190,7 @@ impl Ctx<'_> {
         if let Some(f) = self.cache.lock().expect("no panic holds it").get(&ids) {
             return f.clone();
         }
-        let out = joint(self.model0, &members, self.data, self.floor)
+        let out = joint(self.model0, &members, self.data, self.floor, self.s.likelihood)
             .ok()
             .map(|j| {
                 let members = with_values(&members, self.model0, &j);
@@ -221,7 +221,7 @@ impl Ctx<'_> {
 }
 
 /// The starting model as a level.
-fn base_level(model: &Model, e: &Evidence) -> Result<Level, FitError> {
+fn base_level(model: &Model, e: &Evidence, lik: Likelihood) -> Result<Level, FitError> {
     let (data, base) = (e.data, e.base);
     Ok(Level {
         model: model.clone(),
@@ -231,7 +231,7 @@ fn base_level(model: &Model, e: &Evidence) -> Result<Level, FitError> {
         cv_mare: base.mare,
         chi2_reduced: base.chi2_reduced,
         t_deviance: t_deviance_of(model, data)?,
-        minimised: Deviance::of_model(model, data, base.chi2)?.minimised,
+        minimised: Deviance::of_model(model, data, base.chi2, lik)?.minimised,
         at_floor: base.at_noise_floor,
     })
 }
@@ -255,7 +255,7 @@ pub fn search(
     ) {
         return Ok(empty);
     }
-    let base = base_level(model, e)?;
+    let base = base_level(model, e, s.likelihood)?;
     let first: Steps = first_steps(&base, e, v, floor)
         .into_iter()
         .map(|p| (p.step, p.level, p.located))
@@ -660,7 +660,7 @@ fn acceptable(ctx: &Ctx, f: &Fitted) -> bool {
             // The others refitted from the set's own values as well as
             // from wherever they were fitted before: a joint fit can stop
             // in a worse minimum, and a member must not pay for that.
-            let warm = joint(ctx.model0, &others, ctx.data, ctx.floor).ok();
+            let warm = joint(ctx.model0, &others, ctx.data, ctx.floor, ctx.s.likelihood).ok();
             let cached = ctx.fit(others);
             let best = [warm, cached.map(|c| c.joint)]
                 .into_iter()
@@ -691,6 +691,7 @@ fn listed(ctx: &Ctx, chosen: Fitted, added: usize) -> Result<Found, FitError> {
                 chi2: prev_chi2,
                 k,
                 floor: ctx.floor,
+                likelihood: ctx.s.likelihood,
             };
             let l = at.locate(&prefix, ctx.data, &reference)?;
             m.name = l.describe();
@@ -708,6 +709,7 @@ fn listed(ctx: &Ctx, chosen: Fitted, added: usize) -> Result<Found, FitError> {
         &members,
         &chosen.joint.fit.estimates,
         ctx.floor,
+        ctx.s.likelihood,
     )?;
     let floor0 = ctx.floor0();
     let mut prev = ctx.base.chi2;

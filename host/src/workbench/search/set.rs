@@ -14,7 +14,8 @@ use crate::workbench::candidate::{candidates, cross_validated_mare};
 use crate::workbench::compare::compare;
 use crate::workbench::discovery::places::AtPlace;
 use crate::workbench::discovery::{interpretation_of, Located};
-use crate::workbench::fit::{fit, free_params_of, Estimate, FitError, FitResult};
+use crate::workbench::fit::{fit_with, free_params_of, Estimate, FitError, FitResult};
+use crate::workbench::robust::Likelihood;
 use crate::workbench::robust::t_deviance_of;
 use crate::workbench::score::Deviance;
 use super::level::{n_obs, step_of, Floor, Level, Steps};
@@ -94,6 +95,7 @@ pub(super) fn joint(
     set: &[Member],
     data: &Dataset,
     floor: Floor,
+    lik: Likelihood,
 ) -> Result<Joint, FitError> {
     let mut m = model0.clone();
     for inst in set.iter().flat_map(|s| &s.insts) {
@@ -101,7 +103,7 @@ pub(super) fn joint(
     }
     let added: Vec<usize> = (model0.effects.len()..m.effects.len()).collect();
     let free = free_params_of(&m, &added);
-    let fit = fit(&m, data, None, &free, false)?;
+    let fit = fit_with(&m, data, None, &free, false, lik)?;
     let k = free.len();
     let at_floor = floor(k).is_some_and(|f| fit.chi2 <= f);
     let charges: f64 = set.iter().map(|s| s.charge).sum();
@@ -167,6 +169,7 @@ pub(super) fn rebuild(
     set: &[Member],
     estimates: &[Estimate],
     floor: Floor,
+    lik: Likelihood,
 ) -> Result<Steps, FitError> {
     let n = n_obs(data);
     let mut estimates = estimates.iter();
@@ -192,13 +195,13 @@ pub(super) fn rebuild(
         let k = free.len();
         let cmp = compare(&model, data, k)?;
         let level = Level {
-            cv_mare: cross_validated_mare(&model, data, &free),
+            cv_mare: cross_validated_mare(&model, data, &free, lik),
             chi2: cmp.summary.chi2,
             k,
             mare: cmp.summary.mare,
             chi2_reduced: cmp.summary.chi2_reduced,
             t_deviance: t_deviance_of(&model, data)?,
-            minimised: Deviance::of_model(&model, data, cmp.summary.chi2)?.minimised,
+            minimised: Deviance::of_model(&model, data, cmp.summary.chi2, lik)?.minimised,
             at_floor: floor(k).is_some_and(|f| cmp.summary.chi2 <= f),
             model,
         };

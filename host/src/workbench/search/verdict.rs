@@ -9,7 +9,7 @@
 use crate::workbench::diagnosis::{Baseline, Verdict, VerdictKind};
 use crate::workbench::discovery::Located;
 use super::level::Found;
-use crate::workbench::diagnosis::ExplainingSet;
+use crate::workbench::diagnosis::{DiagnoseSettings, ExplainingSet};
 use crate::workbench::experiments::separation::best_discriminating_case;
 use super::joint_text::joint_sentences;
 use crate::workbench::verdict_text::{fmt, verdict_of};
@@ -19,11 +19,17 @@ use crate::data::Dataset;
 /// beyond the single-step verdict (or is the first thing found), the kind,
 /// the named effects, the located laws in order and the note; for a set of
 /// two steps or more, what its joint fit fixes only together.
-pub fn conclude(path: Found, v: &mut Verdict, base: &Baseline, data: &Dataset, margin: f64) {
+pub fn conclude(
+    path: Found,
+    v: &mut Verdict,
+    base: &Baseline,
+    data: &Dataset,
+    s: &DiagnoseSettings,
+) {
     v.steps = path.steps.iter().map(|p| p.0.clone()).collect();
     put_path(&path, v, base);
-    put_rivals(&path, v, data, margin);
-    let joint = super::joint::joint_reading(&path, data);
+    put_rivals(&path, v, data, s.clear_margin);
+    let joint = super::joint::joint_reading(&path, data, s.likelihood);
     match joint {
         Ok(Some(j)) => {
             let said = joint_sentences(&j);
