@@ -31,7 +31,10 @@
 //!    (when none reaches it) the others in order of their key. The first
 //!    that is **acceptable** wins. A set is acceptable when every law in it
 //!    lies inside its place's physical range on every case ([`ranges`]: a
-//!    drive at a tenth of its recorded rate explains nothing), it lowers the
+//!    drive at a tenth of its recorded rate explains nothing), every law's
+//!    strength is shown by the data (its joint 95 % interval excludes the
+//!    value at which the law does nothing: a near-constant law can tip a set
+//!    over the floor's 95 % quantile without being there), it lowers the
 //!    chi-square and the Student-t deviance ([`super::robust`]: one bad
 //!    run cannot pay for it) below the starting model's by at least its
 //!    charges (`sum 2k + 2 ln M`), and **every member pays for itself**:
@@ -95,6 +98,7 @@ pub mod verdict;
 use level::{first_steps, n_obs, Floor, Found, Level, Steps, MIN_SHARE};
 use super::verdict::Evidence;
 use crate::data::Dataset;
+use crate::effects::correction::Form;
 use crate::effects::EffectInstance;
 use crate::model::Model;
 use rayon::prelude::*;
@@ -634,10 +638,36 @@ fn nested(ctx: &Ctx, all: &[Fitted]) -> Option<Fitted> {
     cur
 }
 
+/// Whether a law's strength, in the set's joint fit, has a 95 % interval
+/// that contains the value at which the law does nothing: the data do not
+/// show that member, however it moves the key (a near-constant law at the
+/// floor can tip a set over its 95 % quantile without being there).
+fn strength_spans_no_effect(f: &Fitted) -> bool {
+    let mut at = 0;
+    f.members.iter().any(|m| {
+        let first = at;
+        at += m.insts.iter().map(|i| i.free_indices().len()).sum::<usize>();
+        let Some(law) = m.law() else {
+            return false;
+        };
+        let within = |i: usize, n: f64| {
+            f.joint.fit.estimates.get(first + i).is_some_and(|e| {
+                e.ci95.is_some_and(|ci| (e.value - n).abs() <= ci)
+            })
+        };
+        match joint::no_effect_value(law.form, law.place.is_additive()) {
+            Some(n) => within(0, n),
+            // `k x^p` does nothing at k = 1 and p = 0 together.
+            None if law.form == Form::PowerLaw => within(0, 1.0) && within(1, 0.0),
+            None => false,
+        }
+    })
+}
+
 /// Whether the set beats the starting model by its charges on both
 /// deviances, and every member pays for itself (module docs).
 fn acceptable(ctx: &Ctx, f: &Fitted) -> bool {
-    if f.outside.is_some() {
+    if f.outside.is_some() || strength_spans_no_effect(f) {
         return false;
     }
     let cost: f64 = f
