@@ -18,6 +18,7 @@ mod data_quality;
 mod discovery_features;
 mod discovery_joint;
 mod discovery_located;
+mod discovery_model_features;
 mod discovery_nulls;
 mod discovery_pairs;
 mod discovery_stagewise;

@@ -11,6 +11,7 @@ mod csv_read;
 mod csv_write;
 pub mod limits;
 mod load;
+pub mod model_quantities;
 mod parse;
 mod profile;
 pub mod quantities;
@@ -132,6 +133,9 @@ pub struct Case {
     /// What the lab recorded beside the case that the model does not read
     /// ([`recorded`]): numbers offered to `diagnose`, labels carried.
     pub recorded: Recorded,
+    /// Quantities the tool computed for the case from a model
+    /// ([`model_quantities`]); none as read from a file.
+    pub derived: model_quantities::Derived,
 }
 
 impl Case {

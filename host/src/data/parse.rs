@@ -443,6 +443,7 @@ fn resolve(
             (c.recorded.as_ref(), c.labels.as_ref()),
         )
         .map_err(|(field, message)| r.fail(&field, message))?,
+        derived: Default::default(),
         id,
     };
     let case = with_inputs(&r, s, c, case)?;

@@ -325,12 +325,14 @@ pub const SETUP_GROUPS: &[Quantity] = &[
     },
 ];
 
-/// A feature, a setup group or a field by its identifier.
+/// A feature, a setup group, a field or a model quantity
+/// ([`super::model_quantities`]) by its identifier.
 pub fn by_id(id: &str) -> Option<&'static Quantity> {
     FEATURES
         .iter()
         .chain(SETUP_GROUPS)
         .chain(FIELDS)
+        .chain(super::model_quantities::MODEL_QUANTITIES)
         .find(|q| q.id == id)
 }
 
@@ -340,7 +342,12 @@ mod tests {
 
     #[test]
     fn identifiers_are_unique_and_formula_safe() {
-        let all: Vec<&Quantity> = FEATURES.iter().chain(SETUP_GROUPS).chain(FIELDS).collect();
+        let all: Vec<&Quantity> = FEATURES
+            .iter()
+            .chain(SETUP_GROUPS)
+            .chain(FIELDS)
+            .chain(super::super::model_quantities::MODEL_QUANTITIES)
+            .collect();
         for (i, q) in all.iter().enumerate() {
             assert!(
                 q.id.starts_with(|c: char| c.is_ascii_lowercase()),

@@ -256,6 +256,10 @@ impl Effect for LocatedCorrection {
     fn acts_on_local_drag(&self) -> bool {
         self.place.is_local_drag()
     }
+    fn reads_model_quantities(&self) -> bool {
+        self.feature
+            .is_some_and(crate::data::model_quantities::is_model_quantity)
+    }
     fn local_drag(&self, p: &[f64], case: &Case, drag: &mut LocalDrag) {
         self.place.apply_local_drag(self.value(p, case), drag);
     }

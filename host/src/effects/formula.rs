@@ -86,6 +86,8 @@ pub struct FormulaEffect {
     applies_to: &'static str,
     params: &'static [ParamSpec],
     places: Vec<(Place, Expr)>,
+    /// Whether a formula reads a model quantity (computed once here).
+    reads_model: bool,
 }
 
 /// A place's formula that does not compile.
@@ -130,7 +132,13 @@ impl FormulaEffect {
                 doc: leak(&p.doc),
             })
             .collect();
+        let reads_model = places.iter().any(|(_, e)| {
+            e.quantities_used()
+                .iter()
+                .any(|id| id.starts_with(crate::data::model_quantities::PREFIX))
+        });
         Ok(FormulaEffect {
+            reads_model,
             name: leak(&spec.name),
             statement: leak(&spec.statement),
             reference: leak(&spec.reference),
@@ -234,6 +242,10 @@ impl Effect for FormulaEffect {
             }
         }
         Ok(())
+    }
+
+    fn reads_model_quantities(&self) -> bool {
+        self.reads_model
     }
 
     fn acts_on_local_drag(&self) -> bool {

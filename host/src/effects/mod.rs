@@ -146,6 +146,12 @@ pub trait Effect: Send + Sync {
     fn replaces_body(&self) -> bool {
         false
     }
+    /// Whether a law of the effect reads one of the model's own quantities
+    /// ([`crate::data::model_quantities`]): the model then computes them
+    /// from the effects beneath it ([`crate::model::columns`]).
+    fn reads_model_quantities(&self) -> bool {
+        false
+    }
     fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
     /// Errors (e.g. a failed non-local solve) stop the prediction.
     fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) -> Result<(), EffectError> {

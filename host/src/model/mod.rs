@@ -6,6 +6,7 @@
 //! the body rate is reported as the counter-rotation rate (positive when
 //! opposite to the tail), as the paper's Table IV does.
 
+pub mod columns;
 mod presets;
 pub mod time_domain;
 
@@ -264,6 +265,28 @@ impl Model {
         Ok(b)
     }
 
+    /// Whether an effect reads the model's own quantities
+    /// ([`crate::data::model_quantities`]).
+    pub fn reads_model_quantities(&self) -> bool {
+        self.effects
+            .iter()
+            .any(|e| e.effect.reads_model_quantities())
+    }
+
+    /// The model whose quantities a law in a model quantity reads: the
+    /// effects before the first effect that reads one ([`columns`]).
+    pub fn quantities_model(&self) -> Model {
+        let first = self
+            .effects
+            .iter()
+            .position(|e| e.effect.reads_model_quantities())
+            .unwrap_or(self.effects.len());
+        Model {
+            effects: self.effects[..first].to_vec(),
+            ..self.clone()
+        }
+    }
+
     /// Eq. 11 assembled for a case, before solving.
     pub fn force_balance(&self, case: &Case) -> Result<ForceBalance, ModelError> {
         self.force_balance_at(case, 0.0)
@@ -275,6 +298,17 @@ impl Model {
         case: &Case,
         phase_rad: f64,
     ) -> Result<ForceBalance, ModelError> {
+        // A law in a model quantity reads those of the model beneath it:
+        // attached once per dataset by a diagnosis (then the key matches
+        // and this costs a hash), solved here once per call otherwise (a
+        // case read from a file, or a law found on top of another model).
+        if self.reads_model_quantities() {
+            let beneath = self.quantities_model();
+            if case.derived.model.is_none() || case.derived.key != columns::key(&beneath) {
+                let with = columns::with_quantities(&beneath, case)?;
+                return self.force_balance_at(&with, phase_rad);
+            }
+        }
         #[cfg(test)]
         FORCE_BALANCES.with(|n| n.set(n.get() + 1));
         // One check serves every stage of this prediction.

@@ -247,6 +247,7 @@ impl Check<'_> {
             omega_body_hz: None,
             inputs: Default::default(),
             recorded: Default::default(),
+            derived: Default::default(),
         };
         if setup.body_diameter_mm >= setup.channel_diameter_mm {
             return Err(fail(

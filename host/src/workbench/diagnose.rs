@@ -50,6 +50,11 @@ pub fn diagnose(
     // follows is judged on the intervals trusted ([`super::data_quality`]).
     let (quality, widened) = super::data_quality::assess(model, data, s.level)?;
     let data = widened.as_ref().unwrap_or(data);
+    // The model's own quantities (load torque, thrust, U, ...) join the
+    // search's library: computed once here, one force balance per case,
+    // and read by every law in them from then on.
+    let attached = crate::model::columns::attach(model, data)?;
+    let data = &attached;
     let searchable = !quality.explains_all();
     let cmp = compare(model, data, 0)?;
     let dofs = error_dofs(data);

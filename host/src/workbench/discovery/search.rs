@@ -10,6 +10,7 @@
 //! Learning*, 2nd ed. (2009), sec. 7.10 (k-fold cross-validation).
 
 use super::screen::Table;
+use crate::data::model_quantities::MODEL_QUANTITIES;
 use crate::data::quantities::{Quantity, FEATURES, FIELDS, SETUP_GROUPS};
 use crate::data::Dataset;
 use crate::effects::correction::{Form, LocatedCorrection};
@@ -31,16 +32,33 @@ pub struct Screened {
 /// (powers need it) and not constant (else it is the constant form). The
 /// derived groups come first; then every recorded field and setup group
 /// that varies (viscosity, density, body and coupler sizes, channel length,
-/// Reynolds numbers, ...), unless it orders the cases exactly as one
-/// already in the list (a monotone function of it on this design, which
-/// no fit can tell apart: [`super::equivalent`]).
+/// Reynolds numbers, ...), then the model's own quantities when the cases
+/// carry them ([`crate::data::model_quantities`]: load torque, thrust,
+/// drag, power, U, Omega_b, Reynolds numbers), each unless it orders the
+/// cases exactly as one already in the list (a monotone function of it on
+/// this design, which no fit can tell apart: [`super::equivalent`]); a
+/// dataset's own feature is kept before a model quantity that orders the
+/// cases alike, as the simpler statement.
+///
+/// The model's predicted U is nearly a function of the geometry, but not a
+/// monotone function of any one feature on a design that varies more than
+/// one thing, so it is usually offered; a law in it then competes with the
+/// geometry laws under the same criterion, and where both fit alike the
+/// criterion's tie rules, not the library, decide. On a design that varies
+/// one thing only (a rate sweep, say), U is that thing's monotone function
+/// and is left out. A quantity that is not positive on every case (U of a
+/// tail-first swimmer) is left out like any other, and so is a model
+/// Reynolds number too small to act ([`super::acts::large_enough`]).
 pub fn usable_features(data: &Dataset) -> Vec<(&'static Quantity, f64)> {
     let mut out: Vec<(&'static Quantity, f64)> = FEATURES
         .iter()
         .filter_map(|q| varying(q, data).map(|m| (q, m)))
         .collect();
-    for q in SETUP_GROUPS.iter().chain(FIELDS) {
+    for q in SETUP_GROUPS.iter().chain(FIELDS).chain(MODEL_QUANTITIES) {
         let Some(m) = varying(q, data) else { continue };
+        if !super::acts::large_enough(q, data) {
+            continue;
+        }
         if !out.iter().any(|(o, _)| super::equivalent(o, q, data)) {
             out.push((q, m));
         }
