@@ -15,6 +15,9 @@
 //! - `density`: an axial force proportional to the oil's density (0.5-2 mN
 //!   at the median density, either sign; the density drawn per case,
 //!   x0.9-1.1);
+//! - `slip`: a drive slip set by the tail's load torque, `f_true =
+//!   f_recorded (1 - tau_load/tau_s)`, the stall torque drawn per seed
+//!   (host/tests/fixtures/load_slip.rs: the largest slip 12-20 %);
 //! - `null`: the base model, honest intervals.
 //!
 //! Scored per seed, from the verdict alone:
@@ -33,11 +36,14 @@
 //! discovery_subsets` (development: 1701 for every category). Held-out
 //! ranges, each run once after the code is frozen: `ONLY=three
 //! FIRST_SEED=1651`, `ONLY=constant FIRST_SEED=1611`, `ONLY=density
-//! FIRST_SEED=1621`, `ONLY=null FIRST_SEED=1661`. `VERBOSE=1` prints each
+//! FIRST_SEED=1621`, `ONLY=slip FIRST_SEED=1631`, `ONLY=null
+//! FIRST_SEED=1661`. `VERBOSE=1` prints each
 //! verdict's note.
 
 #[path = "../tests/fixtures/drawn.rs"]
 mod drawn;
+#[path = "../tests/fixtures/load_slip.rs"]
+mod load_slip;
 
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use std::time::Instant;
@@ -146,6 +152,11 @@ fn truth(cat: &str, seed: u64) -> (Model, Dataset, Vec<&'static str>) {
             );
             (base.with_effect(f), d, vec!["load.force"])
         }
+        "slip" => {
+            let mut m = base;
+            m.effects.extend(load_slip::load_slip(&design, seed));
+            (m, design, vec!["drive.rate"])
+        }
         "null" => (base, design, Vec::new()),
         _ => panic!("unknown category {cat}"),
     }
@@ -224,7 +235,7 @@ fn main() {
     let verbose = std::env::var("VERBOSE").is_ok();
     println!("| category | seeds | truth in the stated set | wrong set claimed alone | located exactly | at the floor | median s per diagnosis |");
     println!("|---|---|---|---|---|---|---|");
-    for cat in ["three", "constant", "density", "null"] {
+    for cat in ["three", "constant", "density", "slip", "null"] {
         if only.as_deref().is_some_and(|o| o != cat) {
             continue;
         }
