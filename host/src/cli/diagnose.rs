@@ -161,7 +161,7 @@ pub fn run(a: DiagnoseArgs) -> Result<(), CliError> {
 }
 
 /// The corrections to write: the verdict's located laws (every step of a
-/// stagewise verdict, in order), else the search's best (a partial finding
+/// found set, in order), else the search's best (a partial finding
 /// is still a starting point to refine). A verdict of none-needed writes
 /// nothing: that is an answer, not an error.
 fn write_effect(d: &Diagnosis, dataset: &str, path: &std::path::Path) -> Result<(), CliError> {

@@ -98,7 +98,7 @@ pub struct Verdict {
     /// least half of the excess and lower MARE. Never the same place,
     /// feature and form twice.
     pub located: Vec<Located>,
-    /// The stagewise search's steps in order, each with the model beneath
+    /// The found set's members in order, each with the model beneath
     /// it (`on_top_of`); empty when nothing is needed or nothing is found.
     pub steps: Vec<Step>,
     /// For a set of two steps or more: what its joint fit fixes only
@@ -158,7 +158,7 @@ impl VerdictKind {
     }
 }
 
-/// One step of the stagewise search, in order: a catalogue effect or a
+/// One member of the found set, in order: a catalogue effect or a
 /// located law, fitted on top of the steps before it.
 #[derive(Debug, Clone, Serialize)]
 pub struct Step {

@@ -1,6 +1,6 @@
 //! The score of a fitted model variant, as `diagnose` ranks it: the same
 //! numbers for a catalogue candidate ([`super::diagnosis::Candidate`]), a
-//! located law ([`super::discovery::Located`]) and a stagewise step, so
+//! located law ([`super::discovery::Located`]) and a set's step, so
 //! that they read the same in the JSON, the tables and the page (each holds
 //! one, flattened).
 //!

@@ -31,9 +31,9 @@ pub fn hint(g: &Suggestion) -> String {
     g.hint()
 }
 
-/// The note of a stagewise verdict: every step in order with what it
+/// The note of the found set's verdict: every step in order with what it
 /// removes, then the errors before and after.
-pub fn stagewise_note(base: &Baseline, path: &Found, last: &Level) -> String {
+pub fn found_set_note(base: &Baseline, path: &Found, last: &Level) -> String {
     let steps: Vec<String> = path
         .steps
         .iter()
@@ -61,10 +61,10 @@ pub fn stagewise_note(base: &Baseline, path: &Found, last: &Level) -> String {
         (true, true) => "1 step reaches the noise floor".to_string(),
         (true, false) => format!("{n} steps reach the noise floor"),
         (false, true) => {
-            "stagewise, 1 step lowers the error but does not reach the noise floor".to_string()
+            "1 step lowers the error but does not reach the noise floor".to_string()
         }
         (false, false) => {
-            format!("stagewise, {n} steps lower the error but do not reach the noise floor")
+            format!("{n} steps lower the error but do not reach the noise floor")
         }
     };
     format!(

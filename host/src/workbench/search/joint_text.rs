@@ -1,5 +1,5 @@
 //! How what a found set's joint fit fixes only together
-//! ([`crate::workbench::stagewise_joint`]) is worded in the note of `diagnose`: one
+//! ([`super::joint`]) is worded in the note of `diagnose`: one
 //! sentence per group of parameters that trade, per place with two laws,
 //! and per strength whose interval spans no effect.
 

@@ -1,10 +1,11 @@
-//! The stagewise path put into the verdict of `diagnose`: the steps in
+//! The found set put into the verdict of `diagnose`: the steps in
 //! order, and (when the path goes beyond the single-step verdict) the kind,
 //! the named catalogue effects, the located laws and the note
-//! ([`crate::workbench::verdict_text::stagewise_note`]); the verdict when one case
+//! ([`crate::workbench::verdict_text::found_set_note`]); the verdict when one case
 //! stands alone; and the located list without repeats. A set of two steps
 //! or more carries what its joint fit fixes only together
-//! ([`crate::workbench::stagewise_joint`]), in `verdict.joint` and the note.
+//! ([`super::joint`]), in `verdict.joint` and the note; and the sets the
+//! data cannot tell apart ([`super::rivals`]), listed.
 
 use crate::workbench::diagnosis::{Baseline, Verdict, VerdictKind};
 use crate::workbench::discovery::Located;
@@ -163,7 +164,7 @@ fn put_path(path: &Found, v: &mut Verdict, base: &Baseline) {
     v.indistinguishable.clear();
     v.suggestion = None;
     v.located = path.steps.iter().filter_map(|p| p.2.clone()).collect();
-    v.note = crate::workbench::verdict_text::stagewise_note(base, path, last);
+    v.note = crate::workbench::verdict_text::found_set_note(base, path, last);
 }
 
 /// `none-needed` because bad runs or intervals stated too narrow account
