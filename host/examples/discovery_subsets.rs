@@ -76,7 +76,13 @@ fn median(data: &Dataset, id: &str) -> f64 {
     v[v.len() / 2]
 }
 
-fn law(place: Place, feature: Option<&str>, form: Form, scale: f64, values: Vec<f64>) -> EffectInstance {
+fn law(
+    place: Place,
+    feature: Option<&str>,
+    form: Form,
+    scale: f64,
+    values: Vec<f64>,
+) -> EffectInstance {
     let c = LocatedCorrection::new(place, feature.map(field), form, scale, 1.0)
         .expect("the drawn law fits its place")
         .leak();
@@ -89,14 +95,27 @@ fn constant(design: &Dataset, seed: u64) -> (EffectInstance, &'static str) {
     let sign = if r.gen_bool(0.5) { 1.0 } else { -1.0 };
     match r.gen_range(0..3) {
         0 => (
-            law(Place::DriveRate, None, Form::Constant, 1.0, vec![r.gen_range(0.80..0.93)]),
+            law(
+                Place::DriveRate,
+                None,
+                Form::Constant,
+                1.0,
+                vec![r.gen_range(0.80..0.93)],
+            ),
             "drive.rate",
         ),
         k => {
-            let place = if k == 1 { Place::LoadForce } else { Place::LoadTorque };
+            let place = if k == 1 {
+                Place::LoadForce
+            } else {
+                Place::LoadTorque
+            };
             let table = Table::build(&Model::base(), design).expect("the base model predicts");
             let size = sign * r.gen_range(0.5..2.0) * table.load_scale(place);
-            (law(place, None, Form::Constant, 1.0, vec![size]), place.name())
+            (
+                law(place, None, Form::Constant, 1.0, vec![size]),
+                place.name(),
+            )
         }
     }
 }
@@ -110,7 +129,13 @@ fn channel_or_pitch(design: &Dataset, seed: u64) -> (EffectInstance, &'static st
         let pitch = median(design, "pitch_angle_deg");
         let v = vec![r.gen_range(0.2..0.6), r.gen_range(1.0..2.0)];
         (
-            law(Place::TailTorque, Some("pitch_angle_deg"), Form::Power, pitch, v),
+            law(
+                Place::TailTorque,
+                Some("pitch_angle_deg"),
+                Form::Power,
+                pitch,
+                v,
+            ),
             "tail.torque",
         )
     }
@@ -210,7 +235,12 @@ fn stated_names(v: &Verdict) -> Vec<Vec<String>> {
         return v.sets.iter().map(|s| s.places.clone()).collect();
     }
     let mut found: Vec<String> = v.located.iter().map(|l| l.place.to_string()).collect();
-    found.extend(v.steps.iter().filter(|s| s.kind == "catalogue").map(|s| s.name.clone()));
+    found.extend(
+        v.steps
+            .iter()
+            .filter(|s| s.kind == "catalogue")
+            .map(|s| s.name.clone()),
+    );
     if let Some(e) = &v.effect {
         found.extend(e.split(" + ").map(str::to_string));
     }
@@ -221,7 +251,12 @@ fn stated_names(v: &Verdict) -> Vec<Vec<String>> {
             .located
             .iter()
             .map(|l| vec![l.place.to_string()])
-            .chain(v.indistinguishable.iter().filter(|n| !n.contains(" = ")).map(|n| vec![n.clone()]))
+            .chain(
+                v.indistinguishable
+                    .iter()
+                    .filter(|n| !n.contains(" = "))
+                    .map(|n| vec![n.clone()]),
+            )
             .collect(),
         _ => vec![found],
     }
@@ -291,7 +326,8 @@ fn main() {
             };
             let data = generate(&model, &design, settings).expect("synth");
             let t = Instant::now();
-            let d = diagnose(&Model::base(), &data, &DiagnoseSettings::default()).expect("diagnose");
+            let d =
+                diagnose(&Model::base(), &data, &DiagnoseSettings::default()).expect("diagnose");
             times.push(t.elapsed().as_secs_f64());
             let v = &d.verdict;
             let s = score(v, &want);

@@ -23,8 +23,8 @@ use swimbot::workbench::candidate::candidates;
 use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings};
 use swimbot::workbench::discovery::{aicc, discover, DiscoverySettings, Located, Reference};
 use swimbot::workbench::fit::{fit_with, free_params_of};
-use swimbot::workbench::robust::Likelihood;
 use swimbot::workbench::noise::{chi2_noise_floor, error_dofs};
+use swimbot::workbench::robust::Likelihood;
 use swimbot::workbench::synth::{generate, SynthSettings};
 
 const BODY: &[&str] = &["body_ratio", "body_gap_ratio", "body_over_gap"];

@@ -6,10 +6,10 @@
 //! flag; and the rules themselves as properties.
 
 use crate::fixtures::diagnosed::diagnose_drawn_pair;
-use swimbot::workbench::diagnose::VerdictKind;
 use proptest::prelude::*;
 use swimbot::effects::correction::Form;
 use swimbot::effects::place::Place;
+use swimbot::workbench::diagnose::VerdictKind;
 use swimbot::workbench::discovery::interpret::equivalents;
 use swimbot::workbench::search::joint::*;
 
@@ -99,7 +99,11 @@ fn the_true_pair_of_seed_208_is_among_the_stated_sets() {
         }
         VerdictKind::Indistinguishable => {
             assert!(v.sets.iter().any(|s| pair(&s.places)), "{}", v.note);
-            assert!(v.agreed_places.iter().any(|p| p == "tail.viscosity"), "{}", v.note);
+            assert!(
+                v.agreed_places.iter().any(|p| p == "tail.viscosity"),
+                "{}",
+                v.note
+            );
             // Each rival carries the measurement that separates it, inside
             // the rig, or says no measurement does.
             for s in &v.sets[1..] {

@@ -22,13 +22,18 @@ fn a_tie_at_the_floor_is_stated_not_claimed_alone() {
     assert!(v.sets.len() >= 2, "{}", v.note);
     assert!(v.sets.iter().all(|s| s.at_noise_floor), "{}", v.note);
     assert!(placed(v, "body.D_x", BODY_FEATURES), "{}", v.note);
-    assert!(v.agreed_places.iter().any(|p| p == "body.D_x"), "{}", v.note);
+    assert!(
+        v.agreed_places.iter().any(|p| p == "body.D_x"),
+        "{}",
+        v.note
+    );
     for s in &v.sets[1..] {
         assert!(s.key_difference.abs() <= 4.0, "{s:?}");
         assert!(s.places != v.sets[0].places, "{s:?}");
     }
     assert!(
-        v.note.starts_with("indistinguishable on this data") && v.note.contains("that much is found"),
+        v.note.starts_with("indistinguishable on this data")
+            && v.note.contains("that much is found"),
         "{}",
         v.note
     );

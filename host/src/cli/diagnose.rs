@@ -233,7 +233,11 @@ fn print_sets(v: &crate::workbench::diagnose::Verdict) {
             i + 1,
             s.members.join(" + "),
             s.key_difference,
-            if s.at_noise_floor { ", at the noise floor" } else { "" }
+            if s.at_noise_floor {
+                ", at the noise floor"
+            } else {
+                ""
+            }
         );
         if let Some(g) = &s.suggestion {
             println!("     {}", g.hint().trim_start_matches("; "));
@@ -433,9 +437,7 @@ pub(super) fn estimate_seconds(
 ) -> Option<f64> {
     super::budget::extrapolate(data.cases.len(), |k| {
         let part = super::budget::subset(data, k);
-        let (done, s) = super::budget::timed(|| {
-            diagnose(model, &part, settings)
-        });
+        let (done, s) = super::budget::timed(|| diagnose(model, &part, settings));
         done.ok()?;
         Some(s)
     })

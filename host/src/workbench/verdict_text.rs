@@ -60,9 +60,7 @@ pub fn found_set_note(base: &Baseline, path: &Found, last: &Level) -> String {
     let head = match (last.at_floor, n == 1) {
         (true, true) => "1 step reaches the noise floor".to_string(),
         (true, false) => format!("{n} steps reach the noise floor"),
-        (false, true) => {
-            "1 step lowers the error but does not reach the noise floor".to_string()
-        }
+        (false, true) => "1 step lowers the error but does not reach the noise floor".to_string(),
         (false, false) => {
             format!("{n} steps lower the error but do not reach the noise floor")
         }

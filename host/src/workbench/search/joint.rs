@@ -30,13 +30,13 @@
 //! `1/(1 - r^2)` above 10, `|r|` above 0.95 for a pair, is the usual
 //! mark of a combination fixed rather than its parts).
 
-use crate::workbench::discovery::interpret::equivalents;
-use crate::workbench::fit::{fit_with, free_params_of, FitError, FitResult, FreeParam};
-use crate::workbench::robust::Likelihood;
 use super::level::Found;
 use crate::data::Dataset;
 use crate::effects::correction::Form;
 use crate::effects::place::Place;
+use crate::workbench::discovery::interpret::equivalents;
+use crate::workbench::fit::{fit_with, free_params_of, FitError, FitResult, FreeParam};
+use crate::workbench::robust::Likelihood;
 use serde::Serialize;
 
 /// `|r|` above which two parameters of different steps trade (0.95): the
@@ -170,8 +170,9 @@ fn correlations(joint: &FitResult, free: &[FreeParam], data: &Dataset) -> Vec<Ve
             .collect();
     }
     let cases: Vec<&crate::data::Case> = data.cases.iter().collect();
-    let Some(inv) = crate::workbench::fit_uncertainty::physical_jacobian(&joint.model, free, &cases)
-        .and_then(|j| crate::workbench::fit_uncertainty::inverse(&(j.transpose() * &j)))
+    let Some(inv) =
+        crate::workbench::fit_uncertainty::physical_jacobian(&joint.model, free, &cases)
+            .and_then(|j| crate::workbench::fit_uncertainty::inverse(&(j.transpose() * &j)))
     else {
         return vec![vec![None; k]; k];
     };

@@ -5,14 +5,14 @@
 //!
 //! References: K. P. Burnham & D. R. Anderson (2002), ch. 2 (AICc).
 
+use crate::data::Dataset;
+use crate::model::Model;
 use crate::workbench::diagnosis::{Candidate, Step, Verdict, VerdictKind};
 use crate::workbench::discovery::write::exact_spec;
 use crate::workbench::discovery::Located;
 use crate::workbench::robust::t_deviance_of;
 use crate::workbench::score::Deviance;
 use crate::workbench::verdict::Evidence;
-use crate::data::Dataset;
-use crate::model::Model;
 
 /// Share of what a level leaves above the noise floor that a step must
 /// remove, unless it reaches the floor (one half, as for a partial finding).

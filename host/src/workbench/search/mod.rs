@@ -102,12 +102,12 @@ pub mod ranges;
 mod rivals;
 pub mod verdict;
 
-use level::{first_steps, n_obs, Floor, Found, Level, Steps, MIN_SHARE};
 use super::verdict::Evidence;
 use crate::data::Dataset;
 use crate::effects::correction::Form;
 use crate::effects::EffectInstance;
 use crate::model::Model;
+use level::{first_steps, n_obs, Floor, Found, Level, Steps, MIN_SHARE};
 use rayon::prelude::*;
 use set::{joint, law_id, members, rebuild, with_values, Joint, Member};
 use std::collections::HashMap;
@@ -201,17 +201,23 @@ impl Ctx<'_> {
         if let Some(f) = self.cache.lock().expect("no panic holds it").get(&ids) {
             return f.clone();
         }
-        let out = joint(self.model0, &members, self.data, self.floor, self.s.likelihood)
-            .ok()
-            .map(|j| {
-                let members = with_values(&members, self.model0, &j);
-                let outside = outside_range(&members, self.data);
-                Fitted {
-                    members,
-                    joint: j,
-                    outside,
-                }
-            });
+        let out = joint(
+            self.model0,
+            &members,
+            self.data,
+            self.floor,
+            self.s.likelihood,
+        )
+        .ok()
+        .map(|j| {
+            let members = with_values(&members, self.model0, &j);
+            let outside = outside_range(&members, self.data);
+            Fitted {
+                members,
+                joint: j,
+                outside,
+            }
+        });
         self.cache
             .lock()
             .expect("no panic holds it")
@@ -454,7 +460,9 @@ fn best_of(level: &[Fitted], size: usize, beam: usize, inc: Option<&Fitted>) -> 
     let mut v: Vec<&Fitted> = level.iter().filter(|f| f.members.len() == size).collect();
     // Sets inside their places' ranges first: only they can be chosen.
     v.sort_by(|a, b| {
-        (a.outside.is_some(), a.joint.key).partial_cmp(&(b.outside.is_some(), b.joint.key)).unwrap_or(std::cmp::Ordering::Equal)
+        (a.outside.is_some(), a.joint.key)
+            .partial_cmp(&(b.outside.is_some(), b.joint.key))
+            .unwrap_or(std::cmp::Ordering::Equal)
     });
     let mut seen: Vec<Vec<String>> = Vec::new();
     let mut out: Vec<Fitted> = Vec::new();
@@ -684,14 +692,20 @@ fn strength_spans_no_effect(f: &Fitted) -> bool {
     let mut at = 0;
     f.members.iter().any(|m| {
         let first = at;
-        at += m.insts.iter().map(|i| i.free_indices().len()).sum::<usize>();
+        at += m
+            .insts
+            .iter()
+            .map(|i| i.free_indices().len())
+            .sum::<usize>();
         let Some(law) = m.law() else {
             return false;
         };
         let within = |i: usize, n: f64| {
-            f.joint.fit.estimates.get(first + i).is_some_and(|e| {
-                e.ci95.is_some_and(|ci| (e.value - n).abs() <= ci)
-            })
+            f.joint
+                .fit
+                .estimates
+                .get(first + i)
+                .is_some_and(|e| e.ci95.is_some_and(|ci| (e.value - n).abs() <= ci))
         };
         match joint::no_effect_value(law.form, law.place.is_additive()) {
             Some(n) => within(0, n),

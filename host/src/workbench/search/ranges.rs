@@ -68,7 +68,10 @@ mod tests {
         assert_eq!(case, data.cases[0].id);
         assert!((v - 0.12).abs() < 1e-12 && range == (0.5, 1.1));
         assert!(outside(drive, &[0.85], &data).is_none());
-        assert!(outside(drive, &[1.3], &data).is_some(), "a slip gains no rate");
+        assert!(
+            outside(drive, &[1.3], &data).is_some(),
+            "a slip gains no rate"
+        );
     }
 
     #[test]

@@ -6,6 +6,7 @@
 //! K. P. Burnham & D. R. Anderson, *Model Selection and Multimodel
 //! Inference*, 2nd ed. (2002), ch. 2.
 
+use super::level::{n_obs, step_of, Floor, Level, Steps};
 use crate::data::Dataset;
 use crate::effects::correction::LocatedCorrection;
 use crate::effects::EffectInstance;
@@ -15,10 +16,9 @@ use crate::workbench::compare::compare;
 use crate::workbench::discovery::places::AtPlace;
 use crate::workbench::discovery::{interpretation_of, Located};
 use crate::workbench::fit::{fit_with, free_params_of, Estimate, FitError, FitResult};
-use crate::workbench::robust::Likelihood;
 use crate::workbench::robust::t_deviance_of;
+use crate::workbench::robust::Likelihood;
 use crate::workbench::score::Deviance;
-use super::level::{n_obs, step_of, Floor, Level, Steps};
 
 /// One step of the set: the effects it adds, and the law (for a located
 /// step) or the catalogue name.

@@ -7,14 +7,14 @@
 //! ([`super::joint`]), in `verdict.joint` and the note; and the sets the
 //! data cannot tell apart ([`super::rivals`]), listed.
 
-use crate::workbench::diagnosis::{Baseline, Verdict, VerdictKind};
-use crate::workbench::discovery::Located;
-use super::level::Found;
-use crate::workbench::diagnosis::{DiagnoseSettings, ExplainingSet};
-use crate::workbench::experiments::separation::best_discriminating_case;
 use super::joint_text::joint_sentences;
-use crate::workbench::verdict_text::{fmt, verdict_of};
+use super::level::Found;
 use crate::data::Dataset;
+use crate::workbench::diagnosis::{Baseline, Verdict, VerdictKind};
+use crate::workbench::diagnosis::{DiagnoseSettings, ExplainingSet};
+use crate::workbench::discovery::Located;
+use crate::workbench::experiments::separation::best_discriminating_case;
+use crate::workbench::verdict_text::{fmt, verdict_of};
 
 /// Put the path into the verdict: its steps always; when the path goes
 /// beyond the single-step verdict (or is the first thing found), the kind,
@@ -50,7 +50,10 @@ fn places_of(path: &Found) -> Vec<String> {
     let mut v: Vec<String> = path
         .steps
         .iter()
-        .map(|(step, _, l)| l.as_ref().map_or(step.name.clone(), |l| l.place.to_string()))
+        .map(|(step, _, l)| {
+            l.as_ref()
+                .map_or(step.name.clone(), |l| l.place.to_string())
+        })
         .collect();
     v.sort();
     v
