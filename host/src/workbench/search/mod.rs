@@ -423,7 +423,7 @@ fn singles(
     }
     let table = Table::build(ctx.model0, ctx.data)?;
     let screen = Screen::run(&table, ctx.data, ctx.s.discovery.screen_cases);
-    for at in best_at_each_place(&table, &screen, ctx.data, 0, &ctx.s.discovery) {
+    for at in best_at_each_place(&table, &screen, 0) {
         let m = pending_member(at, law_charge);
         if !lib.iter().any(|o| o.id == m.id) {
             lib.push(m);
@@ -532,8 +532,7 @@ fn extended(
             if let Ok(table) = Table::build(model, ctx.data) {
                 let screen = Screen::run(&table, ctx.data, ctx.s.discovery.screen_cases);
                 let n = screen.sub.len();
-                let mut ats =
-                    best_at_each_place(&table, &screen, ctx.data, f.joint.k, &ctx.s.discovery);
+                let mut ats = best_at_each_place(&table, &screen, f.joint.k);
                 ats.retain(|a| !places.contains(&a.place.name()));
                 let key = |a: &super::discovery::places::AtPlace| {
                     aicc(a.screened.chi2, n, f.joint.k + a.screened.params.len())
