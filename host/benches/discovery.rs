@@ -44,6 +44,7 @@ fn discovery(c: &mut Criterion) {
         chi2,
         k: 0,
         floor: &floor,
+        likelihood: swimbot::workbench::robust::Likelihood::Gaussian,
     };
     c.bench_function(
         "whole discovery (screen + exact refits + CV), paper data",

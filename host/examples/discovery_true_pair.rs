@@ -22,8 +22,9 @@ use swimbot::model::Model;
 use swimbot::workbench::candidate::candidates;
 use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings};
 use swimbot::workbench::discovery::{aicc, discover, DiscoverySettings, Located, Reference};
-use swimbot::workbench::fit::{fit, free_params_of};
+use swimbot::workbench::fit::{fit_with, free_params_of};
 use swimbot::workbench::noise::{chi2_noise_floor, error_dofs};
+use swimbot::workbench::robust::Likelihood;
 use swimbot::workbench::synth::{generate, SynthSettings};
 
 const BODY: &[&str] = &["body_ratio", "body_gap_ratio", "body_over_gap"];
@@ -50,6 +51,7 @@ fn best_at(
         chi2: reference.0,
         k: reference.1,
         floor,
+        likelihood: Likelihood::Gaussian,
     };
     let d = discover(model, data, &r, &s).ok()?;
     d.located
@@ -79,7 +81,7 @@ fn true_pair(
     )?;
     let added: Vec<usize> = (base.effects.len()..b.model.effects.len()).collect();
     let free = free_params_of(&b.model, &added);
-    let f = fit(&b.model, data, None, &free, false).ok()?;
+    let f = fit_with(&b.model, data, None, &free, false, Likelihood::Gaussian).ok()?;
     let n = swimbot::workbench::compare::compare(&f.model, data, free.len())
         .ok()?
         .summary

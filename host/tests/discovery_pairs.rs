@@ -1,5 +1,5 @@
-//! The pair search of backfitting (workbench/stagewise_backfit/
-//! pairs.rs), on the drawn two-effect truth (body drag `D_x (1 + a
+//! Ties at the floor of the search over subsets (workbench/search/
+//! rivals.rs), on the drawn two-effect truth (body drag `D_x (1 + a
 //! (D_b/D_ch)^q)` and a shear-thinning tail oil, constants and design drawn
 //! per seed: tests/fixtures/drawn.rs). The seed is from the fresh range
 //! 301-310 of docs/discovery.md's recovery study, where the path before the
@@ -8,24 +8,33 @@
 use crate::fixtures::diagnosed::{diagnose_drawn_pair, placed, BODY_FEATURES};
 use swimbot::workbench::diagnose::VerdictKind;
 
-/// Seed 308: the first step was a drive slip in the shear rate that took a
-/// share of both effects, then `tail.c_t` in a body ratio; no one-for-one
-/// exchange reached the floor from there (verdict `unexplained`). The pair
-/// search places the body law and the oil from scratch, refits them
-/// jointly and backfits them: both at their places, at the floor.
+/// Seed 308: the stagewise path's first step was a drive slip in the
+/// shear rate that took a share of both effects (verdict `unexplained`).
+/// The search over subsets reaches the floor, but with the oil's share on
+/// the body's rotation (`body.E_x` in the shear rate) or its reciprocal on
+/// the tail's torque, tied within the margin by sets at other places: it
+/// must not claim one alone. The body law is found in every set.
 #[test]
-fn a_path_stuck_above_the_floor_is_replaced_by_the_pair_at_the_places() {
+fn a_tie_at_the_floor_is_stated_not_claimed_alone() {
     let d = diagnose_drawn_pair(308);
     let v = &d.verdict;
-    assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
+    assert_eq!(v.kind, VerdictKind::Indistinguishable, "{}", v.note);
+    assert!(v.sets.len() >= 2, "{}", v.note);
+    assert!(v.sets.iter().all(|s| s.at_noise_floor), "{}", v.note);
     assert!(placed(v, "body.D_x", BODY_FEATURES), "{}", v.note);
-    assert!(placed(v, "tail.viscosity", &["shear_rate"]), "{}", v.note);
     assert!(
-        v.located.iter().all(|l| l.place != "drive.rate"),
+        v.agreed_places.iter().any(|p| p == "body.D_x"),
         "{}",
         v.note
     );
-    let last = v.steps.last().unwrap();
-    assert!(last.at_noise_floor, "{}", v.note);
-    assert_eq!(v.steps.len(), 2, "{}", v.note);
+    for s in &v.sets[1..] {
+        assert!(s.key_difference.abs() <= 4.0, "{s:?}");
+        assert!(s.places != v.sets[0].places, "{s:?}");
+    }
+    assert!(
+        v.note.starts_with("indistinguishable on this data")
+            && v.note.contains("that much is found"),
+        "{}",
+        v.note
+    );
 }

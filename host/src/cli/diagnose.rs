@@ -103,6 +103,7 @@ pub fn diagnosed(
         include_costly: a.nonlocal,
         discover: !a.no_discovery,
         progress,
+        likelihood: a.likelihood.get(),
         ..Default::default()
     };
     let budget = super::budget::parse_budget(a.max_seconds)?;
@@ -111,18 +112,14 @@ pub fn diagnosed(
             progress: None,
             ..settings.clone()
         };
-        let lik = a.likelihood.get();
-        let estimate = estimate_seconds(&model, &data, &quiet, lik);
+        let estimate = estimate_seconds(&model, &data, &quiet);
         let what = format!("the diagnosis of {} cases", data.cases.len());
         match estimate {
             Some(s) => super::budget::check(&what, s, budget)?,
             None => super::budget::unestimated(&what, budget),
         }
     }
-    let lik = a.likelihood.get();
-    let d = crate::workbench::fit::with_likelihood(lik, || diagnose(&model, &data, &settings))
-        .map_err(|e| CliError::failure(format!("could not start the worker threads: {e}")))?
-        .map_err(CliError::input)?;
+    let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
     super::output::check_finite("diagnosis", &d)?;
     Ok((d, data))
 }
@@ -173,7 +170,7 @@ pub fn run(a: DiagnoseArgs, inputs: &Inputs) -> Result<(), CliError> {
 }
 
 /// The corrections to write: the verdict's located laws (every step of a
-/// stagewise verdict, in order), else the search's best (a partial finding
+/// found set, in order), else the search's best (a partial finding
 /// is still a starting point to refine). A verdict of none-needed writes
 /// nothing: that is an answer, not an error.
 fn write_effect(
@@ -216,7 +213,7 @@ fn print_steps(steps: &[crate::workbench::diagnose::Step]) {
     if steps.is_empty() {
         return;
     }
-    println!("\nstagewise, each step fitted on top of the ones before it:");
+    println!("\nthe found set, at its joint values (each row: the members up to it):");
     println!(
         "  {:<3} {:<62} {:>8} {:>8} {:>10} {:>8} {:>5}",
         "", "step", "MARE", "CV MARE", "chi2_red", "explains", "noise"
@@ -234,6 +231,34 @@ fn print_steps(steps: &[crate::workbench::diagnose::Step]) {
                 .unwrap_or_else(|| "-".into()),
             if s.at_noise_floor { "yes" } else { "no" }
         );
+    }
+}
+
+/// The sets the data cannot tell apart, each with its key difference and
+/// the measurement that would separate it from the first.
+fn print_sets(v: &crate::workbench::diagnose::Verdict) {
+    if v.sets.is_empty() {
+        return;
+    }
+    println!("\nsets the data cannot tell apart (AICc + charges within the margin):");
+    for (i, s) in v.sets.iter().enumerate() {
+        println!(
+            "  {}. {} (key {:+.1}{})",
+            i + 1,
+            s.members.join(" + "),
+            s.key_difference,
+            if s.at_noise_floor {
+                ", at the noise floor"
+            } else {
+                ""
+            }
+        );
+        if let Some(g) = &s.suggestion {
+            println!("     {}", g.hint().trim_start_matches("; "));
+        }
+    }
+    if !v.agreed_places.is_empty() {
+        println!("  found in every set: {}", v.agreed_places.join(", "));
     }
 }
 
@@ -369,6 +394,7 @@ fn print_table(d: &Diagnosis) {
         );
     }
     print_steps(&d.verdict.steps);
+    print_sets(&d.verdict);
     println!("\nverdict ({}): {}", d.verdict.kind.name(), d.verdict.note);
 }
 
@@ -422,14 +448,11 @@ pub(super) fn estimate_seconds(
     model: &crate::model::Model,
     data: &crate::data::Dataset,
     settings: &DiagnoseSettings,
-    lik: crate::workbench::robust::Likelihood,
 ) -> Option<f64> {
     super::budget::extrapolate(data.cases.len(), |k| {
         let part = super::budget::subset(data, k);
-        let (done, s) = super::budget::timed(|| {
-            crate::workbench::fit::with_likelihood(lik, || diagnose(model, &part, settings))
-        });
-        done.ok()?.ok()?;
+        let (done, s) = super::budget::timed(|| diagnose(model, &part, settings));
+        done.ok()?;
         Some(s)
     })
 }

@@ -153,12 +153,7 @@ fn estimate_seconds(
     data: &crate::data::Dataset,
     physics: bool,
 ) -> Option<f64> {
-    let diagnosis = super::diagnose::estimate_seconds(
-        model,
-        data,
-        &DiagnoseSettings::default(),
-        crate::workbench::robust::Likelihood::Gaussian,
-    )?;
+    let diagnosis = super::diagnose::estimate_seconds(model, data, &DiagnoseSettings::default())?;
     let audit =
         super::audit::estimate_seconds(model, data, AuditSettings::default().family_samples);
     let zero = if physics {

@@ -71,11 +71,11 @@ impl DiagnosisRecord {
 
     /// Diagnose `model` on `data` with the study's likelihood.
     pub fn run(model: &Model, data: &Dataset, likelihood: Likelihood) -> Result<Self, String> {
-        let settings = DiagnoseSettings::default();
-        let d =
-            crate::workbench::fit::with_likelihood(likelihood, || diagnose(model, data, &settings))
-                .map_err(|e| format!("could not start the worker threads: {e}"))?
-                .map_err(|e| e.to_string())?;
+        let settings = DiagnoseSettings {
+            likelihood,
+            ..DiagnoseSettings::default()
+        };
+        let d = diagnose(model, data, &settings).map_err(|e| e.to_string())?;
         Ok(Self::of(&d))
     }
 

@@ -82,7 +82,14 @@ impl Snapshot {
         let cv_mare = if fitted.is_empty() {
             cmp.summary.mare
         } else {
-            crate::workbench::candidate::cross_validated_mare(model, data, fitted)
+            // Least squares: the MARE a snapshot reports is a least-squares
+            // figure whatever likelihood calibrated the model.
+            crate::workbench::candidate::cross_validated_mare(
+                model,
+                data,
+                fitted,
+                crate::workbench::robust::Likelihood::Gaussian,
+            )
         };
         let floor = chi2_noise_floor(&error_dofs(data), k, NOISE_LEVEL);
         let stats = Stats {

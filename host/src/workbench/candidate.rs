@@ -10,7 +10,8 @@
 
 use super::compare::compare;
 use super::diagnosis::Candidate;
-use super::fit::{fit, free_params_of, FitError};
+use super::fit::{fit_with, free_params_of, FitError};
+use super::robust::Likelihood;
 use super::score::{Deviance, FitScore};
 use crate::data::Dataset;
 use crate::effects::Effect;
@@ -34,6 +35,7 @@ pub fn evaluate(
     added: &[usize],
     data: &Dataset,
     floor: &dyn Fn(usize) -> Option<f64>,
+    lik: Likelihood,
 ) -> Result<Candidate, FitError> {
     let free = free_params_of(model, added);
     let k = free.len();
@@ -43,16 +45,16 @@ pub fn evaluate(
     let n_cases = data.cases.len();
     let full = if n_cases > 60 && !free.is_empty() {
         let sub: Vec<usize> = (0..n_cases).step_by(n_cases.div_ceil(50)).collect();
-        let pre = fit(model, data, Some(&sub), &free, true)?;
-        fit(&pre.model, data, None, &free, false)?
+        let pre = fit_with(model, data, Some(&sub), &free, true, lik)?;
+        fit_with(&pre.model, data, None, &free, false, lik)?
     } else {
-        fit(model, data, None, &free, true)?
+        fit_with(model, data, None, &free, true, lik)?
     };
     let cmp = compare(&full.model, data, k)?;
     let cv_mare = if k == 0 {
         cmp.summary.mare
     } else {
-        cross_validated_mare(&full.model, data, &free)
+        cross_validated_mare(&full.model, data, &free, lik)
     };
     Ok(Candidate {
         effect: added
@@ -74,13 +76,14 @@ pub(crate) fn cross_validated_mare(
     fitted: &Model,
     data: &Dataset,
     free: &[super::fit::FreeParam],
+    lik: Likelihood,
 ) -> f64 {
     let n = data.cases.len();
     let folds = if n <= 10 { n } else { 10 };
     let mut errs = Vec::new();
     for f in 0..folds {
         let train: Vec<usize> = (0..n).filter(|&j| j % folds != f).collect();
-        let Ok(fit) = fit(fitted, data, Some(&train), free, false) else {
+        let Ok(fit) = fit_with(fitted, data, Some(&train), free, false, lik) else {
             continue;
         };
         for case in data.cases.iter().skip(f).step_by(folds) {
@@ -113,6 +116,7 @@ pub fn forward_selection(
     data: &Dataset,
     ranking: &[Candidate],
     floor: &(dyn Fn(usize) -> Option<f64> + Sync),
+    lik: Likelihood,
 ) -> Vec<Candidate> {
     let Some(first) = ranking.first() else {
         return Vec::new();
@@ -123,7 +127,7 @@ pub fn forward_selection(
         .filter_map(|second| {
             let mut m = first.model.clone();
             m.effects.push(second.model.effects[base_len].clone());
-            evaluate(&m, &[base_len, base_len + 1], data, floor).ok()
+            evaluate(&m, &[base_len, base_len + 1], data, floor, lik).ok()
         })
         .collect();
     sort_by_aicc(&mut pairs);

@@ -90,7 +90,7 @@ pub fn diagnose(
         .par_iter()
         .filter_map(|e| {
             let m = model.clone().with_effect(EffectInstance::default_of(*e));
-            evaluate(&m, &[base_len], data, &floor).ok()
+            evaluate(&m, &[base_len], data, &floor, s.likelihood).ok()
         })
         .collect();
     sort_by_aicc(&mut ranking);
@@ -99,7 +99,7 @@ pub fn diagnose(
         && !ranking.iter().any(|c| c.score.at_noise_floor)
     {
         say(3, "forward selection: pairs of catalogue effects");
-        forward_selection(model, data, &ranking, &floor)
+        forward_selection(model, data, &ranking, &floor, s.likelihood)
     } else {
         Vec::new()
     };
@@ -109,6 +109,7 @@ pub fn diagnose(
             chi2: baseline.chi2,
             k: 0,
             floor: &floor,
+            likelihood: s.likelihood,
         };
         let d = super::discovery::discover(model, data, &reference, &s.discovery)?;
         say(5, "locating what the best catalogue effects leave");
@@ -118,7 +119,7 @@ pub fn diagnose(
         (None, None)
     };
     let mut verdict = match quality.explains_all() {
-        true => super::stagewise_verdict::data_quality_verdict(&baseline),
+        true => super::search::verdict::data_quality_verdict(&baseline),
         false => {
             let evidence = super::verdict::Evidence {
                 data,
@@ -130,11 +131,11 @@ pub fn diagnose(
             };
             let mut v = super::verdict::verdict(&evidence, s);
             if s.discover {
-                say(6, "stagewise: searching again on top of each step");
-                let path = super::stagewise::stagewise(model, &evidence, &v, &floor, s)?;
-                super::stagewise_verdict::conclude(path, &mut v, &baseline, data);
+                say(6, "searching over sets of laws, each refitted jointly");
+                let path = super::search::search(model, &evidence, &v, &floor, s)?;
+                super::search::verdict::conclude(path, &mut v, &baseline, data, s);
             }
-            super::stagewise_verdict::dedup_located(&mut v.located);
+            super::search::verdict::dedup_located(&mut v.located);
             v
         }
     };

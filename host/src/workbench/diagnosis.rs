@@ -28,6 +28,9 @@ pub struct DiagnoseSettings {
     pub discovery: DiscoverySettings,
     /// Told as each of the [`DIAGNOSE_STAGES`] starts (progress display).
     pub progress: Option<super::progress::Progress>,
+    /// The likelihood every fit of the diagnosis minimises (Gaussian: least
+    /// squares); passed to each fit, never kept in a thread.
+    pub likelihood: super::robust::Likelihood,
 }
 
 /// The diagnosis's stages: 1 is the data's quality and the base model's
@@ -44,6 +47,7 @@ impl Default for DiagnoseSettings {
             discover: true,
             discovery: DiscoverySettings::default(),
             progress: None,
+            likelihood: super::robust::Likelihood::Gaussian,
         }
     }
 }
@@ -94,13 +98,41 @@ pub struct Verdict {
     /// least half of the excess and lower MARE. Never the same place,
     /// feature and form twice.
     pub located: Vec<Located>,
-    /// The stagewise search's steps in order, each with the model beneath
+    /// The found set's members in order, each with the model beneath
     /// it (`on_top_of`); empty when nothing is needed or nothing is found.
     pub steps: Vec<Step>,
     /// For a set of two steps or more: what its joint fit fixes only
     /// together (parameters of different steps that trade, places with two
     /// laws, strengths whose interval spans no effect; `null` otherwise).
-    pub joint: Option<super::stagewise_joint::JointReading>,
+    pub joint: Option<super::search::joint::JointReading>,
+    /// The sets of laws and effects the data cannot tell apart (a model
+    /// confidence set, [`super::search::rivals`]): the found set first,
+    /// then every other set at other places whose key is within the AICc
+    /// margin of it (and at the noise floor when it is); empty when one set
+    /// stands alone.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sets: Vec<ExplainingSet>,
+    /// For an `indistinguishable` verdict of several sets: the places every
+    /// set has, stated as found.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub agreed_places: Vec<String>,
+}
+
+/// One set of a model confidence set ([`Verdict::sets`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct ExplainingSet {
+    /// Each member: the law `place = formula (values)` or the catalogue
+    /// effect's name.
+    pub members: Vec<String>,
+    /// The places (and catalogue names) of its members, sorted.
+    pub places: Vec<String>,
+    /// Its key (`AICc + sum 2 ln M`) minus the found set's (0 for the found
+    /// set itself).
+    pub key_difference: f64,
+    pub at_noise_floor: bool,
+    /// The measurement that best tells it from the found set, inside the
+    /// rig (`None` for the found set itself).
+    pub suggestion: Option<Suggestion>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -126,7 +158,7 @@ impl VerdictKind {
     }
 }
 
-/// One step of the stagewise search, in order: a catalogue effect or a
+/// One member of the found set, in order: a catalogue effect or a
 /// located law, fitted on top of the steps before it.
 #[derive(Debug, Clone, Serialize)]
 pub struct Step {

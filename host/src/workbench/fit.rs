@@ -4,7 +4,7 @@
 //! deviance is the [`Likelihood`]'s: the chi-square `sum z²` (Gaussian,
 //! the default) or the Student-t deviance `sum (nu + 1) ln(1 + z²/nu)`
 //! ([`super::robust`]), which one bad run cannot drag; [`fit_with`] takes
-//! it explicitly, [`fit`] from an enclosing [`with_likelihood`].
+//! it as an argument from every caller.
 //!
 //! The solver is the `levenberg-marquardt` crate (MINPACK's algorithm),
 //! given the signed square roots of each residual's deviance (their squares
@@ -265,50 +265,10 @@ fn starts(model: &Model, free: &[FreeParam]) -> Vec<DVector<f64>> {
 }
 
 /// Fit `free` parameters of `model` to the measured cases of `data` (or the
-/// subset `only`) by the [`ambient_likelihood`] (least squares unless run
-/// inside [`with_likelihood`]); `multi_start` tries several starts.
-pub fn fit(
-    model: &Model,
-    data: &Dataset,
-    only: Option<&[usize]>,
-    free: &[FreeParam],
-    multi_start: bool,
-) -> Result<FitResult, FitError> {
-    fit_with(model, data, only, free, multi_start, ambient_likelihood())
-}
-
-thread_local! {
-    static AMBIENT: std::cell::Cell<Likelihood> = const { std::cell::Cell::new(Likelihood::Gaussian) };
-}
-
-/// The likelihood [`fit`] minimises on this thread: the Gaussian, or the one
-/// set by an enclosing [`with_likelihood`].
-pub fn ambient_likelihood() -> Likelihood {
-    AMBIENT.with(std::cell::Cell::get)
-}
-
-/// Run `work` with every [`fit`] inside it (on any thread of its parallel
-/// loops) minimising the deviance of `likelihood`.
-///
-/// Why a scoped default and not a parameter: `diagnose` fits through many
-/// layers (catalogue candidates, their cross-validation, the located laws'
-/// refits, the stagewise search and its backfitting), and the one option
-/// must reach every fit they make alike. The work runs on a rayon pool of
-/// its own whose threads all carry the likelihood (a thread-local set as
-/// each starts), so nothing outside it is affected, nor other work running
-/// at the same time in the process.
-pub fn with_likelihood<R: Send>(
-    likelihood: Likelihood,
-    work: impl FnOnce() -> R + Send,
-) -> Result<R, rayon::ThreadPoolBuildError> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(rayon::current_num_threads())
-        .start_handler(move |_| AMBIENT.with(|a| a.set(likelihood)))
-        .build()?;
-    Ok(pool.install(work))
-}
-
-/// [`fit`] minimising the deviance of `likelihood`.
+/// subset `only`), minimising the deviance of `likelihood` (the Gaussian's
+/// is least squares); `multi_start` tries several starts. The likelihood
+/// is an argument, not a setting of the thread: every layer of `diagnose`
+/// passes on the one its settings carry.
 pub fn fit_with(
     model: &Model,
     data: &Dataset,

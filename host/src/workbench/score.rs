@@ -1,6 +1,6 @@
 //! The score of a fitted model variant, as `diagnose` ranks it: the same
 //! numbers for a catalogue candidate ([`super::diagnosis::Candidate`]), a
-//! located law ([`super::discovery::Located`]) and a stagewise step, so
+//! located law ([`super::discovery::Located`]) and a set's step, so
 //! that they read the same in the JSON, the tables and the page (each holds
 //! one, flattened).
 //!
@@ -18,7 +18,7 @@
 //! C.-L. Tsai, Biometrika 76 (1989) 297; K. L. Lange, R. J. A. Little &
 //! J. M. G. Taylor, J. Am. Stat. Assoc. 84 (1989) 881 (the t deviance).
 
-use super::fit::{ambient_likelihood, FitResult};
+use super::fit::FitResult;
 use super::robust::{deviance_of, Likelihood};
 use crate::data::Dataset;
 use crate::model::{Model, ModelError};
@@ -45,11 +45,14 @@ impl Deviance {
         }
     }
 
-    /// `model`'s deviance on `data` under the likelihood the enclosing
-    /// [`super::fit::with_likelihood`] minimises, beside its chi-square
+    /// `model`'s deviance on `data` under `lik`, beside its chi-square
     /// `chi2` (not recomputed, so that the Gaussian's is `chi2` exactly).
-    pub fn of_model(model: &Model, data: &Dataset, chi2: f64) -> Result<Self, ModelError> {
-        let lik = ambient_likelihood();
+    pub fn of_model(
+        model: &Model,
+        data: &Dataset,
+        chi2: f64,
+        lik: Likelihood,
+    ) -> Result<Self, ModelError> {
         let minimised = match lik {
             Likelihood::Gaussian => None,
             _ => Some(deviance_of(model, data, lik)?),

@@ -39,7 +39,7 @@ pub use super::verdict_rules::{aicc, parsimonious, partial, PARTIAL};
 
 /// What the verdict is decided from: the data, the baseline, the
 /// catalogue's ranking and pairs, and the searches beyond it. Shared by
-/// [`verdict`] and [`super::stagewise::stagewise`].
+/// [`verdict`] and [`super::search::search`].
 #[derive(Clone, Copy)]
 pub struct Evidence<'a> {
     pub data: &'a Dataset,
@@ -144,6 +144,7 @@ pub fn remainders(
             chi2: c.score.chi2,
             k: c.params.len(),
             floor,
+            likelihood: s.likelihood,
         };
         let d = discover(&c.model, data, &reference, &settings)?;
         let key = |d: &Discovery| d.located.first().map_or(f64::INFINITY, aicc);

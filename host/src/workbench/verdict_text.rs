@@ -1,11 +1,11 @@
 //! How the verdict of `diagnose` is worded: numbers as every command and
 //! the page print them, and the sentences of each kind. What is decided is
-//! in [`super::verdict`] (a [`Decision`]) and [`super::stagewise`].
+//! in [`super::verdict`] (a [`Decision`]) and [`super::search`].
 
 use super::diagnosis::{Baseline, DiagnoseSettings, Verdict, VerdictKind};
 use super::discovery::Located;
 use super::experiments::separation::Suggestion;
-use super::stagewise::{Level, Path};
+use super::search::level::{Found, Level};
 use super::verdict::{Decision, Evidence};
 
 /// A reduced chi-square in a note: 3 significant figures (`crate::format`).
@@ -31,9 +31,9 @@ pub fn hint(g: &Suggestion) -> String {
     g.hint()
 }
 
-/// The note of a stagewise verdict: every step in order with what it
+/// The note of the found set's verdict: every step in order with what it
 /// removes, then the errors before and after.
-pub fn stagewise_note(base: &Baseline, path: &Path, last: &Level) -> String {
+pub fn found_set_note(base: &Baseline, path: &Found, last: &Level) -> String {
     let steps: Vec<String> = path
         .steps
         .iter()
@@ -60,11 +60,9 @@ pub fn stagewise_note(base: &Baseline, path: &Path, last: &Level) -> String {
     let head = match (last.at_floor, n == 1) {
         (true, true) => "1 step reaches the noise floor".to_string(),
         (true, false) => format!("{n} steps reach the noise floor"),
-        (false, true) => {
-            "stagewise, 1 step lowers the error but does not reach the noise floor".to_string()
-        }
+        (false, true) => "1 step lowers the error but does not reach the noise floor".to_string(),
         (false, false) => {
-            format!("stagewise, {n} steps lower the error but do not reach the noise floor")
+            format!("{n} steps lower the error but do not reach the noise floor")
         }
     };
     format!(
@@ -92,6 +90,8 @@ pub(crate) fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
         located: Vec::new(),
         steps: Vec::new(),
         joint: None,
+        sets: Vec::new(),
+        agreed_places: Vec::new(),
     }
 }
 

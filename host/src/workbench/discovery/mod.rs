@@ -34,7 +34,7 @@ pub mod search;
 pub mod write;
 
 use super::compare::compare;
-use super::fit::{fit, free_params_of, Estimate, FitError};
+use super::fit::{fit_with, free_params_of, Estimate, FitError};
 use super::score::{Deviance, FitScore};
 use crate::data::Dataset;
 use crate::effects::correction::{Form, LocatedCorrection};
@@ -120,6 +120,8 @@ pub struct Reference<'a> {
     /// Free parameters already fitted in the model (counted in AICc).
     pub k: usize,
     pub floor: &'a (dyn Fn(usize) -> Option<f64> + Sync),
+    /// The likelihood every refit minimises.
+    pub likelihood: super::robust::Likelihood,
 }
 
 pub use super::score::aicc;
@@ -219,7 +221,7 @@ fn refit(
         values: x.params.clone(),
     });
     let free = free_params_of(&m, &[m.effects.len() - 1]);
-    let full = fit(&m, data, None, &free, false)?;
+    let full = fit_with(&m, data, None, &free, false, reference.likelihood)?;
     let k = reference.k + free.len();
     let cmp = compare(&full.model, data, k)?;
     let values = full

@@ -3,14 +3,14 @@
 //! sit at one place, so backfitting never tried another. This screens every
 //! law on the table (the same search, [`super::search`]) and keeps the best
 //! at each place the model is sensitive to; the caller refits it exactly,
-//! jointly with the steps it keeps ([`crate::workbench::stagewise_backfit`]).
+//! jointly with the steps it keeps ([`crate::workbench::subsets`]).
 //!
 //! References: Burnham & Anderson, *Model Selection and Multimodel
 //! Inference*, 2nd ed. (2002) (AICc ranking).
 
 use super::screen::Table;
-use super::search::{cv_mare, Screen, Screened};
-use super::{aicc, refit, DiscoverySettings, Located, Reference};
+use super::search::{Screen, Screened};
+use super::{aicc, refit, Located, Reference};
 use crate::data::Dataset;
 use crate::effects::place::Place;
 use crate::model::Model;
@@ -20,7 +20,6 @@ use crate::workbench::fit::FitError;
 pub struct AtPlace {
     pub place: Place,
     pub screened: Screened,
-    cv_mare: f64,
 }
 
 /// The best screened law at each sensitive place on the response `table`
@@ -28,17 +27,9 @@ pub struct AtPlace {
 /// ranking's AICc). The table and its screen are the caller's: the search
 /// on the same model ([`super::discover_on`]) reads them too, and building
 /// them is most of the cost on small data.
-pub fn best_at_each_place(
-    table: &Table,
-    screen: &Screen,
-    data: &Dataset,
-    k: usize,
-    s: &DiscoverySettings,
-) -> Vec<AtPlace> {
-    let n_cases = data.cases.len();
+pub fn best_at_each_place(table: &Table, screen: &Screen, k: usize) -> Vec<AtPlace> {
     let n_sub = screen.sub.len();
     let key = |x: &Screened| aicc(x.chi2, n_sub, k + x.params.len()).unwrap_or(x.chi2);
-    let folds = if n_cases <= 10 { n_cases } else { s.folds };
     let mut out: Vec<AtPlace> = Vec::new();
     for place in Place::ALL {
         let best = screen
@@ -49,12 +40,7 @@ pub fn best_at_each_place(
         let Some(x) = best else { continue };
         let mut x = x.clone();
         screen.on_all(table, &mut x);
-        let cv = cv_mare(table, &x, n_cases, folds);
-        out.push(AtPlace {
-            place,
-            screened: x,
-            cv_mare: cv,
-        });
+        out.push(AtPlace { place, screened: x });
     }
     out
 }
@@ -69,11 +55,15 @@ impl AtPlace {
         reference: &Reference,
     ) -> Result<Located, FitError> {
         let floor0 = (reference.floor)(0);
+        // No cross-validation here: a law kept in a set is restated at the
+        // set's joint values with its exact cross-validated MARE
+        // (`search::set::restate`); ten table refits per place per call
+        // were most of the search's time on 1000 cases.
         refit(
             model,
             data,
             self.screened.clone(),
-            self.cv_mare,
+            f64::NAN,
             reference,
             floor0,
         )

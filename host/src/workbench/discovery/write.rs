@@ -38,7 +38,7 @@ pub fn to_toml(l: &Located, dataset: &str) -> String {
 }
 
 /// The effect file for located corrections found in order by the
-/// stagewise search, each with its base: the model it was fitted on top
+/// search over subsets, each with its base: the model it was fitted on top
 /// of, where an earlier law of the file is named by its name in the file
 /// (and a second law at one place gets `-2`, ...).
 pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {

@@ -1,47 +1,88 @@
-//! The arithmetic of a backfitted set ([`super`]): its members, their
-//! joint fit and key `AICc + sum 2 ln M`, and the path a set is listed as.
-//! What is decided about a set is in [`super`].
+//! The arithmetic of a set of laws and effects ([`super`]): its members,
+//! their joint fit and key `AICc + sum 2 ln M`, and the path a set is
+//! listed as. What is decided about a set is in [`super`].
 //!
 //! References: C. M. Hurvich & C.-L. Tsai, Biometrika 76 (1989) 297 (AICc);
 //! K. P. Burnham & D. R. Anderson, *Model Selection and Multimodel
 //! Inference*, 2nd ed. (2002), ch. 2.
 
+use super::level::{n_obs, step_of, Floor, Level, Steps};
 use crate::data::Dataset;
+use crate::effects::correction::LocatedCorrection;
 use crate::effects::EffectInstance;
 use crate::model::Model;
 use crate::workbench::candidate::{candidates, cross_validated_mare};
 use crate::workbench::compare::compare;
+use crate::workbench::discovery::places::AtPlace;
 use crate::workbench::discovery::{interpretation_of, Located};
-use crate::workbench::fit::{fit, free_params_of, Estimate, FitError, FitResult};
+use crate::workbench::fit::{fit_with, free_params_of, Estimate, FitError, FitResult};
 use crate::workbench::robust::t_deviance_of;
+use crate::workbench::robust::Likelihood;
 use crate::workbench::score::Deviance;
-use crate::workbench::stagewise::{n_obs, step_of, Floor, Level, Steps};
 
 /// One step of the set: the effects it adds, and the law (for a located
 /// step) or the catalogue name.
 #[derive(Clone)]
 pub(super) struct Member {
+    /// What the member is, independent of its values: the catalogue name,
+    /// or `place|feature|form` for a law.
+    pub id: String,
     pub insts: Vec<EffectInstance>,
     pub located: Option<Located>,
     pub name: String,
     /// `2 ln M`: the charge for having chosen it among `M`.
     pub charge: f64,
+    /// The place of a law (`None` for a catalogue effect).
+    pub place: Option<&'static str>,
+    /// A screened law not yet refitted alone: located once it is kept.
+    pub pending: Option<std::sync::Arc<AtPlace>>,
 }
 
 impl Member {
-    /// The same catalogue effect, or a law at the same place: which form
-    /// and feature a place takes is the parsimony rule's business
-    /// ([`super::verdict_rules::parsimonious`]), not backfitting's.
-    pub fn same(&self, other: &Member) -> bool {
-        match (&self.located, &other.located) {
-            (Some(a), Some(b)) => a.place == b.place,
-            (None, None) => self.name == other.name,
-            _ => false,
+    /// The law of a located or screened member (`None` for a catalogue
+    /// effect).
+    pub fn law(&self) -> Option<&'static LocatedCorrection> {
+        match (&self.located, &self.pending) {
+            (Some(l), _) => Some(l.correction),
+            (None, Some(at)) => Some(at.screened.correction),
+            (None, None) => None,
         }
+    }
+
+    /// The member as a verdict names it: `place = formula (k=.., p=..)` at
+    /// its current values, or the catalogue effect's name.
+    pub fn describe(&self) -> String {
+        let (Some(law), Some(inst)) = (self.law(), self.insts.first()) else {
+            return self.name.clone();
+        };
+        let params: Vec<String> = inst
+            .effect
+            .params()
+            .iter()
+            .zip(&inst.values)
+            .map(|(p, v)| format!("{}={}", p.name, crate::format::fmt_sig(*v, 4)))
+            .collect();
+        format!(
+            "{} = {} ({})",
+            law.place.name(),
+            law.formula(),
+            params.join(", ")
+        )
     }
 }
 
+/// The id of a law: place, feature and form.
+pub(super) fn law_id(c: &LocatedCorrection) -> String {
+    format!(
+        "{}|{}|{:?}",
+        c.place.name(),
+        c.feature.map_or("-", |q| q.id),
+        c.form
+    )
+}
+
 /// A set of members fitted jointly on top of the starting model.
+#[derive(Clone)]
 pub(super) struct Joint {
     pub fit: FitResult,
     pub k: usize,
@@ -54,6 +95,7 @@ pub(super) fn joint(
     set: &[Member],
     data: &Dataset,
     floor: Floor,
+    lik: Likelihood,
 ) -> Result<Joint, FitError> {
     let mut m = model0.clone();
     for inst in set.iter().flat_map(|s| &s.insts) {
@@ -61,7 +103,7 @@ pub(super) fn joint(
     }
     let added: Vec<usize> = (model0.effects.len()..m.effects.len()).collect();
     let free = free_params_of(&m, &added);
-    let fit = fit(&m, data, None, &free, false)?;
+    let fit = fit_with(&m, data, None, &free, false, lik)?;
     let k = free.len();
     let at_floor = floor(k).is_some_and(|f| fit.chi2 <= f);
     let charges: f64 = set.iter().map(|s| s.charge).sum();
@@ -100,6 +142,12 @@ pub(super) fn members(model0: &Model, path: &Steps, laws: usize) -> Vec<Member> 
             let insts = level.model.effects[prev..].to_vec();
             prev = level.model.effects.len();
             Member {
+                id: match located {
+                    Some(l) => law_id(l.correction),
+                    None => step.name.clone(),
+                },
+                place: located.as_ref().map(|l| l.place),
+                pending: None,
                 insts,
                 located: located.clone(),
                 name: step.name.clone(),
@@ -121,6 +169,7 @@ pub(super) fn rebuild(
     set: &[Member],
     estimates: &[Estimate],
     floor: Floor,
+    lik: Likelihood,
 ) -> Result<Steps, FitError> {
     let n = n_obs(data);
     let mut estimates = estimates.iter();
@@ -146,13 +195,13 @@ pub(super) fn rebuild(
         let k = free.len();
         let cmp = compare(&model, data, k)?;
         let level = Level {
-            cv_mare: cross_validated_mare(&model, data, &free),
+            cv_mare: cross_validated_mare(&model, data, &free, lik),
             chi2: cmp.summary.chi2,
             k,
             mare: cmp.summary.mare,
             chi2_reduced: cmp.summary.chi2_reduced,
             t_deviance: t_deviance_of(&model, data)?,
-            minimised: Deviance::of_model(&model, data, cmp.summary.chi2)?.minimised,
+            minimised: Deviance::of_model(&model, data, cmp.summary.chi2, lik)?.minimised,
             at_floor: floor(k).is_some_and(|f| cmp.summary.chi2 <= f),
             model,
         };

@@ -1,9 +1,9 @@
 //! How what a found set's joint fit fixes only together
-//! ([`super::stagewise_joint`]) is worded in the note of `diagnose`: one
+//! ([`super::joint`]) is worded in the note of `diagnose`: one
 //! sentence per group of parameters that trade, per place with two laws,
 //! and per strength whose interval spans no effect.
 
-use super::stagewise_joint::{traded_groups, JointReading, StepParam};
+use super::joint::{traded_groups, JointReading, StepParam};
 use crate::format::fmt_sig;
 
 /// A parameter of a step: "step 2's body.E_x k = -0.98 +- 0.05".

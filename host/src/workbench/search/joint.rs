@@ -3,18 +3,18 @@
 //! different steps that trade against each other, the places that carry
 //! two laws, and the parameters whose interval spans no effect. The set is
 //! still a set that fits; these say which of its parts the data fix only
-//! together. How they are worded is in [`super::verdict_text`].
+//! together. How they are worded is in [`crate::workbench::verdict_text`].
 //!
 //! - **Traded**: two parameters of different steps whose correlation in
 //!   the joint fit exceeds [`TRADE_CORRELATION`] in magnitude, or that
 //!   span a combination the data leave free (a null direction of
-//!   `J^T W J`, [`super::fit_uncertainty`]; no correlation is defined, it
+//!   `J^T W J`, [`crate::workbench::fit_uncertainty`]; no correlation is defined, it
 //!   is reported as `null`). The data fix a combination of the two, not
 //!   each: moving one and refitting the other costs almost nothing.
 //! - **Shared place**: two located laws at one place (in different
 //!   features) are one place whose multiplier is the product of the two
 //!   laws (a load: their sum), or at places the axial model cannot tell
-//!   apart ([`super::discovery::interpret::equivalents`]).
+//!   apart ([`crate::workbench::discovery::interpret::equivalents`]).
 //! - **No effect within the interval**: a located law's strength `k`
 //!   whose 95 % interval in the joint fit contains the value at which the
 //!   law does nothing (1 for a constant multiplier, 0 for `1 + k x`,
@@ -23,23 +23,24 @@
 //!
 //! The joint fit starts from the path's values (one start), with every
 //! parameter the steps added free, by the likelihood of the enclosing
-//! diagnosis ([`super::fit::fit`]).
+//! diagnosis ([`crate::workbench::fit::fit_with`]).
 //!
 //! References: D. A. Belsley, E. Kuh & R. E. Welsch, *Regression
 //! Diagnostics* (1980), ch. 3 (collinearity; a variance inflation factor
 //! `1/(1 - r^2)` above 10, `|r|` above 0.95 for a pair, is the usual
 //! mark of a combination fixed rather than its parts).
 
-use super::discovery::interpret::equivalents;
-use super::fit::{fit, free_params_of, FitError, FitResult, FreeParam};
-use super::stagewise::Path;
+use super::level::Found;
 use crate::data::Dataset;
 use crate::effects::correction::Form;
 use crate::effects::place::Place;
+use crate::workbench::discovery::interpret::equivalents;
+use crate::workbench::fit::{fit_with, free_params_of, FitError, FitResult, FreeParam};
+use crate::workbench::robust::Likelihood;
 use serde::Serialize;
 
 /// `|r|` above which two parameters of different steps trade (0.95): the
-/// threshold `fit` uses for its own pairs ([`super::fit_uncertainty`]), a
+/// threshold `fit` uses for its own pairs ([`crate::workbench::fit_uncertainty`]), a
 /// variance inflation factor `1/(1 - r^2)` of 10.3 (module docs).
 pub const TRADE_CORRELATION: f64 = 0.95;
 
@@ -94,7 +95,11 @@ impl JointReading {
 
 /// The reading of `path` on `data`; `None` for a path of fewer than two
 /// steps (a single law's own fit says what it fixes).
-pub fn joint_reading(path: &Path, data: &Dataset) -> Result<Option<JointReading>, FitError> {
+pub fn joint_reading(
+    path: &Found,
+    data: &Dataset,
+    lik: Likelihood,
+) -> Result<Option<JointReading>, FitError> {
     let (Some(first), Some(last)) = (path.steps.first(), path.steps.last()) else {
         return Ok(None);
     };
@@ -119,7 +124,7 @@ pub fn joint_reading(path: &Path, data: &Dataset) -> Result<Option<JointReading>
     else {
         return Ok(None);
     };
-    let joint = fit(model, data, None, &free, false)?;
+    let joint = fit_with(model, data, None, &free, false, lik)?;
     let params: Vec<StepParam> = joint
         .estimates
         .iter()
@@ -152,7 +157,7 @@ pub fn joint_reading(path: &Path, data: &Dataset) -> Result<Option<JointReading>
 
 /// The joint fit's correlations: its matrix; or, when the data leave a
 /// combination free (the fit then gives none), those of the covariance on
-/// the constrained subspace ([`super::fit_uncertainty::inverse`], the
+/// the constrained subspace ([`crate::workbench::fit_uncertainty::inverse`], the
 /// information `J^T J` of the normalised residuals), with `None` for the
 /// pairs within a free combination (no correlation is defined there) and
 /// for every pair when the information has no usable inverse at all.
@@ -165,8 +170,9 @@ fn correlations(joint: &FitResult, free: &[FreeParam], data: &Dataset) -> Vec<Ve
             .collect();
     }
     let cases: Vec<&crate::data::Case> = data.cases.iter().collect();
-    let Some(inv) = super::fit_uncertainty::physical_jacobian(&joint.model, free, &cases)
-        .and_then(|j| super::fit_uncertainty::inverse(&(j.transpose() * &j)))
+    let Some(inv) =
+        crate::workbench::fit_uncertainty::physical_jacobian(&joint.model, free, &cases)
+            .and_then(|j| crate::workbench::fit_uncertainty::inverse(&(j.transpose() * &j)))
     else {
         return vec![vec![None; k]; k];
     };
@@ -262,7 +268,7 @@ pub fn shared_places(laws: &[(usize, Place)]) -> Vec<SharedPlace> {
 
 /// The value of a located law's strength `k` at which it does nothing
 /// (module docs), per free parameter; `None` for every other parameter.
-fn strength_nulls(free: &[FreeParam], steps: &[usize], path: &Path) -> Vec<Option<f64>> {
+fn strength_nulls(free: &[FreeParam], steps: &[usize], path: &Found) -> Vec<Option<f64>> {
     free.iter()
         .zip(steps)
         .map(|(f, &s)| {

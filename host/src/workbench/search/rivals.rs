@@ -1,0 +1,60 @@
+//! The sets the data cannot tell apart: a model confidence set around the
+//! found set of [`super::search`]. Reaching the noise floor is not placing
+//! the truth: on drawn three-effect truths the search reached the floor on
+//! eight designs of ten, yet a set with one law at a wrong place tied the
+//! true set within the noise on every one. A verdict that names one set
+//! there claims a certainty the data do not give.
+//!
+//! A **rival** of the found set is every other set the search fitted that
+//! - has its key (`AICc + sum 2 ln M`) within the AICc margin
+//!   (`clear_margin`, 4) of the found set's, either side;
+//! - is at the noise floor when the found set is;
+//! - lies inside its places' physical ranges and is acceptable as the found
+//!   set is (every member pays for itself, [`super::acceptable`]);
+//! - has other places (a set that differs only in a law's form or feature
+//!   at the same places is the same finding, worded by the parsimony rule).
+//!
+//! One set per combination of places (the best key) is kept. When the found
+//! set stays more than [`super::FAR_ABOVE`] times above the floor, sets only
+//! rank misfits and none is stated as a rival.
+//!
+//! References: K. P. Burnham & D. R. Anderson, *Model Selection and
+//! Multimodel Inference*, 2nd ed. (2002), ch. 2 (models within a few AICc
+//! units have substantial support); P. R. Hansen, A. Lunde & J. M. Nason,
+//! Econometrica 79 (2011) 453 (the model confidence set).
+
+use super::level::Rival;
+use super::{acceptable, Ctx, Fitted, FAR_ABOVE};
+
+/// The rivals of `chosen` among `all` (sorted by key), best key first.
+pub(super) fn of(ctx: &Ctx, all: &[Fitted], chosen: &Fitted) -> Vec<Rival> {
+    let far = (ctx.floor)(chosen.joint.k).is_some_and(|fl| chosen.joint.fit.chi2 > FAR_ABOVE * fl);
+    if far {
+        return Vec::new();
+    }
+    let margin = ctx.s.clear_margin;
+    let mut seen = vec![chosen.signature()];
+    let mut out = Vec::new();
+    for f in all {
+        let diff = f.joint.key - chosen.joint.key;
+        if diff.abs() > margin
+            || (chosen.joint.at_floor && !f.joint.at_floor)
+            || f.outside.is_some()
+            || seen.contains(&f.signature())
+        {
+            continue;
+        }
+        if !acceptable(ctx, f) {
+            continue;
+        }
+        seen.push(f.signature());
+        out.push(Rival {
+            members: f.members.iter().map(|m| m.describe()).collect(),
+            places: f.signature(),
+            key_difference: diff,
+            at_floor: f.joint.at_floor,
+            model: f.joint.fit.model.clone(),
+        });
+    }
+    out
+}
