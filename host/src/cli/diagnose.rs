@@ -209,7 +209,7 @@ fn write_effect(
     Ok(())
 }
 
-fn print_steps(steps: &[crate::workbench::diagnose::Step]) {
+fn print_steps(steps: &[crate::workbench::diagnose::SetMember]) {
     if steps.is_empty() {
         return;
     }

@@ -15,9 +15,9 @@ use crate::data::Dataset;
 use crate::model::Model;
 use crate::workbench::diagnose::{Candidate, Diagnosis};
 
-/// One step of the path.
+/// One step of the path `diagnose` takes, as the chart and the table draw it.
 #[derive(Debug, Clone)]
-pub struct Step {
+pub struct ChartStep {
     /// Short name (the chart's category label).
     pub label: String,
     /// What the step is, in a sentence fragment.
@@ -59,8 +59,8 @@ pub fn change_label(from: &Model, to: &Model) -> String {
     }
 }
 
-fn from_candidate(c: &Candidate, what: &str) -> Step {
-    Step {
+fn from_candidate(c: &Candidate, what: &str) -> ChartStep {
+    ChartStep {
         label: format!("+ {}", c.effect),
         what: what.to_string(),
         // every free parameter of the step's model, the start's included
@@ -72,8 +72,8 @@ fn from_candidate(c: &Candidate, what: &str) -> Step {
 }
 
 /// The steps of `d` (see the module docs).
-pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
-    let mut out = vec![Step {
+pub fn steps(start: &Model, d: &Diagnosis) -> Vec<ChartStep> {
+    let mut out = vec![ChartStep {
         label: "start".into(),
         what: format!("the model as given: {}", start.describe()),
         fitted: free_params(start),
@@ -120,7 +120,7 @@ pub fn steps(start: &Model, d: &Diagnosis) -> Vec<Step> {
             .map(|e| e.name())
             .collect();
         let under = beneath[..beneath.len().saturating_sub(1)].join(" + ");
-        out.push(Step {
+        out.push(ChartStep {
             label: if under.is_empty() {
                 format!("+ {} law", l.place)
             } else {

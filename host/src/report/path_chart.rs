@@ -5,7 +5,7 @@
 //! axis (powers of ten) with the noise floor as a dashed line. Written as
 //! SVG directly: the shared chart engine has no arrows per category.
 
-use super::path::Step;
+use super::path::ChartStep;
 use super::wording::{pct, stat, Change};
 use std::fmt::Write;
 
@@ -27,6 +27,7 @@ pub enum Metric {
 }
 
 use crate::chart::escape_text as esc;
+use crate::chart::{has_subscript, rich_text as rich, text_extent as extent};
 
 /// The vertical axis: log10 for chi-square, linear from zero for MARE.
 struct Scale {
@@ -81,7 +82,7 @@ impl Scale {
     }
 }
 
-fn value(s: &Step, m: Metric) -> Option<f64> {
+fn value(s: &ChartStep, m: Metric) -> Option<f64> {
     match m {
         Metric::Mare => Some(s.mare),
         Metric::Chi2 => s.chi2_reduced,
@@ -126,7 +127,7 @@ fn wrap(label: &str, chars: usize) -> Vec<String> {
 /// is the chi-square's noise); `mare_noise` is the MARE's, the same the
 /// tables judge a change by, so chart and table never disagree.
 pub fn chart(
-    steps: &[Step],
+    steps: &[ChartStep],
     m: Metric,
     floor: Option<f64>,
     mare_noise: f64,
@@ -224,13 +225,18 @@ pub fn chart(
     let mut prev: Option<(usize, f64)> = None;
     for (i, st) in steps.iter().enumerate() {
         let x = cx(i);
-        for (j, line) in wrap(&st.label, (slot / 6.2) as usize).iter().enumerate() {
+        // A label names places in the engine's notation (`E_x`, `x^p`):
+        // drawn as sub- and superscripts, and a line with a subscript
+        // pushes the next one down by the subscript's depth.
+        let mut y_line = y_bot + 16.0;
+        for line in wrap(&st.label, (slot / 6.2) as usize) {
             let _ = write!(
                 s,
-                "<text x=\"{x:.1}\" y=\"{:.1}\" text-anchor=\"middle\" font-size=\"10.5\">{}</text>",
-                y_bot + 16.0 + 13.0 * j as f64,
-                esc(line)
+                "<text x=\"{x:.1}\" y=\"{y_line:.1}\" text-anchor=\"middle\" font-size=\"10.5\">{}</text>",
+                rich(&line)
             );
+            let (_, below) = extent(10.5, has_subscript(&line));
+            y_line += 13.0 + (below - extent(10.5, false).1);
         }
         let Some(v) = value(st, m) else { continue };
         let y = scale.y(v);
@@ -310,8 +316,8 @@ pub fn chart(
 mod tests {
     use super::*;
 
-    fn step(label: &str, mare: f64, chi2: f64) -> Step {
-        Step {
+    fn step(label: &str, mare: f64, chi2: f64) -> ChartStep {
+        ChartStep {
             label: label.into(),
             what: String::new(),
             fitted: 0,

@@ -307,7 +307,7 @@ pub fn section(data: &Dataset, path: &Path) -> Markup {
 
 /// MARE and reduced chi-square along the steps, as the path charts.
 fn steps_figure(path: &Path, noise: f64) -> Markup {
-    let steps: Vec<super::path::Step> = path.steps.iter().map(as_path_step).collect();
+    let steps: Vec<super::path::ChartStep> = path.steps.iter().map(as_path_step).collect();
     figure(
         "yours-path",
         &[
@@ -322,8 +322,8 @@ fn steps_figure(path: &Path, noise: f64) -> Markup {
     )
 }
 
-fn as_path_step(s: &Step) -> super::path::Step {
-    super::path::Step {
+fn as_path_step(s: &Step) -> super::path::ChartStep {
+    super::path::ChartStep {
         label: s.label.clone(),
         what: s.spec.clone(),
         fitted: s.summary().free_params,

@@ -36,7 +36,7 @@ use rayon::prelude::*;
 
 pub use super::candidate::candidates;
 pub use super::diagnosis::{
-    Baseline, Candidate, DiagnoseSettings, Diagnosis, Remainder, Step, Verdict, VerdictKind,
+    Baseline, Candidate, DiagnoseSettings, Diagnosis, Remainder, SetMember, Verdict, VerdictKind,
 };
 
 /// Run the whole diagnosis of `model` on `data`.

@@ -100,7 +100,7 @@ pub struct Verdict {
     pub located: Vec<Located>,
     /// The found set's members in order, each with the model beneath
     /// it (`on_top_of`); empty when nothing is needed or nothing is found.
-    pub steps: Vec<Step>,
+    pub steps: Vec<SetMember>,
     /// For a set of two steps or more: what its joint fit fixes only
     /// together (parameters of different steps that trade, places with two
     /// laws, strengths whose interval spans no effect; `null` otherwise).
@@ -161,7 +161,7 @@ impl VerdictKind {
 /// One member of the found set, in order: a catalogue effect or a
 /// located law, fitted on top of the steps before it.
 #[derive(Debug, Clone, Serialize)]
-pub struct Step {
+pub struct SetMember {
     /// `catalogue` or `located`.
     pub kind: &'static str,
     /// The catalogue effect's name, or the law `place = formula (values)`.

@@ -7,7 +7,7 @@
 
 use crate::data::Dataset;
 use crate::model::Model;
-use crate::workbench::diagnosis::{Candidate, Step, Verdict, VerdictKind};
+use crate::workbench::diagnosis::{Candidate, SetMember, Verdict, VerdictKind};
 use crate::workbench::discovery::write::exact_spec;
 use crate::workbench::discovery::Located;
 use crate::workbench::robust::t_deviance_of;
@@ -46,7 +46,7 @@ impl Level {
 
 /// The steps found, each with its level and (for a law) the finding.
 pub struct Found {
-    pub steps: Vec<(Step, Level, Option<Located>)>,
+    pub steps: Vec<(SetMember, Level, Option<Located>)>,
     /// Steps beyond the ones the single-step verdict already named.
     pub added: usize,
     /// The other sets the data cannot tell from this one
@@ -69,7 +69,7 @@ pub struct Rival {
 }
 
 pub(super) struct Proposal {
-    pub step: Step,
+    pub step: SetMember,
     pub level: Level,
     pub located: Option<Located>,
 }
@@ -90,8 +90,8 @@ pub(super) fn step_of(
     prev: &Level,
     level: &Level,
     n: usize,
-) -> Step {
-    Step {
+) -> SetMember {
+    SetMember {
         kind,
         name,
         on_top_of: on_top_of(&prev.model),
@@ -180,4 +180,4 @@ pub(super) fn first_steps(base: &Level, e: &Evidence, v: &Verdict, floor: Floor)
     out
 }
 
-pub(super) type Steps = Vec<(Step, Level, Option<Located>)>;
+pub(super) type Steps = Vec<(SetMember, Level, Option<Located>)>;
