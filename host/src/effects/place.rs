@@ -55,6 +55,18 @@ pub enum Part {
 }
 
 impl Place {
+    /// What the place's physics allows a law's value (the multiplier, or
+    /// the drive's rate over the recorded one) to be; `None` for a load,
+    /// which has no scale of its own. The reasons are stated in
+    /// `workbench/search/ranges.rs`, where a set outside them is refused.
+    pub fn allowed_value(self) -> Option<(f64, f64)> {
+        match self {
+            Place::DriveRate => Some((0.5, 1.1)),
+            Place::LoadForce | Place::LoadTorque => None,
+            _ => Some((0.1, 10.0)),
+        }
+    }
+
     pub const ALL: [Place; 11] = [
         Place::TailTangential,
         Place::TailNormal,

@@ -97,6 +97,14 @@ pub fn interpret_on(
         ));
         s.push(')');
     }
+    if let Some((lo, hi)) = place.allowed_value() {
+        let (min, max) = design.range;
+        if min < lo || max > hi {
+            s.push_str(&format!(
+                "; outside what this place allows ({lo} to {hi}), so a fit, not an explanation"
+            ));
+        }
+    }
     for e in equivalents(place) {
         s.push_str("; equivalently, ");
         s.push_str(e.reading);

@@ -28,11 +28,7 @@ use crate::effects::place::Place;
 /// The allowed interval of a place's value (module docs); `None`: no range
 /// beyond the law's own bounds.
 pub fn allowed(place: Place) -> Option<(f64, f64)> {
-    match place {
-        Place::DriveRate => Some((0.5, 1.1)),
-        Place::LoadForce | Place::LoadTorque => None,
-        _ => Some((0.1, 10.0)),
-    }
+    place.allowed_value()
 }
 
 /// The first case whose value of the law lies outside its place's range:
