@@ -38,8 +38,8 @@ pub use colour::Rgb;
 pub use legend::Glyph;
 pub use series::Series;
 pub use svg_text::{
-    escape as escape_text, extent as text_extent, has_subscript, notation, rich as rich_text,
-    runs as notation_runs, unit, width as text_width,
+    escape as escape_text, extent as text_extent, has_subscript, notation, runs as notation_runs,
+    unit, width as text_width,
 };
 pub use ticks::Axis;
 

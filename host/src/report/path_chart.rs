@@ -27,7 +27,7 @@ pub enum Metric {
 }
 
 use crate::chart::escape_text as esc;
-use crate::chart::{has_subscript, rich_text as rich, text_extent as extent};
+use crate::chart::{has_subscript, text_extent as extent};
 
 /// The vertical axis: log10 for chi-square, linear from zero for MARE.
 struct Scale {
@@ -225,15 +225,15 @@ pub fn chart(
     let mut prev: Option<(usize, f64)> = None;
     for (i, st) in steps.iter().enumerate() {
         let x = cx(i);
-        // A label names places in the engine's notation (`E_x`, `x^p`):
-        // drawn as sub- and superscripts, and a line with a subscript
-        // pushes the next one down by the subscript's depth.
+        // A label is drawn as written (`body.E_x`, `pitch_angle_deg`: names,
+        // not notation), but the engine's text checks read `_x` as a
+        // subscript, so such a line pushes the next one down by its depth.
         let mut y_line = y_bot + 16.0;
         for line in wrap(&st.label, (slot / 6.2) as usize) {
             let _ = write!(
                 s,
                 "<text x=\"{x:.1}\" y=\"{y_line:.1}\" text-anchor=\"middle\" font-size=\"10.5\">{}</text>",
-                rich(&line)
+                esc(&line)
             );
             let (_, below) = extent(10.5, has_subscript(&line));
             y_line += 13.0 + (below - extent(10.5, false).1);
