@@ -398,15 +398,7 @@ fn singles(
     let mut lib: Vec<Member> = e
         .ranking
         .iter()
-        .map(|c| Member {
-            id: c.effect.clone(),
-            insts: c.model.effects[base_len..].to_vec(),
-            located: None,
-            name: c.effect.clone(),
-            charge: cat_charge,
-            place: None,
-            pending: None,
-        })
+        .map(|c| Member::catalogue(c, base_len, cat_charge))
         .collect();
     if let Some(d) = e.discovery {
         for l in &d.located {
@@ -553,15 +545,7 @@ fn extended(
                 .take(CATALOGUE_EXTEND);
             for c in cats {
                 let mut m = f.members.clone();
-                m.push(Member {
-                    id: c.effect.clone(),
-                    insts: c.model.effects[base_len..].to_vec(),
-                    located: None,
-                    name: c.effect.clone(),
-                    charge: cat_charge,
-                    place: None,
-                    pending: None,
-                });
+                m.push(Member::catalogue(c, base_len, cat_charge));
                 out.push(m);
             }
             out

@@ -13,6 +13,7 @@ use crate::effects::EffectInstance;
 use crate::model::Model;
 use crate::workbench::candidate::{candidates, cross_validated_mare};
 use crate::workbench::compare::compare;
+use crate::workbench::diagnosis::Candidate;
 use crate::workbench::discovery::places::AtPlace;
 use crate::workbench::discovery::{interpretation_of, Located};
 use crate::workbench::fit::{fit_with, free_params_of, Estimate, FitError, FitResult};
@@ -39,6 +40,20 @@ pub(super) struct Member {
 }
 
 impl Member {
+    /// A catalogue effect as a member: the effects its candidate adds on
+    /// top of the starting model's first `base_len`.
+    pub fn catalogue(c: &Candidate, base_len: usize, charge: f64) -> Member {
+        Member {
+            id: c.effect.clone(),
+            insts: c.model.effects[base_len..].to_vec(),
+            located: None,
+            name: c.effect.clone(),
+            charge,
+            place: None,
+            pending: None,
+        }
+    }
+
     /// The law of a located or screened member (`None` for a catalogue
     /// effect).
     pub fn law(&self) -> Option<&'static LocatedCorrection> {
