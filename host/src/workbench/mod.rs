@@ -21,5 +21,3 @@ pub mod score;
 pub mod search;
 pub mod synth;
 pub mod verdict;
-pub mod verdict_rules;
-pub mod verdict_text;

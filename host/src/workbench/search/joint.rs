@@ -3,7 +3,7 @@
 //! different steps that trade against each other, the places that carry
 //! two laws, and the parameters whose interval spans no effect. The set is
 //! still a set that fits; these say which of its parts the data fix only
-//! together. How they are worded is in [`crate::workbench::verdict_text`].
+//! together. How they are worded is in [`crate::workbench::verdict::text`].
 //!
 //! - **Traded**: two parameters of different steps whose correlation in
 //!   the joint fit exceeds [`TRADE_CORRELATION`] in magnitude, or that

@@ -1,7 +1,7 @@
 //! The found set put into the verdict of `diagnose`: the steps in
 //! order, and (when the path goes beyond the single-step verdict) the kind,
 //! the named catalogue effects, the located laws and the note
-//! ([`crate::workbench::verdict_text::found_set_note`]); the verdict when one case
+//! ([`crate::workbench::verdict::text::found_set_note`]); the verdict when one case
 //! stands alone; and the located list without repeats. A set of two steps
 //! or more carries what its joint fit fixes only together
 //! ([`super::joint`]), in `verdict.joint` and the note; and the sets the
@@ -14,7 +14,7 @@ use crate::workbench::diagnosis::{Baseline, Verdict, VerdictKind};
 use crate::workbench::diagnosis::{DiagnoseSettings, ExplainingSet};
 use crate::workbench::discovery::Located;
 use crate::workbench::experiments::separation::best_discriminating_case;
-use crate::workbench::verdict_text::{fmt, verdict_of};
+use crate::workbench::verdict::text::{fmt, verdict_of};
 
 /// Put the path into the verdict: its steps always; when the path goes
 /// beyond the single-step verdict (or is the first thing found), the kind,
@@ -167,7 +167,7 @@ fn put_path(path: &Found, v: &mut Verdict, base: &Baseline) {
     v.indistinguishable.clear();
     v.suggestion = None;
     v.located = path.steps.iter().filter_map(|p| p.2.clone()).collect();
-    v.note = crate::workbench::verdict_text::found_set_note(base, path, last);
+    v.note = crate::workbench::verdict::text::found_set_note(base, path, last);
 }
 
 /// `none-needed` because bad runs or intervals stated too narrow account

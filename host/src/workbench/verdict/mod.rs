@@ -1,7 +1,7 @@
 //! The graded verdict of `diagnose`, as a decision: `none-needed`,
 //! `identified`, `located`, `indistinguishable` or `unexplained`, with the
 //! candidates and laws it rests on. How each decision is worded is in
-//! [`super::verdict_text`].
+//! [`self::text`].
 //!
 //! Rules (each threshold is a documented guard, not a tuning):
 //! - **none-needed**: the model is already at the noise floor.
@@ -29,13 +29,16 @@
 //!
 //! Reference: Burnham & Anderson (2002), sec. 2.6 (AICc differences).
 
+pub mod rules;
+pub mod text;
+
 use super::diagnosis::{Baseline, Candidate, DiagnoseSettings, Remainder, Verdict};
 use super::discovery::{discover, explained_fraction, Discovery, Located, Reference};
 use super::experiments::separation::{best_discriminating_case, Suggestion};
 use super::fit::FitError;
 use crate::data::Dataset;
 
-pub use super::verdict_rules::{aicc, parsimonious, partial, PARTIAL};
+pub use self::rules::{aicc, parsimonious, partial, PARTIAL};
 
 /// What the verdict is decided from: the data, the baseline, the
 /// catalogue's ranking and pairs, and the searches beyond it. Shared by
@@ -159,9 +162,9 @@ pub fn remainders(
 }
 
 /// The verdict from the evidence (decided by [`decide`], worded by
-/// [`super::verdict_text::word`]).
+/// [`self::text::word`]).
 pub fn verdict(e: &Evidence, s: &DiagnoseSettings) -> Verdict {
-    super::verdict_text::word(decide(e, s), e, s)
+    self::text::word(decide(e, s), e, s)
 }
 
 /// The decision (module docs).
@@ -261,7 +264,7 @@ fn finding<'a>(
     beats: Option<(&'a Candidate, f64)>,
     s: &DiagnoseSettings,
 ) -> Decision<'a> {
-    let rivals = super::verdict_rules::rivals(
+    let rivals = self::rules::rivals(
         best,
         &pool.located,
         e.base,

@@ -1,12 +1,12 @@
 //! How the verdict of `diagnose` is worded: numbers as every command and
 //! the page print them, and the sentences of each kind. What is decided is
-//! in [`super::verdict`] (a [`Decision`]) and [`super::search`].
+//! in [`super`] (a [`Decision`]) and [`crate::workbench::search`].
 
-use super::diagnosis::{Baseline, DiagnoseSettings, Verdict, VerdictKind};
-use super::discovery::Located;
-use super::experiments::separation::Suggestion;
-use super::search::level::{Found, Level};
-use super::verdict::{Decision, Evidence};
+use super::{Decision, Evidence};
+use crate::workbench::diagnosis::{Baseline, DiagnoseSettings, Verdict, VerdictKind};
+use crate::workbench::discovery::Located;
+use crate::workbench::experiments::separation::Suggestion;
+use crate::workbench::search::level::{Found, Level};
 
 /// A reduced chi-square in a note: 3 significant figures (`crate::format`).
 pub fn fmt(x: Option<f64>) -> String {
@@ -185,7 +185,7 @@ pub fn word(d: Decision, e: &Evidence, s: &DiagnoseSettings) -> Verdict {
             v.effect_explained_fraction = crate::stats::excess_removed(
                 base.chi2,
                 effect.score.chi2,
-                super::verdict::floor0(base),
+                super::floor0(base),
             );
             v.suggestion = Some(g);
             v.located = vec![law.clone()];
@@ -228,8 +228,8 @@ pub fn word(d: Decision, e: &Evidence, s: &DiagnoseSettings) -> Verdict {
 fn law_verdict(
     base: &Baseline,
     law: &Located,
-    beneath: Option<(&super::diagnosis::Candidate, Option<f64>)>,
-    beats: Option<(&super::diagnosis::Candidate, f64)>,
+    beneath: Option<(&crate::workbench::diagnosis::Candidate, Option<f64>)>,
+    beats: Option<(&crate::workbench::diagnosis::Candidate, f64)>,
 ) -> Verdict {
     let how = errors(
         base,
@@ -277,7 +277,7 @@ fn law_verdict(
 
 fn unexplained_verdict(
     e: &Evidence,
-    closest: Option<(&super::diagnosis::Candidate, Option<f64>)>,
+    closest: Option<(&crate::workbench::diagnosis::Candidate, Option<f64>)>,
     located: Vec<Located>,
     rival: Option<(String, String, Option<Suggestion>)>,
     s: &DiagnoseSettings,

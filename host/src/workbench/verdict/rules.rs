@@ -1,14 +1,14 @@
 //! The tests a located law must pass to be a finding of `diagnose`'s
-//! verdict ([`super::verdict`]): supported (at the floor, better out of
+//! verdict ([`super`]): supported (at the floor, better out of
 //! sample, its drop above the search's charge in chi-square and in the
 //! Student-t deviance), parsimonious among its neighbours, and its rivals.
 //!
 //! Reference: Burnham & Anderson (2002), sec. 2.6 (AICc differences);
 //! Lange, Little & Taylor, JASA 84 (1989) 881 (the Student-t deviance).
 
-use super::diagnosis::Baseline;
-use super::discovery::{Discovery, Located};
 use crate::data::Dataset;
+use crate::workbench::diagnosis::Baseline;
+use crate::workbench::discovery::{Discovery, Located};
 
 /// Share of the excess a partial finding must remove to be shown.
 pub const PARTIAL: f64 = 0.5;
@@ -53,13 +53,14 @@ pub fn parsimonious<'a>(
 /// |relative error| of a normal variable, `2 sqrt(2/pi)` times the median
 /// relative standard error (the factor 2 allows for five-trial SEs).
 fn noise_mare(data: &Dataset) -> f64 {
-    2.0 * super::experiments::separation::median_rel_se(data) * (2.0 / std::f64::consts::PI).sqrt()
+    2.0 * crate::workbench::experiments::separation::median_rel_se(data)
+        * (2.0 / std::f64::consts::PI).sqrt()
 }
 
 /// Whether a located correction is a finding: at the noise floor, or (an
 /// approximate law) removing 95 % of the excess with a cross-validated
 /// MARE at the noise level; its CV MARE below the baseline's; and its
-/// chi-square drop above `2k + 2 ln M` (see [`super::verdict`]).
+/// chi-square drop above `2k + 2 ln M` (see [`super`]).
 pub fn supported(l: &Located, base: &Baseline, searched: usize, data: &Dataset) -> bool {
     let k = l.params.len() as f64;
     let approximate =
