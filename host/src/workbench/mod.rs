@@ -10,7 +10,6 @@ pub mod discovery;
 pub mod experiments;
 pub mod features;
 pub mod fit;
-pub mod fit_uncertainty;
 pub mod input_covariance;
 pub mod noise;
 pub mod path;

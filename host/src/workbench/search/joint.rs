@@ -8,7 +8,7 @@
 //! - **Traded**: two parameters of different steps whose correlation in
 //!   the joint fit exceeds [`TRADE_CORRELATION`] in magnitude, or that
 //!   span a combination the data leave free (a null direction of
-//!   `J^T W J`, [`crate::workbench::fit_uncertainty`]; no correlation is defined, it
+//!   `J^T W J`, [`crate::workbench::fit::uncertainty`]; no correlation is defined, it
 //!   is reported as `null`). The data fix a combination of the two, not
 //!   each: moving one and refitting the other costs almost nothing.
 //! - **Shared place**: two located laws at one place (in different
@@ -40,7 +40,7 @@ use crate::workbench::robust::Likelihood;
 use serde::Serialize;
 
 /// `|r|` above which two parameters of different steps trade (0.95): the
-/// threshold `fit` uses for its own pairs ([`crate::workbench::fit_uncertainty`]), a
+/// threshold `fit` uses for its own pairs ([`crate::workbench::fit::uncertainty`]), a
 /// variance inflation factor `1/(1 - r^2)` of 10.3 (module docs).
 pub const TRADE_CORRELATION: f64 = 0.95;
 
@@ -157,7 +157,7 @@ pub fn joint_reading(
 
 /// The joint fit's correlations: its matrix; or, when the data leave a
 /// combination free (the fit then gives none), those of the covariance on
-/// the constrained subspace ([`crate::workbench::fit_uncertainty::inverse`], the
+/// the constrained subspace ([`crate::workbench::fit::uncertainty::inverse`], the
 /// information `J^T J` of the normalised residuals), with `None` for the
 /// pairs within a free combination (no correlation is defined there) and
 /// for every pair when the information has no usable inverse at all.
@@ -171,8 +171,8 @@ fn correlations(joint: &FitResult, free: &[FreeParam], data: &Dataset) -> Vec<Ve
     }
     let cases: Vec<&crate::data::Case> = data.cases.iter().collect();
     let Some(inv) =
-        crate::workbench::fit_uncertainty::physical_jacobian(&joint.model, free, &cases)
-            .and_then(|j| crate::workbench::fit_uncertainty::inverse(&(j.transpose() * &j)))
+        crate::workbench::fit::uncertainty::physical_jacobian(&joint.model, free, &cases)
+            .and_then(|j| crate::workbench::fit::uncertainty::inverse(&(j.transpose() * &j)))
     else {
         return vec![vec![None; k]; k];
     };

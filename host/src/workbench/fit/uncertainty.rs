@@ -1,16 +1,16 @@
 //! The uncertainty of a fit at its optimum: the covariance of the
 //! estimates from the Fisher information of the likelihood, their
 //! correlations, and the parameters the data cannot separate (module docs
-//! of [`super::fit`]).
+//! of [`super`]).
 //!
 //! Reference: K. L. Lange, R. J. A. Little & J. M. G. Taylor, "Robust
 //! statistical modeling using the t distribution", J. Am. Stat. Assoc. 84
 //! (1989) 881 (the information of the t location model).
 
-use super::fit::{bounds, normalised, rows, Estimate, FitResult, FreeParam};
-use super::robust::Likelihood;
+use super::{bounds, normalised, rows, Estimate, FitResult, FreeParam};
 use crate::data::Case;
 use crate::model::{Model, ModelError};
+use crate::workbench::robust::Likelihood;
 use nalgebra::{DMatrix, DVector};
 
 /// Uncertainties, correlations and identifiability at the optimum.
@@ -163,7 +163,7 @@ pub(super) fn finish(
 /// The covariance of the estimates before the scale `s²`, on the subspace
 /// the data constrain.
 #[derive(Debug, Clone)]
-pub(super) struct Inverse {
+pub(crate) struct Inverse {
     pub cov: DMatrix<f64>,
     /// The number of directions the data constrain.
     pub rank: usize,
@@ -178,7 +178,7 @@ pub(super) struct Inverse {
 /// through one combination this gives the others exactly the intervals of
 /// the fit with one of the pair fixed (the test below). `None` when the
 /// matrix is not finite or singular without a nameable free combination.
-pub(super) fn inverse(jtj: &DMatrix<f64>) -> Option<Inverse> {
+pub(crate) fn inverse(jtj: &DMatrix<f64>) -> Option<Inverse> {
     // nalgebra's SVD panics ("Singular value was NaN") on non-finite
     // input; J^T J overflows when a confidence interval is tiny.
     if jtj.iter().any(|x| !x.is_finite()) {
@@ -276,7 +276,7 @@ fn unconstrained_directions(jtj: &DMatrix<f64>) -> Vec<Vec<(usize, f64)>> {
 }
 
 /// Jacobian of the normalised residuals in the physical parameters.
-pub(super) fn physical_jacobian(
+pub(crate) fn physical_jacobian(
     model: &Model,
     free: &[FreeParam],
     cases: &[&Case],

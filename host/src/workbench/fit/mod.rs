@@ -3,7 +3,7 @@
 //! free parameters of the chosen effects, within their bounds. The
 //! deviance is the [`Likelihood`]'s: the chi-square `sum z²` (Gaussian,
 //! the default) or the Student-t deviance `sum (nu + 1) ln(1 + z²/nu)`
-//! ([`super::robust`]), which one bad run cannot drag; [`fit_with`] takes
+//! ([`crate::workbench::robust`]), which one bad run cannot drag; [`fit_with`] takes
 //! it as an argument from every caller.
 //!
 //! The solver is the `levenberg-marquardt` crate (MINPACK's algorithm),
@@ -28,11 +28,13 @@
 //! K. L. Lange, R. J. A. Little & J. M. G. Taylor, J. Am. Stat. Assoc. 84
 //! (1989) 881 (the t likelihood and its information).
 
-use super::compare::{case_residuals, Quantity};
-use super::robust::Likelihood;
+pub mod uncertainty;
+
 use crate::data::{Case, Dataset};
 use crate::model::{Model, ModelError};
 use crate::stats::Residual;
+use crate::workbench::compare::{case_residuals, Quantity};
+use crate::workbench::robust::Likelihood;
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{storage::Owned, DMatrix, DVector, Dyn};
 use serde::Serialize;
@@ -289,7 +291,7 @@ pub fn fit_with(
         return Err(FitError::NoData);
     }
     if free.is_empty() {
-        return Ok(super::fit_uncertainty::finish(
+        return Ok(self::uncertainty::finish(
             model.clone(),
             free,
             &cases,
@@ -331,9 +333,7 @@ pub fn fit_with(
         }
     }
     let (m, _, ok) = best.ok_or_else(|| FitError::NoFiniteStart(describe_free(model, free)))?;
-    Ok(super::fit_uncertainty::finish(
-        m, free, &cases, likelihood, ok,
-    )?)
+    Ok(self::uncertainty::finish(m, free, &cases, likelihood, ok)?)
 }
 
 /// "effect `E`, parameter `p` in [lo, hi]" for each free parameter.
