@@ -23,8 +23,15 @@ extern "C" fn note_closed_stdout() {
 fn main() -> ExitCode {
     // A reader that stops early (`| head`) is handled in the CLI
     // (`cli::stdout::end_on_closed_stdout`): exit 0, as ripgrep does.
-    let cli = Cli::parse();
-    match run(cli) {
+    // The command line is read once, here: the library takes it as a value
+    // (the provenance's text), clap the arguments as given.
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let command = args
+        .iter()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
+    let cli = Cli::parse_from(args);
+    match run(cli, command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // Not `eprintln!`: it panics when stderr is a closed pipe, and

@@ -18,7 +18,7 @@
 
 use serde::Serialize;
 use sha2::{Digest, Sha256};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 /// The git commit of the build (`host/build.rs`), `None` outside a checkout.
@@ -45,20 +45,58 @@ pub struct Provenance {
     pub date_utc: String,
 }
 
-/// The files one command, or one call of the library, has read: each
-/// path once, with the SHA-256 of its latest bytes, in the order first
-/// read. Shared by reference (`&Inputs`) between what reads and what
-/// writes; the lock lets readers on other threads (rayon, a Python call
-/// without the GIL) record too.
+/// The record of one command, or one call of the library: its command
+/// line (a value the caller gives, never the process's argv: the Python
+/// package runs in an interpreter whose argv names no swimbot command),
+/// the files it has read (each path once, with the SHA-256 of its latest
+/// bytes, in the order first read) and the output folders it claims, to
+/// be marked as its own when it succeeds. Shared by reference (`&Inputs`)
+/// between what reads and what writes; the locks let readers on other
+/// threads (rayon, a Python call without the GIL) record too.
 #[derive(Debug, Default)]
 pub struct Inputs {
+    command: Vec<String>,
     read: Mutex<Vec<Input>>,
+    claims: Mutex<Vec<(PathBuf, String)>>,
 }
 
 impl Inputs {
-    /// An empty record, for one command or one call.
+    /// An empty record with no command line, for one call of the library.
     pub fn new() -> Inputs {
         Inputs::default()
+    }
+
+    /// An empty record for the command line `command`, one argument per
+    /// entry (the program's name first).
+    pub fn for_command(command: Vec<String>) -> Inputs {
+        Inputs {
+            command,
+            ..Inputs::default()
+        }
+    }
+
+    /// This record with the command line `command` in place of its own.
+    pub fn with_command(mut self, command: Vec<String>) -> Inputs {
+        self.command = command;
+        self
+    }
+
+    /// The command line, one argument per entry.
+    pub fn command(&self) -> &[String] {
+        &self.command
+    }
+
+    /// Registers `dir` as an output folder of `command`, to be marked
+    /// when the run succeeds ([`Inputs::take_claims`]).
+    pub fn claim(&self, dir: &Path, command: &str) {
+        let mut claims = self.claims.lock().unwrap_or_else(|e| e.into_inner());
+        claims.push((dir.to_path_buf(), command.to_string()));
+    }
+
+    /// The folders claimed so far, each with its command; the list is
+    /// then empty.
+    pub fn take_claims(&self) -> Vec<(PathBuf, String)> {
+        std::mem::take(&mut *self.claims.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// Records that `path` was read with these bytes (once per path).
@@ -99,7 +137,14 @@ impl Inputs {
 impl Clone for Inputs {
     fn clone(&self) -> Inputs {
         Inputs {
+            command: self.command.clone(),
             read: Mutex::new(self.list()),
+            claims: Mutex::new(
+                self.claims
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .clone(),
+            ),
         }
     }
 }
@@ -113,15 +158,13 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
 }
 
 impl Provenance {
-    /// The provenance of an output made now: this process's command line
-    /// and the inputs its command has read so far.
+    /// The provenance of an output made now: the command line and the
+    /// inputs its command has read so far, both from `inputs`.
     pub fn capture(inputs: &Inputs) -> Provenance {
         Provenance {
             version: env!("CARGO_PKG_VERSION").to_string(),
             commit: GIT_COMMIT.unwrap_or("unknown").to_string(),
-            command: std::env::args_os()
-                .map(|a| a.to_string_lossy().into_owned())
-                .collect(),
+            command: inputs.command().to_vec(),
             inputs: inputs.list(),
             date_utc: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
         }

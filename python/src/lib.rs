@@ -447,20 +447,44 @@ impl Study {
     }
     /// `swimbot report` of the study: the page's bundle written to `dir`
     /// (refused where `report` refuses it); the page's path. Its inputs
-    /// are the files the study read, whatever else this process has read.
+    /// are the files the study read, whatever else this process has read;
+    /// its command line, the one `swimbot report` would have been given.
+    /// The folder is marked as `report`'s, as the command marks it.
     fn report(&self, py: Python<'_>, dir: std::path::PathBuf) -> PyResult<std::path::PathBuf> {
-        let inputs = self.with(|s| s.inputs().clone());
+        let inputs = self.with(|s| {
+            let command = [
+                "swimbot",
+                "--study",
+                &s.path().display().to_string(),
+                "report",
+            ]
+            .into_iter()
+            .map(str::to_string)
+            .chain(["-o".to_string(), dir.display().to_string()])
+            .collect();
+            s.inputs().clone().with_command(command)
+        });
         api::check_output_dir(&dir, "report", &inputs).map_err(cli_err)?;
-        swimbot::report::check_bundle_dir(&dir, "report")
-            .map_err(|e| SwimbotError::new_err(e.to_string()))?;
-        let guard = |p: &std::path::Path| api::not_an_input(p, &inputs);
-        py.allow_threads(|| {
-            self.with(|s| {
-                swimbot::report::write_study(&dir, s, &guard, &inputs).map_err(|e| {
-                    SwimbotError::new_err(format!("writing the report to {}: {e}", dir.display()))
+        let written = swimbot::report::check_bundle_dir(&dir, "report")
+            .map_err(|e| SwimbotError::new_err(e.to_string()))
+            .and_then(|()| {
+                let guard = |p: &std::path::Path| api::not_an_input(p, &inputs);
+                py.allow_threads(|| {
+                    self.with(|s| {
+                        swimbot::report::write_study(&dir, s, &guard, &inputs).map_err(|e| {
+                            SwimbotError::new_err(format!(
+                                "writing the report to {}: {e}",
+                                dir.display()
+                            ))
+                        })
+                    })
                 })
-            })
-        })
+            });
+        if written.is_ok() {
+            api::mark_claimed_dirs(&inputs);
+        }
+        api::settle_output_dir(&dir, written.is_ok());
+        written
     }
     fn __repr__(&self) -> String {
         self.with(|s| {

@@ -259,6 +259,32 @@ def test_each_reports_inputs_are_its_own_studys_files(tmp_path):
     assert listed[0] != listed[1]
 
 
+def test_a_report_names_its_own_command_and_marks_its_folder(tmp_path):
+    """A report written from Python records the command `swimbot report`
+    would have been given (not the interpreter's argv) and marks its
+    folder as the report's, as the command does: another command's output
+    is refused there, a second report is not."""
+    data = tmp_path / "paper.csv"
+    data.write_bytes(PAPER_CSV.read_bytes())
+    study = tmp_path / "swimbot-study.toml"
+    s = swimbot.Study.init(study, data, diagnose=False)
+    folder = tmp_path / "out" / "report"
+    page = Path(s.report(folder))
+    manifest = json.loads((page.parent / "manifest.json").read_text())
+    assert manifest["swimbot"]["command"] == [
+        "swimbot", "--study", str(study), "report", "-o", str(folder)
+    ]
+    marker = (folder / ".swimbot-output").read_text()
+    assert marker.startswith("written by: swimbot report\n"), marker
+    assert Path(s.report(folder)) == page
+    r = subprocess.run(
+        [cli_binary(), "compare", "--data", str(data), "-o", str(folder)],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 2 and "swimbot report" in r.stderr, r.stderr
+
+
 def test_bad_arguments_are_swimbot_errors_naming_them():
     # `-1` reaches the flag's own check (it read as another flag).
     with pytest.raises(swimbot.SwimbotError, match="mc-draws"):

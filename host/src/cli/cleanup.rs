@@ -9,7 +9,10 @@
 //! next run writing NAME, when process PID is gone.
 //!
 //! The registry is process-wide on purpose: a signal handler has no other
-//! way to find what to remove.
+//! way to find what to remove. A process that runs many commands (the
+//! Python package) settles each output folder when its call ends
+//! ([`settle_output_dir`]), so the registry holds only what calls still
+//! running have made.
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -60,6 +63,24 @@ pub fn create_dir_all(dir: &Path) -> std::io::Result<()> {
 /// The run succeeded: its folders are outputs now.
 pub fn keep_new_dirs() {
     pending().new_dirs.clear();
+}
+
+/// One call of the library that wrote into `dir` has ended: the new
+/// folders it created for `dir` (`dir` and its new parents) leave the
+/// registry, kept when the call `succeeded`, else removed when empty.
+/// Other calls' folders stay registered.
+pub fn settle_output_dir(dir: &Path, succeeded: bool) {
+    let mut p = pending();
+    let (mine, others): (Vec<PathBuf>, Vec<PathBuf>) = std::mem::take(&mut p.new_dirs)
+        .into_iter()
+        .partition(|d| dir.starts_with(d));
+    p.new_dirs = others;
+    if !succeeded {
+        // Deepest first, as registered.
+        for d in mine {
+            let _ = std::fs::remove_dir(d);
+        }
+    }
 }
 
 /// Removes the registered temporary files, this process's temporary files

@@ -35,11 +35,13 @@ pub use stdout::note_stdout_closed_at_start;
 /// (python/): the same flags (parsed by [`Cli`]), the same numbers.
 pub mod api {
     pub use super::audit::audited;
+    pub use super::cleanup::settle_output_dir;
     pub use super::compare::{compared, Compared};
     pub use super::diagnose::diagnosed;
     pub use super::fit::{fitted, Fitted};
     pub use super::likelihood::diagnosis_json;
     pub use super::output::{check_output_dir, not_an_input};
+    pub use super::output_guard::mark_claimed_dirs;
     pub use super::study::definition;
 }
 
@@ -109,18 +111,22 @@ pub enum Command {
 /// Run a parsed command line. A run that fails (or is interrupted by
 /// SIGINT or SIGTERM) leaves no temporary file and no folder it created
 /// ([`cleanup`]); a failure to write stdout is an error (exit 2).
-pub fn run(cli: Cli) -> Result<(), CliError> {
+/// `command` is the command line `cli` was parsed from, one argument per
+/// entry: the outputs' provenance records it, and the output guard reads
+/// the files it names.
+pub fn run(cli: Cli, command: Vec<String>) -> Result<(), CliError> {
     crate::progress::set_quiet(cli.quiet);
     stdout::check_stdout_open()?;
     cleanup::install_signal_cleanup();
     stdout::install_stdout_failure_exit();
-    let done = dispatch(cli).and_then(|()| {
+    let inputs = &Inputs::for_command(command);
+    let done = dispatch(cli, inputs).and_then(|()| {
         use std::io::Write;
         stdout::stdout_written(std::io::stdout().flush(), "the output")
     });
     match &done {
         Ok(()) => {
-            output_guard::mark_claimed_dirs();
+            output_guard::mark_claimed_dirs(inputs);
             cleanup::keep_new_dirs();
         }
         Err(_) => cleanup::clean_up(),
@@ -128,12 +134,11 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     done
 }
 
-/// Runs the command. What it reads is recorded in one [`Inputs`] made
-/// here, for this command alone: its outputs name those files, and refuse
-/// to overwrite them.
-fn dispatch(cli: Cli) -> Result<(), CliError> {
+/// Runs the command. What it reads is recorded in `inputs`, made by
+/// [`run`] for this command alone: its outputs name those files, and
+/// refuse to overwrite them.
+fn dispatch(cli: Cli, inputs: &Inputs) -> Result<(), CliError> {
     let st = &cli.study;
-    let inputs = &Inputs::new();
     match cli.command {
         Command::Compare(mut a) => {
             study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;

@@ -272,7 +272,7 @@ pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<()
         )));
     }
     guard::refuse_dir_holding_input(dir, inputs)?;
-    guard::claim_dir(dir, command)?;
+    guard::claim_dir(dir, command, inputs)?;
     cleanup::create_dir_all(dir).map_err(|e| {
         CliError::input(format!(
             "output directory {}: cannot create it: {e}",

@@ -111,7 +111,7 @@ fn refuse_if_named(path: &Path, inputs_from: usize, inputs: &Inputs) -> Result<(
     let Some(id) = identity(path) else {
         return Ok(());
     };
-    let named = named_paths()
+    let named = named_paths(inputs)
         .iter()
         .filter(|a| identity(a) == Some(id))
         .count();
@@ -128,14 +128,16 @@ fn refuse_if_named(path: &Path, inputs_from: usize, inputs: &Inputs) -> Result<(
     Ok(())
 }
 
-/// Every argument that may name a file: `--flag=PATH` as well as `--flag PATH`.
-fn named_paths() -> Vec<PathBuf> {
-    std::env::args_os()
+/// Every argument of the run's command line that may name a file:
+/// `--flag=PATH` as well as `--flag PATH`.
+fn named_paths(inputs: &Inputs) -> Vec<PathBuf> {
+    inputs
+        .command()
+        .iter()
         .skip(1)
-        .flat_map(|a| {
-            let s = a.to_string_lossy().into_owned();
+        .flat_map(|s| {
             let after_eq = s.split_once('=').map(|(_, v)| v.to_string());
-            [Some(s), after_eq]
+            [Some(s.clone()), after_eq]
         })
         .flatten()
         .map(PathBuf::from)
@@ -164,7 +166,7 @@ fn input_files(inputs: &Inputs) -> Vec<PathBuf> {
         .unwrap_or_else(|e| e.into_inner())
         .clone();
     let read = inputs.list();
-    named_paths()
+    named_paths(inputs)
         .into_iter()
         .chain(read.into_iter().map(|i| PathBuf::from(i.path)))
         .filter(|p| std::fs::metadata(p).is_ok_and(|m| !m.is_dir()))
@@ -196,13 +198,12 @@ pub fn refuse_dir_holding_input(dir: &Path, inputs: &Inputs) -> Result<(), CliEr
 /// The marker file naming the command that wrote an output folder.
 pub const MARKER: &str = ".swimbot-output";
 
-/// Folders to mark as written by a command when the run succeeds.
-static CLAIMS: Mutex<Vec<(PathBuf, String)>> = Mutex::new(Vec::new());
-
 /// Refuses `dir` when its marker, or a report's `manifest.json`, names
 /// another command than `command`; else registers it to be marked as
-/// `command`'s when the run succeeds ([`mark_claimed_dirs`]).
-pub fn claim_dir(dir: &Path, command: &str) -> Result<(), CliError> {
+/// `command`'s when the run succeeds ([`mark_claimed_dirs`]). The claim
+/// lives in the run's record, so a process that runs many commands (the
+/// Python package) keeps no list of them.
+pub fn claim_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<(), CliError> {
     let marker = crate::input_file::read_text(&dir.join(MARKER), 4096, "a marker").ok();
     let manifest = crate::input_file::read_text(&dir.join("manifest.json"), 16 << 20, "a manifest")
         .ok()
@@ -217,10 +218,7 @@ pub fn claim_dir(dir: &Path, command: &str) -> Result<(), CliError> {
             )));
         }
     }
-    CLAIMS
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .push((dir.to_path_buf(), command.to_string()));
+    inputs.claim(dir, command);
     Ok(())
 }
 
@@ -231,10 +229,9 @@ fn marker_command(text: &str) -> Option<String> {
         .map(|c| c.trim().to_string())
 }
 
-/// The run succeeded: mark each claimed folder with its command.
-pub fn mark_claimed_dirs() {
-    let claims = std::mem::take(&mut *CLAIMS.lock().unwrap_or_else(|e| e.into_inner()));
-    for (dir, command) in claims {
+/// The run succeeded: mark each folder it claimed with its command.
+pub fn mark_claimed_dirs(inputs: &Inputs) {
+    for (dir, command) in inputs.take_claims() {
         let path = dir.join(MARKER);
         let text = format!(
             "written by: swimbot {command}\n\

@@ -84,7 +84,7 @@ pub fn body_in_tube(case: &Case) -> Result<(f64, f64), EffectError> {
             m
         })
     })
-    .map_err(EffectError::Solve)?;
+    .map_err(|e| EffectError::Solve(e.to_string()))?;
     Ok((mu * m[(0, 0)], mu * m[(3, 3)]))
 }
 

@@ -81,7 +81,7 @@ pub fn coupler_spin(case: &Case, gap_mm: f64) -> Result<(f64, f64), EffectError>
             m
         })
     })
-    .map_err(EffectError::Solve)?;
+    .map_err(|e| EffectError::Solve(e.to_string()))?;
     Ok((mu * m[(3, 3)], mu * m[(0, 3)]))
 }
 

@@ -74,7 +74,7 @@ pub fn tail_in_tube(case: &Case) -> Result<Matrix6<f64>, EffectError> {
     let unit = cache::cached_matrix("tail-in-tube-rings-per-pa-s", &key, || {
         tail_matrix_in_tube(&helix, &channel, 1.0, &s)
     })
-    .map_err(EffectError::Solve)?;
+    .map_err(|e| EffectError::Solve(e.to_string()))?;
     Ok(unit * mu)
 }
 

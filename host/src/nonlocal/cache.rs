@@ -42,7 +42,25 @@ pub const CACHE_DIR_ENV: &str = "SWIMBOT_CACHE_DIR";
 
 const MAGIC: &str = "swimbot-nonlocal-cache";
 
-type Slot = Arc<Mutex<Option<Result<Matrix6<f64>, String>>>>;
+type Slot = Arc<Mutex<Option<Result<Matrix6<f64>, CacheError>>>>;
+
+/// Why the cache has no matrix for a key.
+///
+/// A failed solve is remembered in memory (the same key fails again at
+/// once) for every caller of that key, whatever the solver's error type:
+/// one map holds every kind, so the failure is kept as its message.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CacheError {
+    /// The solve failed, with its error's message.
+    #[error("{0}")]
+    Solve(String),
+    /// A thread panicked while holding the map of keys.
+    #[error("non-local cache poisoned")]
+    Poisoned,
+    /// A thread panicked while solving this key.
+    #[error("non-local cache entry poisoned")]
+    EntryPoisoned,
+}
 type MemoryKey = (&'static str, Vec<u64>);
 
 fn memory() -> &'static Mutex<HashMap<MemoryKey, Slot>> {
@@ -161,11 +179,11 @@ impl DiskCache {
         kind: &str,
         key: &[u64],
         compute: impl FnOnce() -> Result<Matrix6<f64>, E>,
-    ) -> Result<Matrix6<f64>, String> {
+    ) -> Result<Matrix6<f64>, CacheError> {
         if let Some(m) = self.load(kind, key) {
             return Ok(m);
         }
-        let m = compute().map_err(|e| e.to_string())?;
+        let m = compute().map_err(|e| CacheError::Solve(e.to_string()))?;
         let _ = self.store(kind, key, &m);
         Ok(m)
     }
@@ -178,7 +196,7 @@ pub fn cached_matrix<E: ToString>(
     kind: &'static str,
     key: &[u64],
     compute: impl FnOnce() -> Result<Matrix6<f64>, E>,
-) -> Result<Matrix6<f64>, String> {
+) -> Result<Matrix6<f64>, CacheError> {
     cached_matrix_in(&DiskCache::default_location(), kind, key, compute)
 }
 
@@ -188,17 +206,13 @@ pub fn cached_matrix_in<E: ToString>(
     kind: &'static str,
     key: &[u64],
     compute: impl FnOnce() -> Result<Matrix6<f64>, E>,
-) -> Result<Matrix6<f64>, String> {
+) -> Result<Matrix6<f64>, CacheError> {
     let slot = {
-        let mut map = memory()
-            .lock()
-            .map_err(|_| "non-local cache poisoned".to_string())?;
+        let mut map = memory().lock().map_err(|_| CacheError::Poisoned)?;
         Arc::clone(map.entry((kind, key.to_vec())).or_default())
     };
     // Held while solving: another thread asking for this key waits.
-    let mut guard = slot
-        .lock()
-        .map_err(|_| "non-local cache entry poisoned".to_string())?;
+    let mut guard = slot.lock().map_err(|_| CacheError::EntryPoisoned)?;
     if let Some(r) = guard.as_ref() {
         return r.clone();
     }

@@ -9,7 +9,7 @@ use super::file::ParamRecord;
 use crate::data::Dataset;
 use crate::format::fmt_sig;
 use crate::model::Model;
-use crate::workbench::fit::{fit_with, free_params_of, FitResult, FreeParam};
+use crate::workbench::fit::{fit_with, free_params_of, FitError, FitResult, FreeParam};
 use crate::workbench::robust::Likelihood;
 
 /// The calibrated step.
@@ -40,7 +40,7 @@ pub fn calibrate(
     refit_all: bool,
     data: &Dataset,
     likelihood: Likelihood,
-) -> Result<Calibrated, String> {
+) -> Result<Calibrated, FitError> {
     let new = model.effects.len() - 1;
     let before = model.clone();
     let scope: Vec<usize> = if refit_all {
@@ -71,8 +71,7 @@ pub fn calibrate(
             if free.is_empty() {
                 break None;
             }
-            let r =
-                fit_with(&model, data, None, &free, true, likelihood).map_err(|e| e.to_string())?;
+            let r = fit_with(&model, data, None, &free, true, likelihood)?;
             model = r.model.clone();
             let Some(i) = unfixable(&r, &free, new) else {
                 break Some(r);

@@ -9,6 +9,7 @@ use crate::data::Dataset;
 use crate::model::Model;
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings, Diagnosis, VerdictKind};
 use crate::workbench::discovery::write::effect_name;
+use crate::workbench::fit::FitError;
 use crate::workbench::robust::Likelihood;
 use serde::{Deserialize, Serialize};
 
@@ -70,12 +71,12 @@ impl DiagnosisRecord {
     }
 
     /// Diagnose `model` on `data` with the study's likelihood.
-    pub fn run(model: &Model, data: &Dataset, likelihood: Likelihood) -> Result<Self, String> {
+    pub fn run(model: &Model, data: &Dataset, likelihood: Likelihood) -> Result<Self, FitError> {
         let settings = DiagnoseSettings {
             likelihood,
             ..DiagnoseSettings::default()
         };
-        let d = diagnose(model, data, &settings).map_err(|e| e.to_string())?;
+        let d = diagnose(model, data, &settings)?;
         Ok(Self::of(&d))
     }
 

@@ -76,6 +76,24 @@ pub enum StudyError {
     Model { file: PathBuf, message: String },
 }
 
+/// A recorded parameter value that does not fit its effect (a step's
+/// field, [`StudyError::Step`], says where).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParamValueError {
+    /// The effect has no parameter of this name (echoed as read).
+    #[error("`{effect}` has no parameter `{param}`")]
+    Unknown { effect: String, param: String },
+    /// The value is not finite or leaves the parameter's range.
+    #[error("{effect}.{param} = {value} is outside its range {min}..={max}")]
+    OutOfRange {
+        effect: String,
+        param: String,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+}
+
 impl StudyError {
     /// Whether the command is refused (exit code 2: the input, the
     /// folder or the disk is the user's to fix, as for every other output

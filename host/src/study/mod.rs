@@ -24,7 +24,7 @@ pub mod snapshot;
 
 pub use definition::Definition;
 pub use diagnosis::DiagnosisRecord;
-pub use error::StudyError;
+pub use error::{ParamValueError, StudyError};
 pub use file::{StepRecord, StudyFile, DEFAULT_FILE, SCHEMA};
 pub use refit::{RefitChoice, Trial};
 pub use snapshot::{CaseRow, Snapshot, Stats};
@@ -171,7 +171,10 @@ impl Study {
         };
         let start = Snapshot::of(&model, &data, &[]).map_err(|e| model_err(e.to_string()))?;
         let first_diagnosis = if o.diagnose {
-            Some(DiagnosisRecord::run(&model, &data, o.likelihood).map_err(model_err)?)
+            Some(
+                DiagnosisRecord::run(&model, &data, o.likelihood)
+                    .map_err(|e| model_err(e.to_string()))?,
+            )
         } else {
             None
         };
@@ -303,7 +306,7 @@ impl Study {
                 .effect()
                 .map_err(|m| err("effect", m.to_string()))?;
             let mut inst = EffectInstance::default_of(effect);
-            set_values(&mut inst, &s.params).map_err(|m| err("param", m))?;
+            set_values(&mut inst, &s.params).map_err(|m| err("param", m.to_string()))?;
             model.effects.push(inst);
             for r in &s.refitted {
                 let e = model
@@ -311,7 +314,8 @@ impl Study {
                     .iter_mut()
                     .find(|e| e.name() == r.effect)
                     .ok_or_else(|| err("refitted", format!("no earlier step `{}`", r.effect)))?;
-                set_values(e, std::slice::from_ref(r)).map_err(|m| err("refitted", m))?;
+                set_values(e, std::slice::from_ref(r))
+                    .map_err(|m| err("refitted", m.to_string()))?;
             }
         }
         Ok(model)
@@ -402,7 +406,10 @@ impl Study {
             })
         });
         let diagnosis_after = if o.diagnose {
-            Some(DiagnosisRecord::run(&c.model, &self.data, lik).map_err(model_err)?)
+            Some(
+                DiagnosisRecord::run(&c.model, &self.data, lik)
+                    .map_err(|e| model_err(e.to_string()))?,
+            )
         } else {
             None
         };
@@ -447,13 +454,15 @@ impl Study {
         let earlier: Vec<usize> = (first_step..new).collect();
         let cal = |joint: bool| {
             calibrate::calibrate(model.clone(), first_step, joint, &self.data, lik)
-                .map_err(model_err)
+                .map_err(|e| model_err(e.to_string()))
         };
         if refit_all || crate::workbench::fit::free_params_of(&model, &earlier).is_empty() {
             return Ok((cal(refit_all)?, None));
         }
         let (held, joint) = (cal(false)?, cal(true)?);
-        let trial = |c: &calibrate::Calibrated| Trial::of(c, &self.data).map_err(model_err);
+        let trial = |c: &calibrate::Calibrated| {
+            Trial::of(c, &self.data).map_err(|e| model_err(e.to_string()))
+        };
         let (keep_joint, choice) = refit::choose(
             trial(&held)?,
             trial(&joint)?,
@@ -526,26 +535,27 @@ fn rise_advice(choice: Option<&RefitChoice>, steps: &[StepRecord]) -> String {
 }
 
 /// Set `inst`'s parameters from records, by name.
-fn set_values(inst: &mut EffectInstance, records: &[file::ParamRecord]) -> Result<(), String> {
+fn set_values(
+    inst: &mut EffectInstance,
+    records: &[file::ParamRecord],
+) -> Result<(), ParamValueError> {
     for r in records {
         let specs = inst.effect.params();
         let i = specs.iter().position(|p| p.name == r.name).ok_or_else(|| {
-            format!(
-                "`{}` has no parameter `{}`",
-                inst.name(),
-                crate::data::limits::echo(&r.name)
-            )
+            ParamValueError::Unknown {
+                effect: inst.name().to_string(),
+                param: crate::data::limits::echo(&r.name).to_string(),
+            }
         })?;
         let p = specs[i];
         if !(r.value.is_finite() && r.value >= p.min && r.value <= p.max) {
-            return Err(format!(
-                "{}.{} = {} is outside its range {}..={}",
-                inst.name(),
-                p.name,
-                r.value,
-                p.min,
-                p.max
-            ));
+            return Err(ParamValueError::OutOfRange {
+                effect: inst.name().to_string(),
+                param: p.name.to_string(),
+                value: r.value,
+                min: p.min,
+                max: p.max,
+            });
         }
         inst.values[i] = r.value;
     }

@@ -35,6 +35,7 @@
 use super::calibrate::Calibrated;
 use crate::data::Dataset;
 use crate::format::fmt_sig;
+use crate::model::ModelError;
 use crate::workbench::compare::{carried_free_params, compare};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
@@ -75,9 +76,8 @@ pub struct RefitChoice {
 }
 
 impl Trial {
-    pub fn of(c: &Calibrated, data: &Dataset) -> Result<Trial, String> {
-        let cmp =
-            compare(&c.model, data, carried_free_params(&c.model)).map_err(|e| e.to_string())?;
+    pub fn of(c: &Calibrated, data: &Dataset) -> Result<Trial, ModelError> {
+        let cmp = compare(&c.model, data, carried_free_params(&c.model))?;
         Ok(Trial {
             mare: cmp.summary.mare,
             chi2: cmp.summary.chi2,
