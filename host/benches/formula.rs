@@ -6,11 +6,11 @@
 //! Run: `cargo bench -p swimbot --bench formula`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use swimbot::effects::{load_effect_files, parse_effect_spec, user_effects};
+use swimbot::effects::Catalogue;
 use swimbot::model::Model;
 
-fn with(spec: &str) -> Model {
-    Model::base().with_effect(parse_effect_spec(spec).unwrap())
+fn with(catalogue: &Catalogue, spec: &str) -> Model {
+    Model::base().with_effect(catalogue.parse_effect_spec(spec).unwrap())
 }
 
 fn predict_all(model: &Model, cases: &[swimbot::data::Case]) -> f64 {
@@ -20,7 +20,10 @@ fn predict_all(model: &Model, cases: &[swimbot::data::Case]) -> f64 {
 fn formula_vs_catalogue(c: &mut Criterion) {
     let fixture =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/restated.toml");
-    load_effect_files(&[fixture], &swimbot::provenance::Inputs::new()).unwrap();
+    let mut known = Catalogue::builtin();
+    known
+        .load_effect_files(&[fixture], &swimbot::provenance::Inputs::new())
+        .unwrap();
     let cases = swimbot::data::paper().cases;
     let pairs = [
         (
@@ -34,7 +37,7 @@ fn formula_vs_catalogue(c: &mut Criterion) {
         b.iter(|| predict_all(black_box(&base), &cases))
     });
     for (catalogue, user) in pairs {
-        let (mc, mu) = (with(catalogue), with(user));
+        let (mc, mu) = (with(&known, catalogue), with(&known, user));
         c.bench_function(&format!("paper data, catalogue {catalogue}"), |b| {
             b.iter(|| predict_all(black_box(&mc), &cases))
         });
@@ -42,8 +45,9 @@ fn formula_vs_catalogue(c: &mut Criterion) {
             b.iter(|| predict_all(black_box(&mu), &cases))
         });
     }
-    let wall = user_effects()
-        .into_iter()
+    let wall = known
+        .user_effects()
+        .iter()
         .find(|e| e.spec().name == "wall-log")
         .unwrap();
     c.bench_function("wall-log formulas alone, 6 cases (2 places)", |b| {

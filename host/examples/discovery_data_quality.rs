@@ -105,7 +105,7 @@ fn law(place: &str, feature: &str, k: f64, p: f64) -> EffectInstance {
     )
     .expect("a power law fits a multiplier place");
     EffectInstance {
-        effect: c.leak(),
+        effect: std::sync::Arc::new(c).into(),
         values: vec![k, p],
     }
 }

@@ -84,9 +84,11 @@ fn law(
     values: Vec<f64>,
 ) -> EffectInstance {
     let c = LocatedCorrection::new(place, feature.map(field), form, scale, 1.0)
-        .expect("the drawn law fits its place")
-        .leak();
-    EffectInstance { effect: c, values }
+        .expect("the drawn law fits its place");
+    EffectInstance {
+        effect: std::sync::Arc::new(c).into(),
+        values,
+    }
 }
 
 /// A drawn constant (module docs) and its place.

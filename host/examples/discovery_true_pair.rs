@@ -98,7 +98,9 @@ fn main() {
         .unwrap_or(201);
     let base = Model::base();
     let paper = swimbot::data::paper();
-    let n_cat = candidates(&base, true).len().max(1) as f64;
+    let n_cat = candidates(&swimbot::effects::Catalogue::builtin(), &base, true)
+        .len()
+        .max(1) as f64;
     println!("| seed | verdict | found set (places) | found at floor | found AICc + charges | true pair chi2 (floor) | true pair AICc + charges | found - true |");
     println!("|---|---|---|---|---|---|---|---|");
     for seed in first..first + 10 {

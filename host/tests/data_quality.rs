@@ -138,15 +138,17 @@ fn an_exact_tie_gets_no_separating_measurement() {
     use swimbot::effects::EffectInstance;
     use swimbot::workbench::experiments::separation::best_discriminating_case;
     let law = |place: &str, k: f64, p: f64| EffectInstance {
-        effect: LocatedCorrection::new(
-            Place::from_name(place).unwrap(),
-            Some(by_id("amplitude_ratio").unwrap()),
-            Form::PowerLaw,
-            1.0,
-            1.0,
+        effect: std::sync::Arc::new(
+            LocatedCorrection::new(
+                Place::from_name(place).unwrap(),
+                Some(by_id("amplitude_ratio").unwrap()),
+                Form::PowerLaw,
+                1.0,
+                1.0,
+            )
+            .unwrap(),
         )
-        .unwrap()
-        .leak(),
+        .into(),
         values: vec![k, p],
     };
     let d = null_data(924);

@@ -119,7 +119,7 @@ fn param(step: usize, value: f64, ci95: f64) -> StepParam {
     StepParam {
         step,
         of: format!("step{step}"),
-        param: "k",
+        param: "k".into(),
         value,
         ci95: Some(ci95),
     }

@@ -89,9 +89,9 @@ fn a_written_law_in_the_load_torque_means_the_same_when_loaded() {
     let spec = user_file::parse(&text, "w.toml").unwrap().remove(0);
     assert!(spec.base.is_empty(), "{text}");
     let values: Vec<f64> = spec.params.iter().map(|p| p.default).collect();
-    let law = FormulaEffect::new(spec, "w.toml").unwrap().leak();
+    let law = std::sync::Arc::new(FormulaEffect::new(spec, "w.toml").unwrap());
     let loaded = Model::base().with_effect(EffectInstance {
-        effect: law,
+        effect: law.into(),
         values,
     });
     let attached = swimbot::model::columns::attach(&Model::base(), &data).unwrap();

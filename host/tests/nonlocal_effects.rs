@@ -55,6 +55,7 @@ fn tube_tail_matrix(case: &Case) -> Matrix6<f64> {
 
 #[test]
 fn both_effects_are_catalogued_parameter_free_and_not_default_candidates() {
+    let builtin = swimbot::effects::Catalogue::builtin();
     for name in [TUBE_TAIL, TUBE_BODY] {
         let e = by_name(name).unwrap_or_else(|| panic!("{name} missing"));
         assert!(e.params().is_empty());
@@ -62,11 +63,17 @@ fn both_effects_are_catalogued_parameter_free_and_not_default_candidates() {
             e.costly() && e.candidate(),
             "{name}: proposed only by `diagnose --nonlocal`"
         );
-        let default_candidates =
-            swimbot::workbench::diagnose::candidates(&swimbot::model::Model::base(), false);
+        let default_candidates = swimbot::workbench::diagnose::candidates(
+            &builtin,
+            &swimbot::model::Model::base(),
+            false,
+        );
         assert!(default_candidates.iter().all(|c| c.name() != name));
-        let nonlocal_candidates =
-            swimbot::workbench::diagnose::candidates(&swimbot::model::Model::base(), true);
+        let nonlocal_candidates = swimbot::workbench::diagnose::candidates(
+            &builtin,
+            &swimbot::model::Model::base(),
+            true,
+        );
         assert!(nonlocal_candidates.iter().any(|c| c.name() == name));
         assert_eq!(e.order(), 0);
     }

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 use swimbot::data::{read_file, Dataset, ReadOptions};
-use swimbot::effects::load_effect_files;
+use swimbot::effects::Catalogue;
 use swimbot::provenance::{sha256_hex, Inputs};
 
 fn copy_in(dir: &Path, from: &str, name: &str) -> PathBuf {
@@ -62,11 +62,13 @@ fn two_reports_in_one_process_each_name_only_the_data_they_read() {
 
 #[test]
 fn an_effects_file_is_an_input_of_every_call_that_loads_it() {
-    // Registered once per process; recorded by each call all the same.
+    // Registered once per catalogue; recorded by each call all the same.
     let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/restated.toml");
     let (first, second) = (Inputs::new(), Inputs::new());
-    load_effect_files(std::slice::from_ref(&fixture), &first).unwrap();
-    load_effect_files(std::slice::from_ref(&fixture), &second).unwrap();
+    let mut catalogue = Catalogue::builtin();
+    let files = std::slice::from_ref(&fixture);
+    catalogue.load_effect_files(files, &first).unwrap();
+    catalogue.load_effect_files(files, &second).unwrap();
     for inputs in [&first, &second] {
         let listed: Vec<(String, String)> = inputs
             .list()

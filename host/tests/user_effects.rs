@@ -8,7 +8,7 @@ use crate::common;
 use common::{stderr, stdout, swimbot};
 use std::path::{Path, PathBuf};
 use std::process::Output;
-use swimbot::effects::{load_effect_files, parse_effect_spec};
+use swimbot::effects::Catalogue;
 use swimbot::model::Model;
 
 fn fixture(name: &str) -> PathBuf {
@@ -22,8 +22,8 @@ fn json(o: &Output) -> serde_json::Value {
     serde_json::from_str(&stdout(o)).expect("JSON on stdout")
 }
 
-fn with(model: Model, spec: &str) -> Model {
-    model.with_effect(parse_effect_spec(spec).unwrap())
+fn with(cat: &Catalogue, model: Model, spec: &str) -> Model {
+    model.with_effect(cat.parse_effect_spec(spec).unwrap())
 }
 
 fn assert_same_predictions(a: &Model, b: &Model) {
@@ -43,31 +43,38 @@ fn assert_same_predictions(a: &Model, b: &Model) {
 
 #[test]
 fn catalogue_effects_restated_as_formulas_predict_the_same() {
-    load_effect_files(
+    let mut c = Catalogue::builtin();
+    c.load_effect_files(
         &[fixture("restated.toml")],
         &swimbot::provenance::Inputs::new(),
     )
     .unwrap();
     for (t, r) in [(16.0, 1.4), (4.5, 3.4), (0.3, 7.0)] {
         let cat = with(
+            &c,
             Model::base(),
             &format!("body-correction:translation={t},rotation={r}"),
         );
         let user = with(
+            &c,
             Model::base(),
             &format!("body-factors:translation={t},rotation={r}"),
         );
         assert_same_predictions(&cat, &user);
     }
     for gamma in [0.0, 1.0, 3.7, 20.0] {
-        let cat = with(Model::base(), &format!("tail-confinement:gamma={gamma}"));
-        let user = with(Model::base(), &format!("wall-log:gamma={gamma}"));
+        let cat = with(
+            &c,
+            Model::base(),
+            &format!("tail-confinement:gamma={gamma}"),
+        );
+        let user = with(&c, Model::base(), &format!("wall-log:gamma={gamma}"));
         assert_same_predictions(&cat, &user);
     }
     // Combined with other effects and another coefficient set, still equal.
     let paper = swimbot::model::preset("paper-lighthill").unwrap();
-    let cat = with(paper.clone(), "tail-confinement:gamma=2");
-    let user = with(paper, "wall-log:gamma=2");
+    let cat = with(&c, paper.clone(), "tail-confinement:gamma=2");
+    let user = with(&c, paper, "wall-log:gamma=2");
     assert_same_predictions(&cat, &user);
 }
 

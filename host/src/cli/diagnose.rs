@@ -90,7 +90,7 @@ pub fn diagnosed(
             data.cases.len()
         )));
     }
-    let model = a.model.model(inputs)?;
+    let (model, catalogue) = a.model.model_and_catalogue(inputs)?;
     let data = if a.input_uncertainty {
         crate::workbench::propagate::with_input_uncertainty(&model, &data)?
     } else {
@@ -104,6 +104,7 @@ pub fn diagnosed(
         discover: !a.no_discovery,
         progress,
         likelihood: a.likelihood.get(),
+        catalogue,
         ..Default::default()
     };
     let budget = super::budget::parse_budget(a.max_seconds)?;

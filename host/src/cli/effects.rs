@@ -25,12 +25,12 @@ pub struct EffectsArgs {
 }
 
 #[derive(serde::Serialize)]
-struct Entry {
-    name: &'static str,
-    statement: &'static str,
-    reference: &'static str,
-    applies_to: &'static str,
-    params: &'static [crate::effects::ParamSpec],
+struct Entry<'a> {
+    name: &'a str,
+    statement: &'a str,
+    reference: &'a str,
+    applies_to: &'a str,
+    params: &'a [crate::effects::ParamSpec],
     /// "catalogue" or the effects file it came from.
     source: String,
     /// Place -> formula, for user effects.
@@ -78,16 +78,16 @@ fn quantities(format: TableOrJson, inputs: &Inputs) {
 }
 
 pub fn run(args: EffectsArgs, inputs: &Inputs) -> Result<(), CliError> {
-    args.effect_files.load(inputs)?;
+    let catalogue = args.effect_files.load(inputs)?;
     if args.quantities {
         quantities(args.format, inputs);
         return Ok(());
     }
-    let user = crate::effects::user_effects();
-    let entries: Vec<Entry> = crate::effects::all()
-        .into_iter()
+    let all = catalogue.all();
+    let entries: Vec<Entry> = all
+        .iter()
         .map(|e| {
-            let u = user.iter().find(|u| u.spec().name == e.name());
+            let u = e.as_formula();
             Entry {
                 name: e.name(),
                 statement: e.statement(),
@@ -125,7 +125,7 @@ pub fn run(args: EffectsArgs, inputs: &Inputs) -> Result<(), CliError> {
         }
         for p in e.params {
             // Defaults and bounds are settings: trimmed, not padded with zeros.
-            let unit = with_unit("", p.unit);
+            let unit = with_unit("", &p.unit);
             println!(
                 "  param {:<18} default {:>6} in [{}, {}]{:<4} {}{}",
                 p.name,

@@ -2,7 +2,7 @@
 
 use super::CliError;
 use crate::data::{self, Dataset};
-use crate::effects::parse_effect_spec;
+use crate::effects::Catalogue;
 use crate::model::{preset, Model, TailMethod, PRESETS};
 use crate::physics::coefficients::CoefficientSet;
 use crate::physics::solve::Dofs;
@@ -94,20 +94,40 @@ pub struct EffectFiles {
     /// Load user effects stated as formulas (repeatable; docs/effects-format.md).
     #[arg(long = "effect-file", alias = "effects", value_name = "FILE.toml")]
     pub files: Vec<PathBuf>,
+    /// Effects known before the files are read: a study's user effects,
+    /// when a command works on the study's model.
+    #[arg(skip)]
+    pub known: Catalogue,
 }
 
 impl EffectFiles {
-    /// Load and register the files (a file already loaded is not
-    /// registered again), each recorded in `inputs`.
-    pub fn load(&self, inputs: &Inputs) -> Result<(), CliError> {
-        crate::effects::load_effect_files(&self.files, inputs).map_err(CliError::input)
+    /// The compiled-in effects, the [`EffectFiles::known`] ones and the
+    /// files' user effects, each file recorded in `inputs`.
+    pub fn load(&self, inputs: &Inputs) -> Result<Catalogue, CliError> {
+        let mut catalogue = self.known.clone();
+        catalogue
+            .load_effect_files(&self.files, inputs)
+            .map_err(CliError::input)?;
+        Ok(catalogue)
     }
 }
 
 impl ModelArgs {
     /// The model the flags name; effect files read are recorded in `inputs`.
     pub fn model(&self, inputs: &Inputs) -> Result<Model, CliError> {
-        self.effect_files.load(inputs)?;
+        Ok(self.model_and_catalogue(inputs)?.0)
+    }
+
+    /// The model the flags name and the effects the command knows (the
+    /// compiled-in ones and the effect files' user effects, which a
+    /// diagnosis may propose); effect files read are recorded in `inputs`.
+    pub fn model_and_catalogue(&self, inputs: &Inputs) -> Result<(Model, Catalogue), CliError> {
+        let catalogue = self.effect_files.load(inputs)?;
+        Ok((self.model_in(&catalogue)?, catalogue))
+    }
+
+    /// The model the flags name, its effects looked up in `catalogue`.
+    pub fn model_in(&self, catalogue: &Catalogue) -> Result<Model, CliError> {
         let name = self.preset.as_deref().unwrap_or("base");
         let mut model = preset(name).ok_or_else(|| {
             let known: Vec<&str> = PRESETS.iter().map(|p| p.0).collect();
@@ -125,7 +145,7 @@ impl ModelArgs {
             };
         }
         for spec in &self.effects {
-            let e = parse_effect_spec(spec)?;
+            let e = catalogue.parse_effect_spec(spec)?;
             if model.effects.iter().any(|m| m.name() == e.name()) {
                 return Err(CliError::input(format!(
                     "effect `{}` is already in the model ({}); give it once",
@@ -135,7 +155,7 @@ impl ModelArgs {
             }
             model.effects.push(e);
         }
-        let mut model = with_bases(model)?;
+        let mut model = with_bases(model, catalogue)?;
         model.tail_method = match self.method {
             MethodArg::Exact => TailMethod::Exact,
             MethodArg::Quadrature => {
@@ -181,20 +201,18 @@ impl ModelArgs {
 /// just before the effect that needs it, with a note on stderr; an effect
 /// the model already has keeps the values it was given. A base that cannot
 /// be applied is refused with what to add.
-pub fn with_bases(mut model: Model) -> Result<Model, CliError> {
+pub fn with_bases(mut model: Model, catalogue: &Catalogue) -> Result<Model, CliError> {
     let mut i = 0;
     while i < model.effects.len() {
-        let name = model.effects[i].name();
-        let Some(user) = crate::effects::user_effects()
-            .into_iter()
-            .find(|u| u.spec().name == name)
-        else {
+        let effect = model.effects[i].effect.clone();
+        let name = effect.name();
+        let Some(user) = effect.as_formula() else {
             i += 1;
             continue;
         };
         let mut at = i;
         for spec in &user.spec().base {
-            let e = parse_effect_spec(spec).map_err(|err| {
+            let e = catalogue.parse_effect_spec(spec).map_err(|err| {
                 CliError::input(format!(
                     "effect `{name}`{} was fitted on top of `{spec}`, which cannot be applied: {err}; load the file that defines it with --effect-file, or remove it from the `base` field if you mean to use `{name}` alone",
                     source(user.source())

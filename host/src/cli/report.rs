@@ -49,7 +49,7 @@ pub fn run(a: ReportArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<()
         return run_study(&a, &s, inputs);
     }
     let data = a.data.load(inputs)?;
-    let model = a.model.model(inputs)?;
+    let (model, catalogue) = a.model.model_and_catalogue(inputs)?;
     super::output::check_output_dir(&a.output, "report", inputs)?;
     crate::report::check_bundle_dir(&a.output, "report").map_err(CliError::input)?;
     let to_input = in_data(&a.data.data);
@@ -62,7 +62,7 @@ pub fn run(a: ReportArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<()
     }
     let budget = super::budget::parse_budget(a.max_seconds)?;
     if budget.is_some() || data.cases.len() >= super::budget::ESTIMATE_FROM_CASES {
-        let est = estimate_seconds(&model, &data, !a.no_physics);
+        let est = estimate_seconds(&model, &data, &catalogue, !a.no_physics);
         let what = format!("the report of {} cases", data.cases.len());
         match est {
             Some(s) => super::budget::check(&what, s, budget)?,
@@ -72,6 +72,7 @@ pub fn run(a: ReportArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<()
     let s = spinner("diagnosing");
     let settings = DiagnoseSettings {
         progress: Some(crate::progress::to_message(&s)),
+        catalogue,
         ..Default::default()
     };
     let d = diagnose(&model, &data, &settings).map_err(CliError::input)?;
@@ -151,9 +152,14 @@ fn solve_physics(
 fn estimate_seconds(
     model: &crate::model::Model,
     data: &crate::data::Dataset,
+    catalogue: &crate::effects::Catalogue,
     physics: bool,
 ) -> Option<f64> {
-    let diagnosis = super::diagnose::estimate_seconds(model, data, &DiagnoseSettings::default())?;
+    let settings = DiagnoseSettings {
+        catalogue: catalogue.clone(),
+        ..Default::default()
+    };
+    let diagnosis = super::diagnose::estimate_seconds(model, data, &settings)?;
     let audit =
         super::audit::estimate_seconds(model, data, AuditSettings::default().family_samples);
     let zero = if physics {

@@ -76,9 +76,9 @@ impl From<SimError> for CliError {
 
 fn robot_with_model(args: &SimArgs, inputs: &Inputs) -> Result<Robot, CliError> {
     // A robot file may name user effects: load them first.
-    args.model.effect_files.load(inputs)?;
+    let catalogue = args.model.effect_files.load(inputs)?;
     let mut robot = match &args.robot {
-        Some(p) => Robot::load_file(p, inputs).map_err(SimError::from)?,
+        Some(p) => Robot::load_file(p, &catalogue, inputs).map_err(SimError::from)?,
         None => sim::default_robot(),
     };
     let m = &args.model;
@@ -87,13 +87,13 @@ fn robot_with_model(args: &SimArgs, inputs: &Inputs) -> Result<Robot, CliError> 
         effects: Vec::new(),
         ..m.clone()
     }
-    .model(inputs)?;
+    .model_in(&catalogue)?;
     if !replace {
         from_args.coefficients = robot.model.coefficients;
         from_args.effects = robot.model.effects.clone();
     }
     for spec in &m.effects {
-        let e = crate::effects::parse_effect_spec(spec)?;
+        let e = catalogue.parse_effect_spec(spec)?;
         if from_args.effects.iter().any(|x| x.name() == e.name()) {
             return Err(CliError::input(format!(
                 "effect `{}` is already in the model ({}); give it once",

@@ -126,7 +126,7 @@ pub fn definition(text: &str, inputs: &Inputs) -> Result<Definition, CliError> {
         return Definition::of_file(Path::new(file), name, inputs).map_err(CliError::input);
     }
     let effect = crate::effects::by_name(text).ok_or_else(|| {
-        let known: Vec<&str> = crate::effects::all().iter().map(|e| e.name()).collect();
+        let known: Vec<&str> = crate::effects::CATALOGUE.iter().map(|e| e.name()).collect();
         CliError::input(format!(
             "no effect `{}`{}; `swimbot effects` lists them, or give an effects file FILE.toml[#NAME]",
             crate::data::limits::echo(text),
@@ -440,6 +440,7 @@ pub fn fill_from_study(
         return Ok(false);
     };
     let m = s.model()?;
+    model.effect_files.known = s.catalogue()?;
     let first = m.effects.len() - s.steps().len();
     data.data = Some(s.dataset_path());
     model.preset = Some(s.file().model.preset.clone());

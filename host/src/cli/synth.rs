@@ -1,7 +1,7 @@
 //! `swimbot synth`: synthetic measurements from a chosen truth model.
 
 use super::CliError;
-use crate::effects::parse_effect_spec;
+use crate::effects::Catalogue;
 use crate::model::{preset, Model, PRESETS};
 use crate::physics::coefficients::CoefficientSet;
 use crate::provenance::Inputs;
@@ -39,8 +39,9 @@ pub struct SynthArgs {
     pub nominal_inputs: bool,
 }
 
-/// Parse "PRESET|COEFFICIENTS + EFFECT + EFFECT...".
-pub fn parse_truth(text: &str) -> Result<Model, CliError> {
+/// Parse "PRESET|COEFFICIENTS + EFFECT + EFFECT...", the effects looked
+/// up in `catalogue`.
+pub fn parse_truth(text: &str, catalogue: &Catalogue) -> Result<Model, CliError> {
     if text.trim().is_empty() {
         return Err(CliError::input("--truth is empty"));
     }
@@ -65,17 +66,18 @@ pub fn parse_truth(text: &str) -> Result<Model, CliError> {
         Model::base().with_coefficients(set)
     } else {
         let mut m = Model::base();
-        m.effects.push(parse_effect_spec(head).map_err(|e| {
-            let known: Vec<&str> = PRESETS.iter().map(|p| p.0).collect();
-            CliError::input(format!(
-                "--truth `{head}` is not a preset ({}), a coefficient set or an effect: {e}",
-                known.join(", ")
-            ))
-        })?);
+        m.effects
+            .push(catalogue.parse_effect_spec(head).map_err(|e| {
+                let known: Vec<&str> = PRESETS.iter().map(|p| p.0).collect();
+                CliError::input(format!(
+                    "--truth `{head}` is not a preset ({}), a coefficient set or an effect: {e}",
+                    known.join(", ")
+                ))
+            })?);
         m
     };
     for p in parts {
-        let e = parse_effect_spec(p)?;
+        let e = catalogue.parse_effect_spec(p)?;
         if model.effects.iter().any(|m| m.name() == e.name()) {
             return Err(CliError::input(format!(
                 "--truth names `{}` twice",
@@ -102,9 +104,9 @@ pub fn run(a: SynthArgs, inputs: &Inputs) -> Result<(), CliError> {
         )));
     }
     super::output::check_output_file(&a.output, inputs)?;
-    a.effect_files.load(inputs)?;
+    let catalogue = a.effect_files.load(inputs)?;
     let design = super::model_args::load_data(&a.data, inputs)?;
-    let truth = super::model_args::with_bases(parse_truth(&a.truth)?)?;
+    let truth = super::model_args::with_bases(parse_truth(&a.truth, &catalogue)?, &catalogue)?;
     let settings = SynthSettings {
         noise_rel: a.noise,
         trials: a.trials,

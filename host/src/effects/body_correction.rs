@@ -8,27 +8,28 @@
 use super::{Effect, ParamSpec};
 use crate::data::Case;
 use nalgebra::Matrix6;
+use std::borrow::Cow;
 
 pub struct BodyCorrection;
 
 const PARAMS: &[ParamSpec] = &[
     ParamSpec {
-        name: "translation",
-        unit: "1",
+        name: Cow::Borrowed("translation"),
+        unit: Cow::Borrowed("1"),
         default: 1.0,
         min: 0.01,
         max: 100.0,
         free: true,
-        doc: "Upsilon_T,x: factor on the body's axial translational resistance",
+        doc: Cow::Borrowed("Upsilon_T,x: factor on the body's axial translational resistance"),
     },
     ParamSpec {
-        name: "rotation",
-        unit: "1",
+        name: Cow::Borrowed("rotation"),
+        unit: Cow::Borrowed("1"),
         default: 1.0,
         min: 0.01,
         max: 100.0,
         free: true,
-        doc: "Upsilon_R,x: factor on the body's axial rotational resistance",
+        doc: Cow::Borrowed("Upsilon_R,x: factor on the body's axial rotational resistance"),
     },
 ];
 

@@ -8,17 +8,20 @@
 use super::{Effect, ParamSpec};
 use crate::data::Case;
 use crate::physics::solve::ForceBalance;
+use std::borrow::Cow;
 
 pub struct Buoyancy;
 
 const PARAMS: &[ParamSpec] = &[ParamSpec {
-    name: "net_force_mn",
-    unit: "mN",
+    name: Cow::Borrowed("net_force_mn"),
+    unit: Cow::Borrowed("mN"),
     default: 0.1,
     min: -20.0,
     max: 20.0,
     free: true,
-    doc: "buoyancy minus weight along the swimming direction (up); 0.1 mN is a 10 mg trim error",
+    doc: Cow::Borrowed(
+        "buoyancy minus weight along the swimming direction (up); 0.1 mN is a 10 mg trim error",
+    ),
 }];
 
 impl Effect for Buoyancy {

@@ -19,10 +19,10 @@
 //! fitter never makes a resistance or a rate negative; a fit that ends on
 //! the floor is visible as a parameter at its bound or a poor chi-square.
 //!
-//! A correction is an ordinary [`Effect`]: it is leaked to `&'static` (a
-//! diagnosis makes a few hundred, once per run), so that the fitter
-//! ([`crate::workbench::fit`]) varies its parameters like any catalogue
-//! effect's.
+//! A correction is an ordinary [`Effect`], shared through an
+//! [`super::EffectRef`] (a diagnosis makes a few hundred, freed with it),
+//! so that the fitter ([`crate::workbench::fit`]) varies its parameters
+//! like any catalogue effect's.
 //!
 //! Reference: K. P. Burnham & D. R. Anderson, *Model Selection and
 //! Multimodel Inference*, 2nd ed. (2002), sec. 1.4 (parsimony).
@@ -108,25 +108,25 @@ pub struct LocatedCorrection {
     /// Typical size of a load at a load place (mN or µN m): the bounds of
     /// `k` are +-100 of it.
     pub load_scale: f64,
-    name: &'static str,
-    params: &'static [ParamSpec],
+    name: String,
+    params: Vec<ParamSpec>,
 }
 
 impl std::fmt::Debug for LocatedCorrection {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name)
+        f.write_str(&self.name)
     }
 }
 
 fn spec(name: &'static str, default: f64, min: f64, max: f64, doc: &'static str) -> ParamSpec {
     ParamSpec {
-        name,
-        unit: "1",
+        name: name.into(),
+        unit: "1".into(),
         default,
         min,
         max,
         free: true,
-        doc,
+        doc: doc.into(),
     }
 }
 
@@ -148,7 +148,7 @@ impl LocatedCorrection {
         let l = load_scale.abs().max(1e-9);
         let unit: &'static str = if additive { place.unit() } else { "1" };
         let k = |default, min, max, doc| ParamSpec {
-            unit,
+            unit: unit.into(),
             ..spec("k", default, min, max, doc)
         };
         let p = spec("p", 1.0, -6.0, 6.0, "exponent of the scaled feature");
@@ -188,14 +188,9 @@ impl LocatedCorrection {
             form,
             scale,
             load_scale: l,
-            name: Box::leak(name.into_boxed_str()),
-            params: Box::leak(params.into_boxed_slice()),
+            name,
+            params,
         })
-    }
-
-    /// Leak to `&'static` so that it can sit in an [`super::EffectInstance`].
-    pub fn leak(self) -> &'static LocatedCorrection {
-        Box::leak(Box::new(self))
     }
 
     /// The scaled feature of a case (1 for a constant).
@@ -241,8 +236,8 @@ impl LocatedCorrection {
 }
 
 impl Effect for LocatedCorrection {
-    fn name(&self) -> &'static str {
-        self.name
+    fn name(&self) -> &str {
+        &self.name
     }
     fn statement(&self) -> &'static str {
         "a correction located by `diagnose`: a simple law at one place of the model"
@@ -250,8 +245,8 @@ impl Effect for LocatedCorrection {
     fn reference(&self) -> &'static str {
         "swimbot diagnose (sparse search over place, feature and form)"
     }
-    fn params(&self) -> &'static [ParamSpec] {
-        self.params
+    fn params(&self) -> &[ParamSpec] {
+        &self.params
     }
     fn acts_on_local_drag(&self) -> bool {
         self.place.is_local_drag()
@@ -292,13 +287,16 @@ mod tests {
                 let Some(c) = LocatedCorrection::new(place, feature, form, 0.1, 1.0) else {
                     continue;
                 };
-                let c = c.leak();
+                let c = std::sync::Arc::new(c);
                 // Neutral: loads 0, `1 + ...` at k = 0, `k x...` at x = 1.
                 let mut values: Vec<f64> = c.params().iter().map(|p| p.default).collect();
                 if matches!(form, Form::Proportional | Form::PowerLaw) && !place.is_additive() {
                     values[0] = 1.0;
                 }
-                let m = Model::base().with_effect(EffectInstance { effect: c, values });
+                let m = Model::base().with_effect(EffectInstance {
+                    effect: c.clone().into(),
+                    values,
+                });
                 let case = &paper.cases[1];
                 let mut at_one = case.clone();
                 // Put the feature at its reference value so that x = 1.
@@ -320,11 +318,9 @@ mod tests {
     #[test]
     fn a_drive_rate_multiplier_scales_both_velocities_exactly() {
         let paper = crate::data::paper();
-        let c = LocatedCorrection::new(Place::DriveRate, None, Form::Constant, 1.0, 1.0)
-            .unwrap()
-            .leak();
+        let c = LocatedCorrection::new(Place::DriveRate, None, Form::Constant, 1.0, 1.0).unwrap();
         let m = Model::base().with_effect(EffectInstance {
-            effect: c,
+            effect: std::sync::Arc::new(c).into(),
             values: vec![0.8],
         });
         for case in &paper.cases {

@@ -14,10 +14,8 @@
 //! Formulas are compiled once ([`super::expr`]) with parameters bound by
 //! index; evaluating one is a walk of a few tree nodes per case.
 //!
-//! [`Effect`] hands out `&'static` names and parameter tables. User effects
-//! are created a handful of times per process (once per loaded file), so
-//! their strings and tables are leaked to `'static` on construction; the
-//! few hundred bytes live until the process ends, as the catalogue does.
+//! A user effect owns its names and parameter table; models share it
+//! through an [`super::EffectRef`], so it is freed with the last of them.
 
 use super::error::UnusablePlace;
 use super::expr::{Expr, ExprError};
@@ -80,11 +78,8 @@ pub struct FormulaEffect {
     spec: UserEffectSpec,
     /// Where it was loaded from ("" when built in memory).
     source: String,
-    name: &'static str,
-    statement: &'static str,
-    reference: &'static str,
-    applies_to: &'static str,
-    params: &'static [ParamSpec],
+    applies_to: String,
+    params: Vec<ParamSpec>,
     places: Vec<(Place, Expr)>,
     /// Whether a formula reads a model quantity (computed once here).
     reads_model: bool,
@@ -95,10 +90,6 @@ pub struct FormulaEffect {
 pub struct FormulaError {
     pub place: Place,
     pub error: ExprError,
-}
-
-fn leak(s: &str) -> &'static str {
-    Box::leak(s.to_string().into_boxed_str())
 }
 
 impl FormulaEffect {
@@ -123,13 +114,13 @@ impl FormulaEffect {
             .params
             .iter()
             .map(|p| ParamSpec {
-                name: leak(&p.name),
-                unit: leak(&p.unit),
+                name: p.name.clone().into(),
+                unit: p.unit.clone().into(),
                 default: p.default,
                 min: p.min,
                 max: p.max,
                 free: p.free,
-                doc: leak(&p.doc),
+                doc: p.doc.clone().into(),
             })
             .collect();
         let reads_model = places.iter().any(|(_, e)| {
@@ -139,20 +130,12 @@ impl FormulaEffect {
         });
         Ok(FormulaEffect {
             reads_model,
-            name: leak(&spec.name),
-            statement: leak(&spec.statement),
-            reference: leak(&spec.reference),
-            applies_to: leak(spec.applies_to.as_deref().unwrap_or("all cases")),
-            params: Box::leak(params.into_boxed_slice()),
+            applies_to: spec.applies_to.as_deref().unwrap_or("all cases").into(),
+            params,
             places,
             source: source.to_string(),
             spec,
         })
-    }
-
-    /// A `'static` reference, as [`super::EffectInstance`] needs (leaked, see the module docs).
-    pub fn leak(self) -> &'static FormulaEffect {
-        Box::leak(Box::new(self))
     }
 
     pub fn spec(&self) -> &UserEffectSpec {
@@ -201,20 +184,23 @@ fn invalid(place: Place, value: f64) -> Option<String> {
 }
 
 impl Effect for FormulaEffect {
-    fn name(&self) -> &'static str {
-        self.name
+    fn name(&self) -> &str {
+        &self.spec.name
     }
-    fn statement(&self) -> &'static str {
-        self.statement
+    fn statement(&self) -> &str {
+        &self.spec.statement
     }
-    fn reference(&self) -> &'static str {
-        self.reference
+    fn reference(&self) -> &str {
+        &self.spec.reference
     }
-    fn params(&self) -> &'static [ParamSpec] {
-        self.params
+    fn params(&self) -> &[ParamSpec] {
+        &self.params
     }
-    fn applicability(&self) -> &'static str {
-        self.applies_to
+    fn applicability(&self) -> &str {
+        &self.applies_to
+    }
+    fn as_formula(&self) -> Option<&FormulaEffect> {
+        Some(self)
     }
 
     fn check(&self, p: &[f64], case: &Case) -> Result<(), EffectError> {

@@ -17,13 +17,14 @@
 //! and add one line (`&your_file::YourEffect,`) to [`CATALOGUE`]. The README
 //! has a worked example. Without recompiling: state the effect as formulas
 //! in an effects file (docs/effects-format.md, [`formula`]) and pass
-//! `--effect-file FILE.toml`; [`all`] and [`by_name`] then know it too.
+//! `--effect-file FILE.toml`; the command's [`Catalogue`] then knows it too.
 
 mod backflow;
 mod body_confinement;
 mod body_confinement_exact;
 mod body_correction;
 mod buoyancy;
+mod catalogue;
 pub mod correction;
 mod coupler;
 mod error;
@@ -31,10 +32,10 @@ pub mod expr;
 mod expr_lex;
 mod expr_parse;
 pub mod formula;
+mod handle;
 mod motor_frame;
 mod nonlocal_tail;
 pub mod place;
-mod registry;
 mod spec;
 pub mod tail_compat;
 mod tail_confinement;
@@ -43,14 +44,16 @@ mod tube_tail;
 pub mod user_file;
 mod wall_contact;
 
+pub use catalogue::{Catalogue, RegistryError};
 pub use error::{EffectError, UnusablePlace};
-pub use registry::{all, load_effect_files, register_user_effects, user_effects, RegistryError};
+pub use handle::EffectRef;
 pub use spec::{parse_effect_list, parse_effect_spec, EffectSpecError};
 
 use crate::data::Case;
 use crate::physics::coefficients::LocalDrag;
 use crate::physics::solve::ForceBalance;
 use nalgebra::Matrix6;
+use std::borrow::Cow;
 
 /// Every effect the model knows, in the order `swimbot effects` lists them.
 pub static CATALOGUE: &[&dyn Effect] = &[
@@ -68,35 +71,36 @@ pub static CATALOGUE: &[&dyn Effect] = &[
     &body_confinement_exact::BodyConfinementExact,
 ];
 
-/// Look an effect (catalogue or user) up by its command-line name.
+/// Look a compiled-in effect up by its command-line name (user effects:
+/// [`Catalogue::by_name`]).
 pub fn by_name(name: &str) -> Option<&'static dyn Effect> {
-    all().into_iter().find(|e| e.name() == name)
+    CATALOGUE.iter().copied().find(|e| e.name() == name)
 }
 
 /// One parameter of an effect.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ParamSpec {
-    pub name: &'static str,
-    pub unit: &'static str,
+    pub name: Cow<'static, str>,
+    pub unit: Cow<'static, str>,
     pub default: f64,
     pub min: f64,
     pub max: f64,
     /// Free parameters are fitted by `diagnose` and `fit`; fixed ones are
     /// settings (e.g. an applicability threshold) a user may still change.
     pub free: bool,
-    pub doc: &'static str,
+    pub doc: Cow<'static, str>,
 }
 
 /// A physically stated change to the model.
 pub trait Effect: Send + Sync {
     /// Command-line name, kebab-case.
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &str;
     /// The physics in one line.
-    fn statement(&self) -> &'static str;
+    fn statement(&self) -> &str;
     /// Where the physics comes from.
-    fn reference(&self) -> &'static str;
+    fn reference(&self) -> &str;
     /// Parameters with units, defaults and bounds (none where physics fixes it).
-    fn params(&self) -> &'static [ParamSpec] {
+    fn params(&self) -> &[ParamSpec] {
         &[]
     }
     /// Which cases the effect acts on (all by default).
@@ -114,7 +118,7 @@ pub trait Effect: Send + Sync {
         false
     }
     /// Human-readable applicability, for `swimbot effects`.
-    fn applicability(&self) -> &'static str {
+    fn applicability(&self) -> &str {
         "all cases"
     }
     /// Effects that replace a resistance (0) run before those that scale or
@@ -153,6 +157,11 @@ pub trait Effect: Send + Sync {
     fn reads_model_quantities(&self) -> bool {
         false
     }
+    /// The effect's definition as formulas, for a user effect (its places
+    /// and the file it came from name it in messages).
+    fn as_formula(&self) -> Option<&formula::FormulaEffect> {
+        None
+    }
     fn local_drag(&self, _p: &[f64], _case: &Case, _drag: &mut LocalDrag) {}
     /// Errors (e.g. a failed non-local solve) stop the prediction.
     fn tail(&self, _p: &[f64], _case: &Case, _tail: &mut Matrix6<f64>) -> Result<(), EffectError> {
@@ -165,20 +174,19 @@ pub trait Effect: Send + Sync {
 /// An effect with its parameter values.
 #[derive(Clone)]
 pub struct EffectInstance {
-    pub effect: &'static dyn Effect,
+    pub effect: EffectRef,
     pub values: Vec<f64>,
 }
 
 impl EffectInstance {
     /// The effect at its default parameters.
-    pub fn default_of(effect: &'static dyn Effect) -> Self {
-        EffectInstance {
-            effect,
-            values: effect.params().iter().map(|p| p.default).collect(),
-        }
+    pub fn default_of(effect: impl Into<EffectRef>) -> Self {
+        let effect = effect.into();
+        let values = effect.params().iter().map(|p| p.default).collect();
+        EffectInstance { effect, values }
     }
 
-    pub fn name(&self) -> &'static str {
+    pub fn name(&self) -> &str {
         self.effect.name()
     }
 

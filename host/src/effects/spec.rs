@@ -1,7 +1,7 @@
 //! Parsing effect specifications from the command line:
 //! `NAME` or `NAME:param=value,param=value`, and `+`-joined lists of them.
 
-use super::{all, by_name, EffectInstance};
+use super::{Catalogue, EffectInstance};
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EffectSpecError {
@@ -40,22 +40,30 @@ pub enum EffectSpecError {
     Repeated { effect: String, problem: String },
 }
 
-/// Parse one `NAME[:k=v,...]`.
+/// Parse one `NAME[:k=v,...]` naming a compiled-in effect; a user effect
+/// is parsed by the [`Catalogue`] that loaded it.
 pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> {
+    parse_in(&Catalogue::builtin(), text)
+}
+
+/// Parse one `NAME[:k=v,...]` against `catalogue`.
+pub(super) fn parse_in(
+    catalogue: &Catalogue,
+    text: &str,
+) -> Result<EffectInstance, EffectSpecError> {
     let (name, params) = match text.split_once(':') {
         Some((n, p)) => (n.trim(), Some(p)),
         None => (text.trim(), None),
     };
-    let effect = by_name(name).ok_or_else(|| EffectSpecError::UnknownEffect {
-        name: crate::data::limits::echo(name),
-        suggestion: super::expr::suggest(name, all().iter().map(|e| e.name())),
-        known: all()
-            .iter()
-            .map(|e| e.name())
-            .collect::<Vec<_>>()
-            .join(", "),
-    })?;
-    let mut inst = EffectInstance::default_of(effect);
+    let all = catalogue.all();
+    let effect = catalogue
+        .by_name(name)
+        .ok_or_else(|| EffectSpecError::UnknownEffect {
+            name: crate::data::limits::echo(name),
+            suggestion: super::expr::suggest(name, all.iter().map(|e| e.name())),
+            known: all.iter().map(|e| e.name()).collect::<Vec<_>>().join(", "),
+        })?;
+    let mut inst = EffectInstance::default_of(effect.clone());
     if params.is_some_and(|p| p.trim().is_empty()) {
         return Err(EffectSpecError::Malformed {
             effect: name.to_string(),
@@ -83,7 +91,11 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
                 known: if specs.is_empty() {
                     "none".to_string()
                 } else {
-                    specs.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+                    specs
+                        .iter()
+                        .map(|p| p.name.as_ref())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 },
             }
         })?;
@@ -104,7 +116,7 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
                 value,
                 min: p.min,
                 max: p.max,
-                unit: match p.unit {
+                unit: match p.unit.as_ref() {
                     "" | "1" => String::new(),
                     u => format!(" {u}"),
                 },
@@ -121,12 +133,20 @@ pub fn parse_effect_spec(text: &str) -> Result<EffectInstance, EffectSpecError> 
     Ok(inst)
 }
 
-/// Parse `A + B:k=v + C` (used by `synth --truth`).
+/// Parse `A + B:k=v + C` (used by `synth --truth`) naming compiled-in effects.
 pub fn parse_effect_list(text: &str) -> Result<Vec<EffectInstance>, EffectSpecError> {
+    parse_list_in(&Catalogue::builtin(), text)
+}
+
+/// Parse `A + B:k=v + C` against `catalogue`.
+pub(super) fn parse_list_in(
+    catalogue: &Catalogue,
+    text: &str,
+) -> Result<Vec<EffectInstance>, EffectSpecError> {
     text.split('+')
         .map(str::trim)
         .filter(|s| !s.is_empty())
-        .map(parse_effect_spec)
+        .map(|s| parse_in(catalogue, s))
         .collect()
 }
 

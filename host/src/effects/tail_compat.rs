@@ -153,10 +153,7 @@ const INSTEAD: &str = " (`tail-confinement-stokeslets` resolves the tube wall ar
 /// "effect `x` acts on c_t, c_n" or, for a user effect, "effect `x` (FILE)
 /// acts at `tail.c_t`".
 fn describe(effect: &dyn Effect) -> String {
-    let user = super::user_effects()
-        .into_iter()
-        .find(|u| u.spec().name == effect.name());
-    match user {
+    match effect.as_formula() {
         Some(u) => {
             let place = u
                 .spec()

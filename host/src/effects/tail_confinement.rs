@@ -18,17 +18,20 @@
 use super::{Effect, ParamSpec};
 use crate::data::Case;
 use crate::physics::coefficients::LocalDrag;
+use std::borrow::Cow;
 
 pub struct TailConfinement;
 
 const PARAMS: &[ParamSpec] = &[ParamSpec {
-    name: "gamma",
-    unit: "1",
+    name: Cow::Borrowed("gamma"),
+    unit: Cow::Borrowed("1"),
     default: 1.0,
     min: 0.0,
     max: 20.0,
     free: true,
-    doc: "weight of the wall cut-off 2h against the wavelength in the log's outer length",
+    doc: Cow::Borrowed(
+        "weight of the wall cut-off 2h against the wavelength in the log's outer length",
+    ),
 }];
 
 /// Factors on `(c_t, c_n)` for wall weight `gamma`.

@@ -14,27 +14,28 @@
 use super::{Effect, ParamSpec};
 use crate::data::Case;
 use crate::physics::solve::ForceBalance;
+use std::borrow::Cow;
 
 pub struct WallContact;
 
 const PARAMS: &[ParamSpec] = &[
     ParamSpec {
-        name: "thrust",
-        unit: "1",
+        name: Cow::Borrowed("thrust"),
+        unit: Cow::Borrowed("1"),
         default: 0.1,
         min: -5.0,
         max: 5.0,
         free: true,
-        doc: "c_w: contact thrust in units of mu omega B_o L_t",
+        doc: Cow::Borrowed("c_w: contact thrust in units of mu omega B_o L_t"),
     },
     ParamSpec {
-        name: "min_length_ratio",
-        unit: "1",
+        name: Cow::Borrowed("min_length_ratio"),
+        unit: Cow::Borrowed("1"),
         default: 3.0,
         min: 0.0,
         max: 100.0,
         free: false,
-        doc: "L_t / D_ch above which the tail touches the wall",
+        doc: Cow::Borrowed("L_t / D_ch above which the tail touches the wall"),
     },
 ];
 

@@ -64,7 +64,7 @@ pub fn key(model: &Model) -> u64 {
     )
     .hash(&mut h);
     for e in &model.effects {
-        (e.effect as *const dyn crate::effects::Effect as *const () as usize).hash(&mut h);
+        e.effect.identity().hash(&mut h);
         for v in &e.values {
             v.to_bits().hash(&mut h);
         }

@@ -141,14 +141,14 @@ impl Model {
     /// Refuses effects that would change nothing with this model's tail
     /// (a local drag effect with a non-local tail, ...): [`tail_compat`].
     pub fn check_tail_compat(&self) -> Result<(), tail_compat::TailConflict> {
-        let effects: Vec<&dyn Effect> = self.effects.iter().map(|e| e.effect).collect();
+        let effects: Vec<&dyn Effect> = self.effects.iter().map(|e| &*e.effect).collect();
         tail_compat::check(self.tail_model(), &effects)
     }
 
     /// Whether `effect`, added to this model, would act with its tail: the
     /// candidates `diagnose` and `audit` add are filtered by it.
     pub fn can_take(&self, effect: &dyn Effect) -> bool {
-        let effects: Vec<&dyn Effect> = self.effects.iter().map(|e| e.effect).collect();
+        let effects: Vec<&dyn Effect> = self.effects.iter().map(|e| &*e.effect).collect();
         tail_compat::conflict(effect, &effects, self.tail_model()).is_none()
     }
 

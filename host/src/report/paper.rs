@@ -56,7 +56,7 @@ pub fn table_iii(model: &Model) -> Markup {
                 .params()
                 .iter()
                 .zip(&e.values)
-                .map(|(p, v)| (p.name, *v))
+                .map(|(p, v)| (p.name.as_ref(), *v))
         })
         .collect();
     html! {

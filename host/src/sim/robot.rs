@@ -82,9 +82,11 @@ pub struct Robot {
 }
 
 impl Robot {
-    /// A robot file read, recorded in `inputs`, and checked.
+    /// A robot file read, recorded in `inputs`, and checked; the effects
+    /// it names are looked up in `catalogue`.
     pub fn load_file(
         path: &std::path::Path,
+        catalogue: &crate::effects::Catalogue,
         inputs: &crate::provenance::Inputs,
     ) -> Result<Robot, RobotError> {
         let file = path.display().to_string();
@@ -92,12 +94,13 @@ impl Robot {
             crate::input_file::read_text(path, crate::input_file::cap::ROBOT, "a robot file")
                 .map_err(|e| fail(&file, None, e.to_string()))?;
         inputs.record(path, text.as_bytes());
-        Robot::from_toml(&text, &file)
+        super::robot_file::parse(&text, &file, catalogue)
     }
 
-    /// A robot from the text of its file (`file` names it in errors).
+    /// A robot from the text of its file (`file` names it in errors),
+    /// naming compiled-in effects only.
     pub fn from_toml(text: &str, file: &str) -> Result<Robot, RobotError> {
-        super::robot_file::parse(text, file)
+        super::robot_file::parse(text, file, &crate::effects::Catalogue::builtin())
     }
 
     /// The model's case for tail `tail` (index), at tail rate `f_hz`.

@@ -9,7 +9,7 @@ use super::raw::{
 };
 use super::robot::{fail, Cell, Robot, RobotError, Tail};
 use crate::data::Case;
-use crate::effects::parse_effect_spec;
+use crate::effects::Catalogue;
 use crate::model::Model;
 use crate::physics::coefficients::CoefficientSet;
 use crate::physics::geometry::Handedness;
@@ -19,8 +19,9 @@ use swimbot_shared::{BatteryConfig, ControllerConfig, Duty, KeyMap};
 /// Copper, for the tail's inertia when the file does not give it.
 const COPPER_KG_M3: f64 = 8960.0;
 
-/// The robot in `text`, the file named `file`.
-pub(super) fn parse(text: &str, file: &str) -> Result<Robot, RobotError> {
+/// The robot in `text`, the file named `file`; its effects are looked up
+/// in `catalogue`.
+pub(super) fn parse(text: &str, file: &str, catalogue: &Catalogue) -> Result<Robot, RobotError> {
     let raw: Raw = toml::from_str(text).map_err(|e| {
         // serde reports a missing table or key at the document's start
         // ("line 1, column 1"); name what is missing instead.
@@ -38,7 +39,7 @@ pub(super) fn parse(text: &str, file: &str) -> Result<Robot, RobotError> {
             ),
         }
     })?;
-    let v = Check { file };
+    let v = Check { file, catalogue };
     let motor = v.motor(&raw.motor)?;
     let cell = v.cell(&raw.battery)?;
     let battery = v.divider(&raw.divider)?;
@@ -88,6 +89,7 @@ pub(super) fn parse(text: &str, file: &str) -> Result<Robot, RobotError> {
 /// The file being checked: every error names it.
 struct Check<'a> {
     file: &'a str,
+    catalogue: &'a Catalogue,
 }
 
 impl Check<'_> {
@@ -272,7 +274,7 @@ impl Check<'_> {
             )
         })?;
         for (i, spec) in m.effects.iter().enumerate() {
-            let e = parse_effect_spec(spec).map_err(|e| {
+            let e = self.catalogue.parse_effect_spec(spec).map_err(|e| {
                 fail(
                     self.file,
                     Some(&format!("model.effects[{i}]")),

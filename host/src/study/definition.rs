@@ -5,7 +5,7 @@
 //! study opens on any machine without the file it came from.
 
 use crate::effects::formula::{to_toml, FormulaEffect};
-use crate::effects::{by_name, user_file, Effect};
+use crate::effects::{user_file, Catalogue, Effect, EffectRef};
 use crate::provenance::Inputs;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -31,7 +31,7 @@ pub struct Definition {
 }
 
 /// The source label user effects from a study are registered under: the
-/// same for every study, so that opening a study twice is one effect.
+/// same for every step, so that rebuilding a step's effect is one effect.
 const SOURCE: &str = "a study's step";
 
 impl Definition {
@@ -91,8 +91,9 @@ impl Definition {
         })
     }
 
-    /// The effect it defines, registering a user effect first.
-    pub fn effect(&self) -> Result<&'static dyn Effect, DefinitionError> {
+    /// The effect it defines, looked up in `catalogue`; a user effect is
+    /// registered in it first.
+    pub fn effect(&self, catalogue: &mut Catalogue) -> Result<EffectRef, DefinitionError> {
         if let Some(text) = &self.definition {
             let specs = user_file::parse(text, SOURCE)?;
             let spec = specs
@@ -104,9 +105,11 @@ impl Definition {
                     place: e.place.name().to_string(),
                     error: e.error,
                 })?;
-            crate::effects::register_user_effects(vec![effect])?;
+            catalogue.register_user_effects(vec![effect])?;
         }
-        by_name(&self.name).ok_or_else(|| DefinitionError::Unknown(self.name.clone()))
+        catalogue
+            .by_name(&self.name)
+            .ok_or_else(|| DefinitionError::Unknown(self.name.clone()))
     }
 }
 

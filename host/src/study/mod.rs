@@ -30,7 +30,7 @@ pub use refit::{RefitChoice, Trial};
 pub use snapshot::{CaseRow, Snapshot, Stats};
 
 use crate::data::Dataset;
-use crate::effects::EffectInstance;
+use crate::effects::{Catalogue, EffectInstance};
 use crate::model::{preset, Model};
 use crate::provenance::Inputs;
 use crate::workbench::robust::Likelihood;
@@ -282,6 +282,19 @@ impl Study {
     /// The base with the first `k` steps, each at its values then (a later
     /// joint refit's values apply from its step on).
     pub fn model_upto(&self, k: usize) -> Result<Model, StudyError> {
+        Ok(self.model_and_catalogue(k)?.0)
+    }
+
+    /// The effects the study knows: the compiled-in ones and its steps'
+    /// user effects (each study its own, whatever others a process opened).
+    pub fn catalogue(&self) -> Result<Catalogue, StudyError> {
+        Ok(self.model_and_catalogue(self.file.steps.len())?.1)
+    }
+
+    /// The base with the first `k` steps, and the catalogue their effects
+    /// were registered in.
+    fn model_and_catalogue(&self, k: usize) -> Result<(Model, Catalogue), StudyError> {
+        let mut catalogue = Catalogue::builtin();
         let mut model = preset(&self.file.model.preset).ok_or_else(|| StudyError::Format {
             file: self.path.clone(),
             field: "model.preset".into(),
@@ -303,7 +316,7 @@ impl Study {
             };
             let effect = s
                 .effect
-                .effect()
+                .effect(&mut catalogue)
                 .map_err(|m| err("effect", m.to_string()))?;
             let mut inst = EffectInstance::default_of(effect);
             set_values(&mut inst, &s.params).map_err(|m| err("param", m.to_string()))?;
@@ -318,7 +331,7 @@ impl Study {
                     .map_err(|m| err("refitted", m.to_string()))?;
             }
         }
-        Ok(model)
+        Ok((model, catalogue))
     }
 
     /// The statistics of the model now (the last step's after, or the start's).
@@ -346,7 +359,9 @@ impl Study {
             effect: def.name.clone(),
             message: m,
         };
-        let effect = def.effect().map_err(|e| eff_err(e.to_string()))?;
+        let effect = def
+            .effect(&mut self.catalogue()?)
+            .map_err(|e| eff_err(e.to_string()))?;
         let before_model = self.model()?;
         if let Some(i) = before_model
             .effects
@@ -360,7 +375,7 @@ impl Study {
             };
             return Err(eff_err(format!("it is already in the model ({where_})")));
         }
-        if !before_model.can_take(effect) {
+        if !before_model.can_take(&*effect) {
             let mut with = before_model.clone();
             with.effects.push(EffectInstance::default_of(effect));
             let why = with
@@ -547,7 +562,7 @@ fn set_values(
                 param: crate::data::limits::echo(&r.name).to_string(),
             }
         })?;
-        let p = specs[i];
+        let p = &specs[i];
         if !(r.value.is_finite() && r.value >= p.min && r.value <= p.max) {
             return Err(ParamValueError::OutOfRange {
                 effect: inst.name().to_string(),

@@ -14,18 +14,19 @@ use super::fit::{fit_with, free_params_of, FitError};
 use super::robust::Likelihood;
 use super::score::{Deviance, FitScore};
 use crate::data::Dataset;
-use crate::effects::Effect;
+use crate::effects::{Catalogue, EffectRef};
 use crate::model::Model;
 use rayon::prelude::*;
 
-/// Effects that `diagnose` may propose: catalogue entries not in the model
-/// (costly ones only on request).
-pub fn candidates(model: &Model, include_costly: bool) -> Vec<&'static dyn Effect> {
-    crate::effects::all()
+/// Effects that `diagnose` may propose: entries of `catalogue` not in the
+/// model (costly ones only on request).
+pub fn candidates(catalogue: &Catalogue, model: &Model, include_costly: bool) -> Vec<EffectRef> {
+    catalogue
+        .all()
         .into_iter()
         .filter(|e| e.candidate() && (include_costly || !e.costly()))
         .filter(|e| !model.effects.iter().any(|m| m.name() == e.name()))
-        .filter(|e| model.can_take(*e))
+        .filter(|e| model.can_take(&**e))
         .collect()
 }
 

@@ -77,11 +77,13 @@ pub fn diagnose(
     let trends = trends(data, &cmp);
     let base_len = model.effects.len();
     say(2, "fitting the catalogue's effects");
-    let cands = candidates(model, s.include_costly);
+    let cands = candidates(&s.catalogue, model, s.include_costly);
     // Warm the memoised non-local solves in parallel over cases (a
     // catalogue fit walks its cases serially; milliseconds per case).
     for e in &cands {
-        let m = model.clone().with_effect(EffectInstance::default_of(*e));
+        let m = model
+            .clone()
+            .with_effect(EffectInstance::default_of(e.clone()));
         data.cases.par_iter().for_each(|c| {
             let _ = m.predict(c);
         });
@@ -89,7 +91,9 @@ pub fn diagnose(
     let mut ranking: Vec<Candidate> = cands
         .par_iter()
         .filter_map(|e| {
-            let m = model.clone().with_effect(EffectInstance::default_of(*e));
+            let m = model
+                .clone()
+                .with_effect(EffectInstance::default_of(e.clone()));
             evaluate(&m, &[base_len], data, &floor, s.likelihood).ok()
         })
         .collect();

@@ -31,6 +31,9 @@ pub struct DiagnoseSettings {
     /// The likelihood every fit of the diagnosis minimises (Gaussian: least
     /// squares); passed to each fit, never kept in a thread.
     pub likelihood: super::robust::Likelihood,
+    /// The effects the diagnosis may propose: the compiled-in ones and the
+    /// user effects this command or call loaded (compiled-in only).
+    pub catalogue: crate::effects::Catalogue,
 }
 
 /// The diagnosis's stages: 1 is the data's quality and the base model's
@@ -48,6 +51,7 @@ impl Default for DiagnoseSettings {
             discovery: DiscoverySettings::default(),
             progress: None,
             likelihood: super::robust::Likelihood::Gaussian,
+            catalogue: crate::effects::Catalogue::builtin(),
         }
     }
 }

@@ -158,7 +158,7 @@ fn one_step_all(full: &FullFit, cases: &[Case], lik: Likelihood) -> Vec<Option<F
         .free
         .iter()
         .map(|f| {
-            let s = model.effects[f.effect].effect.params()[f.param];
+            let s = &model.effects[f.effect].effect.params()[f.param];
             (s.min, s.max)
         })
         .collect();

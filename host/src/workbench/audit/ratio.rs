@@ -99,7 +99,7 @@ pub fn family(model: &Model, samples: usize, seed: u64) -> (Vec<String>, Vec<Mod
             .map(|perm| (perm[s] as f64 + rng.gen::<f64>()) / samples as f64)
             .collect();
         for (&(k, i), u) in dims.iter().zip(cells) {
-            let spec = effects[k].params()[i];
+            let spec = &effects[k].params()[i];
             inst[k].values[i] = spec.min + u * (spec.max - spec.min);
         }
         let mut m = model.clone();

@@ -45,6 +45,7 @@ use rayon::prelude::*;
 pub use screen::Table;
 use search::{cv_mare, Screen};
 use serde::Serialize;
+use std::sync::Arc;
 
 /// Settings of [`discover`]; `Default` gives the documented values.
 #[derive(Debug, Clone)]
@@ -100,7 +101,7 @@ pub struct Located {
     #[serde(skip)]
     pub model: Model,
     #[serde(skip)]
-    pub correction: &'static LocatedCorrection,
+    pub correction: Arc<LocatedCorrection>,
 }
 
 /// What the search found.
@@ -217,7 +218,7 @@ fn refit(
 ) -> Result<Located, FitError> {
     let c = x.correction;
     let m = model.clone().with_effect(EffectInstance {
-        effect: c,
+        effect: c.clone().into(),
         values: x.params.clone(),
     });
     let free = free_params_of(&m, &[m.effects.len() - 1]);
@@ -248,7 +249,7 @@ fn refit(
             (reference.floor)(k),
         ),
         explained_fraction: explained_fraction(reference.chi2, full.chi2, floor0),
-        interpretation: interpretation_of(c, &values, data),
+        interpretation: interpretation_of(&c, &values, data),
         equivalent: interpret::equivalents(c.place).to_vec(),
         non_identifiable: full.non_identifiable.clone(),
         on_top_of: model.effects.iter().map(write::exact_spec).collect(),

@@ -61,14 +61,13 @@ pub struct Table {
     load_scales: Vec<(Place, f64)>,
 }
 
-/// The model with a constant correction at `place` (leaked once per place
+/// The model with a constant correction at `place` (built once per place
 /// and build; the value is set in the instance).
 fn with_value(model: &Model, place: Place, v: f64) -> Model {
     let c = LocatedCorrection::new(place, None, Form::Constant, 1.0, 1.0)
-        .expect("a constant fits every place")
-        .leak();
+        .expect("a constant fits every place");
     model.clone().with_effect(EffectInstance {
-        effect: c,
+        effect: std::sync::Arc::new(c).into(),
         values: vec![v],
     })
 }

@@ -17,11 +17,12 @@ use crate::effects::correction::{Form, LocatedCorrection};
 use crate::effects::place::Place;
 use crate::effects::Effect;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// One screened candidate: a correction with its table-fitted parameters.
 #[derive(Clone)]
 pub struct Screened {
-    pub correction: &'static LocatedCorrection,
+    pub correction: Arc<LocatedCorrection>,
     pub params: Vec<f64>,
     pub chi2: f64,
     /// Scaled feature per case (all cases of the dataset).
@@ -79,7 +80,7 @@ fn varying(q: &Quantity, data: &Dataset) -> Option<f64> {
 
 /// Every correction the search considers, at the places the model is
 /// sensitive to.
-pub fn corrections(table: &Table, data: &Dataset) -> Vec<&'static LocatedCorrection> {
+pub fn corrections(table: &Table, data: &Dataset) -> Vec<Arc<LocatedCorrection>> {
     let features = usable_features(data);
     let mut out = Vec::new();
     for place in Place::ALL {
@@ -97,11 +98,11 @@ pub fn corrections(table: &Table, data: &Dataset) -> Vec<&'static LocatedCorrect
                         continue;
                     }
                     if let Some(c) = LocatedCorrection::new(place, Some(q), form, median, ls) {
-                        out.push(c.leak());
+                        out.push(Arc::new(c));
                     }
                 }
             } else if let Some(c) = LocatedCorrection::new(place, None, form, 1.0, ls) {
-                out.push(c.leak());
+                out.push(Arc::new(c));
             }
         }
     }
@@ -223,7 +224,7 @@ pub fn xs_of(c: &LocatedCorrection, data: &Dataset) -> Vec<f64> {
 /// Fit one correction on the observations `sub` from each of its starts.
 pub fn screen_one(
     table: &Table,
-    c: &'static LocatedCorrection,
+    c: &Arc<LocatedCorrection>,
     data: &Dataset,
     sub: &[usize],
 ) -> Screened {
@@ -236,7 +237,7 @@ pub fn screen_one(
         }
     }
     Screened {
-        correction: c,
+        correction: c.clone(),
         params: best.0,
         chi2: best.1,
         xs,
@@ -255,8 +256,8 @@ pub fn cv_mare(table: &Table, s: &Screened, n_cases: usize, folds: usize) -> f64
         if test.is_empty() || train.is_empty() {
             continue;
         }
-        let (p, _) = fit_on_table(table, s.correction, &s.xs, &train, &s.params);
-        table.residuals_into(s.correction, &p, &s.xs, &test, &mut r);
+        let (p, _) = fit_on_table(table, &s.correction, &s.xs, &train, &s.params);
+        table.residuals_into(&s.correction, &p, &s.xs, &test, &mut r);
         for (o, z) in test.iter().zip(&r) {
             let ob = table.obs[*o];
             errs.push((z * ob.sigma / ob.observed).abs());
@@ -314,7 +315,7 @@ impl Screen {
     /// subsample.
     pub fn on_all(&self, table: &Table, x: &mut Screened) {
         if self.stride > 1 {
-            let (p, f) = fit_on_table(table, x.correction, &x.xs, &self.all, &x.params);
+            let (p, f) = fit_on_table(table, &x.correction, &x.xs, &self.all, &x.params);
             x.params = p;
             x.chi2 = f;
         }

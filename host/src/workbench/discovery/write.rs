@@ -42,7 +42,7 @@ pub fn to_toml(l: &Located, dataset: &str) -> String {
 /// of, where an earlier law of the file is named by its name in the file
 /// (and a second law at one place gets `-2`, ...).
 pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
-    let mut names: Vec<(&'static str, String)> = Vec::new();
+    let mut names: Vec<(&str, String)> = Vec::new();
     let mut specs = Vec::new();
     let mut header =
         String::from("# Corrections located by `swimbot diagnose`, in the order found:\n");
@@ -90,7 +90,7 @@ pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
             beneath.describe()
         ));
         specs.push(spec_of(l, name.clone(), base, dataset));
-        names.push((crate::effects::Effect::name(l.correction), name));
+        names.push((crate::effects::Effect::name(&*l.correction), name));
     }
     if steps.iter().any(|l| {
         l.correction
@@ -106,7 +106,7 @@ pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
 }
 
 fn spec_of(l: &Located, name: String, base: Vec<String>, dataset: &str) -> UserEffectSpec {
-    let specs = crate::effects::Effect::params(l.correction);
+    let specs = crate::effects::Effect::params(&*l.correction);
     let params = specs
         .iter()
         .zip(&l.params)

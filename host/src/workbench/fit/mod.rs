@@ -128,7 +128,7 @@ struct Problem<'a> {
 }
 
 pub(super) fn bounds(model: &Model, f: FreeParam) -> (f64, f64) {
-    let spec = model.effects[f.effect].effect.params()[f.param];
+    let spec = &model.effects[f.effect].effect.params()[f.param];
     (spec.min, spec.max)
 }
 

@@ -129,7 +129,7 @@ pub(super) fn finish(
         .enumerate()
         .map(|(i, f)| {
             let e = &model.effects[f.effect];
-            let spec = e.effect.params()[f.param];
+            let spec = &e.effect.params()[f.param];
             let v = e.values[f.param];
             let span = spec.max - spec.min;
             Estimate {

@@ -51,7 +51,7 @@ pub struct StepParam {
     pub step: usize,
     /// The law's place, or the catalogue effect's name.
     pub of: String,
-    pub param: &'static str,
+    pub param: String,
     pub value: f64,
     /// 95 % half-width in the joint fit; `None` when not identifiable.
     pub ci95: Option<f64>,
@@ -136,7 +136,9 @@ pub fn joint_reading(
                 .2
                 .as_ref()
                 .map_or_else(|| path.steps[s].0.name.clone(), |l| l.place.to_string()),
-            param: model.effects[f.effect].effect.params()[f.param].name,
+            param: model.effects[f.effect].effect.params()[f.param]
+                .name
+                .to_string(),
             value: e.value,
             ci95: e.ci95,
         })
@@ -233,7 +235,7 @@ pub fn traded_groups(traded: &[Traded]) -> Vec<(Vec<StepParam>, Vec<&Traded>)> {
         }
         merged
             .0
-            .sort_by(|a, b| (a.step, a.param).cmp(&(b.step, b.param)));
+            .sort_by(|a, b| (a.step, &a.param).cmp(&(b.step, &b.param)));
         merged.0.dedup();
         groups.push(merged);
     }

@@ -304,11 +304,11 @@ pub fn search(
     };
     let law_charge = 2.0 * (d.screened.max(1) as f64).ln();
     // As the incumbent's members are charged ([`set::members`]).
-    let n_cat = super::candidate::candidates(model, true).len();
+    let n_cat = super::candidate::candidates(&s.catalogue, model, true).len();
     let cat_charge = 2.0 * (n_cat.max(1) as f64).ln();
     let incumbent = match first.is_empty() {
         true => None,
-        false => ctx.fit(members(model, &first, d.screened)),
+        false => ctx.fit(members(&s.catalogue, model, &first, d.screened)),
     };
     let mut all = singles(&ctx, e, law_charge, cat_charge)?;
     all.extend(incumbent.clone());
@@ -404,7 +404,7 @@ fn singles(
     if let Some(d) = e.discovery {
         for l in &d.located {
             lib.push(Member {
-                id: law_id(l.correction),
+                id: law_id(&l.correction),
                 insts: vec![l.model.effects.last().expect("a law adds one").clone()],
                 located: Some(l.clone()),
                 name: l.describe(),
@@ -429,11 +429,11 @@ fn singles(
 }
 
 fn pending_member(at: super::discovery::places::AtPlace, charge: f64) -> Member {
-    let c = at.screened.correction;
+    let c = at.screened.correction.clone();
     Member {
-        id: law_id(c),
+        id: law_id(&c),
         insts: vec![EffectInstance {
-            effect: c,
+            effect: c.clone().into(),
             values: at.screened.params.clone(),
         }],
         located: None,
@@ -542,7 +542,7 @@ fn extended(
                 .ranking
                 .iter()
                 .filter(|c| !f.members.iter().any(|m| m.id == c.effect))
-                .filter(|c| model.can_take(c.model.effects[base_len].effect))
+                .filter(|c| model.can_take(&*c.model.effects[base_len].effect))
                 .take(CATALOGUE_EXTEND);
             for c in cats {
                 let mut m = f.members.clone();

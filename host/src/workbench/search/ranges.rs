@@ -50,22 +50,21 @@ mod tests {
     use super::*;
     use crate::effects::correction::Form;
 
-    fn constant(place: Place) -> &'static LocatedCorrection {
+    fn constant(place: Place) -> LocatedCorrection {
         LocatedCorrection::new(place, None, Form::Constant, 1.0, 1.0)
             .expect("a constant fits every place")
-            .leak()
     }
 
     #[test]
     fn a_drive_at_a_tenth_of_its_recorded_rate_is_out_and_a_slip_is_in() {
         let data = crate::data::paper();
         let drive = constant(Place::DriveRate);
-        let (case, v, range) = outside(drive, &[0.12], &data).expect("out");
+        let (case, v, range) = outside(&drive, &[0.12], &data).expect("out");
         assert_eq!(case, data.cases[0].id);
         assert!((v - 0.12).abs() < 1e-12 && range == (0.5, 1.1));
-        assert!(outside(drive, &[0.85], &data).is_none());
+        assert!(outside(&drive, &[0.85], &data).is_none());
         assert!(
-            outside(drive, &[1.3], &data).is_some(),
+            outside(&drive, &[1.3], &data).is_some(),
             "a slip gains no rate"
         );
     }
@@ -74,12 +73,11 @@ mod tests {
     fn an_oil_at_a_few_percent_of_its_viscosity_is_out_and_loads_are_free() {
         let data = crate::data::paper();
         let oil = constant(Place::TailViscosity);
-        assert!(outside(oil, &[0.03], &data).is_some());
-        assert!(outside(oil, &[0.6], &data).is_none());
-        assert!(outside(oil, &[12.0], &data).is_some());
+        assert!(outside(&oil, &[0.03], &data).is_some());
+        assert!(outside(&oil, &[0.6], &data).is_none());
+        assert!(outside(&oil, &[12.0], &data).is_some());
         let force = LocatedCorrection::new(Place::LoadForce, None, Form::Constant, 1.0, 1.0)
-            .expect("a constant load")
-            .leak();
-        assert!(outside(force, &[-90.0], &data).is_none());
+            .expect("a constant load");
+        assert!(outside(&force, &[-90.0], &data).is_none());
     }
 }

@@ -20,6 +20,7 @@ use crate::workbench::fit::{fit_with, free_params_of, Estimate, FitError, FitRes
 use crate::workbench::robust::t_deviance_of;
 use crate::workbench::robust::Likelihood;
 use crate::workbench::score::Deviance;
+use std::sync::Arc;
 
 /// One step of the set: the effects it adds, and the law (for a located
 /// step) or the catalogue name.
@@ -56,10 +57,10 @@ impl Member {
 
     /// The law of a located or screened member (`None` for a catalogue
     /// effect).
-    pub fn law(&self) -> Option<&'static LocatedCorrection> {
+    pub fn law(&self) -> Option<&Arc<LocatedCorrection>> {
         match (&self.located, &self.pending) {
-            (Some(l), _) => Some(l.correction),
-            (None, Some(at)) => Some(at.screened.correction),
+            (Some(l), _) => Some(&l.correction),
+            (None, Some(at)) => Some(&at.screened.correction),
             (None, None) => None,
         }
     }
@@ -149,8 +150,13 @@ pub(super) fn with_values(set: &[Member], model0: &Model, j: &Joint) -> Vec<Memb
         .collect()
 }
 
-pub(super) fn members(model0: &Model, path: &Steps, laws: usize) -> Vec<Member> {
-    let n_cat = candidates(model0, true).len().max(1) as f64;
+pub(super) fn members(
+    catalogue: &crate::effects::Catalogue,
+    model0: &Model,
+    path: &Steps,
+    laws: usize,
+) -> Vec<Member> {
+    let n_cat = candidates(catalogue, model0, true).len().max(1) as f64;
     let mut prev = model0.effects.len();
     path.iter()
         .map(|(step, level, located)| {
@@ -158,7 +164,7 @@ pub(super) fn members(model0: &Model, path: &Steps, laws: usize) -> Vec<Member> 
             prev = level.model.effects.len();
             Member {
                 id: match located {
-                    Some(l) => law_id(l.correction),
+                    Some(l) => law_id(&l.correction),
                     None => step.name.clone(),
                 },
                 place: located.as_ref().map(|l| l.place),
@@ -260,7 +266,7 @@ pub(super) fn restate(
     out.score.aicc = level.deviance().aicc(n, level.k);
     out.score.at_noise_floor = level.at_floor;
     out.t_deviance = level.t_deviance;
-    out.interpretation = interpretation_of(l.correction, values, data);
+    out.interpretation = interpretation_of(&l.correction, values, data);
     out.model = level.model.clone();
     out
 }
