@@ -33,8 +33,10 @@ impl EffectRef {
     /// quantities, [`crate::model::columns::key`]).
     pub fn identity(&self) -> u64 {
         match self {
-            // Compiled-in effects never move or go; their address is even,
-            // run-time identities are odd, so the two never meet.
+            // Compiled-in effects never move or go; their address, shifted,
+            // is even and run-time identities are odd, so the two never
+            // meet. Two zero-sized compiled-in effects may share an
+            // address: a key that must tell them apart hashes the name too.
             EffectRef::Builtin(e) => (*e as *const dyn Effect as *const () as usize as u64) << 1,
             EffectRef::Shared(_, id) => (id << 1) | 1,
         }

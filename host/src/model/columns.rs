@@ -64,6 +64,10 @@ pub fn key(model: &Model) -> u64 {
     )
     .hash(&mut h);
     for e in &model.effects {
+        // The name too: compiled-in effects are unit structs, and two
+        // zero-sized statics may share one address, so their identities
+        // alone could not tell body-confinement from motor-frame.
+        e.effect.name().hash(&mut h);
         e.effect.identity().hash(&mut h);
         for v in &e.values {
             v.to_bits().hash(&mut h);
