@@ -42,7 +42,7 @@
 //! FIRST_SEED=1651`, `ONLY=constant FIRST_SEED=1611`, `ONLY=density
 //! FIRST_SEED=1621`, `ONLY=slip FIRST_SEED=1631`, `ONLY=null
 //! FIRST_SEED=1661`. `VERBOSE=1` prints each
-//! verdict's note.
+//! verdict's note; `SEEDS=n` runs n seeds from the first (10).
 
 #[path = "../tests/fixtures/drawn.rs"]
 mod drawn;
@@ -310,6 +310,10 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(1701);
+    let count: u64 = std::env::var("SEEDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(10);
     let only = std::env::var("ONLY").ok();
     let verbose = std::env::var("VERBOSE").is_ok();
     println!("| category | seeds | truth in the stated set | same, tail.torque = body.E_x | wrong set claimed alone | located exactly | at the floor | median s per diagnosis |");
@@ -320,7 +324,7 @@ fn main() {
         }
         let (mut stated, mut stated_eq, mut wrong, mut exact, mut floor) = (0, 0, 0, 0, 0);
         let mut times = Vec::new();
-        for seed in first..first + 10 {
+        for seed in first..first + count {
             let (model, design, want) = truth(cat, seed);
             let settings = SynthSettings {
                 seed,
@@ -356,8 +360,8 @@ fn main() {
         }
         times.sort_by(f64::total_cmp);
         println!(
-            "| {cat} | {first}-{} | {stated}/10 | {stated_eq}/10 | {wrong}/10 | {exact}/10 | {floor}/10 | {:.1} |",
-            first + 9,
+            "| {cat} | {first}-{} | {stated}/{count} | {stated_eq}/{count} | {wrong}/{count} | {exact}/{count} | {floor}/{count} | {:.1} |",
+            first + count - 1,
             times[times.len() / 2]
         );
     }

@@ -47,8 +47,9 @@ fn strengths_that_trade_across_steps_are_said_so() {
 /// E_x and its D_x all located, their strengths trading (the whole
 /// swimmer's resistance scaled down together). The search over subsets
 /// finds the true pair, the oil on the tail's viscosity in the shear rate
-/// and the body law on D_x, in every set the data cannot tell apart, at
-/// the floor.
+/// and the body law on D_x, at the floor; the oil is in every set the data
+/// cannot tell apart (one reads the body's share as a lower thrust in the
+/// body's confinement, within the calibrated margin).
 #[test]
 fn the_drawn_pair_of_seed_205_is_found_in_every_set() {
     let d = diagnose_drawn_pair(205);

@@ -24,7 +24,12 @@ fn locates_wall_proximity_on_the_tail_normal_resistance() {
         &d,
         &data,
         "tail.c_n",
-        &["wire_over_gap", "tail_clearance", "tail_gap_ratio"],
+        &[
+            "wire_over_gap",
+            "helix_over_gap",
+            "tail_clearance",
+            "tail_gap_ratio",
+        ],
     );
     assert!(d.verdict.located[0].interpretation.contains("wall"));
 }

@@ -83,6 +83,13 @@ pub const FEATURES: &[Quantity] = &[
         value: |c| 1.0 / (c.wavelength_mm / c.wire_diameter_mm).ln(),
     },
     Quantity {
+        id: "helix_over_gap",
+        name: "(B_o + D_t/2)/(R_ch - B_o - D_t/2)",
+        unit: "1",
+        doc: "the helix's outer radius over its gap to the wall: the confinement of the tail as a whole",
+        value: |c| (c.amplitude_mm + 0.5 * c.wire_diameter_mm) / tail_gap_mm(c),
+    },
+    Quantity {
         id: "tail_clearance",
         name: "(B_o + D_t/2)/R_ch",
         unit: "1",
@@ -363,6 +370,22 @@ mod tests {
             assert!(all[..i].iter().all(|o| o.id != q.id), "duplicate {}", q.id);
             assert!(!q.doc.is_empty() && !q.unit.is_empty());
         }
+    }
+
+    /// The helix's confinement `R_h/gap` is `t/(1 - t)` of its clearance
+    /// `t = R_h/R_ch`, and grows without bound as the helix nears the wall.
+    #[test]
+    fn helix_over_gap_is_the_clearance_over_what_is_left() {
+        let by = |id: &str| FEATURES.iter().find(|q| q.id == id).expect(id);
+        let (h, t) = (by("helix_over_gap"), by("tail_clearance"));
+        let mut c = crate::data::paper().cases[0].clone();
+        for d_ch in [14.0, 20.0, 35.0, 50.0] {
+            c.channel_diameter_mm = d_ch;
+            let t = t.of(&c);
+            assert!((h.of(&c) - t / (1.0 - t)).abs() < 1e-12 * h.of(&c));
+        }
+        c.channel_diameter_mm = 2.0 * (c.amplitude_mm + 0.5 * c.wire_diameter_mm) + 1e-9;
+        assert!(h.of(&c) > 1e6);
     }
 
     #[test]

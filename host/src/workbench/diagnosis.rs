@@ -120,6 +120,25 @@ pub struct Verdict {
     /// set has, stated as found.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub agreed_places: Vec<String>,
+    /// For several sets: the key margin they were judged by, and the
+    /// bootstrap that calibrated it (`workbench/search/calibrate.rs`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sets_margin: Option<SetsMargin>,
+}
+
+/// The margin of the sets the data cannot tell apart, as `diagnose`
+/// reports it (JSON `verdict.sets_margin`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SetsMargin {
+    /// Keys within this of the chosen set's are not told apart.
+    pub value: f64,
+    /// The 95 % quantile of how far a wrong set beat the chosen set on
+    /// data drawn from the chosen set's fit; `None` for the fixed margin.
+    pub bootstrap_quantile: Option<f64>,
+    /// Data sets drawn (0 for the fixed margin).
+    pub draws: usize,
+    /// Sets refitted on each draw, the chosen set included.
+    pub candidates: usize,
 }
 
 /// One set of a model confidence set ([`Verdict::sets`]).

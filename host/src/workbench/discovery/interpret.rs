@@ -34,8 +34,8 @@ pub enum Family {
 
 pub fn family(q: &Quantity) -> Family {
     match q.id {
-        "tail_clearance" | "tail_gap_ratio" | "wire_over_gap" | "tail_length_ratio"
-        | "wavelength_ratio" => Family::TailWall,
+        "helix_over_gap" | "tail_clearance" | "tail_gap_ratio" | "wire_over_gap"
+        | "tail_length_ratio" | "wavelength_ratio" => Family::TailWall,
         "body_ratio" | "body_gap_ratio" | "body_over_gap" => Family::BodyWall,
         "frequency" | "shear_rate" | "wave_speed" => Family::Rate,
         _ if crate::data::model_quantities::is_model_quantity(q) => Family::Model,

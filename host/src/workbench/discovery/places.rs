@@ -3,7 +3,7 @@
 //! sit at one place, so backfitting never tried another. This screens every
 //! law on the table (the same search, [`super::search`]) and keeps the best
 //! at each place the model is sensitive to; the caller refits it exactly,
-//! jointly with the steps it keeps ([`crate::workbench::subsets`]).
+//! jointly with the members of a set ([`crate::workbench::search`]).
 //!
 //! References: Burnham & Anderson, *Model Selection and Multimodel
 //! Inference*, 2nd ed. (2002) (AICc ranking).

@@ -117,8 +117,8 @@ fn cv_mare(ctx: &Ctx, f: &Fitted) -> f64 {
 }
 
 /// Whether a law's strength, in the set's joint fit, has a 95 % interval
-/// that contains the value at which the law does nothing: the data do not
-/// show that member, however it moves the key (a near-constant law at the
+/// that contains the value at which the law does nothing, or no interval
+/// at all: the data do not show that member, however it moves the key (a near-constant law at the
 /// floor can tip a set over its 95 % quantile without being there).
 fn strength_spans_no_effect(f: &Fitted) -> bool {
     let mut at = 0;
@@ -132,12 +132,14 @@ fn strength_spans_no_effect(f: &Fitted) -> bool {
         let Some(law) = m.law() else {
             return false;
         };
+        // A strength whose interval cannot be computed (the fit leaves it
+        // free) is not shown either.
         let within = |i: usize, n: f64| {
             f.joint
                 .fit
                 .estimates
                 .get(first + i)
-                .is_some_and(|e| e.ci95.is_some_and(|ci| (e.value - n).abs() <= ci))
+                .is_some_and(|e| e.ci95.is_none_or(|ci| (e.value - n).abs() <= ci))
         };
         match super::joint::no_effect_value(law.form, law.place.is_additive()) {
             Some(n) => within(0, n),

@@ -52,6 +52,9 @@ pub struct Found {
     /// The other sets the data cannot tell from this one
     /// ([`super::rivals`]), best key first.
     pub rivals: Vec<Rival>,
+    /// The margin the rivals were judged by ([`super::calibrate`]); `None`
+    /// when no rival was sought.
+    pub margin: Option<super::calibrate::Margin>,
 }
 
 /// A set at other places whose key is within the AICc margin of the found

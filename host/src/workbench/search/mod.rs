@@ -72,9 +72,10 @@
 //! the incumbent leaves above it.
 //!
 //! 4. **What the data cannot tell apart** ([`rivals`]): every other
-//!    acceptable set at other places whose key is within the AICc margin
-//!    of the chosen one (at the floor when it is); the verdict then lists
-//!    them all ([`verdict`]).
+//!    acceptable set at other places whose key is within the margin of the
+//!    chosen one (at the floor when it is), the margin calibrated on data
+//!    drawn from the chosen set's fit ([`calibrate`]); the verdict then
+//!    lists them all ([`verdict`]).
 //!
 //! The chosen set is listed as levels ([`level::Found`]): its members in
 //! the order the beam added them, each level the starting model with the
@@ -97,6 +98,7 @@ use super::discovery::{aicc, explained_fraction, Reference, Table};
 use super::fit::FitError;
 use super::robust::{t_deviance_of, Likelihood};
 use super::score::Deviance;
+pub mod calibrate;
 pub mod joint;
 mod joint_text;
 pub mod level;
@@ -266,6 +268,7 @@ pub fn search(
         steps: Vec::new(),
         added: 0,
         rivals: Vec::new(),
+        margin: None,
     };
     if matches!(
         v.kind,
@@ -283,6 +286,7 @@ pub fn search(
             added: 0,
             steps: first,
             rivals: Vec::new(),
+            margin: None,
         });
     };
     // One member at the floor: only a single could replace it, and the
@@ -292,6 +296,7 @@ pub fn search(
             added: 0,
             steps: first,
             rivals: Vec::new(),
+            margin: None,
         });
     }
     let ctx = Ctx {
@@ -367,12 +372,14 @@ pub fn search(
     let Some(chosen) = chosen else {
         return Ok(empty);
     };
-    let rivals = rivals::of(&ctx, &all, &chosen);
+    let (rivals, margin) = rivals::of(&ctx, &all, &chosen);
+    let margin = Some(margin);
     if incumbent.as_ref().is_some_and(|i| i.ids() == chosen.ids()) {
         return Ok(Found {
             added: 0,
             steps: first,
             rivals,
+            margin,
         });
     }
     let inc_ids = incumbent.as_ref().map(Fitted::ids).unwrap_or_default();
@@ -384,6 +391,7 @@ pub fn search(
         .max(1);
     let mut found = listed(&ctx, chosen, added)?;
     found.rivals = rivals;
+    found.margin = margin;
     Ok(found)
 }
 
@@ -612,5 +620,6 @@ fn listed(ctx: &Ctx, chosen: Fitted, added: usize) -> Result<Found, FitError> {
         steps,
         added,
         rivals: Vec::new(),
+        margin: None,
     })
 }

@@ -6,8 +6,11 @@
 //! there claims a certainty the data do not give.
 //!
 //! A **rival** of the found set is every other set the search fitted that
-//! - has its key (`AICc + sum 2 ln M`) within the AICc margin
-//!   (`clear_margin`, 4) of the found set's, either side;
+//! - has its key (`AICc + sum 2 ln M`) within the margin of the found
+//!   set's, either side: the margin calibrated on the data's own design
+//!   ([`super::calibrate`]: how far a wrong set beats the set that made
+//!   the data, 95 % of the time), never below the AICc margin
+//!   (`clear_margin`, 4);
 //! - is at the noise floor when the found set is;
 //! - lies inside its places' physical ranges and is acceptable as the found
 //!   set is (every member pays for itself, [`super::acceptable`]);
@@ -23,38 +26,36 @@
 //! units have substantial support); P. R. Hansen, A. Lunde & J. M. Nason,
 //! Econometrica 79 (2011) 453 (the model confidence set).
 
+use super::calibrate::{self, Margin};
 use super::level::Rival;
 use super::{acceptable, Ctx, Fitted, FAR_ABOVE};
 
-/// The rivals of `chosen` among `all` (sorted by key), best key first.
-pub(super) fn of(ctx: &Ctx, all: &[Fitted], chosen: &Fitted) -> Vec<Rival> {
+/// The rivals of `chosen` among `all` (sorted by key), best key first,
+/// and the margin they were judged by.
+pub(super) fn of(ctx: &Ctx, all: &[Fitted], chosen: &Fitted) -> (Vec<Rival>, Margin) {
+    let fixed = Margin {
+        value: ctx.s.clear_margin,
+        calibrated: None,
+    };
     let far = (ctx.floor)(chosen.joint.k).is_some_and(|fl| chosen.joint.fit.chi2 > FAR_ABOVE * fl);
     if far {
-        return Vec::new();
+        return (Vec::new(), fixed);
     }
-    let margin = ctx.s.clear_margin;
-    let mut seen = vec![chosen.signature()];
-    let mut out = Vec::new();
-    for f in all {
-        let diff = f.joint.key - chosen.joint.key;
-        if diff.abs() > margin
-            || (chosen.joint.at_floor && !f.joint.at_floor)
-            || f.outside.is_some()
-            || seen.contains(&f.signature())
-        {
-            continue;
-        }
-        if !acceptable(ctx, f) {
-            continue;
-        }
-        seen.push(f.signature());
-        out.push(Rival {
+    let could_be = |f: &Fitted| {
+        (!chosen.joint.at_floor || f.joint.at_floor) && f.outside.is_none() && acceptable(ctx, f)
+    };
+    let candidates = calibrate::candidates(all, chosen, could_be);
+    let margin = calibrate::margin(ctx, &candidates);
+    let out = candidates[1..]
+        .iter()
+        .filter(|f| (f.joint.key - chosen.joint.key).abs() <= margin.value)
+        .map(|f| Rival {
             members: f.members.iter().map(|m| m.describe()).collect(),
             places: f.signature(),
-            key_difference: diff,
+            key_difference: f.joint.key - chosen.joint.key,
             at_floor: f.joint.at_floor,
             model: f.joint.fit.model.clone(),
-        });
-    }
-    out
+        })
+        .collect();
+    (out, margin)
 }

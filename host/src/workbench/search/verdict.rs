@@ -7,11 +7,13 @@
 //! ([`super::joint`]), in `verdict.joint` and the note; and the sets the
 //! data cannot tell apart ([`super::rivals`]), listed.
 
+use super::calibrate::Margin;
 use super::joint_text::joint_sentences;
 use super::level::Found;
 use crate::data::Dataset;
+use crate::format::fmt_sig;
 use crate::workbench::diagnosis::{Baseline, Verdict, VerdictKind};
-use crate::workbench::diagnosis::{DiagnoseSettings, ExplainingSet};
+use crate::workbench::diagnosis::{DiagnoseSettings, ExplainingSet, SetsMargin};
 use crate::workbench::discovery::Located;
 use crate::workbench::experiments::separation::best_discriminating_case;
 use crate::workbench::verdict::text::{fmt, verdict_of};
@@ -30,6 +32,10 @@ pub fn conclude(
     v.steps = path.steps.iter().map(|p| p.0.clone()).collect();
     put_path(&path, v, base);
     put_rivals(&path, v, data, s.clear_margin);
+    v.sets_margin = path
+        .margin
+        .filter(|_| !path.rivals.is_empty())
+        .map(reported);
     let joint = super::joint::joint_reading(&path, data, s.likelihood);
     match joint {
         Ok(Some(j)) => {
@@ -121,6 +127,20 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
         true => ", each at the noise floor",
         false => "",
     };
+    let margin = match path.margin {
+        Some(Margin {
+            value,
+            calibrated: Some(c),
+        }) => format!(
+            "{} ({} drawn from the chosen set's fit: 95 % of the time a wrong set beat it by at most {}; {} sets refitted on each)",
+            fmt_sig(value, 3),
+            c.draws,
+            fmt_sig(c.quantile, 3),
+            c.candidates
+        ),
+        Some(m) => fmt_sig(m.value, 3),
+        None => fmt_sig(margin, 3),
+    };
     v.note = format!(
         "indistinguishable on this data: {} sets of laws at different places explain it equally well (AICc + charges within {margin}{floor}): {}. {agreed_said}. {}. The first set in detail: {}",
         sets.len(),
@@ -135,6 +155,16 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
     v.suggestion = sets.get(1).and_then(|s| s.suggestion.clone());
     v.agreed_places = agreed;
     v.sets = sets;
+}
+
+/// The margin as `diagnose` reports it.
+fn reported(m: Margin) -> SetsMargin {
+    SetsMargin {
+        value: m.value,
+        bootstrap_quantile: m.calibrated.map(|c| c.quantile),
+        draws: m.calibrated.map_or(0, |c| c.draws),
+        candidates: m.calibrated.map_or(0, |c| c.candidates),
+    }
 }
 
 fn put_path(path: &Found, v: &mut Verdict, base: &Baseline) {

@@ -92,6 +92,7 @@ pub(crate) fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
         joint: None,
         sets: Vec::new(),
         agreed_places: Vec::new(),
+        sets_margin: None,
     }
 }
 
