@@ -67,6 +67,17 @@ impl Place {
         }
     }
 
+    /// The tail's places: its resistances, its couplings and the oil it
+    /// sees.
+    pub const TAIL: [Place; 6] = [
+        Place::TailTangential,
+        Place::TailNormal,
+        Place::TailViscosity,
+        Place::TailDrag,
+        Place::TailThrust,
+        Place::TailTorque,
+    ];
+
     pub const ALL: [Place; 11] = [
         Place::TailTangential,
         Place::TailNormal,
@@ -215,6 +226,15 @@ impl std::fmt::Display for Place {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_tail_places_are_every_place_of_the_tail() {
+        let tail: Vec<Place> = Place::ALL
+            .into_iter()
+            .filter(|p| p.part() == Part::Tail)
+            .collect();
+        assert_eq!(tail, Place::TAIL.to_vec());
+    }
 
     #[test]
     fn names_round_trip_and_split_into_part_and_target() {

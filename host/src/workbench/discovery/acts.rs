@@ -85,17 +85,7 @@ const MODEL_PLACES: &[(&str, &[Place])] = &[
         "model_body_reynolds",
         &[Place::BodyTranslation, Place::BodyRotation],
     ),
-    (
-        "model_tail_reynolds",
-        &[
-            Place::TailTangential,
-            Place::TailNormal,
-            Place::TailViscosity,
-            Place::TailDrag,
-            Place::TailThrust,
-            Place::TailTorque,
-        ],
-    ),
+    ("model_tail_reynolds", &Place::TAIL),
 ];
 
 /// Whether a law in `feature` may sit at `place` (module docs).

@@ -27,6 +27,28 @@ pub fn frac(x: Option<f64>) -> String {
 }
 
 /// "; to tell them apart, measure ..." for a discriminating case.
+/// Rivals the single-step verdict cannot tell apart: `listed` names them
+/// in the sentence, `names` in the verdict's list.
+fn rivals_verdict(
+    listed: String,
+    names: Vec<String>,
+    suggestion: Option<Suggestion>,
+    fraction: Option<f64>,
+    margin: f64,
+) -> Verdict {
+    let hint = suggestion.as_ref().map(hint).unwrap_or_default();
+    let mut v = verdict_of(
+        VerdictKind::Indistinguishable,
+        format!(
+            "indistinguishable on this data: {listed} fit equally well (AICc within {margin}){hint}"
+        ),
+    );
+    v.indistinguishable = names;
+    v.suggestion = suggestion;
+    v.effect_explained_fraction = fraction;
+    v
+}
+
 pub fn hint(g: &Suggestion) -> String {
     g.hint()
 }
@@ -151,19 +173,8 @@ pub fn word(d: Decision, e: &Evidence, s: &DiagnoseSettings) -> Verdict {
             suggestion,
             fraction,
         } => {
-            let hint = suggestion.as_ref().map(hint).unwrap_or_default();
-            let mut v = verdict_of(
-                VerdictKind::Indistinguishable,
-                format!(
-                    "indistinguishable on this data: {}: they fit equally well (AICc within {}){hint}",
-                    names.join(", "),
-                    s.clear_margin
-                ),
-            );
-            v.indistinguishable = names;
-            v.suggestion = suggestion;
-            v.effect_explained_fraction = fraction;
-            v
+            let listed = format!("{}: they", names.join(", "));
+            rivals_verdict(listed, names, suggestion, fraction, s.clear_margin)
         }
         Decision::CatalogueOrLaw {
             effect,
@@ -203,19 +214,9 @@ pub fn word(d: Decision, e: &Evidence, s: &DiagnoseSettings) -> Verdict {
             beneath_fraction,
         } => {
             let names: Vec<String> = laws.iter().map(|l| l.describe()).collect();
-            let hint = suggestion.as_ref().map(hint).unwrap_or_default();
-            let mut v = verdict_of(
-                VerdictKind::Indistinguishable,
-                format!(
-                    "indistinguishable on this data: {} fit equally well (AICc within {}){hint}",
-                    names.join("; "),
-                    s.clear_margin
-                ),
-            );
-            v.indistinguishable = names;
-            v.suggestion = suggestion;
+            let listed = names.join("; ");
+            let mut v = rivals_verdict(listed, names, suggestion, beneath_fraction, s.clear_margin);
             v.located = laws.into_iter().cloned().collect();
-            v.effect_explained_fraction = beneath_fraction;
             v
         }
         Decision::Unexplained {
