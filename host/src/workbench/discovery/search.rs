@@ -9,7 +9,7 @@
 //! T. Hastie, R. Tibshirani & J. Friedman, *The Elements of Statistical
 //! Learning*, 2nd ed. (2009), sec. 7.10 (k-fold cross-validation).
 
-use super::screen::Table;
+use super::screen::{CaseFeature, Table};
 use crate::data::model_quantities::MODEL_QUANTITIES;
 use crate::data::quantities::{Quantity, FEATURES, FIELDS, SETUP_GROUPS};
 use crate::data::Dataset;
@@ -26,7 +26,7 @@ pub struct Screened {
     pub params: Vec<f64>,
     pub chi2: f64,
     /// Scaled feature per case (all cases of the dataset).
-    pub xs: Vec<f64>,
+    pub xs: CaseFeature,
 }
 
 /// Features usable on this design: finite and positive on every case
@@ -122,7 +122,7 @@ fn starts(c: &LocatedCorrection) -> Vec<Vec<f64>> {
     }
 }
 
-fn chi2(table: &Table, c: &LocatedCorrection, p: &[f64], xs: &[f64], sub: &[usize]) -> f64 {
+fn chi2(table: &Table, c: &LocatedCorrection, p: &[f64], xs: &CaseFeature, sub: &[usize]) -> f64 {
     let mut r = Vec::with_capacity(sub.len());
     table.residuals_into(c, p, xs, sub, &mut r);
     let s: f64 = r.iter().map(|x| x * x).sum();
@@ -138,7 +138,7 @@ fn chi2(table: &Table, c: &LocatedCorrection, p: &[f64], xs: &[f64], sub: &[usiz
 pub fn fit_on_table(
     table: &Table,
     c: &LocatedCorrection,
-    xs: &[f64],
+    xs: &CaseFeature,
     sub: &[usize],
     start: &[f64],
 ) -> (Vec<f64>, f64) {
@@ -217,8 +217,8 @@ fn solve(m: &[[f64; 2]; 2], g: &[f64; 2], k: usize) -> Vec<f64> {
 }
 
 /// The scaled feature of every case for a correction.
-pub fn xs_of(c: &LocatedCorrection, data: &Dataset) -> Vec<f64> {
-    data.cases.iter().map(|case| c.x(case)).collect()
+pub fn xs_of(c: &LocatedCorrection, data: &Dataset) -> CaseFeature {
+    CaseFeature::new(data.cases.iter().map(|case| c.x(case)).collect())
 }
 
 /// Fit one correction on the observations `sub` from each of its starts.
