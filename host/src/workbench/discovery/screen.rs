@@ -198,9 +198,7 @@ impl Table {
         let resp = self.response(c.place);
         // A multiplier power law `k x^q` with k > 0 is a straight line in
         // `ln m`: its grid position needs neither `powf` nor `ln`.
-        let ln_line = (matches!(resp, Response::Grid(_))
-            && c.form == Form::PowerLaw
-            && p[0] > 0.0)
+        let ln_line = (matches!(resp, Response::Grid(_)) && c.form == Form::PowerLaw && p[0] > 0.0)
             .then(|| p[0].ln());
         // A case's quantities sit next to each other in `obs` and share one
         // law value (or grid position).
@@ -213,9 +211,7 @@ impl Table {
                     let (x, ln_x) = (feature.x[ob.case], feature.ln_x[ob.case]);
                     let v = match (resp, ln_line) {
                         (Response::Linear(_), _) => law(c.form, p, x, ln_x),
-                        (Response::Grid(_), Some(ln_k)) => {
-                            to_grid(ln_k + p[1] * ln_x)
-                        }
+                        (Response::Grid(_), Some(ln_k)) => to_grid(ln_k + p[1] * ln_x),
                         (Response::Grid(_), None) => {
                             to_grid(law(c.form, p, x, ln_x).max(MIN_MULTIPLIER).ln())
                         }
