@@ -4,7 +4,7 @@
 //! and no law leaves its place's physical range; an incumbent is replaced
 //! only by a set that beats it clearly. Far above the floor, where only
 //! misfit is ranked, a larger set must be a nested extension that lowers
-//! the cross-validated error (module docs of [`super`], step 3).
+//! the cross-validated error (module docs of [`super`], step 4).
 
 use super::level::MIN_SHARE;
 use super::set::joint;
@@ -14,7 +14,7 @@ use crate::workbench::discovery::explained_fraction;
 use crate::workbench::robust::t_deviance_of;
 
 /// The first acceptable set by key that may replace the incumbent; the
-/// incumbent itself when it comes first (module docs, step 3). When even
+/// incumbent itself when it comes first (module docs, step 4). When even
 /// that set stays more than [`FAR_ABOVE`] times above the noise floor, the
 /// sets are nested instead (module docs).
 pub(super) fn choose(ctx: &Ctx, mut all: Vec<Fitted>, inc: Option<&Fitted>) -> Option<Fitted> {

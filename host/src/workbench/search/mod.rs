@@ -27,7 +27,17 @@
 //!    is paired with each other's, from scratch: two effects at two places
 //!    are each found alone in their own form, while whatever is screened on
 //!    top of a first step that took shares of both is biased by it.
-//! 3. **Choice**: the sets at the noise floor in order of their key, then
+//! 3. **Exchange** ([`exchange`], Miller's replacement algorithm): the
+//!    [`EXCHANGE_WIDTH`] best sets of each size from two up have each
+//!    member in turn replaced by the [`EXCHANGE_LAWS`] best laws screened
+//!    on the model of the other members, every new set refitted jointly;
+//!    up to [`EXCHANGE_ROUNDS`] rounds, while a round lowers the best key.
+//!    A set grown member by member keeps what its first member took of the
+//!    effects found after it; exchange gives that back. On 60 development
+//!    designs (three effects at once, a constant with a law) it put the
+//!    truth in a stated set on 29 where the beam alone did on 22, with as
+//!    many wrong sets claimed alone (docs/discovery.md).
+//! 4. **Choice**: the sets at the noise floor in order of their key, then
 //!    (when none reaches it) the others in order of their key. The first
 //!    that is **acceptable** wins. A set is acceptable when every law in it
 //!    lies inside its place's physical range on every case ([`ranges`]: a
@@ -49,7 +59,8 @@
 //! When every single stays more than [`FAR_ABOVE`] times above the floor,
 //! one set of each size is extended (3 laws each) and no pairs are placed
 //! from scratch: a cost bound (a 200-case set about 800 times above its
-//! floor took 33 s of CPU with the full beam).
+//! floor took 33 s of CPU with the full beam). No set is exchanged while
+//! every set stays that far above.
 //!
 //! When even the chosen set stays more than [`FAR_ABOVE`] times above the
 //! noise floor, no set explains the data and the joint ranking only ranks
@@ -71,7 +82,7 @@
 //! floor, or (the incumbent above the floor) removes at least half of what
 //! the incumbent leaves above it.
 //!
-//! 4. **What the data cannot tell apart** ([`rivals`]): every other
+//! 5. **What the data cannot tell apart** ([`rivals`]): every other
 //!    acceptable set at other places whose key is within the margin of the
 //!    chosen one (at the floor when it is), the margin calibrated on data
 //!    drawn from the chosen set's fit ([`calibrate`]); the verdict then
@@ -88,6 +99,7 @@
 //! Intelligence*, 3rd ed. (2010), sec. 4.1.1 (local beam search).
 
 mod choose;
+mod exchange;
 mod set;
 use choose::acceptable;
 
@@ -133,6 +145,17 @@ pub const CATALOGUE_EXTEND: usize = 2;
 /// joint ranking to choose (50 times its chi-square); beyond, the sets are
 /// nested (module docs).
 pub const FAR_ABOVE: f64 = 50.0;
+
+/// Sets of each size exchanged member by member after the beam (2; 1
+/// above 200 cases).
+pub const EXCHANGE_WIDTH: usize = 2;
+
+/// Laws tried in place of each member in an exchange (4; 3 above 200
+/// cases).
+pub const EXCHANGE_LAWS: usize = 4;
+
+/// Most rounds of exchange (2).
+pub const EXCHANGE_ROUNDS: usize = 2;
 
 /// Places whose best single law is paired with each other's from scratch
 /// (8; 5 above 200 cases).
@@ -290,7 +313,7 @@ pub fn search(
         });
     };
     // One member at the floor: only a single could replace it, and the
-    // single-step verdict has already weighed every single (step 3).
+    // single-step verdict has already weighed every single (step 4).
     if first.len() == 1 && first[0].1.at_floor {
         return Ok(Found {
             added: 0,
@@ -342,7 +365,7 @@ pub fn search(
         (false, true) => (BEAM - 1, 3, PAIRED - 3),
         (false, false) => (BEAM, EXTEND, PAIRED),
     };
-    // A larger set never replaces an incumbent at the floor (step 3).
+    // A larger set never replaces an incumbent at the floor (step 4).
     let most = incumbent
         .as_ref()
         .filter(|i| i.joint.at_floor)
@@ -366,6 +389,17 @@ pub fn search(
         }
         all.extend(next.iter().cloned());
         level = next;
+    }
+    // Exchange refines sets that may explain the data: it is skipped when
+    // every set so far stays FAR_ABOVE times above its floor (the nested
+    // choice, module docs), which also bounds its cost there.
+    let near = all
+        .iter()
+        .any(|f| (ctx.floor)(f.joint.k).is_some_and(|fl| f.joint.fit.chi2 <= FAR_ABOVE * fl));
+    if near {
+        let width = if big { 1 } else { EXCHANGE_WIDTH };
+        let laws = if big { 3 } else { EXCHANGE_LAWS };
+        exchange::rounds(&ctx, &mut all, most, width, laws, law_charge);
     }
     all.sort_by(|a, b| a.joint.key.total_cmp(&b.joint.key));
     let chosen = choose::choose(&ctx, all.clone(), incumbent.as_ref());
