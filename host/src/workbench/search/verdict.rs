@@ -131,13 +131,19 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
         Some(Margin {
             value,
             calibrated: Some(c),
-        }) => format!(
-            "{} ({} drawn from the chosen set's fit: 95 % of the time a wrong set beat it by at most {}; {} sets refitted on each)",
-            fmt_sig(value, 3),
-            c.draws,
-            fmt_sig(c.quantile, 3),
-            c.candidates
-        ),
+        }) => {
+            // A quantile of refit round-off (1e-12) is "never", not a number.
+            let beaten = match c.quantile < 0.01 {
+                true => "no wrong set beat it".to_string(),
+                false => format!("a wrong set beat it by at most {}", fmt_sig(c.quantile, 3)),
+            };
+            format!(
+                "{} ({} drawn from the chosen set's fit: 95 % of the time {beaten}; {} sets refitted on each)",
+                fmt_sig(value, 3),
+                c.draws,
+                c.candidates
+            )
+        }
         Some(m) => fmt_sig(m.value, 3),
         None => fmt_sig(margin, 3),
     };
