@@ -10,11 +10,7 @@
 //! (2002), ch. 3 (sequential replacement).
 
 use super::set::Member;
-use super::sorted_ids;
-use super::{best_of, pending_member, Ctx, Fitted, EXCHANGE_ROUNDS};
-use crate::workbench::discovery::places::best_at_each_place;
-use crate::workbench::discovery::search::Screen;
-use crate::workbench::discovery::{aicc, Table};
+use super::{best_laws_on, best_of, fit_fresh, Ctx, Fitted, EXCHANGE_ROUNDS};
 use rayon::prelude::*;
 
 /// Up to [`EXCHANGE_ROUNDS`] rounds of exchange on the `width` best sets
@@ -61,17 +57,7 @@ fn exchanged(ctx: &Ctx, sets: &[Fitted], per_member: usize, law_charge: f64) -> 
                 .collect::<Vec<_>>()
         })
         .collect();
-    let mut seen: Vec<Vec<String>> = sets.iter().map(Fitted::ids).collect();
-    let fresh: Vec<Vec<Member>> = tries
-        .into_iter()
-        .filter(|m| {
-            let ids = sorted_ids(m);
-            let new = !seen.contains(&ids);
-            seen.push(ids);
-            new
-        })
-        .collect();
-    fresh.into_par_iter().filter_map(|m| ctx.fit(m)).collect()
+    fit_fresh(ctx, tries, sets.iter().map(Fitted::ids).collect())
 }
 
 /// The sets that replace member `i` of `f`.
@@ -93,23 +79,12 @@ fn replacements(
         .flat_map(|m| &m.insts)
         .map(|x| x.values.len())
         .sum();
-    let Ok(table) = Table::build(&model, ctx.data) else {
-        return Vec::new();
-    };
-    let screen = Screen::run(&table, ctx.data, ctx.s.discovery.screen_cases);
-    let n = screen.sub.len();
     let taken: Vec<&str> = others.iter().filter_map(|m| m.place).collect();
-    let mut ats = best_at_each_place(&table, &screen, k);
-    ats.retain(|a| !taken.contains(&a.place.name()));
-    let key = |a: &crate::workbench::discovery::places::AtPlace| {
-        aicc(a.screened.chi2, n, k + a.screened.params.len()).unwrap_or(f64::INFINITY)
-    };
-    ats.sort_by(|a, b| key(a).total_cmp(&key(b)));
-    ats.into_iter()
-        .take(per_member)
-        .map(|at| {
+    best_laws_on(ctx, &model, &taken, k, per_member, law_charge)
+        .into_iter()
+        .map(|law| {
             let mut m = others.clone();
-            m.push(pending_member(at, law_charge));
+            m.push(law);
             m
         })
         .collect()

@@ -564,21 +564,10 @@ fn extended(
             let mut out: Vec<Vec<Member>> = Vec::new();
             let model = &f.joint.fit.model;
             let places: Vec<&str> = f.members.iter().filter_map(|m| m.place).collect();
-            if let Ok(table) = Table::build(model, ctx.data) {
-                let screen = Screen::run(&table, ctx.data, ctx.s.discovery.screen_cases);
-                let n = screen.sub.len();
-                let mut ats = best_at_each_place(&table, &screen, f.joint.k);
-                ats.retain(|a| !places.contains(&a.place.name()));
-                let key = |a: &super::discovery::places::AtPlace| {
-                    aicc(a.screened.chi2, n, f.joint.k + a.screened.params.len())
-                        .unwrap_or(f64::INFINITY)
-                };
-                ats.sort_by(|a, b| key(a).total_cmp(&key(b)));
-                for at in ats.into_iter().take(extend) {
-                    let mut m = f.members.clone();
-                    m.push(pending_member(at, law_charge));
-                    out.push(m);
-                }
+            for law in best_laws_on(ctx, model, &places, f.joint.k, extend, law_charge) {
+                let mut m = f.members.clone();
+                m.push(law);
+                out.push(m);
             }
             let cats = e
                 .ranking
@@ -594,7 +583,40 @@ fn extended(
             out
         })
         .collect();
-    let mut seen: Vec<Vec<String>> = Vec::new();
+    fit_fresh(ctx, tries, Vec::new())
+}
+
+/// The `n` best laws screened on `model` at places not in `taken`, by
+/// their screened AICc on top of the `k` parameters `model` adds, as
+/// members: what extends a set, or replaces one of its members.
+fn best_laws_on(
+    ctx: &Ctx,
+    model: &Model,
+    taken: &[&str],
+    k: usize,
+    n: usize,
+    law_charge: f64,
+) -> Vec<Member> {
+    let Ok(table) = Table::build(model, ctx.data) else {
+        return Vec::new();
+    };
+    let screen = Screen::run(&table, ctx.data, ctx.s.discovery.screen_cases);
+    let n_sub = screen.sub.len();
+    let mut ats = best_at_each_place(&table, &screen, k);
+    ats.retain(|a| !taken.contains(&a.place.name()));
+    let key = |a: &super::discovery::places::AtPlace| {
+        aicc(a.screened.chi2, n_sub, k + a.screened.params.len()).unwrap_or(f64::INFINITY)
+    };
+    ats.sort_by(|a, b| key(a).total_cmp(&key(b)));
+    ats.into_iter()
+        .take(n)
+        .map(|at| pending_member(at, law_charge))
+        .collect()
+}
+
+/// The sets of `tries` not met before (by their members' ids; none of
+/// `seen`), each refitted jointly.
+fn fit_fresh(ctx: &Ctx, tries: Vec<Vec<Member>>, mut seen: Vec<Vec<String>>) -> Vec<Fitted> {
     let fresh: Vec<Vec<Member>> = tries
         .into_iter()
         .filter(|m| {
