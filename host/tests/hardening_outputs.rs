@@ -116,6 +116,10 @@ fn the_manifest_records_each_written_files_sha256() {
 }
 
 #[test]
+#[cfg_attr(
+    not(debug_assertions),
+    ignore = "the full disk is simulated in debug builds only (atomic_dir::fault_injection)"
+)]
 fn a_full_disk_leaves_the_old_bundle_whole() {
     let dir = tempfile::tempdir().unwrap();
     let r = dir.path().join("R");
@@ -150,6 +154,33 @@ fn a_full_disk_leaves_the_old_bundle_whole() {
     assert_eq!(
         std::fs::read_to_string(r.join("notes.txt")).unwrap(),
         "mine"
+    );
+}
+
+/// A run killed outright (SIGKILL) between creating and removing its
+/// folder probe or its marker's temporary file leaves them; the next run
+/// into the folder removes them (those of a live process stay).
+#[test]
+fn the_next_run_sweeps_what_a_killed_run_left_in_the_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = dir.path().join("R");
+    let o = swimbot(&["compare", "-o", s(&r)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut gone = Command::new("true").spawn().unwrap();
+    gone.wait().unwrap();
+    let dead = gone.id();
+    let alive = std::process::id();
+    for name in [".probe.tmp-", "..swimbot-output.tmp-"] {
+        std::fs::write(r.join(format!("{name}{dead}")), "").unwrap();
+    }
+    std::fs::write(r.join(format!(".probe.tmp-{alive}")), "").unwrap();
+    let o = swimbot(&["compare", "-o", s(&r)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let left = leftovers(dir.path());
+    assert_eq!(left.len(), 1, "{left:?}");
+    assert!(
+        left[0].ends_with(&format!(".probe.tmp-{alive}")),
+        "{left:?}"
     );
 }
 

@@ -99,6 +99,10 @@ fn two_writers_of_one_study_never_lose_a_recorded_step() {
 }
 
 #[test]
+#[cfg_attr(
+    not(debug_assertions),
+    ignore = "the full disk is simulated in debug builds only (atomic_dir::fault_injection)"
+)]
 fn a_full_disk_leaves_the_study_as_it_was_and_is_exit_2() {
     let (dir, path) = study();
     let quick = AddOptions {

@@ -279,6 +279,9 @@ pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<()
             dir.display()
         ))
     })?;
+    // A run killed outright (SIGKILL) between creating and removing its
+    // probe left it: the next run into the folder sweeps it.
+    cleanup::sweep_stale_temps(&dir.join("probe"));
     probe(&temp_sibling(&dir.join("probe")), dir)
 }
 

@@ -237,6 +237,9 @@ pub fn mark_claimed_dirs(inputs: &Inputs) {
             "written by: swimbot {command}\n\
              swimbot refuses to write another command's output into this folder.\n"
         );
+        // A run killed outright between writing and renaming its marker
+        // left the temporary one.
+        super::cleanup::sweep_stale_temps(&path);
         if std::fs::read_to_string(&path).is_ok_and(|t| t == text) {
             continue;
         }
