@@ -209,6 +209,19 @@ impl LocatedCorrection {
         }
     }
 
+    /// [`Self::law`] with `ln x` at hand: `x^q` as `exp(q ln x)`, for the
+    /// screen, which evaluates each law tens of times per case (equal to
+    /// `law` to round-off; the exact fits keep `law`).
+    pub fn law_with_ln(&self, p: &[f64], x: f64, ln_x: f64) -> f64 {
+        match self.form {
+            Form::Constant => p[0],
+            Form::Linear => 1.0 + p[0] * x,
+            Form::Power => 1.0 + p[0] * (p[1] * ln_x).exp(),
+            Form::Proportional => p[0] * x,
+            Form::PowerLaw => p[0] * (p[1] * ln_x).exp(),
+        }
+    }
+
     /// The multiplier (floored) or the load of a case.
     pub fn value(&self, p: &[f64], case: &Case) -> f64 {
         let v = self.law(p, self.x(case));

@@ -210,10 +210,10 @@ impl Table {
                 _ => {
                     let (x, ln_x) = (feature.x[ob.case], feature.ln_x[ob.case]);
                     let v = match (resp, ln_line) {
-                        (Response::Linear(_), _) => law(c.form, p, x, ln_x),
+                        (Response::Linear(_), _) => c.law_with_ln(p, x, ln_x),
                         (Response::Grid(_), Some(ln_k)) => to_grid(ln_k + p[1] * ln_x),
                         (Response::Grid(_), None) => {
-                            to_grid(law(c.form, p, x, ln_x).max(MIN_MULTIPLIER).ln())
+                            to_grid(c.law_with_ln(p, x, ln_x).max(MIN_MULTIPLIER).ln())
                         }
                     };
                     last = Some((ob.case, v));
@@ -242,17 +242,6 @@ impl CaseFeature {
     pub fn new(x: Vec<f64>) -> CaseFeature {
         let ln_x = x.iter().map(|v| v.ln()).collect();
         CaseFeature { x, ln_x }
-    }
-}
-
-/// [`LocatedCorrection::law`] with the feature's logarithm at hand.
-fn law(form: Form, p: &[f64], x: f64, ln_x: f64) -> f64 {
-    match form {
-        Form::Constant => p[0],
-        Form::Linear => 1.0 + p[0] * x,
-        Form::Power => 1.0 + p[0] * (p[1] * ln_x).exp(),
-        Form::Proportional => p[0] * x,
-        Form::PowerLaw => p[0] * (p[1] * ln_x).exp(),
     }
 }
 

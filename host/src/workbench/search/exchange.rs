@@ -33,10 +33,7 @@ pub(super) fn rounds(
         let lowest = |v: &[Fitted]| v.iter().map(|f| f.joint.key).fold(f64::INFINITY, f64::min);
         let before = lowest(all);
         let have: Vec<Vec<String>> = all.iter().map(Fitted::ids).collect();
-        let new: Vec<Fitted> = exchanged(ctx, &best, laws, law_charge)
-            .into_iter()
-            .filter(|f| !have.contains(&f.ids()))
-            .collect();
+        let new = exchanged(ctx, &best, have, laws, law_charge);
         let improved = lowest(&new) < before;
         all.extend(new);
         if !improved {
@@ -45,9 +42,16 @@ pub(super) fn rounds(
     }
 }
 
-/// Every set one exchange away from one of `sets`: each member replaced
-/// by the `per_member` best laws screened on the model of the others.
-fn exchanged(ctx: &Ctx, sets: &[Fitted], per_member: usize, law_charge: f64) -> Vec<Fitted> {
+/// Every set one exchange away from one of `sets` and not in `seen`
+/// (member ids): each member replaced by the `per_member` best laws
+/// screened on the model of the others.
+fn exchanged(
+    ctx: &Ctx,
+    sets: &[Fitted],
+    seen: Vec<Vec<String>>,
+    per_member: usize,
+    law_charge: f64,
+) -> Vec<Fitted> {
     let tries: Vec<Vec<Member>> = sets
         .par_iter()
         .flat_map(|f| {
@@ -57,7 +61,7 @@ fn exchanged(ctx: &Ctx, sets: &[Fitted], per_member: usize, law_charge: f64) -> 
                 .collect::<Vec<_>>()
         })
         .collect();
-    fit_fresh(ctx, tries, sets.iter().map(Fitted::ids).collect())
+    fit_fresh(ctx, tries, seen)
 }
 
 /// The sets that replace member `i` of `f`.
