@@ -15,8 +15,12 @@
 //! never a mix: the worst is a leftover staging or aside folder, which
 //! [`sweep_stale`] (run by the next writer of the same folder) removes, or
 //! for an aside folder whose swap was cut between its two renames, puts
-//! back. Leftovers are recognised by name, by the marker (staging) and by
-//! their process being gone; nothing else is touched.
+//! back. Leftovers are recognised by name and by their process being gone,
+//! and a staging-named folder is removed only when nothing in it can be
+//! lost: it holds the marker, or it is empty (cut between its creation
+//! and its marker), or everything in it is in the folder under the same
+//! name (the old folder after an exchange cut before it was marked: its
+//! files were carried over or replaced). Nothing else is touched.
 //!
 //! Staging folders of this process are registered, so that the CLI's
 //! clean-up on an error or a signal removes them ([`remove_pending`]).
@@ -338,7 +342,9 @@ pub fn sweep_stale(target: &Path) {
             continue;
         }
         match tag {
-            "staging" => remove_staging(&e.path()),
+            "staging" if leftover_is_ours(&e.path(), target) => {
+                let _ = std::fs::remove_dir_all(e.path());
+            }
             "old" if !target.exists() => {
                 let _ = std::fs::rename(e.path(), target);
             }
@@ -348,6 +354,28 @@ pub fn sweep_stale(target: &Path) {
             _ => {}
         }
     }
+}
+
+/// Whether a staging-named folder of a gone process holds nothing that
+/// could be lost (module docs).
+fn leftover_is_ours(leftover: &Path, target: &Path) -> bool {
+    leftover.join(STAGING_MARKER).is_file() || all_in(leftover, target, Path::new(""))
+}
+
+/// Whether every entry under `from/rel` is also under `to/rel` (an empty
+/// folder trivially is).
+fn all_in(from: &Path, to: &Path, rel: &Path) -> bool {
+    let Ok(entries) = std::fs::read_dir(from.join(rel)) else {
+        return false;
+    };
+    entries.into_iter().all(|e| {
+        let Ok(e) = e else { return false };
+        let rel = rel.join(e.file_name());
+        if std::fs::symlink_metadata(to.join(&rel)).is_err() {
+            return false;
+        }
+        !e.file_type().is_ok_and(|t| t.is_dir()) || all_in(from, to, &rel)
+    })
 }
 
 /// Whether process `pid` may still be running (a leftover of a running
@@ -458,13 +486,48 @@ mod tests {
         std::fs::write(stage.join(STAGING_MARKER), "").unwrap();
         let not_ours = sibling(&out, "staging", dead + 1);
         std::fs::create_dir(&not_ours).unwrap();
+        std::fs::write(not_ours.join("notes.txt"), "mine").unwrap();
         let aside = sibling(&out, "old", dead);
         std::fs::create_dir(&aside).unwrap();
         std::fs::write(aside.join("index.html"), "old").unwrap();
         sweep_stale(&out);
         let left = names(root.path());
         assert_eq!(left.len(), 2, "{left:?}");
-        assert!(not_ours.exists(), "no marker: not ours to remove");
+        assert!(
+            not_ours.join("notes.txt").exists(),
+            "no marker and a file the folder lacks: not ours to remove"
+        );
         assert_eq!(std::fs::read(out.join("index.html")).unwrap(), b"old");
+    }
+
+    /// A kill between a staging folder's creation and its marker leaves it
+    /// empty; one right after the exchange leaves the old folder unmarked
+    /// under the staging name, holding only what the new folder holds.
+    #[test]
+    fn unmarked_leftovers_are_swept_only_when_nothing_in_them_can_be_lost() {
+        let root = tempfile::tempdir().unwrap();
+        let out = root.path().join("out");
+        std::fs::create_dir_all(out.join("figures")).unwrap();
+        std::fs::write(out.join("index.html"), "new").unwrap();
+        std::fs::write(out.join("figures/notes.txt"), "mine").unwrap();
+        let dead = 1 << 23;
+        let empty = sibling(&out, "staging", dead);
+        std::fs::create_dir(&empty).unwrap();
+        let old = sibling(&out, "staging", dead + 1);
+        std::fs::create_dir_all(old.join("figures")).unwrap();
+        std::fs::write(old.join("index.html"), "old").unwrap();
+        std::fs::hard_link(out.join("figures/notes.txt"), old.join("figures/notes.txt")).unwrap();
+        let other = sibling(&out, "staging", dead + 2);
+        std::fs::create_dir_all(other.join("figures")).unwrap();
+        std::fs::write(other.join("figures/only-here.txt"), "mine").unwrap();
+        sweep_stale(&out);
+        assert_eq!(
+            names(root.path()),
+            [&*other.file_name().unwrap().to_string_lossy(), "out"]
+        );
+        assert_eq!(
+            std::fs::read(out.join("figures/notes.txt")).unwrap(),
+            b"mine"
+        );
     }
 }
