@@ -25,11 +25,9 @@
 mod drawn;
 
 use swimbot::data::Dataset;
-use swimbot::effects::EffectInstance;
 use swimbot::model::Model;
 use swimbot::workbench::compare::case_residuals;
 use swimbot::workbench::noise::{chi2_noise_floor, error_dofs};
-use swimbot::workbench::synth::{generate, SynthSettings};
 
 /// Each measured quantity of each case: its predicted value and the
 /// standard error of its measured mean.
@@ -62,20 +60,8 @@ fn log_additive(y0: &[(f64, f64)], ys: &[Vec<(f64, f64)>]) -> Vec<(f64, f64)> {
 }
 
 fn row(seed: u64, base: &Model, paper: &Dataset) -> String {
-    let laws: [EffectInstance; 3] = [
-        drawn::body_law(seed),
-        drawn::shear_law(seed),
-        drawn::tail_wall_drag(seed),
-    ];
-    let truth = laws
-        .iter()
-        .fold(base.clone(), |m, l| m.with_effect(l.clone()));
-    let design = drawn::design(paper, seed);
-    let settings = SynthSettings {
-        seed,
-        ..Default::default()
-    };
-    let data = generate(&truth, &design, settings).expect("synth");
+    let laws = drawn::three_laws(seed);
+    let (truth, data) = drawn::three_effect_data(base, paper, seed);
     let y0 = predicted(base, &data);
     let exact = predicted(&truth, &data);
     let alone: Vec<Vec<(f64, f64)>> = laws
@@ -112,19 +98,11 @@ fn row(seed: u64, base: &Model, paper: &Dataset) -> String {
 }
 
 fn main() {
-    let env = |k: &str, d: u64| {
-        std::env::var(k)
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(d)
-    };
-    let first = env("FIRST_SEED", 1701);
-    let seeds = env("SEEDS", 10);
     let base = Model::base();
     let paper = swimbot::data::paper();
     println!("| seed | quantities | chi2(base - exact) | chi2(add - exact), all three | largest relative error | chi2(add - exact), pairs body+oil / body+wall / oil+wall | noise floor |");
     println!("|---|---|---|---|---|---|---|");
-    for seed in first..first + seeds {
+    for seed in drawn::seeds_from_env(1701) {
         println!("{}", row(seed, &base, &paper));
     }
 }

@@ -158,9 +158,9 @@ fn truth(cat: &str, seed: u64) -> (Model, Dataset, Vec<&'static str>) {
     let design = drawn::design(&paper, seed);
     match cat {
         "three" => (
-            base.with_effect(drawn::body_law(seed))
-                .with_effect(drawn::shear_law(seed))
-                .with_effect(drawn::tail_wall_drag(seed)),
+            drawn::three_laws(seed)
+                .into_iter()
+                .fold(base, |m, l| m.with_effect(l)),
             design,
             vec!["body.D_x", "tail.viscosity", "tail.drag"],
         ),

@@ -39,7 +39,6 @@ use swimbot::workbench::discovery::{aicc, discover_on, DiscoverySettings, Refere
 use swimbot::workbench::fit::{fit_with, free_params_of};
 use swimbot::workbench::noise::{chi2_noise_floor, error_dofs};
 use swimbot::workbench::robust::Likelihood;
-use swimbot::workbench::synth::{generate, SynthSettings};
 
 /// Screened laws at a place refitted exactly (40).
 const TOP: usize = 40;
@@ -337,17 +336,7 @@ fn from_scratch(
 
 /// One seed's row of the table.
 fn row(seed: u64, base: &Model, paper: &Dataset) -> String {
-    let truth = base
-        .clone()
-        .with_effect(drawn::body_law(seed))
-        .with_effect(drawn::shear_law(seed))
-        .with_effect(drawn::tail_wall_drag(seed));
-    let design = drawn::design(paper, seed);
-    let settings = SynthSettings {
-        seed,
-        ..Default::default()
-    };
-    let data = generate(&truth, &design, settings).expect("synth");
+    let (truth, data) = drawn::three_effect_data(base, paper, seed);
     let s = DiagnoseSettings::default();
     let d = diagnose(base, &data, &s).expect("diagnose");
     let n = d.comparison.summary.n;
@@ -391,19 +380,11 @@ fn row(seed: u64, base: &Model, paper: &Dataset) -> String {
 }
 
 fn main() {
-    let env = |k: &str, d: u64| {
-        std::env::var(k)
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(d)
-    };
-    let first = env("FIRST_SEED", 1701);
-    let seeds = env("SEEDS", 10);
     let base = Model::base();
     let paper = swimbot::data::paper();
     println!("| seed | verdict | chosen set | chosen at floor | chosen key | truth: chi2 (floor), key | library at the true places: laws | chi2 (floor) | key | chosen - truth | chosen - library | from scratch - library |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for seed in first..first + seeds {
+    for seed in drawn::seeds_from_env(1701) {
         println!("{}", row(seed, &base, &paper));
     }
 }
