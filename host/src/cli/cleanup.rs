@@ -46,18 +46,25 @@ pub fn forget_temp(p: &Path) {
     pending().temps.retain(|t| t != p);
 }
 
-/// Creates `dir` and its missing parents, registering each new one.
+/// Creates `dir` and its missing parents, registering each new one, under
+/// the lock [`clean_up`] takes, as [`create_temp`] does: a signal between
+/// creating and registering would leave the folders behind (seen in a
+/// loaded test run).
 pub fn create_dir_all(dir: &Path) -> std::io::Result<()> {
+    let mut pending = pending();
     let mut missing = Vec::new();
     let mut at = Some(dir);
     while let Some(d) = at.filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
         missing.push(d.to_path_buf());
         at = d.parent();
     }
-    std::fs::create_dir_all(dir)?;
-    // Deepest first, the order they must be removed in.
-    pending().new_dirs.extend(missing);
-    Ok(())
+    let made = std::fs::create_dir_all(dir);
+    // Deepest first, the order they must be removed in; registered even
+    // when a deeper one failed, so that the parents made are removed.
+    pending
+        .new_dirs
+        .extend(missing.into_iter().filter(|d| d.exists()));
+    made
 }
 
 /// The run succeeded: its folders are outputs now.
