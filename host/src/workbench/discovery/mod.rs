@@ -29,6 +29,7 @@
 pub mod acts;
 pub mod interpret;
 pub mod places;
+pub mod projection;
 pub mod screen;
 pub mod search;
 pub mod write;

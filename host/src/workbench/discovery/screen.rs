@@ -76,7 +76,7 @@ fn set_value(m: &mut Model, v: f64) {
     m.effects.last_mut().expect("with_value added it").values[0] = v;
 }
 
-fn predictions(model: &Model, data: &Dataset) -> Result<Vec<f64>, ModelError> {
+pub(super) fn predictions(model: &Model, data: &Dataset) -> Result<Vec<f64>, ModelError> {
     let mut out = Vec::new();
     for case in &data.cases {
         let p = model.predict(case)?;

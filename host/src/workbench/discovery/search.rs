@@ -9,6 +9,7 @@
 //! T. Hastie, R. Tibshirani & J. Friedman, *The Elements of Statistical
 //! Learning*, 2nd ed. (2009), sec. 7.10 (k-fold cross-validation).
 
+use super::projection::{Basis, Span};
 use super::screen::{CaseFeature, Table};
 use crate::data::model_quantities::MODEL_QUANTITIES;
 use crate::data::quantities::{Quantity, FEATURES, FIELDS, SETUP_GROUPS};
@@ -122,9 +123,33 @@ fn starts(c: &LocatedCorrection) -> Vec<Vec<f64>> {
     }
 }
 
-fn chi2(table: &Table, c: &LocatedCorrection, p: &[f64], xs: &CaseFeature, sub: &[usize]) -> f64 {
+/// A law's residuals on the observations `sub`, less their part in the
+/// members' span when a basis of it is given ([`super::projection`]).
+fn residuals(
+    table: &Table,
+    c: &LocatedCorrection,
+    p: &[f64],
+    xs: &CaseFeature,
+    sub: &[usize],
+    basis: Option<&Basis>,
+    out: &mut Vec<f64>,
+) {
+    table.residuals_into(c, p, xs, sub, out);
+    if let Some(b) = basis {
+        b.remove(out);
+    }
+}
+
+fn chi2(
+    table: &Table,
+    c: &LocatedCorrection,
+    p: &[f64],
+    xs: &CaseFeature,
+    sub: &[usize],
+    basis: Option<&Basis>,
+) -> f64 {
     let mut r = Vec::with_capacity(sub.len());
-    table.residuals_into(c, p, xs, sub, &mut r);
+    residuals(table, c, p, xs, sub, basis, &mut r);
     let s: f64 = r.iter().map(|x| x * x).sum();
     if s.is_finite() {
         s
@@ -134,13 +159,15 @@ fn chi2(table: &Table, c: &LocatedCorrection, p: &[f64], xs: &CaseFeature, sub: 
 }
 
 /// Bounded Levenberg-Marquardt on the table from `start`; returns the
-/// parameters and chi-square over the observations `sub`.
+/// parameters and chi-square over the observations `sub` (with a basis of
+/// the members' span on `sub`: the added-variable chi-square).
 pub fn fit_on_table(
     table: &Table,
     c: &LocatedCorrection,
     xs: &CaseFeature,
     sub: &[usize],
     start: &[f64],
+    basis: Option<&Basis>,
 ) -> (Vec<f64>, f64) {
     let specs = c.params();
     let k = specs.len();
@@ -151,17 +178,17 @@ pub fn fit_on_table(
     };
     let mut p = start.to_vec();
     clamp(&mut p);
-    let mut f = chi2(table, c, &p, xs, sub);
+    let mut f = chi2(table, c, &p, xs, sub, basis);
     let mut lambda = 1e-3;
     let (mut r, mut rp) = (Vec::new(), Vec::new());
     for _ in 0..40 {
-        table.residuals_into(c, &p, xs, sub, &mut r);
+        residuals(table, c, &p, xs, sub, basis, &mut r);
         let mut jac = vec![vec![0.0; r.len()]; k];
         for (i, col) in jac.iter_mut().enumerate() {
             let h = 1e-6 * (1.0 + p[i].abs());
             let mut q = p.clone();
             q[i] += h;
-            table.residuals_into(c, &q, xs, sub, &mut rp);
+            residuals(table, c, &q, xs, sub, basis, &mut rp);
             for (j, v) in col.iter_mut().enumerate() {
                 *v = (rp[j] - r[j]) / h;
             }
@@ -183,7 +210,7 @@ pub fn fit_on_table(
             let delta = solve(&m, &g, k);
             let mut q: Vec<f64> = p.iter().zip(&delta).map(|(x, d)| x - d).collect();
             clamp(&mut q);
-            let fq = chi2(table, c, &q, xs, sub);
+            let fq = chi2(table, c, &q, xs, sub, basis);
             if fq < f {
                 // Screening needs a ranking, not the last digit: 1e-8 relative.
                 let done = (f - fq) <= 1e-8 * f.max(1e-300);
@@ -227,11 +254,12 @@ pub fn screen_one(
     c: &Arc<LocatedCorrection>,
     data: &Dataset,
     sub: &[usize],
+    basis: Option<&Basis>,
 ) -> Screened {
     let xs = xs_of(c, data);
     let mut best = (Vec::new(), f64::INFINITY);
     for s in starts(c) {
-        let (p, f) = fit_on_table(table, c, &xs, sub, &s);
+        let (p, f) = fit_on_table(table, c, &xs, sub, &s, basis);
         if f < best.1 || best.0.is_empty() {
             best = (p, f);
         }
@@ -256,7 +284,7 @@ pub fn cv_mare(table: &Table, s: &Screened, n_cases: usize, folds: usize) -> f64
         if test.is_empty() || train.is_empty() {
             continue;
         }
-        let (p, _) = fit_on_table(table, &s.correction, &s.xs, &train, &s.params);
+        let (p, _) = fit_on_table(table, &s.correction, &s.xs, &train, &s.params, None);
         table.residuals_into(&s.correction, &p, &s.xs, &test, &mut r);
         for (o, z) in test.iter().zip(&r) {
             let ob = table.obs[*o];
@@ -285,10 +313,27 @@ pub struct Screen {
     pub n_laws: usize,
     /// The laws whose screened chi-square is finite.
     pub screened: Vec<Screened>,
+    /// The members' span on the screened and on every observation, when
+    /// the laws were screened with the members free ([`super::projection`]).
+    bases: Option<(Basis, Basis)>,
 }
 
 impl Screen {
+    /// Every law screened with the members already in the table's model
+    /// held at their values.
     pub fn run(table: &Table, data: &Dataset, screen_cases: usize) -> Screen {
+        Screen::run_free(table, data, screen_cases, None)
+    }
+
+    /// Every law screened; with `span`, the members that span covers are
+    /// free to first order (the added-variable screen,
+    /// [`super::projection`]).
+    pub fn run_free(
+        table: &Table,
+        data: &Dataset,
+        screen_cases: usize,
+        span: Option<&Span>,
+    ) -> Screen {
         let all: Vec<usize> = (0..table.obs.len()).collect();
         let stride = data.cases.len().div_ceil(screen_cases.max(1)).max(1);
         let sub: Vec<usize> = all
@@ -296,10 +341,12 @@ impl Screen {
             .copied()
             .filter(|&o| table.obs[o].case.is_multiple_of(stride))
             .collect();
+        let bases = span.map(|s| (s.basis(&sub), s.basis(&all)));
+        let basis = bases.as_ref().map(|b| &b.0);
         let list = corrections(table, data);
         let screened = list
             .par_iter()
-            .map(|c| screen_one(table, c, data, &sub))
+            .map(|c| screen_one(table, c, data, &sub, basis))
             .filter(|x| x.chi2.is_finite())
             .collect();
         Screen {
@@ -308,6 +355,7 @@ impl Screen {
             stride,
             n_laws: list.len(),
             screened,
+            bases,
         }
     }
 
@@ -315,7 +363,8 @@ impl Screen {
     /// subsample.
     pub fn on_all(&self, table: &Table, x: &mut Screened) {
         if self.stride > 1 {
-            let (p, f) = fit_on_table(table, &x.correction, &x.xs, &self.all, &x.params);
+            let basis = self.bases.as_ref().map(|b| &b.1);
+            let (p, f) = fit_on_table(table, &x.correction, &x.xs, &self.all, &x.params, basis);
             x.params = p;
             x.chi2 = f;
         }
