@@ -104,7 +104,7 @@ fn replacements(
         &model,
         &taken,
         (k, per_member),
-        Screens::Free,
+        Screens::Both,
         law_charge,
     )
     .into_iter()
@@ -135,7 +135,7 @@ fn pair_replacements(
         &model,
         &taken,
         (k, per_member),
-        Screens::Free,
+        Screens::Both,
         law_charge,
     )
     .into_par_iter()
@@ -149,7 +149,7 @@ fn pair_replacements(
             &model,
             &taken,
             (n_params(&two), 1),
-            Screens::Free,
+            Screens::Both,
             law_charge,
         )
         .into_iter()
