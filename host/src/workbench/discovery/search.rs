@@ -123,8 +123,10 @@ fn starts(c: &LocatedCorrection) -> Vec<Vec<f64>> {
     }
 }
 
-/// A law's residuals on the observations `sub`, less their part in the
-/// members' span when a basis of it is given ([`super::projection`]).
+/// A law's residuals on the observations `sub` into `out`, less their
+/// part in the members' span when a basis of it is given
+/// ([`super::projection`]); returns their sum of squares (infinite when it
+/// is not finite).
 fn residuals(
     table: &Table,
     c: &LocatedCorrection,
@@ -133,24 +135,12 @@ fn residuals(
     sub: &[usize],
     basis: Option<&Basis>,
     out: &mut Vec<f64>,
-) {
+) -> f64 {
     table.residuals_into(c, p, xs, sub, out);
     if let Some(b) = basis {
         b.remove(out);
     }
-}
-
-fn chi2(
-    table: &Table,
-    c: &LocatedCorrection,
-    p: &[f64],
-    xs: &CaseFeature,
-    sub: &[usize],
-    basis: Option<&Basis>,
-) -> f64 {
-    let mut r = Vec::with_capacity(sub.len());
-    residuals(table, c, p, xs, sub, basis, &mut r);
-    let s: f64 = r.iter().map(|x| x * x).sum();
+    let s: f64 = out.iter().map(|x| x * x).sum();
     if s.is_finite() {
         s
     } else {
@@ -178,11 +168,12 @@ pub fn fit_on_table(
     };
     let mut p = start.to_vec();
     clamp(&mut p);
-    let mut f = chi2(table, c, &p, xs, sub, basis);
+    let (mut r, mut rp, mut rq) = (Vec::new(), Vec::new(), Vec::new());
+    let mut f = residuals(table, c, &p, xs, sub, basis, &mut r);
     let mut lambda = 1e-3;
-    let (mut r, mut rp) = (Vec::new(), Vec::new());
     for _ in 0..40 {
-        residuals(table, c, &p, xs, sub, basis, &mut r);
+        // `r` holds the residuals at `p`: computed once, then swapped in
+        // with each accepted step.
         let mut jac = vec![vec![0.0; r.len()]; k];
         for (i, col) in jac.iter_mut().enumerate() {
             let h = 1e-6 * (1.0 + p[i].abs());
@@ -210,12 +201,13 @@ pub fn fit_on_table(
             let delta = solve(&m, &g, k);
             let mut q: Vec<f64> = p.iter().zip(&delta).map(|(x, d)| x - d).collect();
             clamp(&mut q);
-            let fq = chi2(table, c, &q, xs, sub, basis);
+            let fq = residuals(table, c, &q, xs, sub, basis, &mut rq);
             if fq < f {
                 // Screening needs a ranking, not the last digit: 1e-8 relative.
                 let done = (f - fq) <= 1e-8 * f.max(1e-300);
                 p = q;
                 f = fq;
+                std::mem::swap(&mut r, &mut rq);
                 lambda = (lambda / 4.0).max(1e-9);
                 improved = !done;
                 break;

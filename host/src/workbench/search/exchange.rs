@@ -89,31 +89,14 @@ fn replacements(
 ) -> Vec<Vec<Member>> {
     let mut others = f.members.clone();
     others.remove(i);
-    let mut model = ctx.model0.clone();
-    for inst in others.iter().flat_map(|m| &m.insts) {
-        model = model.with_effect(inst.clone());
-    }
-    let k: usize = others
-        .iter()
-        .flat_map(|m| &m.insts)
-        .map(|x| x.values.len())
-        .sum();
-    let taken: Vec<&str> = others.iter().filter_map(|m| m.place).collect();
-    best_laws_on(
-        ctx,
-        &model,
-        &taken,
-        (k, per_member),
-        Screens::Both,
-        law_charge,
-    )
-    .into_iter()
-    .map(|law| {
-        let mut m = others.clone();
-        m.push(law);
-        m
-    })
-    .collect()
+    laws_on(ctx, &others, per_member, law_charge)
+        .into_iter()
+        .map(|law| {
+            let mut m = others.clone();
+            m.push(law);
+            m
+        })
+        .collect()
 }
 
 /// The sets that keep member `keep` of `f` and replace the other two
@@ -127,37 +110,25 @@ fn pair_replacements(
     law_charge: f64,
 ) -> Vec<Vec<Member>> {
     let kept = vec![f.members[keep].clone()];
-    let model = model_of(ctx, &kept);
-    let k = n_params(&kept);
-    let taken: Vec<&str> = kept.iter().filter_map(|m| m.place).collect();
-    best_laws_on(
-        ctx,
-        &model,
-        &taken,
-        (k, per_member),
-        Screens::Both,
-        law_charge,
-    )
-    .into_par_iter()
-    .filter_map(|a| {
-        let mut two = kept.clone();
-        two.push(a);
-        let model = model_of(ctx, &two);
-        let taken: Vec<&str> = two.iter().filter_map(|m| m.place).collect();
-        let b = best_laws_on(
-            ctx,
-            &model,
-            &taken,
-            (n_params(&two), 1),
-            Screens::Both,
-            law_charge,
-        )
-        .into_iter()
-        .next()?;
-        two.push(b);
-        Some(two)
-    })
-    .collect()
+    laws_on(ctx, &kept, per_member, law_charge)
+        .into_par_iter()
+        .filter_map(|a| {
+            let mut two = kept.clone();
+            two.push(a);
+            let b = laws_on(ctx, &two, 1, law_charge).into_iter().next()?;
+            two.push(b);
+            Some(two)
+        })
+        .collect()
+}
+
+/// The `n` best laws (of each screen) on the model of `members` at their
+/// values, at places they do not hold.
+fn laws_on(ctx: &Ctx, members: &[Member], n: usize, law_charge: f64) -> Vec<Member> {
+    let model = model_of(ctx, members);
+    let taken: Vec<&str> = members.iter().filter_map(|m| m.place).collect();
+    let k = n_params(members);
+    best_laws_on(ctx, &model, &taken, (k, n), Screens::Both, law_charge)
 }
 
 fn model_of(ctx: &Ctx, members: &[Member]) -> crate::model::Model {
