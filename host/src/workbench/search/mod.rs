@@ -635,8 +635,8 @@ fn extended(
 ///
 /// Near the floor both are offered: on two drawn two-effect truths
 /// (integration tests, seeds 205 and the stagewise pair) exchange with
-/// the freed screen alone never refitted the true pair and split the oil
-/// over two tail places instead.
+/// the freed screen alone split the oil over two tail places, and no
+/// acceptable pair reached the floor.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Screens {
     /// Far above the floor ([`FAR_ABOVE`]): the beam's only screen there.
