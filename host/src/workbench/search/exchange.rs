@@ -69,9 +69,14 @@ fn exchanged(
             let singles = (0..f.members.len())
                 .into_par_iter()
                 .flat_map(|i| replacements(ctx, f, i, per_member, law_charge));
-            let pairs = (0..f.members.len())
+            // A pair move keeps one member: it needs three.
+            let kept = if f.members.len() > 2 {
+                f.members.len()
+            } else {
+                0
+            };
+            let pairs = (0..kept)
                 .into_par_iter()
-                .filter(|_| f.members.len() > 2)
                 .flat_map(|i| pair_replacements(ctx, f, i, per_member, law_charge));
             singles.chain(pairs).collect::<Vec<_>>()
         })
