@@ -1,6 +1,6 @@
 //! How far apart two sets' keys must be before the data tell them apart,
 //! measured on the data's own design: the margin of the model confidence
-//! set ([`super::rivals`]), calibrated by a parametric bootstrap.
+//! set (`super::rivals`), calibrated by a parametric bootstrap.
 //!
 //! A fixed AICc margin (Burnham & Anderson's "within 4") holds for two
 //! models compared once. The search compares the found set with dozens of
@@ -41,8 +41,8 @@
 //! Anderson, *Model Selection and Multimodel Inference*, 2nd ed. (2002),
 //! sec. 2.6 (the fixed margin and its limits).
 
+use super::fitted::{Ctx, Fitted};
 use super::set::joint;
-use super::{Ctx, Fitted};
 use crate::data::{Dataset, Measured};
 use crate::workbench::noise::error_dofs;
 use rand::rngs::StdRng;

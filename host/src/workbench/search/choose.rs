@@ -6,9 +6,10 @@
 //! misfit is ranked, a larger set must be a nested extension that lowers
 //! the cross-validated error (module docs of [`super`], step 4).
 
+use super::fitted::{Ctx, Fitted};
 use super::level::MIN_SHARE;
 use super::set::joint;
-use super::{Ctx, Fitted, FAR_ABOVE, MAX_LAWS};
+use super::{FAR_ABOVE, MAX_LAWS};
 use crate::effects::correction::Form;
 use crate::workbench::discovery::explained_fraction;
 use crate::workbench::robust::t_deviance_of;

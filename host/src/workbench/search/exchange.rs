@@ -20,8 +20,11 @@
 //! (2002), ch. 3 (sequential replacement, and replacing more than one
 //! variable at a time).
 
+use super::beam::best_of;
+use super::fitted::{fit_fresh, Ctx, Fitted};
+use super::screened::{best_laws_on, Screens};
 use super::set::Member;
-use super::{best_laws_on, best_of, fit_fresh, Ctx, Fitted, Screens, EXCHANGE_ROUNDS};
+use super::EXCHANGE_ROUNDS;
 use rayon::prelude::*;
 
 /// Up to [`EXCHANGE_ROUNDS`] rounds of exchange on the `width` best sets

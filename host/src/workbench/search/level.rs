@@ -1,7 +1,7 @@
 //! The levels of a found set of `diagnose`: each step (a catalogue effect
 //! or a located law) with the fitted model up to it, and the first steps
 //! the single-step verdict already chose. The set itself is chosen by the
-//! search over subsets ([`crate::workbench::subsets`]).
+//! search over subsets ([`crate::workbench::search`]).
 //!
 //! References: K. P. Burnham & D. R. Anderson (2002), ch. 2 (AICc).
 
@@ -50,7 +50,7 @@ pub struct Found {
     /// Steps beyond the ones the single-step verdict already named.
     pub added: usize,
     /// The other sets the data cannot tell from this one
-    /// ([`super::rivals`]), best key first.
+    /// (`super::rivals`), best key first.
     pub rivals: Vec<Rival>,
     /// The margin the rivals were judged by ([`super::calibrate`]); `None`
     /// when no rival was sought.
@@ -58,7 +58,7 @@ pub struct Found {
 }
 
 /// A set at other places whose key is within the AICc margin of the found
-/// set's ([`super::rivals`]).
+/// set's (`super::rivals`).
 pub struct Rival {
     /// Each member as the verdict names it.
     pub members: Vec<String>,

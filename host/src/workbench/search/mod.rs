@@ -22,12 +22,12 @@
 //!    [`CATALOGUE_EXTEND`] best catalogue effects not in the set, are
 //!    added and every parameter of the new set is refitted jointly. Sets
 //!    at the noise floor are extended too: a larger set may tie them
-//!    within the noise, and the verdict must say so ([`rivals`]).
+//!    within the noise, and the verdict must say so (`rivals`).
 //!    Beside them, the best single law at each of the [`PAIRED`] best places
 //!    is paired with each other's, from scratch: two effects at two places
 //!    are each found alone in their own form, while whatever is screened on
 //!    top of a first step that took shares of both is biased by it.
-//! 3. **Exchange** ([`exchange`], Miller's replacement algorithm): the
+//! 3. **Exchange** (`exchange`, Miller's replacement algorithm): the
 //!    [`EXCHANGE_WIDTH`] best sets of each size from two up have each
 //!    member in turn replaced by the [`EXCHANGE_LAWS`] best laws screened
 //!    on the model of the other members, and each set of three has each
@@ -60,7 +60,7 @@
 //!    the set without it, refitted, has a key higher by more than the AICc
 //!    margin (`clear_margin`, 4), and when the set is above the noise
 //!    floor, dropping the member leaves at least twice what the set leaves
-//!    above the floor ([`MIN_SHARE`]: a member that only shaves a misfit is
+//!    above the floor ([`level::MIN_SHARE`]: a member that only shaves a misfit is
 //!    not physics; on the paper's data, far above the floor everywhere,
 //!    this is what refuses a constant external torque of -300 uN m on the
 //!    body beside the body correction).
@@ -98,7 +98,7 @@
 //! floor, or (the incumbent above the floor) removes at least half of what
 //! the incumbent leaves above it.
 //!
-//! 5. **What the data cannot tell apart** ([`rivals`]): every other
+//! 5. **What the data cannot tell apart** (`rivals`): every other
 //!    acceptable set at other places whose key is within the margin of the
 //!    chosen one (at the floor when it is), the margin calibrated on data
 //!    drawn from the chosen set's fit ([`calibrate`]); the verdict then
@@ -114,36 +114,35 @@
 //! (2002), ch. 2 (AICc); S. J. Russell & P. Norvig, *Artificial
 //! Intelligence*, 3rd ed. (2010), sec. 4.1.1 (local beam search).
 
+mod beam;
+pub mod calibrate;
 mod choose;
 mod exchange;
-mod set;
-use choose::acceptable;
-
-use super::diagnosis::{DiagnoseSettings, Verdict, VerdictKind};
-use super::discovery::places::best_at_each_place;
-use super::discovery::projection::Span;
-use super::discovery::search::Screen;
-use super::discovery::{aicc, explained_fraction, Reference, Table};
-use super::fit::FitError;
-use super::robust::{t_deviance_of, Likelihood};
-use super::score::Deviance;
-pub mod calibrate;
+mod fitted;
 pub mod joint;
 mod joint_text;
 pub mod level;
 pub mod ranges;
 mod rivals;
+mod screened;
+mod set;
 pub mod verdict;
 
+use super::diagnosis::{DiagnoseSettings, Verdict, VerdictKind};
+use super::discovery::{explained_fraction, Reference};
+use super::fit::FitError;
+use super::robust::{t_deviance_of, Likelihood};
+use super::score::Deviance;
 use super::verdict::Evidence;
-use crate::data::Dataset;
-use crate::effects::EffectInstance;
 use crate::model::Model;
-use level::{first_steps, n_obs, Floor, Found, Level, Steps};
-use rayon::prelude::*;
-use set::{joint, law_id, members, rebuild, with_values, Joint, Member};
+use beam::{best_of, extended, pairs_of_places, singles};
+use choose::acceptable;
+use fitted::{Ctx, Fitted};
+use level::{first_steps, Floor, Found, Level, Steps};
+use screened::Screens;
+use set::{members, rebuild};
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 
 /// Most laws and effects in one set (3).
 pub const MAX_LAWS: usize = 3;
@@ -177,108 +176,6 @@ pub const EXCHANGE_ROUNDS: usize = 2;
 /// Places whose best single law is paired with each other's from scratch
 /// (8; 5 above 200 cases).
 pub const PAIRED: usize = 8;
-
-/// A set with its joint fit; members carry the joint values.
-#[derive(Clone)]
-struct Fitted {
-    members: Vec<Member>,
-    joint: Joint,
-    /// Why a member's fitted law lies outside what its place allows
-    /// ([`ranges`]); `None` when every member is inside.
-    outside: Option<String>,
-}
-
-impl Fitted {
-    fn ids(&self) -> Vec<String> {
-        sorted_ids(&self.members)
-    }
-
-    /// The places (and catalogue names) of the set: one beam entry each.
-    fn signature(&self) -> Vec<String> {
-        let mut v: Vec<String> = self
-            .members
-            .iter()
-            .map(|m| m.place.map_or_else(|| m.id.clone(), str::to_string))
-            .collect();
-        v.sort();
-        v
-    }
-}
-
-/// The first member whose law, at its fitted values, puts its place
-/// outside what the place's physics allows, in words ([`ranges`]).
-fn outside_range(members: &[Member], data: &Dataset) -> Option<String> {
-    members.iter().find_map(|m| {
-        let law = m.law()?;
-        let values = &m.insts.first()?.values;
-        let (case, v, (lo, hi)) = ranges::outside(law, values, data)?;
-        Some(format!(
-            "{} is {} on case {case}, outside {lo} .. {hi}",
-            law.place.name(),
-            crate::format::fmt_sig(v, 3)
-        ))
-    })
-}
-
-fn sorted_ids(members: &[Member]) -> Vec<String> {
-    let mut v: Vec<String> = members.iter().map(|m| m.id.clone()).collect();
-    v.sort();
-    v
-}
-
-/// What every set is judged on, and the joint fits made so far.
-struct Ctx<'a> {
-    model0: &'a Model,
-    data: &'a Dataset,
-    floor: Floor<'a>,
-    s: &'a DiagnoseSettings,
-    base: Level,
-    cache: Mutex<HashMap<Vec<String>, Option<Fitted>>>,
-}
-
-impl Ctx<'_> {
-    /// The set refitted jointly (once per set of ids); `None` when its fit
-    /// fails (one set fewer, not an error).
-    fn fit(&self, members: Vec<Member>) -> Option<Fitted> {
-        let ids = sorted_ids(&members);
-        if let Some(f) = self.cache.lock().expect("no panic holds it").get(&ids) {
-            return f.clone();
-        }
-        let out = joint(
-            self.model0,
-            &members,
-            self.data,
-            self.floor,
-            self.s.likelihood,
-        )
-        .ok()
-        .map(|j| {
-            let members = with_values(&members, self.model0, &j);
-            let outside = outside_range(&members, self.data);
-            Fitted {
-                members,
-                joint: j,
-                outside,
-            }
-        });
-        self.cache
-            .lock()
-            .expect("no panic holds it")
-            .insert(ids, out.clone());
-        out
-    }
-
-    fn base_key(&self) -> f64 {
-        self.base
-            .deviance()
-            .aicc(n_obs(self.data), 0)
-            .unwrap_or(f64::INFINITY)
-    }
-
-    fn floor0(&self) -> Option<f64> {
-        (self.floor)(0)
-    }
-}
 
 /// The starting model as a level.
 fn base_level(model: &Model, e: &Evidence, lik: Likelihood) -> Result<Level, FitError> {
@@ -456,266 +353,6 @@ pub fn search(
     found.rivals = rivals;
     found.margin = margin;
     Ok(found)
-}
-
-/// Every single: catalogue effects, the search's exact refits, the best
-/// screened law at each place; each fitted alone.
-fn singles(
-    ctx: &Ctx,
-    e: &Evidence,
-    law_charge: f64,
-    cat_charge: f64,
-) -> Result<Vec<Fitted>, FitError> {
-    let base_len = ctx.model0.effects.len();
-    let mut lib: Vec<Member> = e
-        .ranking
-        .iter()
-        .map(|c| Member::catalogue(c, base_len, cat_charge))
-        .collect();
-    if let Some(d) = e.discovery {
-        for l in &d.located {
-            lib.push(Member {
-                id: law_id(&l.correction),
-                insts: vec![l.model.effects.last().expect("a law adds one").clone()],
-                located: Some(l.clone()),
-                name: l.describe(),
-                charge: law_charge,
-                place: Some(l.place),
-                pending: None,
-            });
-        }
-    }
-    let table = Table::build(ctx.model0, ctx.data)?;
-    let screen = Screen::run(&table, ctx.data, ctx.s.discovery.screen_cases);
-    for at in best_at_each_place(&table, &screen, 0) {
-        let m = pending_member(at, law_charge);
-        if !lib.iter().any(|o| o.id == m.id) {
-            lib.push(m);
-        }
-    }
-    Ok(lib
-        .into_par_iter()
-        .filter_map(|m| ctx.fit(vec![m]))
-        .collect())
-}
-
-fn pending_member(at: super::discovery::places::AtPlace, charge: f64) -> Member {
-    let c = at.screened.correction.clone();
-    Member {
-        id: law_id(&c),
-        insts: vec![EffectInstance {
-            effect: c.clone().into(),
-            values: at.screened.params.clone(),
-        }],
-        located: None,
-        name: c.formula(),
-        charge,
-        place: Some(c.place.name()),
-        pending: Some(Arc::new(at)),
-    }
-}
-
-/// The `beam` best sets of `size` by key, one per combination of places,
-/// the incumbent's always among them when it has that size; sets at the
-/// floor are not extended.
-fn best_of(level: &[Fitted], size: usize, beam: usize, inc: Option<&Fitted>) -> Vec<Fitted> {
-    // Sets at the floor are extended too: a set one member larger can tie
-    // them within the margin, and the verdict must know it (`rivals`).
-    let mut v: Vec<&Fitted> = level.iter().filter(|f| f.members.len() == size).collect();
-    // Sets inside their places' ranges first: only they can be chosen.
-    v.sort_by(|a, b| {
-        (a.outside.is_some(), a.joint.key)
-            .partial_cmp(&(b.outside.is_some(), b.joint.key))
-            .unwrap_or(std::cmp::Ordering::Equal)
-    });
-    let mut seen: Vec<Vec<String>> = Vec::new();
-    let mut out: Vec<Fitted> = Vec::new();
-    if let Some(i) = inc.filter(|i| i.members.len() == size) {
-        seen.push(i.signature());
-        out.push(i.clone());
-    }
-    for f in v {
-        if out.len() >= beam {
-            break;
-        }
-        let sig = f.signature();
-        if !seen.contains(&sig) {
-            seen.push(sig);
-            out.push(f.clone());
-        }
-    }
-    out
-}
-
-/// Every pair of the best single laws at the `m` best places, refitted
-/// jointly from their solo values: two effects at two places are each
-/// found alone in their own form, while a first step that takes shares of
-/// both would bias whatever is screened on top of it.
-fn pairs_of_places(ctx: &Ctx, all: &[Fitted], m: usize) -> Vec<Fitted> {
-    let mut v: Vec<&Fitted> = all
-        .iter()
-        .filter(|f| f.members.len() == 1 && f.members[0].place.is_some())
-        .collect();
-    v.sort_by(|a, b| a.joint.key.total_cmp(&b.joint.key));
-    let mut best: Vec<&Fitted> = Vec::new();
-    for f in v {
-        if best.len() < m
-            && !best
-                .iter()
-                .any(|b| b.members[0].place == f.members[0].place)
-        {
-            best.push(f);
-        }
-    }
-    let mut tries = Vec::new();
-    for (i, a) in best.iter().enumerate() {
-        for b in &best[i + 1..] {
-            tries.push(vec![a.members[0].clone(), b.members[0].clone()]);
-        }
-    }
-    tries.into_par_iter().filter_map(|t| ctx.fit(t)).collect()
-}
-
-/// Each kept set with one more member (module docs, step 2), refitted
-/// jointly.
-fn extended(
-    ctx: &Ctx,
-    e: &Evidence,
-    kept: &[Fitted],
-    extend: usize,
-    screens: Screens,
-    law_charge: f64,
-    cat_charge: f64,
-) -> Vec<Fitted> {
-    let base_len = ctx.model0.effects.len();
-    let tries: Vec<Vec<Member>> = kept
-        .par_iter()
-        .flat_map(|f| {
-            let mut out: Vec<Vec<Member>> = Vec::new();
-            let model = &f.joint.fit.model;
-            let places: Vec<&str> = f.members.iter().filter_map(|m| m.place).collect();
-            for law in best_laws_on(
-                ctx,
-                model,
-                &places,
-                (f.joint.k, extend),
-                screens,
-                law_charge,
-            ) {
-                let mut m = f.members.clone();
-                m.push(law);
-                out.push(m);
-            }
-            let cats = e
-                .ranking
-                .iter()
-                .filter(|c| !f.members.iter().any(|m| m.id == c.effect))
-                .filter(|c| model.can_take(&*c.model.effects[base_len].effect))
-                .take(CATALOGUE_EXTEND);
-            for c in cats {
-                let mut m = f.members.clone();
-                m.push(Member::catalogue(c, base_len, cat_charge));
-                out.push(m);
-            }
-            out
-        })
-        .collect();
-    fit_fresh(ctx, tries, Vec::new())
-}
-
-/// Which screens offer the laws tried on top of members
-/// ([`best_laws_on`]). Both approximate the joint refit of a law with the
-/// members: one holds the members at their values, the other frees them to
-/// first order ([`Span`], the added-variable screen). Held, members that
-/// took a share of the law's effect hide it; freed, the linearisation fails
-/// where adding the law moves the members far: on the paper's data, about
-/// 2000 times above its floor, the freed screen's best companion of the
-/// body correction is an external load torque of -300 uN m that the choice
-/// refuses, the held screen's a law on the body's E_x that it accepts.
-///
-/// Near the floor both are offered: on two drawn two-effect truths
-/// (integration tests, seeds 205 and the stagewise pair) exchange with
-/// the freed screen alone split the oil over two tail places, and no
-/// acceptable pair reached the floor.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Screens {
-    /// Far above the floor ([`FAR_ABOVE`]): the beam's only screen there.
-    Held,
-    /// The best of each: the beam while some single is near its floor,
-    /// exchange and the chosen set's neighbours (which run only near it).
-    Both,
-}
-
-/// The `n` best laws screened on `model` at places not in `taken` (of
-/// each of the `screens`), by their screened AICc on top of the `k`
-/// parameters `model` adds, as members: what extends a set, or replaces
-/// one of its members.
-fn best_laws_on(
-    ctx: &Ctx,
-    model: &Model,
-    taken: &[&str],
-    (k, n): (usize, usize),
-    screens: Screens,
-    law_charge: f64,
-) -> Vec<Member> {
-    let Ok(table) = Table::build(model, ctx.data) else {
-        return Vec::new();
-    };
-    let cases = ctx.s.discovery.screen_cases;
-    let held = Screen::run(&table, ctx.data, cases);
-    let mut out = best_by_place(&table, &held, taken, k, n, law_charge);
-    let span = match screens {
-        Screens::Held => None,
-        Screens::Both => Span::of(model, ctx.model0.effects.len(), ctx.data, &table),
-    };
-    // Without a member to free, the two screens are one.
-    if let Some(span) = span {
-        let free = Screen::run_free(&table, ctx.data, cases, Some(&span));
-        for m in best_by_place(&table, &free, taken, k, n, law_charge) {
-            if !out.iter().any(|o| o.id == m.id) {
-                out.push(m);
-            }
-        }
-    }
-    out
-}
-
-/// The `n` best laws of one screen at places not in `taken` (one per
-/// place), by screened AICc on top of `k` parameters.
-fn best_by_place(
-    table: &Table,
-    screen: &Screen,
-    taken: &[&str],
-    k: usize,
-    n: usize,
-    law_charge: f64,
-) -> Vec<Member> {
-    let n_sub = screen.sub.len();
-    let mut ats = best_at_each_place(table, screen, k);
-    ats.retain(|a| !taken.contains(&a.place.name()));
-    let key = |a: &super::discovery::places::AtPlace| {
-        aicc(a.screened.chi2, n_sub, k + a.screened.params.len()).unwrap_or(f64::INFINITY)
-    };
-    ats.sort_by(|a, b| key(a).total_cmp(&key(b)));
-    ats.into_iter()
-        .take(n)
-        .map(|at| pending_member(at, law_charge))
-        .collect()
-}
-
-/// The sets of `tries` not met before (by their members' ids; none of
-/// `seen`), each refitted jointly.
-fn fit_fresh(ctx: &Ctx, tries: Vec<Vec<Member>>, mut seen: Vec<Vec<String>>) -> Vec<Fitted> {
-    let fresh: Vec<Vec<Member>> = tries
-        .into_iter()
-        .filter(|m| {
-            let ids = sorted_ids(m);
-            let new = !seen.contains(&ids);
-            seen.push(ids);
-            new
-        })
-        .collect();
-    fresh.into_par_iter().filter_map(|m| ctx.fit(m)).collect()
 }
 
 /// The chosen set as a path: each screened law located (refitted alone on

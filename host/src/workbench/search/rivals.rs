@@ -27,8 +27,9 @@
 //! Econometrica 79 (2011) 453 (the model confidence set).
 
 use super::calibrate::{self, Margin};
+use super::fitted::{Ctx, Fitted};
 use super::level::Rival;
-use super::{acceptable, Ctx, Fitted, FAR_ABOVE};
+use super::{acceptable, FAR_ABOVE};
 
 /// The rivals of `chosen` among `all` (sorted by key), best key first,
 /// and the margin they were judged by.

@@ -5,7 +5,7 @@
 //! stands alone; and the located list without repeats. A set of two steps
 //! or more carries what its joint fit fixes only together
 //! ([`super::joint`]), in `verdict.joint` and the note; and the sets the
-//! data cannot tell apart ([`super::rivals`]), listed.
+//! data cannot tell apart (`super::rivals`), listed.
 
 use super::calibrate::Margin;
 use super::joint_text::joint_sentences;
