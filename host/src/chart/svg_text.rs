@@ -26,7 +26,7 @@ const SYMBOLS: &[(&str, &str)] = &[
 ];
 
 /// Physics notation: spelled-out Greek words become letters (`Omega_b` ->
-/// `Ω_b`, `N_lambda` -> `N_λ`); `_` and `^` are kept for [`rich`].
+/// `Ω_b`, `N_lambda` -> `N_λ`); `_` and `^` are kept for `rich`.
 pub fn notation(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     let mut word = String::new();
@@ -141,7 +141,7 @@ fn advance(c: char) -> f64 {
     }
 }
 
-/// Estimated width in pixels of [`rich`] text `s` at `size_px`.
+/// Estimated width in pixels of `rich` text `s` at `size_px`.
 pub fn width(s: &str, size_px: f64) -> f64 {
     runs(s)
         .iter()
@@ -163,7 +163,7 @@ pub fn extent(size_px: f64, subscripts: bool) -> (f64, f64) {
     (0.93 * size_px, below * size_px)
 }
 
-/// Whether [`rich`] text `s` has a subscript run.
+/// Whether `rich` text `s` has a subscript run.
 pub fn has_subscript(s: &str) -> bool {
     runs(s).iter().any(|r| r.1 == -1)
 }

@@ -110,7 +110,7 @@ pub enum Command {
 
 /// Run a parsed command line. A run that fails (or is interrupted by
 /// SIGINT or SIGTERM) leaves no temporary file and no folder it created
-/// ([`cleanup`]); a failure to write stdout is an error (exit 2).
+/// (`cleanup`); a failure to write stdout is an error (exit 2).
 /// `command` is the command line `cli` was parsed from, one argument per
 /// entry: the outputs' provenance records it, and the output guard reads
 /// the files it names.

@@ -262,7 +262,7 @@ pub fn write_all_atomically(files: &[(PathBuf, Vec<u8>)], inputs: &Inputs) -> Re
 /// Checks, before any work, that files can be created in `dir` (creating
 /// it if needed, and removing it again if the run fails), so that a long
 /// computation does not end in an I/O error; that it holds none of the
-/// run's inputs and no other command's output ([`guard::claim_dir`]).
+/// run's inputs and no other command's output (`guard::claim_dir`).
 /// Output files named beside it (`--write-log`) are checked first.
 pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<(), CliError> {
     if dir.exists() && !dir.is_dir() {
@@ -287,7 +287,7 @@ pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<()
 
 /// The report bundle's guard ([`crate::report::Guard`]): refuses a file
 /// of the bundle that is one of the command's inputs
-/// ([`guard::refuse_if_unnamed_input`]), e.g. `--data out/tables/paper-1.csv`.
+/// (`guard::refuse_if_unnamed_input`), e.g. `--data out/tables/paper-1.csv`.
 pub fn not_an_input(path: &Path, inputs: &Inputs) -> Result<(), String> {
     guard::refuse_if_unnamed_input(path, inputs).map_err(|e| e.to_string())
 }

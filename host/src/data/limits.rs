@@ -3,7 +3,7 @@
 //! (cases, trials, identifiers) that keep memory and run time bounded.
 //!
 //! The parser ([`super::parse_str`]) first checks each value's type and
-//! sign; [`check_case`] ([`super::limit_check`]: the checks and their
+//! sign; [`check_case`] (`super::limit_check`: the checks and their
 //! wording) then checks the resolved case against these ranges
 //! and relations, so that "absurd" has one definition, shared by the
 //! dataset parser, the robot file, `sweep` and `helix`. A value outside its

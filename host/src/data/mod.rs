@@ -95,7 +95,7 @@ pub enum Orientation {
     Horizontal,
 }
 
-/// One robot configuration, with every [setup] default resolved.
+/// One robot configuration, with every `[setup]` default resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Case {
     pub id: String,

@@ -1,7 +1,7 @@
 //! Formulas of user effects: a small arithmetic language compiled once into
 //! a tree whose variables are bound by index, then evaluated per case.
 //!
-//! The grammar and its parser: [`super::expr_parse`].
+//! The grammar and its parser: `super::expr_parse`.
 //!
 //! Constants `pi`, `e`; functions of one argument `exp ln log10 sqrt abs sin
 //! cos tan atan tanh`, of two `min max pow`; quantities are the ids of
@@ -18,8 +18,8 @@
 //! no column; `evalexpr` (maintained) looks variables up by string in a
 //! context at every evaluation and has integer arithmetic (`1/2 = 0`), a
 //! trap for physics formulas; `fasteval` and `meval` are unmaintained. The
-//! whole language is ~250 lines here, in [`super::expr_parse`] and
-//! [`super::expr_lex`], tested below, with exact positions.
+//! whole language is ~250 lines here, in `super::expr_parse` and
+//! `super::expr_lex`, tested below, with exact positions.
 
 pub use super::expr_lex::suggest;
 use crate::data::quantities::Quantity;

@@ -17,7 +17,7 @@
 //! axial drag to slender-body theory's `2 pi mu (2a) / (ln(2a/b) - 1/2)` as
 //! `e -> 1` (both tested).
 //!
-//! The paper takes its body coefficients from its ref. [28], which is not
+//! The paper takes its body coefficients from its ref. \[28\], which is not
 //! available to us; this spheroid is the documented base instead, and the
 //! paper's Table III factors (`body-correction`) multiply it.
 //!

@@ -1,7 +1,7 @@
 //! The static HTML report: one self-contained page that tells the story of
 //! the model against the measurements ([`story`]), its figures as inline
 //! SVG, and beside it every figure and table as its own file
-//! ([`bundle`]). The report renders what the workbench computed (the
+//! (`bundle`). The report renders what the workbench computed (the
 //! user's path, [`crate::workbench::path`]); it does not compute.
 
 mod bundle;
@@ -87,7 +87,7 @@ pub fn write_report(
 }
 
 /// Write the page of a study into `dir` with its bundle: a renderer of
-/// the study file, computing nothing ([`study_page`]).
+/// the study file, computing nothing (`study_page`).
 pub fn write_study(
     dir: &std::path::Path,
     study: &crate::study::Study,

@@ -129,7 +129,7 @@ impl StudyFile {
 
     /// Read and check a study file; also the SHA-256 of its bytes, which
     /// [`StudyFile::write_over`] checks before replacing it. Bounded by
-    /// [`cap::STUDY`] while reading (a study pointed at `/dev/zero` or a
+    /// [`crate::input_file::cap::STUDY`] while reading (a study pointed at `/dev/zero` or a
     /// FIFO costs the cap, never the machine).
     pub fn read_hashed(path: &Path) -> Result<(Self, String), StudyError> {
         use crate::input_file::{cap, read_text, ReadError};

@@ -12,7 +12,7 @@ use super::score::FitScore;
 use crate::model::Model;
 use serde::Serialize;
 
-/// Settings of [`diagnose`]; `Default` gives the documented values.
+/// Settings of [`super::diagnose::diagnose`]; `Default` gives the documented values.
 #[derive(Debug, Clone)]
 pub struct DiagnoseSettings {
     /// Quantile of the perfect model's chi-square that counts as "at the noise floor" (0.95).
@@ -110,7 +110,7 @@ pub struct Verdict {
     /// laws, strengths whose interval spans no effect; `null` otherwise).
     pub joint: Option<super::search::joint::JointReading>,
     /// The sets of laws and effects the data cannot tell apart (a model
-    /// confidence set, [`super::search::rivals`]): the found set first,
+    /// confidence set, `super::search::rivals`): the found set first,
     /// then every other set at other places whose key is within the AICc
     /// margin of it (and at the noise floor when it is); empty when one set
     /// stands alone.

@@ -20,9 +20,9 @@ pub enum WallModel {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WallSolver {
     /// Split the wall into Fourier modes by its rotational symmetry
-    /// ([`rings`]); the default.
+    /// ([`super::rings`]); the default.
     Rings,
-    /// One dense LU of everything ([`mfs::solve_dense`]): the reference.
+    /// One dense LU of everything ([`super::mfs::solve_dense`]): the reference.
     Dense,
 }
 

@@ -31,7 +31,7 @@
 //! deviance of the audit's [`Likelihood`] (least squares by default, the
 //! Student-t with `--likelihood student-t`), and the AICc is that
 //! deviance's: `D + 2k + 2k(k+1)/(n-k-1)`. What is decided is here; how
-//! each finding is worded is [`super::influence_words`].
+//! each finding is worded is `super::influence_words`.
 //!
 //! References: K. P. Burnham & D. R. Anderson, *Model Selection and
 //! Multimodel Inference*, 2nd ed. (2002), ch. 2; R. D. Cook & S. Weisberg
@@ -72,7 +72,7 @@ pub struct CandidateScore {
 }
 
 /// What the influence and outlier checks decide about one case (worded by
-/// [`super::influence_words`]).
+/// `super::influence_words`).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Finding {
     /// No candidate is clearly best on all cases; without the case `without` is.

@@ -31,7 +31,7 @@ pub struct LeaveOutDraws {
 impl LeaveOutDraws {
     /// Draws over the quantities `all` (degrees of freedom, bits -> count),
     /// keeping per value the most that one leave-out removes (`spare`);
-    /// the same seeds and [`DrawPlan`] as [`chi2_noise_floor`].
+    /// the same seeds and [`DrawPlan`] as [`super::chi2_noise_floor`].
     pub fn new(
         all: &std::collections::BTreeMap<u64, usize>,
         spare: &std::collections::BTreeMap<u64, usize>,
@@ -89,7 +89,7 @@ impl LeaveOutDraws {
         }
     }
 
-    /// [`chi2_noise_floor`] of the quantities without `left_out` (degrees
+    /// [`super::chi2_noise_floor`] of the quantities without `left_out` (degrees
     /// of freedom, bits -> count; each at most its `spare`), `None` when
     /// nothing is left to test or more is left out than was kept.
     pub fn floor(

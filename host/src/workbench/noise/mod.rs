@@ -30,7 +30,7 @@ use rand_distr::{Distribution, StudentT};
 /// Draws of a floor over few quantities.
 const DRAWS: usize = 20_000;
 /// Student-t samples drawn as one serial stream (module docs): 500
-/// quantities x [`DRAWS`].
+/// quantities x `DRAWS`.
 pub const SERIAL_SAMPLES: usize = 10_000_000;
 /// The fewest draws of a floor over many quantities: the 95 % quantile is
 /// then the 1 900th of 2 000 ordered sums.
