@@ -123,7 +123,7 @@ fn pair_replacements(
         .filter_map(|a| {
             let mut two = kept.clone();
             two.push(a);
-            let b = laws_on(ctx, &two, 1, law_charge).into_iter().next()?;
+            let b = completion(ctx, &two, law_charge)?;
             two.push(b);
             Some(two)
         })
@@ -133,10 +133,33 @@ fn pair_replacements(
 /// The `n` best laws (of each screen) on the model of `members` at their
 /// values, at places they do not hold.
 fn laws_on(ctx: &Ctx, members: &[Member], n: usize, law_charge: f64) -> Vec<Member> {
+    laws_screened(ctx, members, n, Screens::Both, law_charge)
+}
+
+/// The one law that completes a pair move: the best of the held screen
+/// on the model of `members`, the freed screen's only when the held one
+/// offers none. The held screen's best comes first among both screens'
+/// laws, so the freed screen is not run to be set aside.
+fn completion(ctx: &Ctx, members: &[Member], law_charge: f64) -> Option<Member> {
+    let first = |screens| {
+        laws_screened(ctx, members, 1, screens, law_charge)
+            .into_iter()
+            .next()
+    };
+    first(Screens::Held).or_else(|| first(Screens::Both))
+}
+
+fn laws_screened(
+    ctx: &Ctx,
+    members: &[Member],
+    n: usize,
+    screens: Screens,
+    law_charge: f64,
+) -> Vec<Member> {
     let model = model_of(ctx, members);
     let taken: Vec<&str> = members.iter().filter_map(|m| m.place).collect();
     let k = n_params(members);
-    best_laws_on(ctx, &model, &taken, (k, n), Screens::Both, law_charge)
+    best_laws_on(ctx, &model, &taken, (k, n), screens, law_charge)
 }
 
 fn model_of(ctx: &Ctx, members: &[Member]) -> crate::model::Model {
