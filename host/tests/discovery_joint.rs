@@ -50,10 +50,23 @@ fn strengths_that_trade_across_steps_are_said_so() {
 /// and the body law on D_x, at the floor; the oil is in every set the data
 /// cannot tell apart (one reads the body's share as a lower thrust in the
 /// body's confinement, within the calibrated margin).
+///
+/// The verdict does not depend on how the work was shared between
+/// threads: on one thread it is the same, field for field. (Joint fits
+/// are cached per set and start: keyed by the set alone, a set reached
+/// from two starts in two parallel tasks would make the verdict depend on
+/// which task finished first.)
 #[test]
 fn the_drawn_pair_of_seed_205_is_found_in_every_set() {
     let d = diagnose_drawn_pair(205);
     crate::fixtures::diagnosed::assert_pair_found_in_every_set(&d.verdict);
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| diagnose_drawn_pair(205));
+    let json = |v| serde_json::to_string(v).unwrap();
+    assert_eq!(json(&d.verdict), json(&one.verdict));
 }
 
 /// Drawn seed 108 (the tuning range): the stagewise path located

@@ -33,18 +33,20 @@
 //!    on the model of the other members, and each set of three has each
 //!    member kept while the other two are replaced together (the
 //!    [`EXCHANGE_LAWS`] best laws on the kept member's model, each followed
-//!    by the best law on the model of both); every new set is refitted
-//!    jointly, up to [`EXCHANGE_ROUNDS`] rounds, while a round lowers the
-//!    best key. A set grown member by member keeps what its first member
+//!    by the held screen's best law on the model of both); every new set
+//!    is refitted jointly, up to [`EXCHANGE_ROUNDS`] rounds, while a round
+//!    lowers the best key. A set grown member by member keeps what its first member
 //!    took of the effects found after it; exchange gives that back, and
 //!    the pair move gives back what two members hold of each other's
 //!    effects, where no single replacement lowers the key.
 //!
-//! Every law screened on top of members (steps 2 and 3) is screened with
-//! the members' parameters free to first order (the added-variable screen,
-//! [`super::discovery::projection`]): held at their values, members that
-//! took a share of the law's effect make the screen rank first the law
-//! least like them, not the one the data want.
+//! Near the floor, every law screened on top of members (steps 2 and 3)
+//! is screened twice, with the members held at their values and with their
+//! parameters free to first order (the added-variable screen,
+//! [`super::discovery::projection`]), and the best of each are offered:
+//! held, members that took a share of the law's effect make the screen
+//! rank first the law least like them, not the one the data want
+//! (`screened::Screens` says where each screen fails).
 //!
 //! 4. **Choice**: the sets at the noise floor in order of their key, then
 //!    (when none reaches it) the others in order of their key. The first
