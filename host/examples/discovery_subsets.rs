@@ -37,11 +37,10 @@
 //!   `none-needed`) is at the noise floor.
 //!
 //! `FIRST_SEED=1701 cargo run --release -p swimbot --example
-//! discovery_subsets` (development: 1701 for every category). Held-out
-//! ranges, each run once after the code is frozen: `ONLY=three
-//! FIRST_SEED=1651`, `ONLY=constant FIRST_SEED=1611`, `ONLY=density
-//! FIRST_SEED=1621`, `ONLY=slip FIRST_SEED=1631`, `ONLY=null
-//! FIRST_SEED=1661`. `VERBOSE=1` prints each
+//! discovery_subsets` (development: 1701, 1801 and 1901 for every
+//! category). Held-out ranges are fixed in docs/discovery.md before each
+//! round's code and run once after it is frozen (`ONLY=three
+//! FIRST_SEED=2101`, and so on). `VERBOSE=1` prints each
 //! verdict's note; `SEEDS=n` runs n seeds from the first (10).
 
 #[path = "../tests/fixtures/drawn.rs"]
