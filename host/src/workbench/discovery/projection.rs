@@ -76,6 +76,11 @@ impl Span {
 
     /// An orthonormal basis on the observations `rows` (modified
     /// Gram-Schmidt; a column the others already span is dropped).
+    // Written out rather than taken from nalgebra's QR: an unpivoted QR
+    // keeps a column of Q for a member parameter the others already span
+    // (two members whose strengths trade), normalised from rounding
+    // noise, and removing that arbitrary direction would bias every law's
+    // score; the rank must be decided column by column, as here.
     pub fn basis(&self, rows: &[usize]) -> Basis {
         let mut q: Vec<Vec<f64>> = Vec::new();
         for col in &self.cols {

@@ -160,7 +160,7 @@ pub(super) fn acceptable(ctx: &Ctx, f: &Fitted) -> bool {
     let cost: f64 = f
         .members
         .iter()
-        .map(|m| 2.0 * m.insts.iter().map(|i| i.values.len()).sum::<usize>() as f64 + m.charge)
+        .map(|m| 2.0 * m.n_params() as f64 + m.charge)
         .sum();
     let Ok(t) = t_deviance_of(&f.joint.fit.model, ctx.data) else {
         return false;

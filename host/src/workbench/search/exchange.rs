@@ -23,7 +23,7 @@
 use super::beam::best_of;
 use super::fitted::{fit_fresh, Ctx, Fitted};
 use super::screened::{best_laws_on, Screens};
-use super::set::Member;
+use super::set::{model_with, Member};
 use super::EXCHANGE_ROUNDS;
 use rayon::prelude::*;
 
@@ -156,26 +156,10 @@ fn laws_screened(
     screens: Screens,
     law_charge: f64,
 ) -> Vec<Member> {
-    let model = model_of(ctx, members);
+    let model = model_with(ctx.model0, members);
     let taken: Vec<&str> = members.iter().filter_map(|m| m.place).collect();
-    let k = n_params(members);
+    let k = members.iter().map(Member::n_params).sum();
     best_laws_on(ctx, &model, &taken, (k, n), screens, law_charge)
-}
-
-fn model_of(ctx: &Ctx, members: &[Member]) -> crate::model::Model {
-    let mut model = ctx.model0.clone();
-    for inst in members.iter().flat_map(|m| &m.insts) {
-        model = model.with_effect(inst.clone());
-    }
-    model
-}
-
-fn n_params(members: &[Member]) -> usize {
-    members
-        .iter()
-        .flat_map(|m| &m.insts)
-        .map(|x| x.values.len())
-        .sum()
 }
 
 /// Every set one member away from `f`: each member replaced by the best

@@ -57,6 +57,12 @@ impl Member {
 
     /// The law of a located or screened member (`None` for a catalogue
     /// effect).
+    /// The parameters its effects carry (each one a free one of a set's
+    /// joint fit).
+    pub fn n_params(&self) -> usize {
+        self.insts.iter().map(|i| i.values.len()).sum()
+    }
+
     pub fn law(&self) -> Option<&Arc<LocatedCorrection>> {
         match (&self.located, &self.pending) {
             (Some(l), _) => Some(&l.correction),
@@ -106,6 +112,16 @@ pub(super) struct Joint {
     pub key: f64,
 }
 
+/// `model0` with the effects of every member of `set` added, at the
+/// members' values.
+pub(super) fn model_with(model0: &Model, set: &[Member]) -> Model {
+    let mut m = model0.clone();
+    for inst in set.iter().flat_map(|s| &s.insts) {
+        m = m.with_effect(inst.clone());
+    }
+    m
+}
+
 pub(super) fn joint(
     model0: &Model,
     set: &[Member],
@@ -113,10 +129,7 @@ pub(super) fn joint(
     floor: Floor,
     lik: Likelihood,
 ) -> Result<Joint, FitError> {
-    let mut m = model0.clone();
-    for inst in set.iter().flat_map(|s| &s.insts) {
-        m = m.with_effect(inst.clone());
-    }
+    let m = model_with(model0, set);
     let added: Vec<usize> = (model0.effects.len()..m.effects.len()).collect();
     let free = free_params_of(&m, &added);
     let fit = fit_with(&m, data, None, &free, false, lik)?;
