@@ -81,13 +81,13 @@ pub fn limits(data: &Dataset, found: Option<(&Model, &Model)>) -> Vec<DesignLimi
         let (experiment, predicted) = match other {
             Some(t) => (
                 format!(
-                    "a second tube would: run a case in the {} mm tube the rig has",
+                    "a case run in the {} mm tube the rig has would separate them",
                     fmt_trim(t, 4)
                 ),
                 found.and_then(|(f, b)| second_tube(data, f, b, t)),
             ),
             None => (
-                "a second tube would (the rig states none: list the tubes the lab has as `rig.channel_diameter_mm`)".to_string(),
+                "a case in a second tube would separate them (the rig states none: list the tubes the lab has as `rig.channel_diameter_mm`)".to_string(),
                 None,
             ),
         };
@@ -103,12 +103,12 @@ pub fn limits(data: &Dataset, found: Option<(&Model, &Model)>) -> Vec<DesignLimi
         let r = rig.frequency_hz;
         let experiment = if r.hi > r.lo {
             format!(
-                "a second rate would, within the {}-{} Hz the firmware holds",
+                "a case at a second rate, within the {}-{} Hz the firmware holds, would separate them",
                 fmt_sig(r.lo, 3),
                 fmt_sig(r.hi, 3)
             )
         } else {
-            "a second rate would (state the rates the firmware holds as `rig.frequency_hz`)"
+            "a case at a second rate would separate them (state the rates the firmware holds as `rig.frequency_hz`)"
                 .to_string()
         };
         out.push(DesignLimit {
@@ -125,7 +125,7 @@ pub fn limits(data: &Dataset, found: Option<(&Model, &Model)>) -> Vec<DesignLimi
             value: v,
             cannot_separate:
                 "an effect of the oil's viscosity (or of a Reynolds number) from a constant one",
-            experiment: "a second oil would".to_string(),
+            experiment: "a case in a second oil would separate them".to_string(),
             predicted_in_sigma: None,
         });
     }
