@@ -43,6 +43,31 @@ fn strengths_that_trade_across_steps_are_said_so() {
     );
 }
 
+/// The verdict does not depend on how the work is shared between threads:
+/// on one thread it is the pool's, field for field (the search's parallel
+/// batches each fit distinct sets, and the cache of joint fits is read
+/// between them).
+#[test]
+fn the_verdict_on_one_thread_is_the_pools() {
+    let data = swimbot::data::paper();
+    let run = || {
+        swimbot::workbench::diagnose::diagnose(
+            &swimbot::model::Model::base(),
+            &data,
+            &swimbot::workbench::diagnose::DiagnoseSettings::default(),
+        )
+        .unwrap()
+    };
+    let pool = run();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(run);
+    let json = |v| serde_json::to_string(v).unwrap();
+    assert_eq!(json(&pool.verdict), json(&one.verdict));
+}
+
 /// Seed 205: the stagewise path called the tail's viscosity, the body's
 /// E_x and its D_x all located, their strengths trading (the whole
 /// swimmer's resistance scaled down together). The search over subsets
@@ -50,23 +75,10 @@ fn strengths_that_trade_across_steps_are_said_so() {
 /// and the body law on D_x, at the floor; the oil is in every set the data
 /// cannot tell apart (one reads the body's share as a lower thrust in the
 /// body's confinement, within the calibrated margin).
-///
-/// The verdict does not depend on how the work was shared between
-/// threads: on one thread it is the same, field for field. (Joint fits
-/// are cached per set and start: keyed by the set alone, a set reached
-/// from two starts in two parallel tasks would make the verdict depend on
-/// which task finished first.)
 #[test]
 fn the_drawn_pair_of_seed_205_is_found_in_every_set() {
     let d = diagnose_drawn_pair(205);
     crate::fixtures::diagnosed::assert_pair_found_in_every_set(&d.verdict);
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap()
-        .install(|| diagnose_drawn_pair(205));
-    let json = |v| serde_json::to_string(v).unwrap();
-    assert_eq!(json(&d.verdict), json(&one.verdict));
 }
 
 /// Drawn seed 108 (the tuning range): the stagewise path located
