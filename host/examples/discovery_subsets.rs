@@ -27,10 +27,15 @@
 //! - **truth in the stated set**: every true place is in the verdict's
 //!   found set or in one of the sets it states the data cannot tell apart
 //!   (for a null: `none-needed`); a second count takes `tail.torque` and
-//!   `body.E_x` as one (the reciprocal law: the same model exactly);
+//!   `body.E_x` as one (the reciprocal law: the same model exactly); a
+//!   third reads each member of a stated set at every place the verdict
+//!   states as its equivalent (`discovery::interpret::equivalents`: also
+//!   the speed-only places `body.D_x`, `tail.drag`, `tail.thrust` as one
+//!   another), one member for each true place;
 //! - **wrong set claimed alone**: a `located` or `identified` verdict whose
 //!   set has a place the truth does not touch (with that equivalence; for a
-//!   null: any such verdict);
+//!   null: any such verdict); a second count only those whose set, read
+//!   with its stated readings, is not the truth;
 //! - **located exactly**: a `located` or `identified` verdict whose one set
 //!   has exactly the true places (for a null: `none-needed`);
 //! - **at the floor**: the verdict's found set (or the base model, for
@@ -57,6 +62,7 @@ use swimbot::effects::place::Place;
 use swimbot::effects::EffectInstance;
 use swimbot::model::Model;
 use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, Verdict, VerdictKind};
+use swimbot::workbench::discovery::interpret::equivalents;
 use swimbot::workbench::discovery::Table;
 use swimbot::workbench::synth::{generate, SynthSettings};
 
@@ -225,6 +231,38 @@ fn has(set: &[String], place: &str, exact_equivalents: bool) -> bool {
         .any(|x| x == place || (exact_equivalents && twin == Some(x.as_str())))
 }
 
+/// A place and every place the verdict states as an equivalent reading of
+/// a law there (`discovery::interpret::equivalents`: the reciprocal torque
+/// pair, and the speed-only places read as one another); a catalogue
+/// effect reads as itself.
+fn readings(place: &str) -> Vec<&str> {
+    let mut v = vec![place];
+    if let Some(p) = Place::from_name(place) {
+        v.extend(equivalents(p).iter().map(|e| e.place));
+    }
+    v
+}
+
+/// Whether the truth's places are the set's read with its stated
+/// readings, one member for each true place.
+fn read_as(set: &[String], want: &[&str]) -> bool {
+    fn assign(set: &[String], want: &[&str], used: &mut Vec<bool>) -> bool {
+        let Some((w, rest)) = want.split_first() else {
+            return true;
+        };
+        (0..set.len()).any(|i| {
+            if used[i] || !readings(&set[i]).contains(w) {
+                return false;
+            }
+            used[i] = true;
+            let ok = assign(set, rest, used);
+            used[i] = false;
+            ok
+        })
+    }
+    assign(set, want, &mut vec![false; set.len()])
+}
+
 /// Every set the verdict states: the found set (its located places and
 /// catalogue effects) and each set it cannot tell from it.
 fn stated_sets(v: &Verdict) -> Vec<Vec<String>> {
@@ -266,7 +304,11 @@ fn stated_names(v: &Verdict) -> Vec<Vec<String>> {
 struct Score {
     in_stated: bool,
     in_stated_equivalent: bool,
+    /// The truth is one of the stated sets read with its stated readings.
+    in_stated_read: bool,
     wrong_alone: bool,
+    /// Claimed alone, and no stated reading of it is the truth.
+    wrong_alone_read: bool,
     exact: bool,
     floor: bool,
 }
@@ -282,7 +324,9 @@ fn score(v: &Verdict, want: &[&str]) -> Score {
         return Score {
             in_stated: v.kind == VerdictKind::NoneNeeded,
             in_stated_equivalent: v.kind == VerdictKind::NoneNeeded,
+            in_stated_read: v.kind == VerdictKind::NoneNeeded,
             wrong_alone: alone,
+            wrong_alone_read: alone,
             exact: v.kind == VerdictKind::NoneNeeded,
             floor,
         };
@@ -298,7 +342,9 @@ fn score(v: &Verdict, want: &[&str]) -> Score {
     Score {
         in_stated,
         in_stated_equivalent,
+        in_stated_read: sets.iter().any(|s| read_as(s, want)),
         wrong_alone,
+        wrong_alone_read: alone && !read_as(&found, want),
         exact,
         floor,
     }
@@ -315,13 +361,14 @@ fn main() {
         .unwrap_or(10);
     let only = std::env::var("ONLY").ok();
     let verbose = std::env::var("VERBOSE").is_ok();
-    println!("| category | seeds | truth in the stated set | same, tail.torque = body.E_x | wrong set claimed alone | located exactly | at the floor | median s per diagnosis |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("| category | seeds | truth in the stated set | same, tail.torque = body.E_x | same, read with the stated readings | wrong set claimed alone | same, no stated reading the truth | located exactly | at the floor | median s per diagnosis |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for cat in ["three", "constant", "density", "slip", "null"] {
         if only.as_deref().is_some_and(|o| o != cat) {
             continue;
         }
-        let (mut stated, mut stated_eq, mut wrong, mut exact, mut floor) = (0, 0, 0, 0, 0);
+        let (mut stated, mut stated_eq, mut stated_read) = (0, 0, 0);
+        let (mut wrong, mut wrong_read, mut exact, mut floor) = (0, 0, 0, 0);
         let mut times = Vec::new();
         for seed in first..first + count {
             let (model, design, want) = truth(cat, seed);
@@ -338,18 +385,22 @@ fn main() {
             let s = score(v, &want);
             stated += s.in_stated as u32;
             stated_eq += s.in_stated_equivalent as u32;
+            stated_read += s.in_stated_read as u32;
             wrong += s.wrong_alone as u32;
+            wrong_read += s.wrong_alone_read as u32;
             exact += s.exact as u32;
             floor += s.floor as u32;
             let sets: Vec<String> = stated_names(v).iter().map(|s| s.join(", ")).collect();
             eprintln!(
-                "{cat} seed {seed}: truth [{}] verdict {} sets [{}] in_stated={} (with equivalents {}) wrong_alone={} exact={} floor={}",
+                "{cat} seed {seed}: truth [{}] verdict {} sets [{}] in_stated={} (with equivalents {}, read {}) wrong_alone={} (read {}) exact={} floor={}",
                 want.join(", "),
                 v.kind.name(),
                 sets.join(" | "),
                 s.in_stated,
                 s.in_stated_equivalent,
+                s.in_stated_read,
                 s.wrong_alone,
+                s.wrong_alone_read,
                 s.exact,
                 s.floor
             );
@@ -359,7 +410,7 @@ fn main() {
         }
         times.sort_by(f64::total_cmp);
         println!(
-            "| {cat} | {first}-{} | {stated}/{count} | {stated_eq}/{count} | {wrong}/{count} | {exact}/{count} | {floor}/{count} | {:.1} |",
+            "| {cat} | {first}-{} | {stated}/{count} | {stated_eq}/{count} | {stated_read}/{count} | {wrong}/{count} | {wrong_read}/{count} | {exact}/{count} | {floor}/{count} | {:.1} |",
             first + count - 1,
             times[times.len() / 2]
         );

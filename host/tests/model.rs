@@ -219,3 +219,53 @@ fn the_nonlocal_tail_method_and_the_nonlocal_tail_effect_agree() {
         assert!(nonlocal[(0, 0)] < local[(0, 0)] && nonlocal[(0, 3)].abs() < local[(0, 3)].abs());
     }
 }
+
+/// The paper's model with a constant multiplier `m` at `place`.
+fn scaled(model: &Model, place: swimbot::effects::place::Place, m: f64) -> Model {
+    use swimbot::effects::correction::{Form, LocatedCorrection};
+    let c = LocatedCorrection::new(place, None, Form::Constant, 1.0, 1.0).unwrap();
+    model.clone().with_effect(swimbot::effects::EffectInstance {
+        effect: std::sync::Arc::new(c).into(),
+        values: vec![m],
+    })
+}
+
+/// Eq. 11 in the paper's drive splits into `U = (F - B_t[x,wx] omega) /
+/// (D_x + B_t[x,x])` and `Omega_b = (T - B_t[wx,wx] omega) / E_x`: the
+/// axial drags of body and tail and the thrust coupling set the speed
+/// alone, and the speed sees the drags only through their sum. This is what
+/// the verdict's readings of those places as one another rest on
+/// (`discovery::interpret::equivalents`); with the motor's rate relative
+/// to the body, the rotation does depend on them.
+#[test]
+fn the_speed_only_places_leave_the_rotation_and_see_the_drags_as_one_sum() {
+    use swimbot::effects::place::Place;
+    let base = Model::base();
+    for c in cases() {
+        let p = base.predict(&c).unwrap();
+        for place in [Place::BodyTranslation, Place::TailDrag, Place::TailThrust] {
+            let q = scaled(&base, place, 1.7).predict(&c).unwrap();
+            assert!((q.u_mm_s / p.u_mm_s - 1.0).abs() > 1e-3, "{}", place.name());
+            let rotation = (q.omega_body_hz / p.omega_body_hz - 1.0).abs();
+            assert!(rotation < 1e-14, "{}: {rotation:e}", place.name());
+        }
+        // The body's drag times m is the tail's drag plus (m - 1) D_x.
+        let fb = base.force_balance(&c).unwrap();
+        let (d, b11) = (fb.body[(0, 0)], fb.tail[(0, 0)]);
+        let m = 1.7;
+        let on_body = scaled(&base, Place::BodyTranslation, m)
+            .predict(&c)
+            .unwrap();
+        let on_tail = scaled(&base, Place::TailDrag, 1.0 + (m - 1.0) * d / b11)
+            .predict(&c)
+            .unwrap();
+        assert!((on_body.u_mm_s / on_tail.u_mm_s - 1.0).abs() < 1e-12);
+        // A motor rate relative to the body couples the two balances, weakly:
+        // 0.06-0.6 % in the rotation on the paper's cases.
+        let relative = with("motor-frame");
+        let r = relative.predict(&c).unwrap();
+        let s = scaled(&relative, Place::TailDrag, 1.7).predict(&c).unwrap();
+        let coupled = (s.omega_body_hz / r.omega_body_hz - 1.0).abs();
+        assert!((1e-4..1e-2).contains(&coupled), "{coupled:e}");
+    }
+}

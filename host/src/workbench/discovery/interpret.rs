@@ -118,8 +118,9 @@ pub struct Equivalent {
     /// The other place.
     pub place: &'static str,
     /// How the law maps there: `reciprocal` (the same feature, the
-    /// multiplier inverted) or `opposite` (the same feature, changing the
-    /// other way; not an exact map, each fitted at its own optimum).
+    /// multiplier inverted), `opposite` (the same feature, changing the
+    /// other way) or `alike` (the same feature, changing the same way);
+    /// the last two are not exact maps, each is fitted at its own optimum.
     pub relation: &'static str,
     /// The reading in words.
     #[serde(skip)]
@@ -130,15 +131,22 @@ pub struct Equivalent {
 ///
 /// - The body's rotation balances the tail's torque: scaling one by a law
 ///   is scaling the other by its reciprocal (exact).
-/// - The tail's axial drag and its thrust coupling: the body's rotation
-///   barely depends on either and the speed on their ratio (the tail's thrust
-///   against the drag of tail and body). On ten drawn designs with a tail
-///   drag rising near the wall, the best drag law and the best thrust law
-///   (each at its own optimum) both reached the noise floor on all ten,
-///   their speeds differed by at most 1.3-4.1 standard errors in the most
-///   different case and their rotation by less than 0.005, and the AICc
-///   preferred either by up to 42 (docs/discovery.md): a preference set by
-///   which form the search can write, not by the place.
+/// - The speed-only places. In the paper's drive eq. 11 splits into
+///   `U = (F - B_t[x,wx] omega) / (D_x + B_t[x,x])` and
+///   `Omega_b = (T - B_t[wx,wx] omega) / E_x`: the body's axial drag, the
+///   tail's axial drag and its thrust coupling set the speed alone, through
+///   one ratio, and the body's rotation does not depend on them at all
+///   (with a motor rate relative to the body it does, weakly: 0.06-0.6 %
+///   for a 70 % change of the tail's drag on the paper's cases). The speeds
+///   fix the ratio, not how a law splits between them: a law on `D_x` is a
+///   law on `B_t[x,x]` rising the same way (scaled by `D_x / B_t[x,x]`, which
+///   varies with the geometry), a law on either is a thrust law falling
+///   instead. On ten drawn designs with a tail drag rising near the wall,
+///   the best drag law and the best thrust law (each at its own optimum)
+///   both reached the noise floor on all ten, their speeds differed by at
+///   most 1.3-4.1 standard errors in the most different case, and the
+///   AICc preferred either by up to 42 (docs/discovery.md): a preference
+///   set by which form the search can write, not by the place.
 pub fn equivalents(place: Place) -> &'static [Equivalent] {
     const TO_BODY_E_X: Equivalent = Equivalent {
         place: "body.E_x",
@@ -153,18 +161,34 @@ pub fn equivalents(place: Place) -> &'static [Equivalent] {
     const TO_THRUST: Equivalent = Equivalent {
         place: "tail.thrust",
         relation: "opposite",
-        reading: "tail.thrust changing the other way with the same feature (in the axial model both set the speed through the ratio of thrust to drag and barely move the body's rotation; the data of docs/discovery.md's study could not tell them apart)",
+        reading: "tail.thrust changing the other way with the same feature (in the paper's drive the speed is the thrust over the axial drag of body and tail, and the body's rotation depends on none of them; the data of docs/discovery.md's study could not tell them apart)",
     };
     const TO_DRAG: Equivalent = Equivalent {
         place: "tail.drag",
         relation: "opposite",
-        reading: "tail.drag changing the other way with the same feature (in the axial model both set the speed through the ratio of thrust to drag and barely move the body's rotation; the data of docs/discovery.md's study could not tell them apart)",
+        reading: "tail.drag changing the other way with the same feature (in the paper's drive the speed is the thrust over the axial drag of body and tail, and the body's rotation depends on none of them; the data of docs/discovery.md's study could not tell them apart)",
+    };
+    const BODY_TO_DRAG: Equivalent = Equivalent {
+        place: "tail.drag",
+        relation: "alike",
+        reading: "tail.drag changing the same way with the same feature (in the paper's drive the speed sets only the sum of the body's and the tail's axial drag, D_x + B_t[x,x], not how it splits between them)",
+    };
+    const DRAG_TO_BODY: Equivalent = Equivalent {
+        place: "body.D_x",
+        relation: "alike",
+        reading: "body.D_x changing the same way with the same feature (in the paper's drive the speed sets only the sum of the body's and the tail's axial drag, D_x + B_t[x,x], not how it splits between them)",
+    };
+    const THRUST_TO_BODY: Equivalent = Equivalent {
+        place: "body.D_x",
+        relation: "opposite",
+        reading: "body.D_x changing the other way with the same feature (in the paper's drive the speed is the thrust over the axial drag of body and tail, and the body's rotation depends on none of them)",
     };
     match place {
         Place::TailTorque => &[TO_BODY_E_X],
         Place::BodyRotation => &[TO_TAIL_TORQUE],
-        Place::TailDrag => &[TO_THRUST],
-        Place::TailThrust => &[TO_DRAG],
+        Place::TailDrag => &[TO_THRUST, DRAG_TO_BODY],
+        Place::TailThrust => &[TO_DRAG, THRUST_TO_BODY],
+        Place::BodyTranslation => &[BODY_TO_DRAG, TO_THRUST],
         _ => &[],
     }
 }

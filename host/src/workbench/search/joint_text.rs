@@ -71,9 +71,14 @@ pub fn joint_sentences(j: &JointReading) -> Vec<String> {
                 s.places[0],
                 if c == "sum" { "load" } else { "multiplier" }
             ),
+            None if s.relation == "reciprocal" => format!(
+                "the laws of steps {a} ({}) and {b} ({}) are at places the axial model cannot tell apart (reciprocal): together they act as one law",
+                s.places[0], s.places[1]
+            ),
+            // The speed-only places (`interpret::equivalents`).
             None => format!(
-                "the laws of steps {a} ({}) and {b} ({}) are at places the axial model cannot tell apart ({}): together they act as one law",
-                s.places[0], s.places[1], s.relation
+                "the laws of steps {a} ({}) and {b} ({}) set the speed only together, as the thrust over the axial drag of body and tail (eq. 11): the data fix their combined effect on it, not each",
+                s.places[0], s.places[1]
             ),
         }
     }));
