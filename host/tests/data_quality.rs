@@ -196,6 +196,40 @@ fn suggestions_stay_inside_the_rig_and_one_tube_is_named_as_a_limit() {
     assert!(note.contains("standard errors"), "{note}");
 }
 
+/// A suggestion states the rig once: a design with a tube per case gives
+/// the tubes' count and span, not every diameter, and a verdict that
+/// separates several pairs of sets names the rig in the first only.
+#[test]
+fn the_rig_is_stated_once_and_many_tubes_by_their_span() {
+    use swimbot::workbench::experiments::rig::Rig;
+    use swimbot::workbench::experiments::separation::best_discriminating_case;
+    let mut d = null_data(927);
+    for (i, c) in d.cases.iter_mut().enumerate() {
+        c.channel_diameter_mm = 30.0 + 0.5 * i as f64;
+    }
+    let n = d.cases.len();
+    assert!(n > 8, "{n} cases");
+    let words = Rig::of(&d).describe();
+    let span = format!(
+        "tubes {n} between 30.0 and {:.1} mm",
+        30.0 + 0.5 * (n - 1) as f64
+    );
+    assert!(words.contains(&span), "{words}");
+    d.rig.channel_diameter_mm = Some(vec![35.0, 30.0]);
+    let words = Rig::of(&d).describe();
+    assert!(words.contains("tubes 30.0, 35.0 mm (stated)"), "{words}");
+    let b = Model::base().with_effect(swimbot::effects::EffectInstance::default_of(
+        swimbot::effects::by_name("body-confinement").unwrap(),
+    ));
+    let g = best_discriminating_case(&d, &Model::base(), &b).unwrap();
+    assert!(g.hint().contains(&words), "{}", g.hint());
+    let again = g.hint_within(true);
+    assert!(
+        !again.contains("tubes") && again.contains("the same rig as above"),
+        "{again}"
+    );
+}
+
 /// The `[rig]` block survives a TOML round trip through the binary's
 /// dataset writer and reader.
 #[test]

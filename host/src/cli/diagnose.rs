@@ -242,6 +242,7 @@ fn print_sets(v: &crate::workbench::diagnose::Verdict) {
         return;
     }
     println!("\nsets the data cannot tell apart (AICc + charges within the margin):");
+    let mut rig_said = false;
     for (i, s) in v.sets.iter().enumerate() {
         println!(
             "  {}. {} (key {:+.1}{})",
@@ -255,7 +256,8 @@ fn print_sets(v: &crate::workbench::diagnose::Verdict) {
             }
         );
         if let Some(g) = &s.suggestion {
-            println!("     {}", g.hint().trim_start_matches("; "));
+            println!("     {}", g.hint_within(rig_said).trim_start_matches("; "));
+            rig_said = true;
         }
     }
     if !v.agreed_places.is_empty() {

@@ -122,6 +122,10 @@ fn range_of(data: &Dataset, field: Field, stated: Option<(f64, f64)>) -> Range {
     }
 }
 
+/// Most tubes a suggestion lists one by one (8); more are given by their
+/// count and span.
+const MOST_TUBES_LISTED: usize = 8;
+
 impl Rig {
     /// The rig of `data` (module docs).
     pub fn of(data: &Dataset) -> Rig {
@@ -170,18 +174,30 @@ impl Rig {
 
     /// The ranges in words, for a suggestion's sentence.
     pub fn describe(&self) -> String {
-        let tubes: Vec<String> = self
-            .tubes_mm
+        let mut sorted = self.tubes_mm.clone();
+        sorted.sort_by(f64::total_cmp);
+        let mut tubes: Vec<String> = sorted
             .iter()
             .map(|d| crate::format::fmt_sig(*d, 3))
             .collect();
+        tubes.dedup();
+        // A design with a tube per case lists dozens: their span says it.
+        let tubes = match tubes.len() > MOST_TUBES_LISTED {
+            true => format!(
+                "{} between {} and {}",
+                sorted.len(),
+                tubes[0],
+                tubes[tubes.len() - 1]
+            ),
+            false => tubes.join(", "),
+        };
         format!(
             "rates {}, amplitudes {}, wavelengths {}, tail lengths {}, tubes {} mm ({})",
             self.frequency_hz.words("Hz"),
             self.amplitude_mm.words("mm"),
             self.wavelength_mm.words("mm"),
             self.tail_length_mm.words("mm"),
-            tubes.join(", "),
+            tubes,
             if self.tubes_stated {
                 "stated"
             } else {

@@ -44,21 +44,31 @@ pub struct Suggestion {
 impl Suggestion {
     /// The clause a verdict appends ("; to tell them apart, ...").
     pub fn hint(&self) -> String {
+        self.hint_within(false)
+    }
+
+    /// [`Self::hint`]; with `rig_said`, the rig's ranges are left to an
+    /// earlier clause of the same verdict (one sentence per pair of sets
+    /// would otherwise repeat every tube the lab has).
+    pub fn hint_within(&self, rig_said: bool) -> String {
+        let rig = match rig_said {
+            true => "the same rig as above",
+            false => self.rig.as_str(),
+        };
         if self.same_model {
             return format!(
-                "; no measurement of U or Omega_b separates these, they are the same model (their predictions agree to {:.0e} on every case and every design the rig can run: {})",
+                "; no measurement of U or Omega_b separates these, they are the same model (their predictions agree to {:.0e} on every case and every design the rig can run: {rig})",
                 self.rel_difference.max(f64::MIN_POSITIVE),
-                self.rig
             );
         }
         format!(
-            "; to tell them apart, measure {} with {} ({} differs by {}, about {:.0} standard errors; searched within the rig: {})",
+            "; to tell them apart, measure {} with {} ({} differs by {}, about {:.0} standard errors; searched within {}{rig})",
             self.base_case,
             self.change,
             self.quantity,
             percent(self.rel_difference),
             self.in_sigma,
-            self.rig
+            if rig_said { "" } else { "the rig: " },
         )
     }
 }

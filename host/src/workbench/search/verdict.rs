@@ -117,11 +117,9 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
         .iter()
         .enumerate()
         .skip(1)
-        .filter_map(|(i, s)| {
-            s.suggestion
-                .as_ref()
-                .map(|g| format!("set 1 against set {}{}", i + 1, g.hint()))
-        })
+        .filter_map(|(i, s)| Some((i, s.suggestion.as_ref()?)))
+        .enumerate()
+        .map(|(n, (i, g))| format!("set 1 against set {}{}", i + 1, g.hint_within(n > 0)))
         .collect();
     let floor = match last.at_floor {
         true => ", each at the noise floor",
