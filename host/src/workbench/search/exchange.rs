@@ -22,8 +22,9 @@
 
 use super::beam::best_of;
 use super::fitted::{fit_fresh, Ctx, Fitted};
-use super::screened::{best_laws_on, Screens};
+use super::screened::{best_laws_on, screens_on, Screens};
 use super::set::{model_with, Member};
+use super::speed_pairs::speed_pairs;
 use super::EXCHANGE_ROUNDS;
 use rayon::prelude::*;
 
@@ -118,7 +119,14 @@ fn pair_replacements(
     law_charge: f64,
 ) -> Vec<Vec<Member>> {
     let kept = vec![f.members[keep].clone()];
-    laws_on(ctx, &kept, per_member, law_charge)
+    let model = model_with(ctx.model0, &kept);
+    let Some(on) = screens_on(ctx, model, Screens::Both) else {
+        return Vec::new();
+    };
+    let taken: Vec<&str> = kept.iter().filter_map(|m| m.place).collect();
+    let k = kept.iter().map(Member::n_params).sum();
+    let screened = on
+        .best_laws(&taken, (k, per_member), law_charge)
         .into_par_iter()
         .filter_map(|a| {
             let mut two = kept.clone();
@@ -126,8 +134,11 @@ fn pair_replacements(
             let b = completion(ctx, &two, law_charge)?;
             two.push(b);
             Some(two)
-        })
-        .collect()
+        });
+    let on_the_speed = speed_pairs(ctx, &kept, &on, law_charge)
+        .into_par_iter()
+        .map(|pair| kept.iter().cloned().chain(pair).collect());
+    screened.chain(on_the_speed).collect()
 }
 
 /// The `n` best laws (of each screen) on the model of `members` at their

@@ -38,7 +38,12 @@
 //!    lowers the best key. A set grown member by member keeps what its first member
 //!    took of the effects found after it; exchange gives that back, and
 //!    the pair move gives back what two members hold of each other's
-//!    effects, where no single replacement lowers the key.
+//!    effects, where no single replacement lowers the key. The pair move
+//!    also places two laws at the places that set the speed alone in the
+//!    paper's drive (`body.D_x`, `tail.drag`, `tail.thrust`) together
+//!    (`speed_pairs`): every pair of the best screened laws there is
+//!    fitted jointly on each case's force balance, exactly and without a
+//!    model solve, and the best few pairs join the kept member.
 //!
 //! Near the floor, every law screened on top of members (steps 2 and 3)
 //! is screened twice, with the members held at their values and with their
@@ -128,6 +133,7 @@ pub mod ranges;
 mod rivals;
 mod screened;
 mod set;
+mod speed_pairs;
 pub mod verdict;
 
 use super::diagnosis::{DiagnoseSettings, Verdict, VerdictKind};

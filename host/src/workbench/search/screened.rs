@@ -37,10 +37,61 @@ pub(super) enum Screens {
     Both,
 }
 
-/// The `n` best laws screened on `model` at places not in `taken` (of
-/// each of the `screens`), by their screened AICc on top of the `k`
-/// parameters `model` adds, as members: what extends a set, or replaces
-/// one of its members.
+/// A model's response table and the laws screened on it: what the laws
+/// offered on top of a set's members are read from.
+pub(super) struct OnModel {
+    pub(super) model: Model,
+    pub(super) table: Table,
+    /// Every law screened with the members held at their values.
+    pub(super) held: Screen,
+    /// Every law screened with the members free to first order (with
+    /// [`Screens::Both`] and members to free).
+    pub(super) free: Option<Screen>,
+}
+
+/// The table of `model` and its screens (`None` when the model does not
+/// predict every case).
+pub(super) fn screens_on(ctx: &Ctx, model: Model, screens: Screens) -> Option<OnModel> {
+    let table = Table::build(&model, ctx.data).ok()?;
+    let cases = ctx.s.discovery.screen_cases;
+    let held = Screen::run(&table, ctx.data, cases);
+    let span = match screens {
+        Screens::Held => None,
+        Screens::Both => Span::of(&model, ctx.model0.effects.len(), ctx.data, &table),
+    };
+    // Without a member to free, the two screens are one.
+    let free = span.map(|span| Screen::run_free(&table, ctx.data, cases, Some(&span)));
+    Some(OnModel {
+        model,
+        table,
+        held,
+        free,
+    })
+}
+
+impl OnModel {
+    /// The `n` best laws of each screen at places not in `taken`, by their
+    /// screened AICc on top of the `k` parameters the model adds, as
+    /// members: what extends a set, or replaces one of its members.
+    pub(super) fn best_laws(
+        &self,
+        taken: &[&str],
+        (k, n): (usize, usize),
+        law_charge: f64,
+    ) -> Vec<Member> {
+        let mut out = best_by_place(&self.table, &self.held, taken, k, n, law_charge);
+        if let Some(free) = &self.free {
+            for m in best_by_place(&self.table, free, taken, k, n, law_charge) {
+                if !out.iter().any(|o| o.id == m.id) {
+                    out.push(m);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// [`OnModel::best_laws`] on `model`'s own table and screens.
 pub(super) fn best_laws_on(
     ctx: &Ctx,
     model: &Model,
@@ -49,26 +100,8 @@ pub(super) fn best_laws_on(
     screens: Screens,
     law_charge: f64,
 ) -> Vec<Member> {
-    let Ok(table) = Table::build(model, ctx.data) else {
-        return Vec::new();
-    };
-    let cases = ctx.s.discovery.screen_cases;
-    let held = Screen::run(&table, ctx.data, cases);
-    let mut out = best_by_place(&table, &held, taken, k, n, law_charge);
-    let span = match screens {
-        Screens::Held => None,
-        Screens::Both => Span::of(model, ctx.model0.effects.len(), ctx.data, &table),
-    };
-    // Without a member to free, the two screens are one.
-    if let Some(span) = span {
-        let free = Screen::run_free(&table, ctx.data, cases, Some(&span));
-        for m in best_by_place(&table, &free, taken, k, n, law_charge) {
-            if !out.iter().any(|o| o.id == m.id) {
-                out.push(m);
-            }
-        }
-    }
-    out
+    screens_on(ctx, model.clone(), screens)
+        .map_or_else(Vec::new, |on| on.best_laws(taken, (k, n), law_charge))
 }
 
 /// The `n` best laws of one screen at places not in `taken` (one per
