@@ -28,6 +28,7 @@
 
 pub mod acts;
 pub mod interpret;
+pub mod least_squares;
 pub mod places;
 pub mod projection;
 pub mod screen;

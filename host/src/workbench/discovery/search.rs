@@ -9,6 +9,7 @@
 //! T. Hastie, R. Tibshirani & J. Friedman, *The Elements of Statistical
 //! Learning*, 2nd ed. (2009), sec. 7.10 (k-fold cross-validation).
 
+use super::least_squares::least_squares;
 use super::projection::{Basis, Span};
 use super::screen::{CaseFeature, Table};
 use crate::data::model_quantities::MODEL_QUANTITIES;
@@ -159,80 +160,9 @@ pub fn fit_on_table(
     start: &[f64],
     basis: Option<&Basis>,
 ) -> (Vec<f64>, f64) {
-    let specs = c.params();
-    let k = specs.len();
-    let clamp = |p: &mut [f64]| {
-        for (v, s) in p.iter_mut().zip(specs) {
-            *v = v.clamp(s.min, s.max);
-        }
-    };
-    let mut p = start.to_vec();
-    clamp(&mut p);
-    let (mut r, mut rp, mut rq) = (Vec::new(), Vec::new(), Vec::new());
-    let mut f = residuals(table, c, &p, xs, sub, basis, &mut r);
-    let mut lambda = 1e-3;
-    for _ in 0..40 {
-        // `r` holds the residuals at `p`: computed once, then swapped in
-        // with each accepted step.
-        let mut jac = vec![vec![0.0; r.len()]; k];
-        for (i, col) in jac.iter_mut().enumerate() {
-            let h = 1e-6 * (1.0 + p[i].abs());
-            let mut q = p.clone();
-            q[i] += h;
-            residuals(table, c, &q, xs, sub, basis, &mut rp);
-            for (j, v) in col.iter_mut().enumerate() {
-                *v = (rp[j] - r[j]) / h;
-            }
-        }
-        let mut a = [[0.0; 2]; 2];
-        let mut g = [0.0; 2];
-        for i in 0..k {
-            g[i] = jac[i].iter().zip(&r).map(|(x, y)| x * y).sum();
-            for j in 0..k {
-                a[i][j] = jac[i].iter().zip(&jac[j]).map(|(x, y)| x * y).sum();
-            }
-        }
-        let mut improved = false;
-        for _ in 0..12 {
-            let mut m = a;
-            for (i, row) in m.iter_mut().enumerate().take(k) {
-                row[i] += lambda * row[i] + 1e-12 * (1.0 + a[0][0].abs());
-            }
-            let delta = solve(&m, &g, k);
-            let mut q: Vec<f64> = p.iter().zip(&delta).map(|(x, d)| x - d).collect();
-            clamp(&mut q);
-            let fq = residuals(table, c, &q, xs, sub, basis, &mut rq);
-            if fq < f {
-                // Screening needs a ranking, not the last digit: 1e-8 relative.
-                let done = (f - fq) <= 1e-8 * f.max(1e-300);
-                p = q;
-                f = fq;
-                std::mem::swap(&mut r, &mut rq);
-                lambda = (lambda / 4.0).max(1e-9);
-                improved = !done;
-                break;
-            }
-            lambda *= 8.0;
-        }
-        if !improved {
-            break;
-        }
-    }
-    (p, f)
-}
-
-fn solve(m: &[[f64; 2]; 2], g: &[f64; 2], k: usize) -> Vec<f64> {
-    if k == 1 {
-        return vec![g[0] / m[0][0]];
-    }
-    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-    vec![
-        (m[1][1] * g[0] - m[0][1] * g[1]) / det,
-        (m[0][0] * g[1] - m[1][0] * g[0]) / det,
-    ]
-    .into_iter()
-    .map(|v| if v.is_finite() { v } else { 0.0 })
-    .collect()
+    let bounds: Vec<(f64, f64)> = c.params().iter().map(|s| (s.min, s.max)).collect();
+    let mut r = |p: &[f64], out: &mut Vec<f64>| residuals(table, c, p, xs, sub, basis, out);
+    least_squares(&mut r, start, &bounds)
 }
 
 /// The scaled feature of every case for a correction.

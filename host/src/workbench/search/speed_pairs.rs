@@ -24,9 +24,7 @@
 //! degrees of freedom), nothing is offered.
 //!
 //! References: A. J. Miller, *Subset Selection in Regression*, 2nd ed.
-//! (2002), ch. 3 (replacing more than one variable at a time); K. Levenberg,
-//! Q. Appl. Math. 2 (1944) 164 and D. W. Marquardt, J. SIAM 11 (1963) 431
-//! (the damped least squares).
+//! (2002), ch. 3 (replacing more than one variable at a time).
 
 use super::fitted::Ctx;
 use super::screened::{pending_member, OnModel};
@@ -38,6 +36,7 @@ use crate::effects::Effect;
 use crate::model::Model;
 use crate::physics::solve::{Dofs, TailDrive};
 use crate::workbench::discovery::aicc;
+use crate::workbench::discovery::least_squares::least_squares;
 use crate::workbench::discovery::places::AtPlace;
 use crate::workbench::discovery::search::{Screen, Screened};
 use rayon::prelude::*;
@@ -204,8 +203,8 @@ fn residuals(
     }
 }
 
-/// The pair fitted jointly on the speeds by bounded Levenberg-Marquardt
-/// from the laws' screened values; returns the chi-square and the laws at
+/// The pair fitted jointly on the speeds by the screens' bounded
+/// Levenberg-Marquardt ([`least_squares`]) from the laws' screened values; returns the chi-square and the laws at
 /// their joint values.
 fn fit_pair(
     cases: &[(usize, SpeedBalance)],
@@ -226,74 +225,6 @@ fn fit_pair(
         ..s.clone()
     };
     (chi2, with(a, pa), with(b, pb))
-}
-
-/// Bounded Levenberg-Marquardt (Jacobian by forward differences, bounds by
-/// clamping) from `start`; `r` writes the residuals at a point and returns
-/// their sum of squares. Written here as the table's screen writes its own
-/// ([`crate::workbench::discovery::search::fit_on_table`]): the residuals
-/// are a few dozen arithmetic expressions, cheaper than any general
-/// solver's setup per fit.
-fn least_squares(
-    r: &mut dyn FnMut(&[f64], &mut Vec<f64>) -> f64,
-    start: &[f64],
-    bounds: &[(f64, f64)],
-) -> (Vec<f64>, f64) {
-    use nalgebra::{DMatrix, DVector};
-    let k = start.len();
-    let clamp = |p: &mut [f64]| {
-        for (v, (lo, hi)) in p.iter_mut().zip(bounds) {
-            *v = v.clamp(*lo, *hi);
-        }
-    };
-    let mut p = start.to_vec();
-    clamp(&mut p);
-    let (mut res, mut shifted) = (Vec::new(), Vec::new());
-    let mut f = r(&p, &mut res);
-    let mut lambda = 1e-3;
-    for _ in 0..40 {
-        let n = res.len();
-        let mut jac = DMatrix::zeros(n, k);
-        for i in 0..k {
-            let h = 1e-6 * (1.0 + p[i].abs());
-            let mut q = p.clone();
-            q[i] += h;
-            r(&q, &mut shifted);
-            for j in 0..n {
-                jac[(j, i)] = (shifted[j] - res[j]) / h;
-            }
-        }
-        let a = jac.transpose() * &jac;
-        let g = jac.transpose() * DVector::from_column_slice(&res);
-        let mut improved = false;
-        for _ in 0..12 {
-            let mut m = a.clone();
-            for i in 0..k {
-                m[(i, i)] += lambda * a[(i, i)] + 1e-12 * (1.0 + a[(0, 0)].abs());
-            }
-            let Some(step) = m.lu().solve(&g) else {
-                lambda *= 8.0;
-                continue;
-            };
-            let mut q: Vec<f64> = p.iter().zip(step.iter()).map(|(x, d)| x - d).collect();
-            clamp(&mut q);
-            let fq = r(&q, &mut shifted);
-            if fq < f {
-                let done = f - fq <= 1e-8 * f.max(1e-300);
-                p = q;
-                f = fq;
-                std::mem::swap(&mut res, &mut shifted);
-                lambda = (lambda / 4.0).max(1e-9);
-                improved = !done;
-                break;
-            }
-            lambda *= 8.0;
-        }
-        if !improved {
-            break;
-        }
-    }
-    (p, f)
 }
 
 #[cfg(test)]
