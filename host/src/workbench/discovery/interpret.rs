@@ -158,37 +158,77 @@ pub fn equivalents(place: Place) -> &'static [Equivalent] {
         relation: "reciprocal",
         reading: "tail.torque scaled by the reciprocal law",
     };
-    const TO_THRUST: Equivalent = Equivalent {
+    // The two readings of eq. 11's speed, said once.
+    macro_rules! ratio {
+        () => {
+            "in the paper's drive the speed is the thrust over the axial drag of body and tail, and the body's rotation depends on none of them"
+        };
+    }
+    macro_rules! sum {
+        () => {
+            "in the paper's drive the speed sets only the sum of the body's and the tail's axial drag, D_x + B_t[x,x], not how it splits between them"
+        };
+    }
+    const DRAG_TO_THRUST: Equivalent = Equivalent {
         place: "tail.thrust",
         relation: "opposite",
-        reading: "tail.thrust changing the other way with the same feature (in the paper's drive the speed is the thrust over the axial drag of body and tail, and the body's rotation depends on none of them; the data of docs/discovery.md's study could not tell them apart)",
+        reading: concat!(
+            "tail.thrust changing the other way with the same feature (",
+            ratio!(),
+            "; the data of docs/discovery.md's study could not tell them apart)"
+        ),
     };
-    const TO_DRAG: Equivalent = Equivalent {
+    const THRUST_TO_DRAG: Equivalent = Equivalent {
         place: "tail.drag",
         relation: "opposite",
-        reading: "tail.drag changing the other way with the same feature (in the paper's drive the speed is the thrust over the axial drag of body and tail, and the body's rotation depends on none of them; the data of docs/discovery.md's study could not tell them apart)",
+        reading: concat!(
+            "tail.drag changing the other way with the same feature (",
+            ratio!(),
+            "; the data of docs/discovery.md's study could not tell them apart)"
+        ),
     };
-    const BODY_TO_DRAG: Equivalent = Equivalent {
-        place: "tail.drag",
-        relation: "alike",
-        reading: "tail.drag changing the same way with the same feature (in the paper's drive the speed sets only the sum of the body's and the tail's axial drag, D_x + B_t[x,x], not how it splits between them)",
-    };
-    const DRAG_TO_BODY: Equivalent = Equivalent {
-        place: "body.D_x",
-        relation: "alike",
-        reading: "body.D_x changing the same way with the same feature (in the paper's drive the speed sets only the sum of the body's and the tail's axial drag, D_x + B_t[x,x], not how it splits between them)",
+    const BODY_TO_THRUST: Equivalent = Equivalent {
+        place: "tail.thrust",
+        relation: "opposite",
+        reading: concat!(
+            "tail.thrust changing the other way with the same feature (",
+            ratio!(),
+            ")"
+        ),
     };
     const THRUST_TO_BODY: Equivalent = Equivalent {
         place: "body.D_x",
         relation: "opposite",
-        reading: "body.D_x changing the other way with the same feature (in the paper's drive the speed is the thrust over the axial drag of body and tail, and the body's rotation depends on none of them)",
+        reading: concat!(
+            "body.D_x changing the other way with the same feature (",
+            ratio!(),
+            ")"
+        ),
+    };
+    const BODY_TO_DRAG: Equivalent = Equivalent {
+        place: "tail.drag",
+        relation: "alike",
+        reading: concat!(
+            "tail.drag changing the same way with the same feature (",
+            sum!(),
+            ")"
+        ),
+    };
+    const DRAG_TO_BODY: Equivalent = Equivalent {
+        place: "body.D_x",
+        relation: "alike",
+        reading: concat!(
+            "body.D_x changing the same way with the same feature (",
+            sum!(),
+            ")"
+        ),
     };
     match place {
         Place::TailTorque => &[TO_BODY_E_X],
         Place::BodyRotation => &[TO_TAIL_TORQUE],
-        Place::TailDrag => &[TO_THRUST, DRAG_TO_BODY],
-        Place::TailThrust => &[TO_DRAG, THRUST_TO_BODY],
-        Place::BodyTranslation => &[BODY_TO_DRAG, TO_THRUST],
+        Place::TailDrag => &[DRAG_TO_THRUST, DRAG_TO_BODY],
+        Place::TailThrust => &[THRUST_TO_DRAG, THRUST_TO_BODY],
+        Place::BodyTranslation => &[BODY_TO_DRAG, BODY_TO_THRUST],
         _ => &[],
     }
 }
