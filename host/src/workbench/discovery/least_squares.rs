@@ -18,6 +18,9 @@
 const ITERATIONS: usize = 40;
 const TRIES: usize = 12;
 
+/// Most parameters a fit may have (4: two laws of two parameters).
+pub const MAX_PARAMS: usize = 4;
+
 /// A fit stops when a step lowers the sum by less than this fraction: a
 /// screen needs a ranking, not the last digit.
 const RELATIVE_DECREASE: f64 = 1e-8;
@@ -32,6 +35,10 @@ pub fn least_squares(
     bounds: &[(f64, f64)],
 ) -> (Vec<f64>, f64) {
     let k = start.len();
+    assert!(
+        (1..=MAX_PARAMS).contains(&k),
+        "{k} parameters: the screens fit one to {MAX_PARAMS}"
+    );
     let clamp = |p: &mut [f64]| {
         for (v, (lo, hi)) in p.iter_mut().zip(bounds) {
             *v = v.clamp(*lo, *hi);
@@ -55,19 +62,23 @@ pub fn least_squares(
                 *v = (shifted[j] - res[j]) / h;
             }
         }
+        // Fixed-size normal equations: this loop runs for every law the
+        // screen tries, and allocating them measurably slowed the screen.
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-        let g: Vec<f64> = jac.iter().map(|col| dot(col, &res)).collect();
-        let a: Vec<Vec<f64>> = jac
-            .iter()
-            .map(|ci| jac.iter().map(|cj| dot(ci, cj)).collect())
-            .collect();
+        let (mut g, mut a) = ([0.0; MAX_PARAMS], [[0.0; MAX_PARAMS]; MAX_PARAMS]);
+        for i in 0..k {
+            g[i] = dot(&jac[i], &res);
+            for j in 0..k {
+                a[i][j] = dot(&jac[i], &jac[j]);
+            }
+        }
         let mut improved = false;
         for _ in 0..TRIES {
-            let mut m = a.clone();
-            for (i, row) in m.iter_mut().enumerate() {
+            let mut m = a;
+            for (i, row) in m.iter_mut().enumerate().take(k) {
                 row[i] += lambda * row[i] + 1e-12 * (1.0 + a[0][0].abs());
             }
-            let delta = solve(&m, &g);
+            let delta = solve(&m, &g, k);
             let mut q: Vec<f64> = p.iter().zip(&delta).map(|(x, d)| x - d).collect();
             clamp(&mut q);
             let fq = r(&q, &mut trial);
@@ -89,11 +100,12 @@ pub fn least_squares(
     (p, f)
 }
 
-/// `m x = g`: closed form for one or two unknowns, LU beyond; a component
-/// that is not finite (a singular system) is no step. (One unknown needs
-/// no such guard: the damping keeps `m[0][0]` positive.)
-fn solve(m: &[Vec<f64>], g: &[f64]) -> Vec<f64> {
-    let x = match g.len() {
+/// `m x = g` in the first `k` unknowns: closed form for one or two, LU
+/// beyond; a component that is not finite (a singular system) is no step.
+/// (One unknown needs no such guard: the damping keeps `m[0][0]`
+/// positive.)
+fn solve(m: &[[f64; MAX_PARAMS]; MAX_PARAMS], g: &[f64; MAX_PARAMS], k: usize) -> Vec<f64> {
+    let x = match k {
         1 => return vec![g[0] / m[0][0]],
         2 => {
             let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
@@ -104,7 +116,7 @@ fn solve(m: &[Vec<f64>], g: &[f64]) -> Vec<f64> {
         }
         n => {
             let a = nalgebra::DMatrix::from_fn(n, n, |i, j| m[i][j]);
-            let b = nalgebra::DVector::from_column_slice(g);
+            let b = nalgebra::DVector::from_column_slice(&g[..n]);
             a.lu()
                 .solve(&b)
                 .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())

@@ -281,6 +281,11 @@ impl Screen {
         }
     }
 
+    /// Whether case `i` is among those screened on (every `stride`-th).
+    pub fn screens_case(&self, i: usize) -> bool {
+        i.is_multiple_of(self.stride)
+    }
+
     /// `x` refitted on every observation when it was screened on a
     /// subsample.
     pub fn on_all(&self, table: &Table, x: &mut Screened) {

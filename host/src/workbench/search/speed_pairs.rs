@@ -12,7 +12,8 @@
 //! place is biased by the first, and no single replacement gives the share
 //! back. Here every pair of the [`PER_PLACE`] best screened laws at two of
 //! those places (screened on the model of the members kept, held at their
-//! values) is fitted jointly on the speeds, exactly: with those members
+//! values) is fitted jointly on the speeds, exactly, on the cases the
+//! screen fits on (every case up to `screen_cases`): with those members
 //! held, each case's balance is read once
 //! ([`Model::force_balance`]), and a pair's speeds are that formula with
 //! the two multipliers in it, no model solve. The [`KEPT`] best pairs by
@@ -71,11 +72,15 @@ impl SpeedBalance {
     }
 }
 
-/// Every case's speed balance under `model`, or `None` when it does not
-/// split (module docs).
-fn balances(model: &Model, data: &Dataset) -> Option<Vec<(usize, SpeedBalance)>> {
+/// The speed balance under `model` of every case `keep` admits, or `None`
+/// when it does not split (module docs).
+fn balances(
+    model: &Model,
+    data: &Dataset,
+    keep: impl Fn(usize) -> bool,
+) -> Option<Vec<(usize, SpeedBalance)>> {
     let mut out = Vec::new();
-    for (i, case) in data.cases.iter().enumerate() {
+    for (i, case) in data.cases.iter().enumerate().filter(|(i, _)| keep(*i)) {
         let fb = model.force_balance(case).ok()?;
         let coupled = [fb.body, fb.extra]
             .iter()
@@ -117,10 +122,12 @@ pub(super) fn speed_pairs(
     if free.len() < 2 {
         return Vec::new();
     }
-    let Some(cases) = balances(&on.model, ctx.data) else {
+    // On the cases the screen fits on (a stride above `screen_cases`): the
+    // pairs are ranked as the laws were, and refitted on every case.
+    let screen = &on.held;
+    let Some(cases) = balances(&on.model, ctx.data, |i| screen.screens_case(i)) else {
         return Vec::new();
     };
-    let screen = &on.held;
     let k0 = kept.iter().map(Member::n_params).sum::<usize>();
     let best: Vec<Vec<&Screened>> = free
         .iter()
@@ -260,7 +267,7 @@ mod tests {
         let b = law(Place::TailThrust, "helix_over_gap", Form::PowerLaw);
         let (pa, pb) = ([0.4, 2.0], [0.8, -0.5]);
         let model = with(&with(&Model::base(), &a, &pa), &b, &pb);
-        let cases = balances(&Model::base(), &data).unwrap();
+        let cases = balances(&Model::base(), &data, |_| true).unwrap();
         for (i, bal) in &cases {
             let case = &data.cases[*i];
             let m = [a.value(&pa, case), 1.0, b.value(&pb, case)];
@@ -280,7 +287,7 @@ mod tests {
         let data = crate::data::paper();
         let relative =
             Model::base().with_effect(crate::effects::parse_effect_spec("motor-frame").unwrap());
-        assert!(balances(&relative, &data).is_none());
+        assert!(balances(&relative, &data, |_| true).is_none());
     }
 
     /// Speeds made by a body-drag law and a tail-drag law together are
@@ -296,7 +303,7 @@ mod tests {
             let u = truth.predict(c).unwrap().u_mm_s;
             c.u_mm_s.as_mut().unwrap().mean = u;
         }
-        let cases = balances(&Model::base(), &data).unwrap();
+        let cases = balances(&Model::base(), &data, |_| true).unwrap();
         let screened = |c: &Arc<LocatedCorrection>, p: &[f64]| Screened {
             correction: c.clone(),
             params: p.iter().map(|x| 1.3 * x).collect(),
