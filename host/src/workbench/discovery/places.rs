@@ -28,21 +28,31 @@ pub struct AtPlace {
 /// on the same model ([`super::discover_on`]) reads them too, and building
 /// them is most of the cost on small data.
 pub fn best_at_each_place(table: &Table, screen: &Screen, k: usize) -> Vec<AtPlace> {
-    let n_sub = screen.sub.len();
-    let key = |x: &Screened| aicc(x.chi2, n_sub, k + x.params.len()).unwrap_or(x.chi2);
     let mut out: Vec<AtPlace> = Vec::new();
     for place in Place::ALL {
-        let best = screen
-            .screened
-            .iter()
-            .filter(|x| x.correction.place == place)
-            .min_by(|a, b| key(a).total_cmp(&key(b)));
-        let Some(x) = best else { continue };
+        let Some(&x) = best_at(screen, place, k, 1).first() else {
+            continue;
+        };
         let mut x = x.clone();
         screen.on_all(table, &mut x);
         out.push(AtPlace { place, screened: x });
     }
     out
+}
+
+/// The `n` best screened laws at `place`, by screened AICc on top of `k`
+/// parameters already fitted (ties keep the screen's order).
+pub fn best_at(screen: &Screen, place: Place, k: usize, n: usize) -> Vec<&Screened> {
+    let n_sub = screen.sub.len();
+    let key = |x: &Screened| aicc(x.chi2, n_sub, k + x.params.len()).unwrap_or(x.chi2);
+    let mut v: Vec<&Screened> = screen
+        .screened
+        .iter()
+        .filter(|x| x.correction.place == place)
+        .collect();
+    v.sort_by(|a, b| key(a).total_cmp(&key(b)));
+    v.truncate(n);
+    v
 }
 
 impl AtPlace {

@@ -22,7 +22,7 @@
 
 use super::beam::best_of;
 use super::fitted::{fit_fresh, Ctx, Fitted};
-use super::screened::{best_laws_on, screens_on, Screens};
+use super::screened::{screens_on, OnModel, Screens};
 use super::set::{model_with, Member};
 use super::speed_pairs::speed_pairs;
 use super::EXCHANGE_ROUNDS;
@@ -119,12 +119,9 @@ fn pair_replacements(
     law_charge: f64,
 ) -> Vec<Vec<Member>> {
     let kept = vec![f.members[keep].clone()];
-    let model = model_with(ctx.model0, &kept);
-    let Some(on) = screens_on(ctx, model, Screens::Both) else {
+    let Some((on, taken, k)) = on_members(ctx, &kept, Screens::Both) else {
         return Vec::new();
     };
-    let taken: Vec<&str> = kept.iter().filter_map(|m| m.place).collect();
-    let k = kept.iter().map(Member::n_params).sum();
     let screened = on
         .best_laws(&taken, (k, per_member), law_charge)
         .into_par_iter()
@@ -167,10 +164,22 @@ fn laws_screened(
     screens: Screens,
     law_charge: f64,
 ) -> Vec<Member> {
-    let model = model_with(ctx.model0, members);
-    let taken: Vec<&str> = members.iter().filter_map(|m| m.place).collect();
+    on_members(ctx, members, screens).map_or_else(Vec::new, |(on, taken, k)| {
+        on.best_laws(&taken, (k, n), law_charge)
+    })
+}
+
+/// The screens on the model of `members` at their values, with the places
+/// they hold and the parameters they add.
+fn on_members<'m>(
+    ctx: &Ctx,
+    members: &'m [Member],
+    screens: Screens,
+) -> Option<(OnModel, Vec<&'m str>, usize)> {
+    let on = screens_on(ctx, model_with(ctx.model0, members), screens)?;
+    let taken = members.iter().filter_map(|m| m.place).collect();
     let k = members.iter().map(Member::n_params).sum();
-    best_laws_on(ctx, &model, &taken, (k, n), screens, law_charge)
+    Some((on, taken, k))
 }
 
 /// Every set one member away from `f`: each member replaced by the best

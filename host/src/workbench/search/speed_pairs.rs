@@ -36,10 +36,9 @@ use crate::effects::place::Place;
 use crate::effects::Effect;
 use crate::model::Model;
 use crate::physics::solve::{Dofs, TailDrive};
-use crate::workbench::discovery::aicc;
 use crate::workbench::discovery::least_squares::least_squares;
-use crate::workbench::discovery::places::AtPlace;
-use crate::workbench::discovery::search::{Screen, Screened};
+use crate::workbench::discovery::places::{best_at, AtPlace};
+use crate::workbench::discovery::search::Screened;
 use rayon::prelude::*;
 
 /// The places that set the speed alone in the paper's drive.
@@ -156,20 +155,6 @@ pub(super) fn speed_pairs(
         .collect()
 }
 
-/// The `n` best screened laws at `place` (by screened AICc on top of `k`).
-fn best_at(screen: &Screen, place: Place, k: usize, n: usize) -> Vec<&Screened> {
-    let n_sub = screen.sub.len();
-    let key = |x: &Screened| aicc(x.chi2, n_sub, k + x.params.len()).unwrap_or(x.chi2);
-    let mut v: Vec<&Screened> = screen
-        .screened
-        .iter()
-        .filter(|x| x.correction.place == place)
-        .collect();
-    v.sort_by(|a, b| key(a).total_cmp(&key(b)));
-    v.truncate(n);
-    v
-}
-
 fn member(s: Screened, law_charge: f64) -> Member {
     let place = s.correction.place;
     pending_member(AtPlace { place, screened: s }, law_charge)
@@ -211,8 +196,8 @@ fn residuals(
 }
 
 /// The pair fitted jointly on the speeds by the screens' bounded
-/// Levenberg-Marquardt ([`least_squares`]) from the laws' screened values; returns the chi-square and the laws at
-/// their joint values.
+/// Levenberg-Marquardt ([`least_squares`]) from the laws' screened values;
+/// returns the chi-square and the laws at their joint values.
 fn fit_pair(
     cases: &[(usize, SpeedBalance)],
     a: &Screened,
