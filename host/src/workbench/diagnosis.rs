@@ -124,6 +124,28 @@ pub struct Verdict {
     /// bootstrap that calibrated it (`workbench/search/calibrate.rs`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sets_margin: Option<SetsMargin>,
+    /// How often the search picks each located term again when the cases
+    /// are resampled (stability selection); empty when it was not measured.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stability: Vec<TermStability>,
+}
+
+/// How often a located term is chosen again on resampled cases: stability
+/// selection (Meinshausen & Buehlmann 2010, J. R. Stat. Soc. B 72, 417),
+/// the ensembling of sparse regression as PySINDy does it. A term chosen
+/// on few resamples is not located, however well the full data fit it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TermStability {
+    /// The term as [`ExplainingSet::members`] and [`SetMember::name`] name it.
+    pub term: String,
+    /// `bootstrap` or `leave-one-out`.
+    pub method: &'static str,
+    /// Resampled data sets searched.
+    pub resamples: usize,
+    /// Resamples whose chosen set holds the term.
+    pub selected: usize,
+    /// `selected / resamples`.
+    pub fraction: f64,
 }
 
 /// The margin of the sets the data cannot tell apart, as `diagnose`
@@ -156,6 +178,10 @@ pub struct ExplainingSet {
     /// The measurement that best tells it from the found set, inside the
     /// rig (`None` for the found set itself).
     pub suggestion: Option<Suggestion>,
+    /// Its Akaike weight among the stated sets, `exp(-d/2) / sum exp(-d/2)`
+    /// over their key differences `d` (Burnham & Anderson 2002, sec. 2.9):
+    /// the weight of evidence that it is the best of them.
+    pub akaike_weight: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -83,6 +83,7 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
         key_difference: 0.0,
         at_noise_floor: last.at_floor,
         suggestion: None,
+        akaike_weight: f64::NAN,
     }];
     for r in &path.rivals {
         sets.push(ExplainingSet {
@@ -91,8 +92,10 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
             key_difference: r.key_difference,
             at_noise_floor: r.at_floor,
             suggestion: best_discriminating_case(data, &last.model, &r.model),
+            akaike_weight: f64::NAN,
         });
     }
+    put_akaike_weights(&mut sets);
     let agreed: Vec<String> = found
         .iter()
         .filter(|p| path.rivals.iter().all(|r| r.places.contains(p)))
@@ -231,4 +234,22 @@ pub fn dedup_located(list: &mut Vec<Located>) {
         seen.push(key);
         new
     });
+}
+
+/// Each set's Akaike weight among `sets` from its key difference to the
+/// found set. The key is AICc plus the search's charge, the same for every
+/// set of a size, so the weights are Akaike weights of the stated sets.
+fn put_akaike_weights(sets: &mut [ExplainingSet]) {
+    let best = sets
+        .iter()
+        .map(|s| s.key_difference)
+        .fold(f64::INFINITY, f64::min);
+    let raw: Vec<f64> = sets
+        .iter()
+        .map(|s| (-(s.key_difference - best) / 2.0).exp())
+        .collect();
+    let total: f64 = raw.iter().sum();
+    for (set, w) in sets.iter_mut().zip(raw) {
+        set.akaike_weight = w / total;
+    }
 }

@@ -115,6 +115,7 @@ pub(crate) fn verdict_of(kind: VerdictKind, note: String) -> Verdict {
         sets: Vec::new(),
         agreed_places: Vec::new(),
         sets_margin: None,
+        stability: Vec::new(),
     }
 }
 
