@@ -1,5 +1,6 @@
 //! Speed of the RFT model: the tail matrix by each method, the x-only
-//! solve of one case, and the workbench's diagnosis of the paper data.
+//! solve of one case, a sweep's cost per geometry, and the workbench's
+//! diagnosis of the paper data.
 //! Run: `cargo bench -p swimbot --bench model`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -35,6 +36,31 @@ fn solve(c: &mut Criterion) {
     );
     c.bench_function("predict one case, paper preset", |b| {
         b.iter(|| paper.predict(black_box(&case)).unwrap())
+    });
+    // What `swimbot sweep` spends per geometry on one thread: the base
+    // model's prediction and its CSV line in shortest round-trip decimals
+    // (the formatting is more than half of it).
+    let mut line = Vec::with_capacity(128);
+    c.bench_function("sweep: one geometry, predicted and written", |b| {
+        b.iter(|| {
+            use std::io::Write;
+            let p = base.predict(black_box(&case)).unwrap();
+            line.clear();
+            let _ = writeln!(
+                line,
+                "{},{},{},{},{},{},{},{},{}",
+                case.wavelength_mm,
+                case.amplitude_mm,
+                case.tail_length_mm,
+                case.frequency_hz,
+                case.channel_diameter_mm,
+                p.u_mm_s,
+                p.omega_body_hz,
+                p.u_over_u_wave,
+                p.omega_ratio
+            );
+            black_box(line.len())
+        })
     });
 }
 

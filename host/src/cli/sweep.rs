@@ -136,8 +136,9 @@ impl Grid {
         .fold(1usize, |n, r| n.saturating_mul(r.values.len()))
     }
 
-    /// The `i`-th grid point as a case (row-major, channel fastest).
-    fn case(&self, template: &Case, mut i: usize) -> Case {
+    /// The `i`-th grid point (row-major, channel fastest): wavelength,
+    /// amplitude, tail length, frequency and channel diameter.
+    fn point(&self, mut i: usize) -> [f64; 5] {
         let mut pick = |r: &Range| {
             let n = r.values.len();
             let v = r.values[i % n];
@@ -149,14 +150,24 @@ impl Grid {
         let length = pick(&self.length);
         let amplitude = pick(&self.amplitude);
         let wavelength = pick(&self.wavelength);
-        Case {
-            wavelength_mm: wavelength,
-            amplitude_mm: amplitude,
-            tail_length_mm: length,
-            frequency_hz: frequency,
-            channel_diameter_mm: channel,
-            ..template.clone()
-        }
+        [wavelength, amplitude, length, frequency, channel]
+    }
+
+    /// Sets `case` to the `i`-th grid point; the rest stays the template's.
+    fn put(&self, case: &mut Case, i: usize) {
+        let [wavelength, amplitude, length, frequency, channel] = self.point(i);
+        case.wavelength_mm = wavelength;
+        case.amplitude_mm = amplitude;
+        case.tail_length_mm = length;
+        case.frequency_hz = frequency;
+        case.channel_diameter_mm = channel;
+    }
+
+    /// The `i`-th grid point as a case.
+    fn case(&self, template: &Case, i: usize) -> Case {
+        let mut case = template.clone();
+        self.put(&mut case, i);
+        case
     }
 }
 
@@ -205,20 +216,25 @@ pub fn run(a: SweepArgs, inputs: &Inputs) -> Result<(), CliError> {
     let estimate = per_point * n as f64 / rayon::current_num_threads() as f64;
     super::budget::check(&format!("the sweep of {n} grid points"), estimate, budget)?;
     let bar = crate::progress::bar(n as u64, "geometries", "sweep");
+    // One case per worker, moved from point to point: a case's clone (its
+    // strings and optional fields) cost more than a tenth of a prediction.
     let rows: Result<Vec<Row>, CliError> = (0..n)
         .into_par_iter()
-        .map(|i| {
-            let case = grid.case(&template, i);
-            if i % 4096 == 0 {
-                bar.inc(4096.min(n - i) as u64);
-            }
-            predict_row(&model, &case)
-        })
+        .map_init(
+            || template.clone(),
+            |case, i| {
+                grid.put(case, i);
+                if i % 4096 == 0 {
+                    bar.inc(4096.min(n - i) as u64);
+                }
+                predict_row(&model, case)
+            },
+        )
         .collect();
     // Writing millions of rows takes longer than computing them.
     bar.set_message("sweep: writing");
     bar.set_position(0);
-    let written = write_csv(&grid, &template, &rows?, a.output.as_ref(), &bar, inputs);
+    let written = write_csv(&grid, &rows?, a.output.as_ref(), &bar, inputs);
     bar.finish_and_clear();
     written
 }
@@ -280,9 +296,29 @@ fn check_grid(g: &Grid, t: &Case) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Rows formatted by one task.
+const FORMAT_CHUNK_ROWS: usize = 8192;
+/// Rows formatted before they are written.
+const WRITE_BATCH_ROWS: usize = 64 * FORMAT_CHUNK_ROWS;
+
+/// The CSV lines of `rows`, the first of which is grid point `first`, in
+/// the one CSV style (crate::format): shortest round-trip decimals.
+fn csv_lines(g: &Grid, first: usize, rows: &[Row]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(rows.len() * 96);
+    for (j, r) in rows.iter().enumerate() {
+        let [wavelength, amplitude, length, frequency, channel] = g.point(first + j);
+        // Writing into a Vec cannot fail.
+        let _ = writeln!(
+            out,
+            "{wavelength},{amplitude},{length},{frequency},{channel},{},{},{},{}",
+            r.u_mm_s, r.omega_hz, r.u_ratio, r.omega_ratio
+        );
+    }
+    out
+}
+
 fn write_csv(
     g: &Grid,
-    t: &Case,
     rows: &[Row],
     out: Option<&PathBuf>,
     bar: &indicatif::ProgressBar,
@@ -313,26 +349,21 @@ fn write_csv(
         "wavelength_mm,amplitude_mm,tail_length_mm,frequency_hz,channel_diameter_mm,u_mm_s,omega_body_counter_hz,u_over_u_wave,omega_body_counter_over_f"
     )
     .map_err(fail)?;
-    for (i, r) in rows.iter().enumerate() {
-        if i % 4096 == 0 {
-            bar.inc(4096.min(rows.len() - i) as u64);
+    // Shortest round-trip decimals cost more than the model itself, and one
+    // thread writing them was most of a sweep's wall time: each batch of
+    // rows is formatted in parallel, chunk by chunk, and written in order.
+    // A batch bounds the formatted text held at once (about 50 MB).
+    for (b, batch) in rows.chunks(WRITE_BATCH_ROWS).enumerate() {
+        let start = b * WRITE_BATCH_ROWS;
+        let text: Vec<Vec<u8>> = batch
+            .par_chunks(FORMAT_CHUNK_ROWS)
+            .enumerate()
+            .map(|(k, chunk)| csv_lines(g, start + k * FORMAT_CHUNK_ROWS, chunk))
+            .collect();
+        for t in &text {
+            w.write_all(t).map_err(fail)?;
         }
-        let c = g.case(t, i);
-        writeln!(
-            w,
-            // One CSV style (crate::format): shortest round-trip decimals.
-            "{},{},{},{},{},{},{},{},{}",
-            c.wavelength_mm,
-            c.amplitude_mm,
-            c.tail_length_mm,
-            c.frequency_hz,
-            c.channel_diameter_mm,
-            r.u_mm_s,
-            r.omega_hz,
-            r.u_ratio,
-            r.omega_ratio
-        )
-        .map_err(fail)?;
+        bar.inc(batch.len() as u64);
     }
     w.flush().map_err(fail)?;
     drop(w);
