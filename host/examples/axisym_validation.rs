@@ -1,6 +1,6 @@
 //! Validation and convergence tables of the axisymmetric body solver
 //! (`swimbot::nonlocal::axisym`), printed as markdown for
-//! docs/notes/body-axisym.md, and asserted: sphere vs Stokes, spheroids vs
+//! docs/body-in-tube.md, and asserted: sphere vs Stokes, spheroids vs
 //! Chwang & Wu (1975), sphere on a tube axis vs Haberman & Sayre (1958) /
 //! Bohlin (1960), long cylinders vs the annular closed forms, mass
 //! conservation, and the paper's body in the paper's tube.

@@ -1,6 +1,6 @@
 //! Validation of the axisymmetric body solver (`nonlocal::axisym`) against
 //! exact and published results; each check can fail. Tables with more
-//! resolutions: `examples/axisym_validation.rs`, docs/notes/body-axisym.md.
+//! resolutions: `examples/axisym_validation.rs`, docs/body-in-tube.md.
 
 use std::f64::consts::PI;
 use swimbot::nonlocal::axisym::{

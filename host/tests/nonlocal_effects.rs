@@ -115,7 +115,7 @@ fn the_wall_raises_the_bodys_drag_towards_the_annular_gap_limit() {
     // `body-confinement`, closed tube. The built-in body is the robot's
     // parts, whose 18 mm waist widens the gap: the exact drag is 0.945 of the
     // formula (the plain spheroid's 0.58, a sharp 50 x 20 mm cylinder's 1.15;
-    // see docs/notes/body-axisym.md).
+    // see docs/body-in-tube.md).
     let k = case.body_diameter_mm / case.channel_diameter_mm;
     let cylinder = 2.0 * PI * case.viscosity_pa_s * case.body_length_mm * 1e-3
         / ((1.0 / k).ln() - (1.0 - k * k) / (1.0 + k * k));

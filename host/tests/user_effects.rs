@@ -430,6 +430,6 @@ fn the_documented_worked_example_lowers_the_error_on_the_paper_data() {
     };
     let spec = format!("annular-body:piston={piston}");
     let (base, with) = (mare(&[]), mare(&["--effect", &spec]));
-    // Measured: 294.6 % -> 36.8 % (docs/notes/formula-effects.md).
+    // Measured: 294.6 % -> 36.8 % (docs/effects-format.md, "A worked example").
     assert!(base > 2.5 && with < 0.45, "MARE {base} -> {with}");
 }

@@ -12,7 +12,7 @@
 //! robot inside them); they exclude values at which the floating-point
 //! evaluation of the model overflows, underflows or loses all precision.
 //!
-//! The table of limits is reproduced in `docs/notes/hardening.md`.
+//! The table of limits is reproduced in `docs/limits.md`.
 
 pub use super::limit_check::{
     check_case, check_id, check_quadrature, check_value, echo, show, LimitError,

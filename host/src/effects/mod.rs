@@ -14,10 +14,13 @@
 //!
 //! ## Adding an effect
 //! Write one file in this folder with a unit struct implementing [`Effect`],
-//! and add one line (`&your_file::YourEffect,`) to [`CATALOGUE`]. The README
-//! has a worked example. Without recompiling: state the effect as formulas
-//! in an effects file (docs/effects-format.md, [`formula`]) and pass
-//! `--effect-file FILE.toml`; the command's [`Catalogue`] then knows it too.
+//! declare it (`mod your_file;`) and add one line (`&your_file::YourEffect,`)
+//! to [`CATALOGUE`]. The shortest catalogue effects are complete examples to
+//! copy: `body_correction.rs` (two free factors at the body stage) and
+//! `buoyancy.rs` (a load at the force balance, with an applicability rule).
+//! Without recompiling: state the effect as formulas in an effects file
+//! (docs/effects-format.md, [`formula`]) and pass `--effect-file FILE.toml`;
+//! the command's [`Catalogue`] then knows it too.
 
 mod backflow;
 mod body_confinement;

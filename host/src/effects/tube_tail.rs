@@ -11,7 +11,7 @@
 //! the piston flux through a cross-section for the paper's tails, against
 //! well under 1 % now) and missed about a third of the tube's axial drag and
 //! thrust coupling; the axial torque agrees within about 1 %
-//! (`docs/notes/tail-tube.md`).
+//! (`docs/tail-in-tube.md`).
 //!
 //! Not proposed by the default `diagnose` (`costly()` is true): a cold
 //! solve costs seconds per tail; `diagnose --nonlocal` includes it.

@@ -12,7 +12,7 @@
 //! includes the back-flow of the displaced oil, so `backflow` is not added),
 //! and the coupler's drag (`coupler`). Left out, with their measured size:
 //! the body-tail hydrodynamic interaction in the tube (it changes U by
-//! -0.5 % and Omega_b by -0.1 % for tail #6, docs/notes/tail-tube.md). The first run solves each tail in
+//! -0.5 % and Omega_b by -0.1 % for tail #6, docs/tail-in-tube.md). The first run solves each tail in
 //! the tube (tens of seconds per tail on 2 cores); the matrices are cached
 //! on disk, so later runs take milliseconds.
 

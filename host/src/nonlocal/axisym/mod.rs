@@ -26,7 +26,7 @@
 //! at rest far away). The body sits at a given axial position (default the
 //! tube's centre).
 //!
-//! # Checks (`tests/axisym.rs`, `docs/notes/body-axisym.md`)
+//! # Checks (`tests/axisym.rs`, `docs/body-in-tube.md`)
 //! Sphere vs Stokes, spheroids vs Chwang & Wu (1975), sphere on a tube axis
 //! vs Haberman & Sayre (1958) / Bohlin (1960), long cylinders vs the
 //! annular Couette-Poiseuille and Couette closed forms, mass conservation.
@@ -118,7 +118,7 @@ pub struct AxisymSettings {
 
 impl Default for AxisymSettings {
     /// 8 elements per gap: within 0.1 % of resolution 32 on the paper's
-    /// spheroid in the paper's tube (convergence table in the notes), about
+    /// spheroid in the paper's tube (convergence table in docs/body-in-tube.md), about
     /// 200 elements.
     fn default() -> Self {
         AxisymSettings {

@@ -8,7 +8,7 @@
 //! oil through the wall instead of back through the gap: measured here, the
 //! net flux through a cross-section of the closed tube is 16-27 % of the
 //! piston flux for the paper's tails (MFS: below 1 %) where it must vanish
-//! (`docs/notes/tail-tube.md`).
+//! (`docs/tail-in-tube.md`).
 //!
 //! # Method: the method of fundamental solutions (MFS), [`wall`], [`mfs`]
 //! Singular Stokeslets outside the fluid, one per wall collocation point,

@@ -1,6 +1,6 @@
 //! Settings of the tube solve: which wall, which solver, the wall's
 //! resolution and the memory limit. The defaults are the converged
-//! settings of `docs/notes/tail-tube.md` (wall spacing, source offset, cap
+//! settings of `docs/tail-in-tube.md` (wall spacing, source offset, cap
 //! distance) and the ring solver of [`super::rings`].
 
 use super::super::{NonlocalError, NonlocalSettings, TailMethod};
@@ -55,7 +55,7 @@ impl Default for TubeSettings {
     /// sources 2 spacings out, within 0.1 % of caps 1 and 2 radii away, net
     /// flux 0.08 % of the piston flux; offsets of 0.35-1 spacing leak (21 %
     /// to 1.3 %), and 4.5 mm walls can excite spurious cap modes
-    /// (`docs/notes/tail-tube.md`).
+    /// (`docs/tail-in-tube.md`).
     fn default() -> Self {
         TubeSettings {
             tail: NonlocalSettings::default(),

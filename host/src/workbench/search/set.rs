@@ -55,14 +55,14 @@ impl Member {
         }
     }
 
-    /// The law of a located or screened member (`None` for a catalogue
-    /// effect).
     /// The parameters its effects carry (each one a free one of a set's
     /// joint fit).
     pub fn n_params(&self) -> usize {
         self.insts.iter().map(|i| i.values.len()).sum()
     }
 
+    /// The law of a located or screened member (`None` for a catalogue
+    /// effect).
     pub fn law(&self) -> Option<&Arc<LocatedCorrection>> {
         match (&self.located, &self.pending) {
             (Some(l), _) => Some(&l.correction),

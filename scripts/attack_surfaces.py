@@ -9,7 +9,7 @@ file (and the field where there is one); never a panic, a signal, a hang
 or a silent wrong number; a refused command leaves every file it was given
 byte for byte as it was, and no temporary file behind.
 
-    SWIMBOT_BIN=target/release/swimbot python3 docs/notes/attack_surfaces.py [study|csv|python ...]
+    SWIMBOT_BIN=target/release/swimbot python3 scripts/attack_surfaces.py [study|csv|python ...]
 
 The Python part needs `import swimbot` (pip install ./python). The tally is
 printed at the end, one line per category: tried / faults; each fault is
@@ -30,7 +30,7 @@ import threading
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 BIN = os.environ.get("SWIMBOT_BIN") or str(ROOT / "target" / "debug" / "swimbot")
 PAPER_CSV = ROOT / "host" / "data" / "paper.csv"
 TALLY = {}
