@@ -35,8 +35,6 @@ use crate::nonlocal::axisym::{solve_body, AxisymSettings, Confinement};
 use crate::nonlocal::cache;
 use crate::physics::profile::BodyProfile;
 use nalgebra::Matrix6;
-use std::collections::HashSet;
-use std::sync::{Mutex, OnceLock};
 
 pub struct BodyConfinementExact;
 
@@ -88,19 +86,6 @@ pub fn body_in_tube(case: &Case) -> Result<(f64, f64), EffectError> {
     Ok((mu * m[(0, 0)], mu * m[(3, 3)]))
 }
 
-/// Print each distinct failure once, not once per prediction of a fit.
-fn warn_once(message: String) {
-    static SEEN: OnceLock<Mutex<HashSet<String>>> = OnceLock::new();
-    let seen = SEEN.get_or_init(|| Mutex::new(HashSet::new()));
-    if seen
-        .lock()
-        .map(|mut s| s.insert(message.clone()))
-        .unwrap_or(true)
-    {
-        eprintln!("warning: {message}");
-    }
-}
-
 impl Effect for BodyConfinementExact {
     fn name(&self) -> &'static str {
         "body-confinement-exact"
@@ -121,20 +106,17 @@ impl Effect for BodyConfinementExact {
     fn replaces_body(&self) -> bool {
         true
     }
+    /// The solve runs here, before any stage, so that a failure is the
+    /// prediction's error, naming the case and the effect; `body` then
+    /// reads the cached result.
+    fn check(&self, _p: &[f64], case: &Case) -> Result<(), EffectError> {
+        body_in_tube(case).map(|_| ())
+    }
     fn body(&self, _p: &[f64], case: &Case, body: &mut Matrix6<f64>) {
-        match body_in_tube(case) {
-            Ok((drag, torque)) => {
-                body[(0, 0)] = drag;
-                body[(3, 3)] = torque;
-            }
-            Err(e) => {
-                warn_once(format!(
-                    "body-confinement-exact, case {}: {e}; the case fails as non-finite",
-                    case.id
-                ));
-                body[(0, 0)] = f64::NAN;
-                body[(3, 3)] = f64::NAN;
-            }
-        }
+        // `check` has solved it; a failure here cannot be reported, and a
+        // NaN fails the case rather than a made-up resistance.
+        let (drag, torque) = body_in_tube(case).unwrap_or((f64::NAN, f64::NAN));
+        body[(0, 0)] = drag;
+        body[(3, 3)] = torque;
     }
 }
