@@ -35,6 +35,8 @@ use rp2040_hal::gpio::{
 };
 use rp2040_hal::watchdog::ScratchRegister;
 use rp2040_hal::{Timer, Watchdog};
+use swimbot_shared::rate::SensorFault;
+use swimbot_shared::run_log::status::{bootsel_allowed, PairingState, Status};
 use swimbot_shared::run_log::{Events, LogStore, Record, Recorder};
 use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop, PassOutput};
 
@@ -195,6 +197,7 @@ impl Robot {
         let mut led_mode = LedMode::Off;
         let mut next_rate_log_us = 0;
         let mut foreign = 0;
+        let mut faults = Faults::default();
         loop {
             let now_us = self.timer.get_counter().ticks();
             let usb = self.usb.connected();
@@ -219,11 +222,17 @@ impl Robot {
                 keeping.recorder.note(Events::EDGES_DROPPED);
             }
             keeping.after_pass(now_us, &out, watchdog);
+            faults.note(&out);
             if usb {
                 let region = LogRegion::new(watchdog);
-                let store = &keeping.store;
-                self.usb
-                    .serve(store, &region, out.foreign_frames, out.paired);
+                let status = status(&out, &faults);
+                let robot = crate::usb::Robot {
+                    foreign: out.foreign_frames,
+                    paired: out.paired,
+                    status: &status,
+                    bootsel_allowed: bootsel_allowed(out.state, out.duty, self.motor.gate_high()),
+                };
+                self.usb.serve(&keeping.store, &region, &robot);
             }
             if out.foreign_frames != foreign {
                 foreign = out.foreign_frames;
@@ -295,6 +304,44 @@ fn speed_after(out: &PassOutput, usb: bool, suspended: bool) -> Speed {
         Speed::UsbSuspended
     } else {
         Speed::Full
+    }
+}
+
+/// The faults that stopped the motor since power-up, for `INFO`.
+#[derive(Default)]
+struct Faults {
+    last: Option<SensorFault>,
+    trips: u16,
+}
+
+impl Faults {
+    fn note(&mut self, out: &PassOutput) {
+        if let Some(f) = out.fault {
+            self.last = Some(f);
+            self.trips = self.trips.saturating_add(1);
+        }
+    }
+}
+
+/// The robot's part of the `INFO` line.
+fn status(out: &PassOutput, faults: &Faults) -> Status {
+    Status {
+        firmware: env!("CARGO_PKG_VERSION"),
+        commit: env!("SWIMBOT_COMMIT"),
+        battery_mv: out.battery.mv,
+        battery: out.battery.level,
+        rate_mhz: out.rate_mhz,
+        set_point_mhz: out.set_point_mhz,
+        fault: faults.last,
+        trips: faults.trips,
+        locked_out: false,
+        pairing: if out.pairing_window {
+            PairingState::Window
+        } else if out.paired.is_some() {
+            PairingState::Paired
+        } else {
+            PairingState::Unpaired
+        },
     }
 }
 

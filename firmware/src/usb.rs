@@ -1,7 +1,8 @@
 //! The run log's readout over USB: a CDC-ACM serial port (usb-device with
 //! usbd-serial's `CdcAcmClass` on rp2040-hal's `UsbBus`) that answers the
 //! requests of `swimbot_shared::run_log` (`LOG`: the log image; `INFO`: one
-//! line).
+//! line about the log and the robot; `BOOTSEL`: reboot into the ROM's USB
+//! bootloader, honoured only with the motor off and its gate low).
 //!
 //! The descriptor is the composite form (device class 0xEF/0x02/0x01, an
 //! interface association around the two CDC interfaces), as TinyUSB and
@@ -41,6 +42,7 @@ use rp2040_hal::gpio::{bank0::Gpio24, FunctionSioInput, Pin, PullNone};
 use rp2040_hal::pac::{self, interrupt, RESETS, USBCTRL_DPRAM, USBCTRL_REGS};
 use rp2040_hal::usb::UsbBus;
 use swimbot_shared::run_log::readout::{info_line, Line, UNKNOWN_ANSWER};
+use swimbot_shared::run_log::status::{Status, BOOTSEL_ANSWER, BOOTSEL_REFUSED};
 use swimbot_shared::run_log::store::{LogFlash, LogStore, ReadoutImage};
 use swimbot_shared::run_log::{Request, RequestReader};
 use usb_device::class_prelude::UsbBusAllocator;
@@ -74,6 +76,17 @@ pub struct Usb {
     zlp_due: bool,
     reader: RequestReader,
     answer: Answer,
+    /// `BOOTSEL` was honoured: reboot once its answer has gone out.
+    bootsel_due: bool,
+}
+
+/// What the port needs of the robot to answer.
+pub struct Robot<'a> {
+    pub foreign: u32,
+    pub paired: Option<u8>,
+    pub status: &'a Status,
+    /// `status::bootsel_allowed` for this pass.
+    pub bootsel_allowed: bool,
 }
 
 /// The serial number's text: 16 hex digits of the flash chip's unique ID.
@@ -142,6 +155,7 @@ impl Usb {
             reader: RequestReader::new(),
             answer: Answer::None,
             zlp_due: false,
+            bootsel_due: false,
         }
     }
 
@@ -165,11 +179,12 @@ impl Usb {
         self.device.state() == UsbDeviceState::Suspend
     }
 
-    /// Serve the port: take requests, send what is due. `foreign` and
-    /// `paired` go into the image's header.
+    /// Serve the port: take requests, send what is due. `robot`'s foreign
+    /// count and pairing go into the image's header.
     // Not inlined into the main loop: that alone saves about 1 kB of flash.
     #[inline(never)]
-    pub fn serve(&mut self, store: &LogStore, flash: &LogRegion, foreign: u32, paired: Option<u8>) {
+    pub fn serve(&mut self, store: &LogStore, flash: &LogRegion, robot: &Robot) {
+        let (foreign, paired) = (robot.foreign, robot.paired);
         let mut feed = || flash.feed();
         self.device.poll(&mut [&mut self.port]);
         if self.device.state() != UsbDeviceState::Configured {
@@ -195,7 +210,20 @@ impl Usb {
                     Request::Info => {
                         let image = store.readout(flash, foreign, paired, &mut feed);
                         Answer::Text {
-                            line: info_line(&image.header_fields()),
+                            line: info_line(&image.header_fields(), Some(robot.status)),
+                            pos: 0,
+                        }
+                    }
+                    Request::Bootsel => {
+                        // Decided now; the reboot itself waits for the answer.
+                        self.bootsel_due = robot.bootsel_allowed;
+                        let answer = if robot.bootsel_allowed {
+                            BOOTSEL_ANSWER
+                        } else {
+                            BOOTSEL_REFUSED
+                        };
+                        Answer::Text {
+                            line: Line::from_bytes(answer),
                             pos: 0,
                         }
                     }
@@ -207,8 +235,28 @@ impl Usb {
             }
         }
         self.send(flash);
+        if self.bootsel_due && matches!(self.answer, Answer::None) && !self.zlp_due {
+            self.reboot_to_bootsel();
+        }
         // SAFETY: the handler only masks this interrupt again.
         unsafe { pac::NVIC::unmask(pac::Interrupt::USBCTRL_IRQ) };
+    }
+
+    /// The answer is queued: give the host a few frames to take it, then
+    /// the ROM's `reset_to_usb_boot` (RP2040 datasheet 2.8.5.3.3): the
+    /// chip comes back as the RPI-RP2 drive and PICOBOOT. The gate is low
+    /// (the request's condition) and stays so: the ROM leaves GPIO16 to its
+    /// reset state, an input, and the board's gate pull-down holds it.
+    fn reboot_to_bootsel(&mut self) -> ! {
+        defmt::warn!("BOOTSEL requested over USB: rebooting into the ROM's bootloader");
+        // SAFETY: reads of the free-running timer.
+        let timer = unsafe { &*pac::TIMER::ptr() };
+        let start = timer.timerawl().read().bits();
+        // 20 ms of polls (the watchdog allows 80 ms).
+        while timer.timerawl().read().bits().wrapping_sub(start) < 20_000 {
+            self.device.poll(&mut [&mut self.port]);
+        }
+        rp2040_hal::rom_data::reset_to_usb_boot(0, 0)
     }
 
     /// Queue one packet on the bulk IN endpoint; false if the host has not
