@@ -143,9 +143,14 @@ impl Keeping {
     /// After a pass: store a new pairing, record, and erase if allowed.
     #[inline(never)]
     fn after_pass(&mut self, now_us: u64, out: &PassOutput, watchdog: &mut Watchdog) {
-        if let Some(address) = out.newly_paired {
-            self.pairing.save(address);
-            defmt::info!("paired with the remote at address {=u8:#04x}", address);
+        if let Some(remote) = out.newly_paired {
+            self.pairing.save(remote);
+            defmt::info!(
+                "paired with the remote at address {=u16:#06x}, On {=u8:#04x}, Off {=u8:#04x}",
+                remote.address.0,
+                remote.on,
+                remote.off
+            );
         }
         let new = self.recorder.observe(now_us, out);
         let new = new.map(|r| (r, !self.recorder.recording()));
@@ -189,7 +194,12 @@ impl Robot {
         let paired = pairing::stored();
         main_loop.set_paired(paired);
         match paired {
-            Some(a) => defmt::info!("remote: address {=u8:#04x}", a),
+            Some(r) => defmt::info!(
+                "remote: address {=u16:#06x}, On {=u8:#04x}, Off {=u8:#04x}",
+                r.address.0,
+                r.on,
+                r.off
+            ),
             None => defmt::warn!("remote: none paired (hold Off for 1 s within 5 s of power-up)"),
         }
         let mut keeping = Keeping::open(watchdog);
@@ -228,7 +238,8 @@ impl Robot {
                 let status = status(&out, &faults);
                 let robot = crate::usb::Robot {
                     foreign: out.foreign_frames,
-                    paired: out.paired,
+                    // The log header's field: the address's first byte.
+                    paired: out.paired.map(|r| r.address.low()),
                     status: &status,
                     bootsel_allowed: bootsel_allowed(out.state, out.duty, self.motor.gate_high()),
                 };

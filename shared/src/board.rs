@@ -73,7 +73,7 @@ pub const NEC_CMD_OFF: u8 = 0x47;
 /// Pairing (`pairing`): within 5 s of power-up, hold Off (CH+) for 1 s.
 /// The key map's address above is the host simulation's remote; the
 /// robot obeys the address kept in its pairing sector.
-pub const PAIRING: PairingConfig = PairingConfig::hold(NEC_CMD_OFF);
+pub const PAIRING: PairingConfig = PairingConfig::hold(NEC_CMD_OFF, NEC_CMD_ON);
 
 pub const KEYS: KeyMap = KeyMap {
     address: NEC_ADDRESS,

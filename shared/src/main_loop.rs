@@ -21,7 +21,7 @@
 
 use crate::battery::{BatteryConfig, BatteryMonitor};
 use crate::board;
-use crate::command::{Command, KeyMap, Remote, RemoteEvent};
+use crate::command::{Command, KeyMap, PairedRemote, Remote, RemoteEvent};
 use crate::controller::{Duty, Event, MotorState};
 use crate::led::{self, LedMode};
 use crate::nec::Level;
@@ -155,9 +155,9 @@ impl<C: MotorControl> MainLoop<C> {
     }
 
     /// The remote to obey, as kept in flash (`None`: unpaired, none is).
-    /// Until this is called it is the key map's address.
-    pub fn set_paired(&mut self, address: Option<u8>) {
-        self.remote.set_paired(address);
+    /// Until this is called it is the key map's remote.
+    pub fn set_paired(&mut self, remote: Option<PairedRemote>) {
+        self.remote.set_paired(remote);
     }
 
     /// The chip has just woken from DORMANT (its timer stood still, so the
@@ -243,11 +243,12 @@ impl<C: MotorControl> MainLoop<C> {
             self.last_ir_us = Some(now_us);
             match self.remote.edge_event(level, t_us) {
                 Some(RemoteEvent::Key(code)) => {
-                    if let Some(address) = self.remote.paired() {
-                        self.pairing.frame(now_us, address, code);
+                    let paired = self.remote.paired();
+                    if let Some(p) = paired {
+                        self.pairing.frame(now_us, p.address, code);
                     }
                     // The remote checked the (paired) address.
-                    if let Some(c) = self.cfg.keys.lookup(self.cfg.keys.address, code) {
+                    if let Some(c) = paired.and_then(|p| p.lookup(code)) {
                         command = Some(Command::merge(command, c));
                     } else if let Some(key) = self.cfg.set_point_keys.lookup(code) {
                         set_point_changed = self.set_key(key);

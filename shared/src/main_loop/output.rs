@@ -59,10 +59,10 @@ pub struct PassOutput {
     /// edge (or VBUS).
     pub may_go_dormant: bool,
     /// The remote obeyed (`None`: unpaired, no remote is).
-    pub paired: Option<u8>,
+    pub paired: Option<crate::command::PairedRemote>,
     /// A hold in the pairing window paired this address in this pass
     /// (another than before): store it in flash.
-    pub newly_paired: Option<u8>,
+    pub newly_paired: Option<crate::command::PairedRemote>,
     /// The pairing window is open.
     pub pairing_window: bool,
     /// USB is connected: the motor is held off and On refused.
