@@ -89,18 +89,27 @@ pub struct Robot<'a> {
     pub bootsel_allowed: bool,
 }
 
-/// The serial number's text: 16 hex digits of the flash chip's unique ID.
+/// Bytes of the serial number: the domain, a colon, 16 hex digits.
+const SERIAL_LEN: usize = board::USB_SERIAL_DOMAIN.len() + 1 + 16;
+
+/// The serial number's text: `board::USB_SERIAL_DOMAIN`, `:`, then 16 hex
+/// digits of the flash chip's unique ID (the shared ID pair's rule,
+/// `board::USB_VID`).
 fn serial_text(id: [u8; 8]) -> &'static str {
-    static mut TEXT: [u8; 16] = [0; 16];
+    static mut TEXT: [u8; SERIAL_LEN] = [0; SERIAL_LEN];
     const HEX: &[u8; 16] = b"0123456789ABCDEF";
     // SAFETY: called once, from `Usb::new` (which takes the peripherals it
     // needs by value, so it cannot run twice), before anything reads TEXT.
     let text = unsafe { &mut *core::ptr::addr_of_mut!(TEXT) };
+    let domain = board::USB_SERIAL_DOMAIN.as_bytes();
+    text[..domain.len()].copy_from_slice(domain);
+    text[domain.len()] = b':';
+    let digits = &mut text[domain.len() + 1..];
     for (i, b) in id.iter().enumerate() {
-        text[2 * i] = HEX[usize::from(b >> 4)];
-        text[2 * i + 1] = HEX[usize::from(b & 0xf)];
+        digits[2 * i] = HEX[usize::from(b >> 4)];
+        digits[2 * i + 1] = HEX[usize::from(b & 0xf)];
     }
-    // Hex digits only: always UTF-8.
+    // ASCII only: always UTF-8.
     core::str::from_utf8(text).unwrap_or("0")
 }
 
@@ -169,7 +178,11 @@ impl Usb {
             if !vbus {
                 self.answer = Answer::None;
                 self.zlp_due = false;
+                self.bootsel_due = false;
             }
+        }
+        if !vbus {
+            release_ir_pin();
         }
         vbus
     }
@@ -311,6 +324,47 @@ fn set_pullup(on: bool) {
         let regs = unsafe { &*pac::USBCTRL_REGS::ptr() };
         regs.sie_ctrl().modify(|_, w| w.pullup_en().bit(on));
     });
+}
+
+/// GPIO15 back to the IR receiver if the E5 workaround holds it. The
+/// workaround (rp2040-hal `usb::errata5`) switches the pad to function 8
+/// (USB muxing) at the end of a bus reset and gives it back only once the
+/// controller reports `connected`; a cable pulled in that millisecond
+/// leaves it there, the receiver cut off from SIO, and the remote dead
+/// until a reset. Without VBUS nothing needs the pad: it is given back to
+/// SIO (function 5) as a pulled-up input, as `ir::start` made it, and the
+/// controller's muxing back to its PHY. Each pass without VBUS checks it:
+/// one register read when nothing is wrong. When the host comes back, the
+/// workaround's own restore writes the same SIO settings it saved.
+fn release_ir_pin() {
+    const FUNC_USB_MUXING: u8 = 8;
+    // SAFETY: GPIO15's control and pad registers, and USB_MUXING, are only
+    // written by `ir::start` at boot and by the E5 workaround, which runs
+    // from `UsbDevice::poll`, never between passes without VBUS.
+    let io = unsafe { &*pac::IO_BANK0::ptr() };
+    let ctrl = io.gpio(usize::from(board::IR_GPIO)).gpio_ctrl();
+    if ctrl.read().funcsel().bits() != FUNC_USB_MUXING {
+        return;
+    }
+    let pads = unsafe { &*pac::PADS_BANK0::ptr() };
+    let regs = unsafe { &*pac::USBCTRL_REGS::ptr() };
+    critical_section::with(|_| {
+        regs.usb_muxing()
+            .write(|w| w.to_phy().set_bit().softcon().set_bit());
+        // SAFETY: funcsel 5 is SIO; no overrides.
+        ctrl.write(|w| unsafe { w.funcsel().bits(5) });
+        pads.gpio(usize::from(board::IR_GPIO)).write(|w| {
+            w.ie()
+                .set_bit()
+                .pue()
+                .set_bit()
+                .pde()
+                .clear_bit()
+                .schmitt()
+                .set_bit()
+        });
+    });
+    defmt::warn!("usb: GPIO15 recovered from an interrupted E5 workaround");
 }
 
 #[interrupt]
