@@ -38,7 +38,7 @@ use rp2040_hal::{Timer, Watchdog};
 use swimbot_shared::rate::SensorFault;
 use swimbot_shared::run_log::status::{bootsel_allowed, PairingState, Status};
 use swimbot_shared::run_log::{Events, LogStore, Record, Recorder};
-use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop, PassOutput};
+use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop, PassOutput, PreStart};
 
 const _: () = assert!(board::LED_GPIO == 25, "the typed LED pin is GPIO25");
 const _: () = assert!(
@@ -213,6 +213,7 @@ impl Robot {
             let usb = self.usb.connected();
             main_loop.set_usb_connected(usb);
             main_loop.set_erase_pending(keeping.erase_pending());
+            main_loop.set_prestart(prestart(&self.motor));
             self.power.usb_awake(usb);
             let (motor, battery) = (&self.motor, &mut self.battery);
             let out = main_loop.pass(now_us, ir::drain(), ir::drain_hall(), || {
@@ -318,19 +319,32 @@ fn speed_after(out: &PassOutput, usb: bool, suspended: bool) -> Speed {
     }
 }
 
-/// The faults that stopped the motor since power-up, for `INFO`.
+/// The last fault that stopped the motor since power-up, for `INFO`.
 #[derive(Default)]
 struct Faults {
     last: Option<SensorFault>,
-    trips: u16,
 }
 
 impl Faults {
     fn note(&mut self, out: &PassOutput) {
         if let Some(f) = out.fault {
             self.last = Some(f);
-            self.trips = self.trips.saturating_add(1);
         }
+    }
+}
+
+/// The pins the pre-start self-test reads (`swimbot_shared::PreStart`):
+/// the gate's level and both Hall lines (SIO.GPIO_IN, one read).
+fn prestart(motor: &Motor) -> PreStart {
+    // SAFETY: a read of the input register.
+    let inputs = unsafe { &*rp2040_hal::pac::SIO::ptr() }
+        .gpio_in()
+        .read()
+        .bits();
+    PreStart {
+        gate_high: motor.gate_high(),
+        hall_a_high: inputs & (1 << board::HALL_A_GPIO) != 0,
+        hall_b_high: inputs & (1 << board::HALL_B_GPIO) != 0,
     }
 }
 
@@ -344,8 +358,8 @@ fn status(out: &PassOutput, faults: &Faults) -> Status {
         rate_mhz: out.rate_mhz,
         set_point_mhz: out.set_point_mhz,
         fault: faults.last,
-        trips: faults.trips,
-        locked_out: false,
+        trips: out.trips,
+        locked_out: out.locked_out,
         pairing: if out.pairing_window {
             PairingState::Window
         } else if out.paired.is_some() {
@@ -373,7 +387,18 @@ fn log(out: &PassOutput, level: &mut BatteryLevel, led_mode: &mut LedMode) -> bo
         defmt::info!("set-point: {} mHz", mhz);
     }
     if let Some(fault) = out.fault {
-        defmt::error!("rate sensor: {}, motor stopped (a new On retries)", fault);
+        if out.locked_out {
+            defmt::error!(
+                "{}: trip {} since power-up, motor locked out until the next power-up",
+                fault,
+                out.trips
+            );
+        } else {
+            defmt::error!("rate sensor: {}, motor stopped (a new On retries)", fault);
+        }
+    }
+    if let Some(f) = out.refused_self_test {
+        defmt::error!("On refused: pre-start self-test failed ({})", f);
     }
     if out.refused_no_set_point {
         defmt::warn!("On ignored: no rate set-point selected");

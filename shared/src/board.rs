@@ -162,6 +162,10 @@ pub const SUPERVISOR: SupervisorConfig = SupervisorConfig {
         },
         driver_rise_max_mk: 80_000,
     },
+    // Three trips in one power-up: the third start after a jam or a
+    // cool-down is the last (a jam cleared by hand, a second look, then
+    // the bench).
+    lockout_trips: 3,
 };
 
 /// The set-point after power-up: 1 Hz, inside the paper's observed

@@ -32,8 +32,10 @@ use crate::supervisor::{Supervisor, SupervisorConfig};
 
 mod motor_control;
 mod output;
+mod self_test;
 pub use motor_control::{ChipControl, MotorControl};
 pub use output::{PassOutput, ERASE_QUIET_US};
+pub use self_test::{PreStart, SelfTestFault};
 
 /// One Hall edge as the interrupt queued it: the timer's low 32 bits and
 /// both latches' levels read together.
@@ -104,6 +106,7 @@ pub struct MainLoop<C = ChipControl> {
     pairing: Pairing,
     usb_connected: bool,
     erase_pending: bool,
+    prestart: PreStart,
 }
 
 impl MainLoop {
@@ -151,6 +154,7 @@ impl<C: MotorControl> MainLoop<C> {
             pairing: Pairing::new(cfg.pairing),
             usb_connected: false,
             erase_pending: false,
+            prestart: PreStart::HEALTHY,
         }
     }
 
@@ -172,6 +176,12 @@ impl<C: MotorControl> MainLoop<C> {
     /// held off, and On does nothing, until it is disconnected.
     pub fn set_usb_connected(&mut self, connected: bool) {
         self.usb_connected = connected;
+    }
+
+    /// What the pins read now (`self_test`): an On from Off is refused
+    /// while the self-test fails. Until this is called, a healthy board.
+    pub fn set_prestart(&mut self, pins: PreStart) {
+        self.prestart = pins;
     }
 
     /// A flash erase is pending (the run log's slots, the pairing sector):
@@ -281,10 +291,16 @@ impl<C: MotorControl> MainLoop<C> {
         }
         let battery = self.monitor.status();
         // USB connected: Off every pass (Off wins over any On).
-        // An overheated motor refuses On until it has cooled.
+        // An overheated or locked-out motor refuses On; so does a start
+        // from Off that fails the self-test.
+        let self_test = (command == Some(Command::On) && self.state == MotorState::Off)
+            .then(|| self.prestart.check(battery))
+            .flatten();
         let applied = if self.usb_connected {
             Some(Command::Off)
-        } else if command == Some(Command::On) && self.supervisor.refuses_start() {
+        } else if command == Some(Command::On)
+            && (self.supervisor.refuses_start() || self_test.is_some())
+        {
             None
         } else {
             command
@@ -331,6 +347,9 @@ impl<C: MotorControl> MainLoop<C> {
             event,
             fault,
             refused_no_set_point: out.event == Some(RateEvent::NoSetPoint),
+            refused_self_test: self_test.filter(|_| !self.usb_connected),
+            locked_out: self.supervisor.locked_out(),
+            trips: self.supervisor.trips(),
             hall_power: running,
             rate_mhz: running.then(|| self.control.rate_mhz()).flatten(),
             reference_mhz: out.reference_mhz,

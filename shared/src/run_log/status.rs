@@ -35,7 +35,7 @@ pub struct Status {
     pub set_point_mhz: Option<u32>,
     /// The last fault that stopped the motor since power-up.
     pub fault: Option<SensorFault>,
-    /// Supervisor trips since power-up.
+    /// Supervisor trips (jams, overheating) since power-up.
     pub trips: u16,
     /// The supervisor refuses every start until a power cycle.
     pub locked_out: bool,
