@@ -294,7 +294,7 @@ impl<C: MotorControl> MainLoop<C> {
         // An overheated or locked-out motor refuses On; so does a start
         // from Off that fails the self-test.
         let self_test = (command == Some(Command::On) && self.state == MotorState::Off)
-            .then(|| self.prestart.check(battery))
+            .then(|| self.prestart.check())
             .flatten();
         let applied = if self.usb_connected {
             Some(Command::Off)

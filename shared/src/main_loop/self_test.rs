@@ -1,15 +1,15 @@
 //! The pre-start self-test: before the motor leaves Off, the gate pin must
 //! read low, both Hall lines must read high with the latches unpowered
 //! (their open-drain outputs released, the pull-ups holding the lines), and
-//! the battery must allow the motor. A gate that reads high at rest is a
+//! the battery must allow the motor: that last is the controller's own
+//! start interlock (`StartRefused(LowBattery)`, its event and LED pattern),
+//! so it is not repeated here. A gate that reads high at rest is a
 //! shorted driver or a pin in the wrong function; a Hall line held low
 //! while the latches are off is a short to ground or a latch fed from
 //! elsewhere, and the rate sensing would start blind. What it cannot see:
 //! an open Hall wire reads high like a healthy one; the rate sensor finds
 //! that once the motor turns (`SensorFault::Disconnected` or `Stalled`).
 //! (Crazyflie's supervisor runs the same kind of pre-arm checks.)
-
-use crate::battery::BatteryStatus;
 
 /// Why a start was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,8 +19,6 @@ pub enum SelfTestFault {
     GateHigh,
     /// A Hall line reads low with the latches unpowered.
     HallLineLow,
-    /// The battery does not allow the motor (no reading, cut off).
-    Battery,
 }
 
 /// What the pins read in the last pass, motor off and latches unpowered.
@@ -40,13 +38,11 @@ impl PreStart {
     };
 
     /// The first reason not to start, if any.
-    pub fn check(&self, battery: BatteryStatus) -> Option<SelfTestFault> {
+    pub fn check(&self) -> Option<SelfTestFault> {
         if self.gate_high {
             Some(SelfTestFault::GateHigh)
         } else if !(self.hall_a_high && self.hall_b_high) {
             Some(SelfTestFault::HallLineLow)
-        } else if !battery.allows_motor() {
-            Some(SelfTestFault::Battery)
         } else {
             None
         }
@@ -110,23 +106,5 @@ mod tests {
             m.set_prestart(pins);
             assert_ne!(on(&mut m, 600_000).state, MotorState::Off);
         }
-    }
-
-    #[test]
-    fn no_battery_reading_is_a_failed_self_test() {
-        let mut m = MainLoop::new(false);
-        // The first pass has no plausible reading (an open divider).
-        let o = m.pass(0, [], [], || 0);
-        assert!(!o.battery.allows_motor());
-        let mut edges = heapless::Vec::<(Level, u32), 80>::new();
-        let pulses = frame_pulses_us(board::NEC_ADDRESS, board::NEC_CMD_ON);
-        for_each_edge(100_000, &pulses, |l, t| {
-            let _ = edges.push((l, t));
-        });
-        let o = m.pass(180_000, edges, [], || 0);
-        assert_eq!(
-            (o.state, o.refused_self_test),
-            (MotorState::Off, Some(SelfTestFault::Battery))
-        );
     }
 }
