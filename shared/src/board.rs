@@ -127,8 +127,9 @@ pub const MOTOR_RATED_MV: u16 = 3_700;
 /// pass 150 C, yet the paper's robot ran 10-minute runs. Its housing sheds
 /// heat into the seal, the coupler and the oil: 25 K/W is assumed (a
 /// healthy 1.8 W run settles 63 K up), with 70 K allowed (105 C from a
-/// 35 C sealed body). Measure the can's rise over a 10-minute run on the
-/// bench (firmware/README.md, bring-up) and enter `rise / P` here. A
+/// 35 C sealed body). Fit the housing node on the bench from a slowed or
+/// stalled run's log and the can's temperature (`swimbot log --thermal`,
+/// docs/run-log.md) and enter the two constants it prints here. A
 /// turning motor held at the 3.7 V ceiling from a 4.0 V cell (2.0 W)
 /// passes the limit after 7.3 minutes (host test); a new start waits until
 /// the winding is back under 35 K. The driver is
