@@ -59,7 +59,9 @@ pub type VbusPin = Pin<Gpio24, FunctionSioInput, PullNone>;
 /// Every endpoint's packet size (control and bulk): full speed's largest.
 const MAX_PACKET: u16 = 64;
 
-/// What is being sent.
+/// What is being sent. One lives in `Usb` for the whole run and there is
+/// no heap to box the text line into: its size is the price of one line.
+#[allow(clippy::large_enum_variant)]
 enum Answer {
     None,
     Image { image: ReadoutImage, pos: usize },
