@@ -1,5 +1,7 @@
 //! Put the workspace's `memory.x` where the linker finds it (`-Tlink.x`
-//! includes it) and rebuild when it changes.
+//! includes it) and rebuild when it changes; name the commit the image is
+//! built from (`SWIMBOT_COMMIT`, the `INFO` line's `commit=`), `unknown`
+//! outside a git checkout.
 use std::{env, fs, path::PathBuf};
 
 fn main() {
@@ -9,4 +11,23 @@ fn main() {
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed={}", memory_x.display());
     println!("cargo:rerun-if-changed=build.rs");
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let commit = git(&["rev-parse", "--short=12", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    println!("cargo:rustc-env=SWIMBOT_COMMIT={commit}");
+    // A new commit changes HEAD's ref (or HEAD itself, when detached).
+    for name in ["HEAD".to_string()]
+        .into_iter()
+        .chain(git(&["symbolic-ref", "-q", "HEAD"]))
+    {
+        if let Some(path) = git(&["rev-parse", "--git-path", &name]) {
+            println!("cargo:rerun-if-changed={path}");
+        }
+    }
 }

@@ -124,7 +124,9 @@ fn main() -> ! {
     let battery_pin = hal::adc::AdcPin::new(pins.gpio26.into_floating_input()).unwrap();
     let battery = battery_adc::BatterySense::new(adc, battery_pin);
     let led = pins.gpio25.into_push_pull_output_in_state(PinState::Low);
-    let hall_power = pins.gpio12.into_push_pull_output_in_state(PinState::Low);
+    let mut hall_power = pins.gpio12.into_push_pull_output_in_state(PinState::Low);
+    // Two latches draw up to 7 mA: past the default 4 mA drive (`board`).
+    hall_power.set_drive_strength(hal::gpio::OutputDriveStrength::TwelveMilliAmps);
     let hall = (
         pins.gpio13.into_pull_up_input(),
         pins.gpio14.into_pull_up_input(),

@@ -90,4 +90,16 @@ impl Motor {
             Motor::Disabled(_) => None,
         }
     }
+
+    /// The level the gate pin drives now (GPIO16's OUTTOPAD, whatever
+    /// function drives it): what the MOSFET sees, not what was asked.
+    pub fn gate_high(&self) -> bool {
+        // SAFETY: a read of a status register.
+        let io = unsafe { &*rp2040_hal::pac::IO_BANK0::ptr() };
+        io.gpio(usize::from(board::MOTOR_PWM_GPIO))
+            .gpio_status()
+            .read()
+            .outtopad()
+            .bit_is_set()
+    }
 }

@@ -1,4 +1,4 @@
-//! The paired remote's address in the pairing sector (`memory.x`'s
+//! The paired remote (address and keys) in the pairing sector (`memory.x`'s
 //! PAIRING, format `swimbot_shared::pairing::sector`): read at boot,
 //! appended when the pass reports a new pairing (a page program, under
 //! 3 ms), erased only in the rare case that the sector is full, and then
@@ -8,6 +8,7 @@ use crate::{board, flash};
 use rp2040_hal::Watchdog;
 use swimbot_shared::pairing::sector::{self, Append, SECTOR_LEN};
 use swimbot_shared::run_log::store::PAGE_LEN;
+use swimbot_shared::PairedRemote;
 
 fn sector_bytes() -> [u8; SECTOR_LEN] {
     let mut s = [0u8; SECTOR_LEN];
@@ -15,14 +16,14 @@ fn sector_bytes() -> [u8; SECTOR_LEN] {
     s
 }
 
-/// The address kept in flash (`None`: unpaired).
-pub fn stored() -> Option<u8> {
-    sector::stored(&sector_bytes())
+/// The remote kept in flash (`None`: unpaired).
+pub fn stored() -> Option<PairedRemote> {
+    sector::stored(&sector_bytes(), board::KEYS)
 }
 
 /// A pairing waiting for the sector's erase.
 pub struct PairingStore {
-    pending: Option<u8>,
+    pending: Option<PairedRemote>,
 }
 
 impl PairingStore {
@@ -31,7 +32,7 @@ impl PairingStore {
     }
 
     /// Keep `address` as the paired remote.
-    pub fn save(&mut self, address: u8) {
+    pub fn save(&mut self, address: PairedRemote) {
         match sector::append(&sector_bytes(), address) {
             Append::At { offset, bytes } => {
                 let mut page = [0xFF; PAGE_LEN];

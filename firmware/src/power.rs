@@ -42,14 +42,12 @@
 //!   9 ms +-25 % window. Should the first frame be lost on a given board,
 //!   the next press works.
 //!
-//! Expected current (sources, not measured on this board): a Raspberry Pi
-//! Pico board measured from USB by the MicroPython developers (commit
-//! b004e7e, "rp2/modmachine: Implement lightsleep()", 2022) drew about
-//! 1.5 mA in a light sleep with the peripheral clocks gated and about
-//! 0.9 mA in crystal DORMANT, regulator and board included; the RP2040
-//! datasheet's section 5.4 (table "Power Consumption", hello_sleep and
-//! hello_dormant use cases) lists the chip alone. A 70 mAh cell then lasts
-//! about 45 h idle between passes and about 75 h dormant.
+//! Current: not measured for this configuration (clk_sys 125 MHz from
+//! PLL_SYS and PLL_USB at 48 MHz for clk_adc and clk_usb between passes,
+//! whether or not VBUS is present), and no figure is claimed: the RP2040
+//! datasheet's 5.4 table and the MicroPython developers' Pico figures
+//! (commit b004e7e) describe other clock configurations. The board's
+//! bring-up measures it (firmware/README.md, bring-up step 5).
 
 use crate::board;
 use fugit::RateExtU32;

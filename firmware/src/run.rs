@@ -35,8 +35,10 @@ use rp2040_hal::gpio::{
 };
 use rp2040_hal::watchdog::ScratchRegister;
 use rp2040_hal::{Timer, Watchdog};
+use swimbot_shared::rate::SensorFault;
+use swimbot_shared::run_log::status::{bootsel_allowed, PairingState, Status};
 use swimbot_shared::run_log::{Events, LogStore, Record, Recorder};
-use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop, PassOutput};
+use swimbot_shared::{reset_memory, BatteryLevel, LedMode, MainLoop, PassOutput, PreStart};
 
 const _: () = assert!(board::LED_GPIO == 25, "the typed LED pin is GPIO25");
 const _: () = assert!(
@@ -141,9 +143,14 @@ impl Keeping {
     /// After a pass: store a new pairing, record, and erase if allowed.
     #[inline(never)]
     fn after_pass(&mut self, now_us: u64, out: &PassOutput, watchdog: &mut Watchdog) {
-        if let Some(address) = out.newly_paired {
-            self.pairing.save(address);
-            defmt::info!("paired with the remote at address {=u8:#04x}", address);
+        if let Some(remote) = out.newly_paired {
+            self.pairing.save(remote);
+            defmt::info!(
+                "paired with the remote at address {=u16:#06x}, On {=u8:#04x}, Off {=u8:#04x}",
+                remote.address.0,
+                remote.on,
+                remote.off
+            );
         }
         let new = self.recorder.observe(now_us, out);
         let new = new.map(|r| (r, !self.recorder.recording()));
@@ -187,7 +194,12 @@ impl Robot {
         let paired = pairing::stored();
         main_loop.set_paired(paired);
         match paired {
-            Some(a) => defmt::info!("remote: address {=u8:#04x}", a),
+            Some(r) => defmt::info!(
+                "remote: address {=u16:#06x}, On {=u8:#04x}, Off {=u8:#04x}",
+                r.address.0,
+                r.on,
+                r.off
+            ),
             None => defmt::warn!("remote: none paired (hold Off for 1 s within 5 s of power-up)"),
         }
         let mut keeping = Keeping::open(watchdog);
@@ -195,11 +207,13 @@ impl Robot {
         let mut led_mode = LedMode::Off;
         let mut next_rate_log_us = 0;
         let mut foreign = 0;
+        let mut faults = Faults::default();
         loop {
             let now_us = self.timer.get_counter().ticks();
             let usb = self.usb.connected();
             main_loop.set_usb_connected(usb);
             main_loop.set_erase_pending(keeping.erase_pending());
+            main_loop.set_prestart(prestart(&self.motor));
             self.power.usb_awake(usb);
             let (motor, battery) = (&self.motor, &mut self.battery);
             let out = main_loop.pass(now_us, ir::drain(), ir::drain_hall(), || {
@@ -219,11 +233,18 @@ impl Robot {
                 keeping.recorder.note(Events::EDGES_DROPPED);
             }
             keeping.after_pass(now_us, &out, watchdog);
+            faults.note(&out);
             if usb {
                 let region = LogRegion::new(watchdog);
-                let store = &keeping.store;
-                self.usb
-                    .serve(store, &region, out.foreign_frames, out.paired);
+                let status = status(&out, &faults);
+                let robot = crate::usb::Robot {
+                    foreign: out.foreign_frames,
+                    // The log header's field: the address's first byte.
+                    paired: out.paired.map(|r| r.address.low()),
+                    status: &status,
+                    bootsel_allowed: bootsel_allowed(out.state, out.duty, self.motor.gate_high()),
+                };
+                self.usb.serve(&keeping.store, &region, &robot);
             }
             if out.foreign_frames != foreign {
                 foreign = out.foreign_frames;
@@ -298,6 +319,57 @@ fn speed_after(out: &PassOutput, usb: bool, suspended: bool) -> Speed {
     }
 }
 
+/// The last fault that stopped the motor since power-up, for `INFO`.
+#[derive(Default)]
+struct Faults {
+    last: Option<SensorFault>,
+}
+
+impl Faults {
+    fn note(&mut self, out: &PassOutput) {
+        if let Some(f) = out.fault {
+            self.last = Some(f);
+        }
+    }
+}
+
+/// The pins the pre-start self-test reads (`swimbot_shared::PreStart`):
+/// the gate's level and both Hall lines (SIO.GPIO_IN, one read).
+fn prestart(motor: &Motor) -> PreStart {
+    // SAFETY: a read of the input register.
+    let inputs = unsafe { &*rp2040_hal::pac::SIO::ptr() }
+        .gpio_in()
+        .read()
+        .bits();
+    PreStart {
+        gate_high: motor.gate_high(),
+        hall_a_high: inputs & (1 << board::HALL_A_GPIO) != 0,
+        hall_b_high: inputs & (1 << board::HALL_B_GPIO) != 0,
+    }
+}
+
+/// The robot's part of the `INFO` line.
+fn status(out: &PassOutput, faults: &Faults) -> Status {
+    Status {
+        firmware: env!("CARGO_PKG_VERSION"),
+        commit: env!("SWIMBOT_COMMIT"),
+        battery_mv: out.battery.mv,
+        battery: out.battery.level,
+        rate_mhz: out.rate_mhz,
+        set_point_mhz: out.set_point_mhz,
+        fault: faults.last,
+        trips: out.trips,
+        locked_out: out.locked_out,
+        pairing: if out.pairing_window {
+            PairingState::Window
+        } else if out.paired.is_some() {
+            PairingState::Paired
+        } else {
+            PairingState::Unpaired
+        },
+    }
+}
+
 /// Log the pass's news; true if an interrupt queue dropped edges.
 fn log(out: &PassOutput, level: &mut BatteryLevel, led_mode: &mut LedMode) -> bool {
     if let Some(c) = out.command {
@@ -315,7 +387,18 @@ fn log(out: &PassOutput, level: &mut BatteryLevel, led_mode: &mut LedMode) -> bo
         defmt::info!("set-point: {} mHz", mhz);
     }
     if let Some(fault) = out.fault {
-        defmt::error!("rate sensor: {}, motor stopped (a new On retries)", fault);
+        if out.locked_out {
+            defmt::error!(
+                "{}: trip {} since power-up, motor locked out until the next power-up",
+                fault,
+                out.trips
+            );
+        } else {
+            defmt::error!("rate sensor: {}, motor stopped (a new On retries)", fault);
+        }
+    }
+    if let Some(f) = out.refused_self_test {
+        defmt::error!("On refused: pre-start self-test failed ({})", f);
     }
     if out.refused_no_set_point {
         defmt::warn!("On ignored: no rate set-point selected");

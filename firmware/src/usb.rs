@@ -1,7 +1,8 @@
 //! The run log's readout over USB: a CDC-ACM serial port (usb-device with
 //! usbd-serial's `CdcAcmClass` on rp2040-hal's `UsbBus`) that answers the
 //! requests of `swimbot_shared::run_log` (`LOG`: the log image; `INFO`: one
-//! line).
+//! line about the log and the robot; `BOOTSEL`: reboot into the ROM's USB
+//! bootloader, honoured only with the motor off and its gate low).
 //!
 //! The descriptor is the composite form (device class 0xEF/0x02/0x01, an
 //! interface association around the two CDC interfaces), as TinyUSB and
@@ -41,6 +42,7 @@ use rp2040_hal::gpio::{bank0::Gpio24, FunctionSioInput, Pin, PullNone};
 use rp2040_hal::pac::{self, interrupt, RESETS, USBCTRL_DPRAM, USBCTRL_REGS};
 use rp2040_hal::usb::UsbBus;
 use swimbot_shared::run_log::readout::{info_line, Line, UNKNOWN_ANSWER};
+use swimbot_shared::run_log::status::{Status, BOOTSEL_ANSWER, BOOTSEL_REFUSED};
 use swimbot_shared::run_log::store::{LogFlash, LogStore, ReadoutImage};
 use swimbot_shared::run_log::{Request, RequestReader};
 use usb_device::class_prelude::UsbBusAllocator;
@@ -57,7 +59,9 @@ pub type VbusPin = Pin<Gpio24, FunctionSioInput, PullNone>;
 /// Every endpoint's packet size (control and bulk): full speed's largest.
 const MAX_PACKET: u16 = 64;
 
-/// What is being sent.
+/// What is being sent. One lives in `Usb` for the whole run and there is
+/// no heap to box the text line into: its size is the price of one line.
+#[allow(clippy::large_enum_variant)]
 enum Answer {
     None,
     Image { image: ReadoutImage, pos: usize },
@@ -74,20 +78,40 @@ pub struct Usb {
     zlp_due: bool,
     reader: RequestReader,
     answer: Answer,
+    /// `BOOTSEL` was honoured: reboot once its answer has gone out.
+    bootsel_due: bool,
 }
 
-/// The serial number's text: 16 hex digits of the flash chip's unique ID.
+/// What the port needs of the robot to answer.
+pub struct Robot<'a> {
+    pub foreign: u32,
+    pub paired: Option<u8>,
+    pub status: &'a Status,
+    /// `status::bootsel_allowed` for this pass.
+    pub bootsel_allowed: bool,
+}
+
+/// Bytes of the serial number: the domain, a colon, 16 hex digits.
+const SERIAL_LEN: usize = board::USB_SERIAL_DOMAIN.len() + 1 + 16;
+
+/// The serial number's text: `board::USB_SERIAL_DOMAIN`, `:`, then 16 hex
+/// digits of the flash chip's unique ID (the shared ID pair's rule,
+/// `board::USB_VID`).
 fn serial_text(id: [u8; 8]) -> &'static str {
-    static mut TEXT: [u8; 16] = [0; 16];
+    static mut TEXT: [u8; SERIAL_LEN] = [0; SERIAL_LEN];
     const HEX: &[u8; 16] = b"0123456789ABCDEF";
     // SAFETY: called once, from `Usb::new` (which takes the peripherals it
     // needs by value, so it cannot run twice), before anything reads TEXT.
     let text = unsafe { &mut *core::ptr::addr_of_mut!(TEXT) };
+    let domain = board::USB_SERIAL_DOMAIN.as_bytes();
+    text[..domain.len()].copy_from_slice(domain);
+    text[domain.len()] = b':';
+    let digits = &mut text[domain.len() + 1..];
     for (i, b) in id.iter().enumerate() {
-        text[2 * i] = HEX[usize::from(b >> 4)];
-        text[2 * i + 1] = HEX[usize::from(b & 0xf)];
+        digits[2 * i] = HEX[usize::from(b >> 4)];
+        digits[2 * i + 1] = HEX[usize::from(b & 0xf)];
     }
-    // Hex digits only: always UTF-8.
+    // ASCII only: always UTF-8.
     core::str::from_utf8(text).unwrap_or("0")
 }
 
@@ -142,6 +166,7 @@ impl Usb {
             reader: RequestReader::new(),
             answer: Answer::None,
             zlp_due: false,
+            bootsel_due: false,
         }
     }
 
@@ -155,7 +180,11 @@ impl Usb {
             if !vbus {
                 self.answer = Answer::None;
                 self.zlp_due = false;
+                self.bootsel_due = false;
             }
+        }
+        if !vbus {
+            release_ir_pin();
         }
         vbus
     }
@@ -165,11 +194,12 @@ impl Usb {
         self.device.state() == UsbDeviceState::Suspend
     }
 
-    /// Serve the port: take requests, send what is due. `foreign` and
-    /// `paired` go into the image's header.
+    /// Serve the port: take requests, send what is due. `robot`'s foreign
+    /// count and pairing go into the image's header.
     // Not inlined into the main loop: that alone saves about 1 kB of flash.
     #[inline(never)]
-    pub fn serve(&mut self, store: &LogStore, flash: &LogRegion, foreign: u32, paired: Option<u8>) {
+    pub fn serve(&mut self, store: &LogStore, flash: &LogRegion, robot: &Robot) {
+        let (foreign, paired) = (robot.foreign, robot.paired);
         let mut feed = || flash.feed();
         self.device.poll(&mut [&mut self.port]);
         if self.device.state() != UsbDeviceState::Configured {
@@ -195,7 +225,20 @@ impl Usb {
                     Request::Info => {
                         let image = store.readout(flash, foreign, paired, &mut feed);
                         Answer::Text {
-                            line: info_line(&image.header_fields()),
+                            line: info_line(&image.header_fields(), Some(robot.status)),
+                            pos: 0,
+                        }
+                    }
+                    Request::Bootsel => {
+                        // Decided now; the reboot itself waits for the answer.
+                        self.bootsel_due = robot.bootsel_allowed;
+                        let answer = if robot.bootsel_allowed {
+                            BOOTSEL_ANSWER
+                        } else {
+                            BOOTSEL_REFUSED
+                        };
+                        Answer::Text {
+                            line: Line::from_bytes(answer),
                             pos: 0,
                         }
                     }
@@ -207,8 +250,28 @@ impl Usb {
             }
         }
         self.send(flash);
+        if self.bootsel_due && matches!(self.answer, Answer::None) && !self.zlp_due {
+            self.reboot_to_bootsel();
+        }
         // SAFETY: the handler only masks this interrupt again.
         unsafe { pac::NVIC::unmask(pac::Interrupt::USBCTRL_IRQ) };
+    }
+
+    /// The answer is queued: give the host a few frames to take it, then
+    /// the ROM's `reset_to_usb_boot` (RP2040 datasheet 2.8.5.3.3): the
+    /// chip comes back as the RPI-RP2 drive and PICOBOOT. The gate is low
+    /// (the request's condition) and stays so: the ROM leaves GPIO16 to its
+    /// reset state, an input, and the board's gate pull-down holds it.
+    fn reboot_to_bootsel(&mut self) -> ! {
+        defmt::warn!("BOOTSEL requested over USB: rebooting into the ROM's bootloader");
+        // SAFETY: reads of the free-running timer.
+        let timer = unsafe { &*pac::TIMER::ptr() };
+        let start = timer.timerawl().read().bits();
+        // 20 ms of polls (the watchdog allows 80 ms).
+        while timer.timerawl().read().bits().wrapping_sub(start) < 20_000 {
+            self.device.poll(&mut [&mut self.port]);
+        }
+        rp2040_hal::rom_data::reset_to_usb_boot(0, 0)
     }
 
     /// Queue one packet on the bulk IN endpoint; false if the host has not
@@ -263,6 +326,47 @@ fn set_pullup(on: bool) {
         let regs = unsafe { &*pac::USBCTRL_REGS::ptr() };
         regs.sie_ctrl().modify(|_, w| w.pullup_en().bit(on));
     });
+}
+
+/// GPIO15 back to the IR receiver if the E5 workaround holds it. The
+/// workaround (rp2040-hal `usb::errata5`) switches the pad to function 8
+/// (USB muxing) at the end of a bus reset and gives it back only once the
+/// controller reports `connected`; a cable pulled in that millisecond
+/// leaves it there, the receiver cut off from SIO, and the remote dead
+/// until a reset. Without VBUS nothing needs the pad: it is given back to
+/// SIO (function 5) as a pulled-up input, as `ir::start` made it, and the
+/// controller's muxing back to its PHY. Each pass without VBUS checks it:
+/// one register read when nothing is wrong. When the host comes back, the
+/// workaround's own restore writes the same SIO settings it saved.
+fn release_ir_pin() {
+    const FUNC_USB_MUXING: u8 = 8;
+    // SAFETY: GPIO15's control and pad registers, and USB_MUXING, are only
+    // written by `ir::start` at boot and by the E5 workaround, which runs
+    // from `UsbDevice::poll`, never between passes without VBUS.
+    let io = unsafe { &*pac::IO_BANK0::ptr() };
+    let ctrl = io.gpio(usize::from(board::IR_GPIO)).gpio_ctrl();
+    if ctrl.read().funcsel().bits() != FUNC_USB_MUXING {
+        return;
+    }
+    let pads = unsafe { &*pac::PADS_BANK0::ptr() };
+    let regs = unsafe { &*pac::USBCTRL_REGS::ptr() };
+    critical_section::with(|_| {
+        regs.usb_muxing()
+            .write(|w| w.to_phy().set_bit().softcon().set_bit());
+        // SAFETY: funcsel 5 is SIO; no overrides.
+        ctrl.write(|w| unsafe { w.funcsel().bits(5) });
+        pads.gpio(usize::from(board::IR_GPIO)).write(|w| {
+            w.ie()
+                .set_bit()
+                .pue()
+                .set_bit()
+                .pde()
+                .clear_bit()
+                .schmitt()
+                .set_bit()
+        });
+    });
+    defmt::warn!("usb: GPIO15 recovered from an interrupted E5 workaround");
 }
 
 #[interrupt]

@@ -30,13 +30,24 @@ pub const BATTERY_ADC_CHANNEL: u8 = 0;
 pub const LED_GPIO: u8 = 25;
 
 /// Two Hall latches in quadrature over an 8-pole ring magnet on the motor's
-/// coupler (`docs/rate-sensing.md`): open-drain outputs with the internal
-/// pull-ups, in bank 0 beside the IR input so one `IO_IRQ_BANK0` handler
-/// serves all three, and A and B come from one read of `SIO.GPIO_IN`.
+/// coupler (`docs/rate-sensing.md`): open-drain outputs, in bank 0 beside
+/// the IR input so one `IO_IRQ_BANK0` handler serves all three, and A and
+/// B come from one read of `SIO.GPIO_IN`. The internal pull-ups (50-80
+/// kohm, RP2040 datasheet 2.19.6.1: "Pad Control") are enabled as a
+/// fallback only; the board fits 10 kohm pull-ups to the latches' supply
+/// at the latches, with 100 nF across each latch's supply: a 60 kohm
+/// pull-up beside the motor's 25 kHz PWM edges is a high-impedance node
+/// that couples switching noise into false edges.
 pub const HALL_A_GPIO: u8 = 13;
 pub const HALL_B_GPIO: u8 = 14;
-/// Powers both latches (a few mA each): high only while the motor may run,
-/// so the idle and cut-off current budget does not carry them.
+/// Powers both latches: high only while the motor may run, so the idle and
+/// cut-off current budget does not carry them. DRV5013-class latches draw
+/// about 3 mA each, about 6 mA for two plus 0.33 mA into the two 10 kohm
+/// pull-ups when both pull low: past the pad's default 4 mA drive, the
+/// current at which the RP2040's V_OH (IOVDD - 0.62 V, datasheet 5.5.3) is
+/// specified. The pin is set to 12 mA drive (`firmware/src/main.rs`), so
+/// the latches' supply stays within that V_OH, above their 2.5 V minimum.
+/// A board with a 3.3 V rail switched by a transistor may use that instead.
 pub const HALL_POWER_GPIO: u8 = 12;
 /// 4 pole pairs: 16 quadrature edges a turn.
 pub const HALL: HallConfig = HallConfig::RING_8_POLE;
@@ -73,7 +84,7 @@ pub const NEC_CMD_OFF: u8 = 0x47;
 /// Pairing (`pairing`): within 5 s of power-up, hold Off (CH+) for 1 s.
 /// The key map's address above is the host simulation's remote; the
 /// robot obeys the address kept in its pairing sector.
-pub const PAIRING: PairingConfig = PairingConfig::hold(NEC_CMD_OFF);
+pub const PAIRING: PairingConfig = PairingConfig::hold(NEC_CMD_OFF, NEC_CMD_ON);
 
 pub const KEYS: KeyMap = KeyMap {
     address: NEC_ADDRESS,
@@ -116,8 +127,9 @@ pub const MOTOR_RATED_MV: u16 = 3_700;
 /// pass 150 C, yet the paper's robot ran 10-minute runs. Its housing sheds
 /// heat into the seal, the coupler and the oil: 25 K/W is assumed (a
 /// healthy 1.8 W run settles 63 K up), with 70 K allowed (105 C from a
-/// 35 C sealed body). Measure the can's rise over a 10-minute run on the
-/// bench (firmware/README.md, bring-up) and enter `rise / P` here. A
+/// 35 C sealed body). Fit the housing node on the bench from a slowed or
+/// stalled run's log and the can's temperature (`swimbot log --thermal`,
+/// docs/run-log.md) and enter the two constants it prints here. A
 /// turning motor held at the 3.7 V ceiling from a 4.0 V cell (2.0 W)
 /// passes the limit after 7.3 minutes (host test); a new start waits until
 /// the winding is back under 35 K. The driver is
@@ -151,6 +163,10 @@ pub const SUPERVISOR: SupervisorConfig = SupervisorConfig {
         },
         driver_rise_max_mk: 80_000,
     },
+    // Three trips in one power-up: the third start after a jam or a
+    // cool-down is the last (a jam cleared by hand, a second look, then
+    // the bench).
+    lockout_trips: 3,
 };
 
 /// The set-point after power-up: 1 Hz, inside the paper's observed
@@ -196,17 +212,26 @@ pub const VBUS_SENSE_GPIO: u8 = 24;
 /// push-button or the charger's 5 V in parallel with this pin to turn it
 /// on). Driven low once the cut-off has latched and the robot is idle: the
 /// switch opens and the cell feeds only the switch's leakage (about 1 uA)
-/// and the divider's 90 uA if it sits before the switch (it should sit
+/// and the divider's 23 uA (4.2 V over 100 + 82 kohm) if it sits before the switch (it should sit
 /// after it). A Pico without the switch ignores the pin and goes DORMANT
 /// as before. GPIO22: free on the Pico's header.
 pub const POWER_HOLD_GPIO: u8 = 22;
 
-/// USB IDs of the readout port: pid.codes' shared CDC-ACM pair
-/// (0x16C0/0x27DD, the one `usbd-serial`'s examples use), enough for a
-/// lab's serial port; the host finds the port by the product string.
+/// USB IDs of the readout port: Objective Development's (obdev.at)
+/// shared CDC-ACM pair 0x16C0/0x27DD from VOTI's VID. Its licence
+/// (obdev's USB-IDs-for-free.txt) is for devices told apart by their
+/// serial number string, which must begin with the maker's internet
+/// domain or e-mail address, then a colon: `USB_SERIAL_DOMAIN`, then
+/// the flash chip's unique ID. The host finds the port by the product
+/// string.
 pub const USB_VID: u16 = 0x16c0;
 pub const USB_PID: u16 = 0x27dd;
 pub const USB_PRODUCT: &str = "swimbot run log";
+/// The lab's domain (or e-mail address) at the start of the USB serial
+/// number. `swimbot.invalid` (a reserved name, RFC 2606) marks the value
+/// as not yet set: a lab sets its own before it ships a robot beyond its
+/// own benches.
+pub const USB_SERIAL_DOMAIN: &str = "swimbot.invalid";
 
 /// Longest sleep between main-loop passes: a pass runs at least this often
 /// (1 kHz) plus the pass's own few microseconds.

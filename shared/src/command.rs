@@ -4,9 +4,12 @@
 //! The commands are on/off; the keys that choose the tail's rate are
 //! `set_point`'s (they change a set-point, never the motor's state).
 //! Frames from other remotes (another NEC address: many cheap remotes send
-//! 0x00) are never a key and are counted.
+//! 0x00) are never a key and are counted. The remote obeyed is a
+//! [`PairedRemote`]: its whole address (16 bits, `nec::Address`) and its
+//! On and Off keys, learned in pairing, so that two remotes of one make
+//! (one address) are told apart by the keys each robot was taught.
 
-use crate::nec::{AddressFilter, Level, NecDecoder, NecEvent};
+use crate::nec::{Address, AddressFilter, Level, NecDecoder, NecEvent};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -52,26 +55,58 @@ impl KeyMap {
     }
 }
 
+/// The remote a robot obeys: its address and which of its keys mean On
+/// and Off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PairedRemote {
+    pub address: Address,
+    pub on: u8,
+    pub off: u8,
+}
+
+impl PairedRemote {
+    /// The key map's remote (a standard address, its keys).
+    pub const fn of_keys(keys: KeyMap) -> Self {
+        Self {
+            address: Address::standard(keys.address),
+            on: keys.on,
+            off: keys.off,
+        }
+    }
+
+    /// The command for a key of this remote. Off first, as in `KeyMap`.
+    pub const fn lookup(&self, command: u8) -> Option<Command> {
+        if command == self.off {
+            Some(Command::Off)
+        } else if command == self.on {
+            Some(Command::On)
+        } else {
+            None
+        }
+    }
+}
+
 /// What a receiver edge completed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RemoteEvent {
     /// A frame from the paired remote: its command code.
     Key(u8),
     /// A frame from another remote (ignored, counted).
-    Foreign { address: u8, command: u8 },
+    Foreign { address: Address, command: u8 },
     /// A repeat frame (a key held): never a key press.
     Repeat,
 }
 
 /// NEC decoder plus key map: receiver edges in, commands out. Repeat frames
 /// and frames from other remotes never produce a command. The remote obeyed
-/// is the paired one (`pairing`): the key map's address until
+/// is the paired one (`pairing`): the key map's remote until
 /// [`Remote::set_paired`] says otherwise; unpaired, none.
 #[derive(Clone, Debug)]
 pub struct Remote {
     decoder: NecDecoder,
     keys: KeyMap,
-    paired: Option<u8>,
+    paired: Option<PairedRemote>,
     foreign_frames: u32,
 }
 
@@ -80,14 +115,14 @@ impl Remote {
         Self {
             decoder: NecDecoder::new(AddressFilter::ANY),
             keys,
-            paired: Some(keys.address),
+            paired: Some(PairedRemote::of_keys(keys)),
             foreign_frames: 0,
         }
     }
 
     pub fn edge(&mut self, level: Level, t_us: u32) -> Option<Command> {
         let code = self.edge_code(level, t_us)?;
-        self.keys.lookup(self.keys.address, code)
+        self.paired?.lookup(code)
     }
 
     /// The command code of a complete frame from our remote; repeat
@@ -103,7 +138,9 @@ impl Remote {
     /// (every frame while unpaired) are counted.
     pub fn edge_event(&mut self, level: Level, t_us: u32) -> Option<RemoteEvent> {
         Some(match self.decoder.edge(level, t_us)? {
-            NecEvent::Frame { address, command } if Some(address) == self.paired => {
+            NecEvent::Frame { address, command }
+                if self.paired.is_some_and(|p| p.address == address) =>
+            {
                 RemoteEvent::Key(command)
             }
             NecEvent::Frame { address, command } => {
@@ -114,12 +151,12 @@ impl Remote {
         })
     }
 
-    /// Obey `address` from now on (`None`: no remote).
-    pub fn set_paired(&mut self, address: Option<u8>) {
-        self.paired = address;
+    /// Obey `remote` from now on (`None`: no remote).
+    pub fn set_paired(&mut self, remote: Option<PairedRemote>) {
+        self.paired = remote;
     }
 
-    pub fn paired(&self) -> Option<u8> {
+    pub fn paired(&self) -> Option<PairedRemote> {
         self.paired
     }
 
@@ -190,7 +227,10 @@ mod tests {
             got = got.or(r.edge(l, t));
         });
         assert_eq!((got, r.foreign_frames()), (None, 1));
-        r.set_paired(Some(0x5a));
+        r.set_paired(Some(PairedRemote {
+            address: Address::standard(0x5a),
+            ..PairedRemote::of_keys(KEYS)
+        }));
         let mut events = [None; 2];
         let t = for_each_edge(t + 50_000, &frame_pulses_us(0x5a, 0x45), |l, t| {
             events[0] = events[0].or(r.edge_event(l, t));
@@ -203,7 +243,7 @@ mod tests {
             [
                 Some(RemoteEvent::Key(0x45)),
                 Some(RemoteEvent::Foreign {
-                    address: 0,
+                    address: Address::standard(0),
                     command: 0x45
                 })
             ]

@@ -29,10 +29,13 @@ pub mod set_point;
 pub mod supervisor;
 
 pub use battery::{BatteryConfig, BatteryLevel, BatteryMonitor, BatteryStatus};
-pub use command::{Command, KeyMap, Remote, RemoteEvent};
+pub use command::{Command, KeyMap, PairedRemote, Remote, RemoteEvent};
 pub use controller::{Controller, ControllerConfig, Duty, Event, MotorState, Output, StopReason};
 pub use led::LedMode;
-pub use main_loop::{ChipControl, HallEdge, MainLoop, MainLoopConfig, MotorControl, PassOutput};
+pub use main_loop::{
+    ChipControl, HallEdge, MainLoop, MainLoopConfig, MotorControl, PassOutput, PreStart,
+    SelfTestFault,
+};
 pub use nec::{AddressFilter, Level, NecDecoder, NecEvent};
 pub use pairing::{Pairing, PairingConfig};
 pub use pwm::PwmTiming;

@@ -21,7 +21,7 @@
 
 use crate::battery::{BatteryConfig, BatteryMonitor};
 use crate::board;
-use crate::command::{Command, KeyMap, Remote, RemoteEvent};
+use crate::command::{Command, KeyMap, PairedRemote, Remote, RemoteEvent};
 use crate::controller::{Duty, Event, MotorState};
 use crate::led::{self, LedMode};
 use crate::nec::Level;
@@ -32,8 +32,10 @@ use crate::supervisor::{Supervisor, SupervisorConfig};
 
 mod motor_control;
 mod output;
+mod self_test;
 pub use motor_control::{ChipControl, MotorControl};
 pub use output::{PassOutput, ERASE_QUIET_US};
+pub use self_test::{PreStart, SelfTestFault};
 
 /// One Hall edge as the interrupt queued it: the timer's low 32 bits and
 /// both latches' levels read together.
@@ -104,6 +106,7 @@ pub struct MainLoop<C = ChipControl> {
     pairing: Pairing,
     usb_connected: bool,
     erase_pending: bool,
+    prestart: PreStart,
 }
 
 impl MainLoop {
@@ -151,13 +154,14 @@ impl<C: MotorControl> MainLoop<C> {
             pairing: Pairing::new(cfg.pairing),
             usb_connected: false,
             erase_pending: false,
+            prestart: PreStart::HEALTHY,
         }
     }
 
     /// The remote to obey, as kept in flash (`None`: unpaired, none is).
-    /// Until this is called it is the key map's address.
-    pub fn set_paired(&mut self, address: Option<u8>) {
-        self.remote.set_paired(address);
+    /// Until this is called it is the key map's remote.
+    pub fn set_paired(&mut self, remote: Option<PairedRemote>) {
+        self.remote.set_paired(remote);
     }
 
     /// The chip has just woken from DORMANT (its timer stood still, so the
@@ -172,6 +176,12 @@ impl<C: MotorControl> MainLoop<C> {
     /// held off, and On does nothing, until it is disconnected.
     pub fn set_usb_connected(&mut self, connected: bool) {
         self.usb_connected = connected;
+    }
+
+    /// What the pins read now (`self_test`): an On from Off is refused
+    /// while the self-test fails. Until this is called, a healthy board.
+    pub fn set_prestart(&mut self, pins: PreStart) {
+        self.prestart = pins;
     }
 
     /// A flash erase is pending (the run log's slots, the pairing sector):
@@ -243,11 +253,12 @@ impl<C: MotorControl> MainLoop<C> {
             self.last_ir_us = Some(now_us);
             match self.remote.edge_event(level, t_us) {
                 Some(RemoteEvent::Key(code)) => {
-                    if let Some(address) = self.remote.paired() {
-                        self.pairing.frame(now_us, address, code);
+                    let paired = self.remote.paired();
+                    if let Some(p) = paired {
+                        self.pairing.frame(now_us, p.address, code);
                     }
                     // The remote checked the (paired) address.
-                    if let Some(c) = self.cfg.keys.lookup(self.cfg.keys.address, code) {
+                    if let Some(c) = paired.and_then(|p| p.lookup(code)) {
                         command = Some(Command::merge(command, c));
                     } else if let Some(key) = self.cfg.set_point_keys.lookup(code) {
                         set_point_changed = self.set_key(key);
@@ -280,10 +291,16 @@ impl<C: MotorControl> MainLoop<C> {
         }
         let battery = self.monitor.status();
         // USB connected: Off every pass (Off wins over any On).
-        // An overheated motor refuses On until it has cooled.
+        // An overheated or locked-out motor refuses On; so does a start
+        // from Off that fails the self-test.
+        let self_test = (command == Some(Command::On) && self.state == MotorState::Off)
+            .then(|| self.prestart.check())
+            .flatten();
         let applied = if self.usb_connected {
             Some(Command::Off)
-        } else if command == Some(Command::On) && self.supervisor.refuses_start() {
+        } else if command == Some(Command::On)
+            && (self.supervisor.refuses_start() || self_test.is_some())
+        {
             None
         } else {
             command
@@ -330,6 +347,9 @@ impl<C: MotorControl> MainLoop<C> {
             event,
             fault,
             refused_no_set_point: out.event == Some(RateEvent::NoSetPoint),
+            refused_self_test: self_test.filter(|_| !self.usb_connected),
+            locked_out: self.supervisor.locked_out(),
+            trips: self.supervisor.trips(),
             hall_power: running,
             rate_mhz: running.then(|| self.control.rate_mhz()).flatten(),
             reference_mhz: out.reference_mhz,

@@ -58,7 +58,8 @@
 //! | request | answer |
 //! |---|---|
 //! | `LOG` | the log image of the last run, exactly `32 + 16 N` bytes (binary; N from the header). With no run recorded: a valid image with N = 0 |
-//! | `INFO` | one line: `swimbot-log v2 records=N period_ms=100 dropped=D foreign=F paired=0xAA log=L this_run=R` (or `paired=none`), then `\n`. `L`: whose records `LOG` sends, `this` (this power-up's), `earlier` (an earlier power-up's) or `none`; `R`: what became of this power-up's records, `none` (the motor did not run), `kept`, `partly-dropped` or `dropped` (none kept: `LOG` holds no record of this power-up) |
+//! | `INFO` | one line: `swimbot-log v2 records=N period_ms=100 dropped=D foreign=F paired=0xAA log=L this_run=R` (or `paired=none`), then the robot's status (`status::Status`): `fw=0.1.0 commit=C battery_mv=M battery=B rate_mhz=X set_mhz=S fault=F trips=T lockout=yes|no pairing=P`, then `\n`. `L`: whose records `LOG` sends, `this` (this power-up's), `earlier` (an earlier power-up's) or `none`; `R`: what became of this power-up's records, `none` (the motor did not run), `kept`, `partly-dropped` or `dropped` (none kept: `LOG` holds no record of this power-up) |
+//! | `BOOTSEL` | `OK BOOTSEL\n`, then the chip reboots into the ROM's USB bootloader (the RPI-RP2 drive: `cargo xtask flash`); only with the motor off and its gate low, else `ERR motor on\n` and nothing happens |
 //! | anything else | `ERR unknown request\n` |
 //!
 //! The host reads the 32-byte header first, takes N from it, then reads the
@@ -73,6 +74,7 @@ pub mod power_up;
 pub mod readout;
 pub mod record;
 pub mod recorder;
+pub mod status;
 pub mod store;
 #[cfg(test)]
 mod tests;

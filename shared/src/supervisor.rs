@@ -44,6 +44,11 @@ pub struct SupervisorConfig {
     pub max_motor_mv: u32,
     pub jam: JamConfig,
     pub thermal: ThermalConfig,
+    /// After this many trips (jams, overheating) since power-up every
+    /// start is refused until the next power-up: a tail that keeps
+    /// jamming, or a motor that keeps overheating, is not retried for ever
+    /// (as the Crazyflie's supervisor locks out after repeated faults).
+    pub lockout_trips: u16,
 }
 
 /// What the supervisor made of one step.
@@ -80,6 +85,8 @@ pub struct Supervisor {
     fault: Option<SensorFault>,
     /// Overheated: On is refused until the winding has cooled.
     cooling: bool,
+    /// Trips since power-up.
+    trips: u16,
     /// The duty applied since the last check, and the cell it drew from.
     applied_q16: u32,
     applied_cell_mv: u32,
@@ -119,6 +126,7 @@ impl Supervisor {
             next_sample_us: 0,
             fault: None,
             cooling: false,
+            trips: 0,
             applied_q16: 0,
             applied_cell_mv: 0,
             heat_sum: 0,
@@ -140,9 +148,20 @@ impl Supervisor {
         self.fault
     }
 
-    /// A start must wait: the motor overheated and has not cooled yet.
+    /// A start must wait: the motor overheated and has not cooled yet, or
+    /// the trips since power-up reached the lock-out.
     pub fn refuses_start(&self) -> bool {
-        self.cooling
+        self.cooling || self.locked_out()
+    }
+
+    /// Trips since power-up.
+    pub fn trips(&self) -> u16 {
+        self.trips
+    }
+
+    /// Every start is refused until the next power-up.
+    pub fn locked_out(&self) -> bool {
+        self.cfg.lockout_trips > 0 && self.trips >= self.cfg.lockout_trips
     }
 
     /// The motor started: the last fault is no longer shown.
@@ -195,6 +214,7 @@ impl Supervisor {
         if trip.is_some() {
             self.fault = trip;
             self.samples = 0;
+            self.trips = self.trips.saturating_add(1);
         }
         self.applied_q16 = duty.raw();
         self.applied_cell_mv = cell_mv;

@@ -2,7 +2,9 @@
 //! formatting and lint checks, every host test, the firmware build for
 //! `thumbv6m-none-eabi` and the firmware size budget; `cargo xtask size`
 //! prints the firmware's flash and static RAM use; `cargo xtask motor-wasm`
-//! builds the emulator's motor model (WebAssembly).
+//! builds the emulator's motor model (WebAssembly); `cargo xtask uf2` builds
+//! the firmware and writes its UF2 (`uf2`), and `cargo xtask flash` copies
+//! that to a board in BOOTSEL mode (no debug probe needed).
 //!
 //! Written as a Rust program rather than a shell script so that the ELF size
 //! check reads the section table itself (no cross binutils needed).
@@ -15,6 +17,7 @@ mod layout;
 mod python;
 mod size;
 mod steps;
+mod uf2;
 
 use background::Background;
 use steps::Steps;
@@ -29,6 +32,7 @@ const FLASH_BUDGET_BYTES: u64 = 128 * 1024;
 /// is the stack).
 const RAM_BUDGET_BYTES: u64 = 16 * 1024;
 const FW_ELF: &str = "target/thumbv6m-none-eabi/fw/firmware";
+const FW_UF2: &str = "target/thumbv6m-none-eabi/fw/firmware.uf2";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -40,13 +44,15 @@ fn main() -> ExitCode {
         Some("motor-wasm") => {
             clippy_env().and_then(|lint| motor_wasm(&root, &mut Steps::new(), &lint))
         }
+        Some("uf2") => clippy_env().and_then(|lint| firmware_uf2(&root, &lint).map(|_| ())),
+        Some("flash") => clippy_env().and_then(|lint| flash(&root, &lint)),
         Some("hil") => {
             #[path = "hil.rs"]
             mod hil;
             hil::run(&root)
         }
         _ => {
-            eprintln!("usage: cargo xtask <test|size|fw|motor-wasm|hil>");
+            eprintln!("usage: cargo xtask <test|size|fw|uf2|flash|motor-wasm|hil>");
             return ExitCode::from(2);
         }
     };
@@ -409,4 +415,41 @@ fn emulator_tests(
     }
     steps.begin("emulator tests (rp2040js: IR in, PWM out, battery ADC, watchdog)");
     run_with(&dir, "npm", &["test"], lint)
+}
+
+/// The firmware built (as `cargo fw`) and written as a UF2 next to its ELF.
+fn firmware_uf2(root: &Path, lint: &[(&str, std::ffi::OsString)]) -> Result<PathBuf, String> {
+    build_firmware(root, &mut Steps::new(), lint)?;
+    let out = root.join(FW_UF2);
+    let blocks = uf2::write(&root.join(FW_ELF), &out)?;
+    println!(
+        "{}: {blocks} blocks ({} KiB of flash), family RP2040 ({:#010x}), from {:#010x}",
+        out.display(),
+        blocks * uf2::PAGE_BYTES / 1024,
+        uf2::RP2040_FAMILY_ID,
+        uf2::FLASH_START
+    );
+    Ok(out)
+}
+
+/// The UF2 copied onto a board's BOOTSEL drive; the bootrom flashes it and
+/// starts the firmware when the copy closes.
+fn flash(root: &Path, lint: &[(&str, std::ffi::OsString)]) -> Result<(), String> {
+    let file = firmware_uf2(root, lint)?;
+    let Some(drive) = uf2::find_drive() else {
+        return Err(format!(
+            "no RPI-RP2 drive mounted: hold BOOTSEL while plugging the Pico in (or send \
+             `BOOTSEL` on its serial port), then run this again, or copy {} to the drive \
+             yourself (SWIMBOT_UF2_DRIVE names a drive mounted elsewhere)",
+            file.display()
+        ));
+    };
+    let to = drive.join("firmware.uf2");
+    std::fs::copy(&file, &to)
+        .map_err(|e| format!("{} -> {}: {e}", file.display(), to.display()))?;
+    println!(
+        "copied to {}: the board restarts into the new firmware",
+        to.display()
+    );
+    Ok(())
 }

@@ -31,6 +31,9 @@ pub struct LogArgs {
     /// Read an earlier power-up's run even though the robot says its current power-up's run was dropped (not logged) [default: refused, exit 2].
     #[arg(long)]
     pub earlier: bool,
+    /// A bench run's can temperature (CSV `t_s,temp_c`, a thermocouple meter's, on the log's clock): fit the motor housing's thermal resistance and time constant to the log's copper loss, and print the board constants they set [default: no fit].
+    #[arg(long, value_name = "CSV")]
+    pub thermal: Option<PathBuf>,
     /// Output directory for log.svg, log.csv, trials.toml (and run.swlog, the image read from a port).
     #[arg(short, long, value_name = "DIR", default_value = DEFAULT_LOG_DIR)]
     pub output: PathBuf,
@@ -49,6 +52,9 @@ pub fn run(args: LogArgs, inputs: &Inputs) -> Result<(), CliError> {
         eprintln!("warning: {}: {w}", source.name());
     }
     let trace = Trace::of(&log);
+    if let Some(csv) = &args.thermal {
+        print!("{}", thermal_fit(csv, &trace)?);
+    }
     let windows = steady_windows(&trace);
     let pooled = pool(&windows);
     let title = format!("run log {}", source.name());
@@ -196,4 +202,20 @@ fn summary(
         );
     }
     s
+}
+
+/// `--thermal`: the housing node fitted to the bench readings in `csv`.
+fn thermal_fit(csv: &std::path::Path, trace: &Trace) -> Result<String, CliError> {
+    use crate::runlog::thermal;
+    let name = csv.display().to_string();
+    let text = std::fs::read_to_string(csv).map_err(|e| CliError::input(format!("{name}: {e}")))?;
+    let temps = thermal::read_temperatures(&text, &name).map_err(CliError::input)?;
+    let r_ohm = f64::from(
+        swimbot_shared::board::SUPERVISOR
+            .thermal
+            .motor_resistance_mohm,
+    ) * 1e-3;
+    let fit = thermal::fit(&thermal::losses(trace, r_ohm), &temps)
+        .map_err(|e| CliError::input(format!("{name}: {e}")))?;
+    Ok(thermal::report(&fit))
 }

@@ -6,7 +6,8 @@
 //! not read as the earlier run it falls back to), turned into a time
 //! series ([`trace`]), cut into steady windows ([`steady`]: set-point constant, rate settled), and those
 //! into a dataset's cases and trials ([`trials`], `docs/data-format.md`),
-//! with the trace figure ([`figure`]).
+//! with the trace figure ([`figure`]); with a can-temperature CSV from the
+//! bench, the housing's thermal constants ([`thermal`]).
 //!
 //! What the log measures is the motor's rate, the tail relative to the
 //! body, as the Hall ring on the coupler sees it; the lab-frame tail rate
@@ -24,6 +25,7 @@ pub mod figure;
 pub mod power_up;
 pub mod read;
 pub mod steady;
+pub mod thermal;
 pub mod trace;
 pub mod trials;
 

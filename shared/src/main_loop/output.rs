@@ -25,6 +25,12 @@ pub struct PassOutput {
     pub fault: Option<SensorFault>,
     /// An On arrived with no set-point: nothing started (log it).
     pub refused_no_set_point: bool,
+    /// An On from Off was refused by the pre-start self-test.
+    pub refused_self_test: Option<super::SelfTestFault>,
+    /// The supervisor has locked the motor out until the next power-up.
+    pub locked_out: bool,
+    /// Supervisor trips since power-up.
+    pub trips: u16,
     /// Drive the Hall latches' power pin: on whenever the motor may run.
     pub hall_power: bool,
     /// The turn-averaged rate while running (mHz), and what it is driven
@@ -59,10 +65,10 @@ pub struct PassOutput {
     /// edge (or VBUS).
     pub may_go_dormant: bool,
     /// The remote obeyed (`None`: unpaired, no remote is).
-    pub paired: Option<u8>,
+    pub paired: Option<crate::command::PairedRemote>,
     /// A hold in the pairing window paired this address in this pass
     /// (another than before): store it in flash.
-    pub newly_paired: Option<u8>,
+    pub newly_paired: Option<crate::command::PairedRemote>,
     /// The pairing window is open.
     pub pairing_window: bool,
     /// USB is connected: the motor is held off and On refused.

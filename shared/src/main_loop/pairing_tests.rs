@@ -1,7 +1,15 @@
 //! The pass's pairing window, the unpaired robot, the USB hold-off and the
 //! flash-erase condition.
 use super::*;
-use crate::nec::{for_each_edge, frame_pulses_us, REPEAT_PULSES_US};
+use crate::nec::{for_each_edge, frame_pulses_us, Address, REPEAT_PULSES_US};
+
+/// A standard remote at `address` with the board's keys.
+fn remote(address: u8) -> PairedRemote {
+    PairedRemote {
+        address: Address::standard(address),
+        ..PairedRemote::of_keys(board::KEYS)
+    }
+}
 
 fn counts(mv: u32) -> u16 {
     board::BATTERY.mv_to_counts(mv)
@@ -66,10 +74,14 @@ fn an_unpaired_robot_obeys_nobody_until_a_hold_pairs_it() {
     let o = hold(&mut m, 500_000, 0x5a, board::NEC_CMD_ON, 1_200_000);
     assert_eq!((o.newly_paired, o.state), (None, MotorState::Off));
     let o = hold(&mut m, 2_000_000, 0x5a, board::NEC_CMD_OFF, 1_100_000);
-    assert_eq!(o.newly_paired, Some(0x5a));
-    assert_eq!((o.paired, o.pairing_window), (Some(0x5a), false));
-    assert_eq!(o.led, LedMode::Off, "the pairing pattern stops");
+    assert_eq!(o.newly_paired, Some(remote(0x5a)));
+    // Open for teaching an On key until 5 s after the pairing.
+    assert_eq!((o.paired, o.pairing_window), (Some(remote(0x5a)), true));
     assert_eq!(on(&mut m, 0x5a, 3_500_000).state, MotorState::Ramping);
+    let o = m.pass(3_700_000 + board::PAIRING.learn_us, [], [], || {
+        counts(3_900)
+    });
+    assert!(!o.pairing_window, "closed after the teaching time");
     // The old address is now a foreign remote's; Off from ours stops.
     let o = m.pass(
         3_800_000,
@@ -101,12 +113,86 @@ fn after_the_window_an_unpaired_robot_stays_unpaired() {
 #[test]
 fn re_pairing_the_same_remote_stores_nothing() {
     let mut m = MainLoop::new(false);
-    m.set_paired(Some(0x5a));
+    m.set_paired(Some(remote(0x5a)));
     let o = hold(&mut m, 1_000_000, 0x5a, board::NEC_CMD_OFF, 1_200_000);
+    assert_eq!((o.newly_paired, o.paired), (None, Some(remote(0x5a))));
+}
+
+/// Two robots paired with two remotes of one make (one standard address,
+/// 0x00), each taught its own On key: each remote's On starts its own robot
+/// only, and the make's usual On key starts neither.
+#[test]
+fn two_remotes_of_one_make_are_told_apart() {
+    const MINE: u8 = 0x43;
+    const NEIGHBOURS: u8 = 0x40;
+    let pair = |on_key: u8| {
+        let mut m = MainLoop::new(false);
+        m.set_paired(None);
+        m.pass(0, [], [], || counts(3_900));
+        let o = hold(&mut m, 500_000, 0x00, board::NEC_CMD_OFF, 1_100_000);
+        assert_eq!(o.newly_paired, Some(remote(0x00)));
+        let o = hold(&mut m, 2_500_000, 0x00, on_key, 1_100_000);
+        let taught = PairedRemote {
+            on: on_key,
+            ..remote(0x00)
+        };
+        assert_eq!((o.newly_paired, o.paired), (Some(taught), Some(taught)));
+        assert_eq!(o.state, MotorState::Off, "teaching starts nothing");
+        m
+    };
+    let (mut a, mut b) = (pair(MINE), pair(NEIGHBOURS));
+    let key = |m: &mut MainLoop, code: u8, t0: u64| {
+        m.pass(t0 + 80_000, frame(0x00, code, t0), [], || counts(3_900))
+    };
+    // After the windows: the usual On key is nobody's now.
+    let t = 9_000_000;
+    assert_eq!(key(&mut a, board::NEC_CMD_ON, t).state, MotorState::Off);
+    assert_eq!(key(&mut b, board::NEC_CMD_ON, t).state, MotorState::Off);
+    // The neighbour's On: robot b starts, robot a does not.
+    assert_eq!(key(&mut a, NEIGHBOURS, t + 200_000).state, MotorState::Off);
     assert_eq!(
-        (o.newly_paired, o.paired, o.pairing_window),
-        (None, Some(0x5a), false)
+        key(&mut b, NEIGHBOURS, t + 200_000).state,
+        MotorState::Ramping
     );
+    // Mine: robot a starts; Off (the make's, shared) stops either.
+    assert_eq!(key(&mut a, MINE, t + 400_000).state, MotorState::Ramping);
+    assert_eq!(
+        key(&mut a, board::NEC_CMD_OFF, t + 600_000).state,
+        MotorState::Off
+    );
+    assert_eq!(
+        key(&mut b, board::NEC_CMD_OFF, t + 600_000).state,
+        MotorState::Off
+    );
+}
+
+/// An extended-NEC remote is paired by its whole 16-bit address: a standard
+/// remote whose address byte is the extended one's first byte is another.
+#[test]
+fn an_extended_address_is_kept_whole() {
+    let mut m = MainLoop::new(false);
+    m.set_paired(Some(PairedRemote {
+        address: Address(0x1280),
+        ..PairedRemote::of_keys(board::KEYS)
+    }));
+    m.pass(0, [], [], || counts(3_900));
+    let frame16 = |address: u16, t0: u64| {
+        let [lo, hi] = address.to_le_bytes();
+        let c = board::NEC_CMD_ON;
+        let mut v = Edges::new();
+        let pulses = crate::nec::raw_frame_pulses_us(u32::from_le_bytes([lo, hi, c, !c]));
+        for_each_edge(t0 as u32, &pulses, |l, t| {
+            let _ = v.push((l, t));
+        });
+        v
+    };
+    let t = board::PAIRING.window_us + 1_000_000;
+    let o = on(&mut m, 0x80, t);
+    assert_eq!((o.state, o.foreign_frames), (MotorState::Off, 1));
+    let o = m.pass(t + 300_000, frame16(0x1280, t + 200_000), [], || {
+        counts(3_900)
+    });
+    assert_eq!(o.state, MotorState::Ramping);
 }
 
 #[test]

@@ -1,8 +1,9 @@
 //! The NEC decoder: a state machine fed with receiver edges, O(1) work per
-//! edge, that reports a frame only when its inverted bytes check out.
+//! edge, that reports a frame only when its command's inverted byte checks
+//! out (the address may be a standard or an extended one, `Address`).
 
 use super::{
-    Level, BIT_BURST_US, FRAME_GAP_US, LEADER_BURST_US, LEADER_SPACE_US, ONE_SPACE_US,
+    Address, Level, BIT_BURST_US, FRAME_GAP_US, LEADER_BURST_US, LEADER_SPACE_US, ONE_SPACE_US,
     REPEAT_SPACE_US, ZERO_SPACE_US,
 };
 
@@ -26,15 +27,17 @@ const fn bit_burst_ok(d: u32) -> bool {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum NecEvent {
-    /// A full frame whose inverted bytes matched and whose address is
-    /// whitelisted.
-    Frame { address: u8, command: u8 },
+    /// A full frame whose command and inverted command matched and whose
+    /// address's first byte is whitelisted. A standard frame whose address
+    /// bytes were corrupted reads as another (extended) address, so it is
+    /// never the paired remote's unless that remote is this extended one.
+    Frame { address: Address, command: u8 },
     /// A repeat frame (key held). Never a command on its own.
     Repeat,
 }
 
-/// The set of NEC addresses a decoder reports; frames from other remotes
-/// are dropped. A 256-bit map: O(1) lookup, no lifetimes, `const`-buildable.
+/// The set of NEC addresses (first bytes) a decoder reports; frames from
+/// other remotes are dropped. A 256-bit map: O(1) lookup, no lifetimes, `const`-buildable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct AddressFilter {
     bits: [u32; 8],
@@ -180,12 +183,13 @@ impl NecDecoder {
         event
     }
 
-    /// The frame in `bits`, if its inverted bytes match and its address is
-    /// whitelisted.
+    /// The frame in `bits`, if its command bytes match and its address's
+    /// first byte is whitelisted.
     fn frame(&self) -> Option<NecEvent> {
-        let [address, address_inv, command, command_inv] = self.bits.to_le_bytes();
-        let intact = address ^ address_inv == 0xFF && command ^ command_inv == 0xFF;
-        (intact && self.filter.accepts(address)).then_some(NecEvent::Frame { address, command })
+        let [low, high, command, command_inv] = self.bits.to_le_bytes();
+        let intact = command ^ command_inv == 0xFF;
+        let address = Address(u16::from_le_bytes([low, high]));
+        (intact && self.filter.accepts(low)).then_some(NecEvent::Frame { address, command })
     }
 
     fn bit_from_period(&self, period_us: u32) -> Option<bool> {
@@ -232,7 +236,7 @@ mod tests {
         assert_eq!(
             ev,
             [NecEvent::Frame {
-                address: 0,
+                address: Address::standard(0),
                 command: 0x45
             }]
         );
@@ -248,7 +252,7 @@ mod tests {
         assert_eq!(
             ev,
             [NecEvent::Frame {
-                address: 0,
+                address: Address::standard(0),
                 command: 0x47
             }]
         );
@@ -263,16 +267,25 @@ mod tests {
     #[test]
     fn inverted_bytes_are_checked() {
         let mut dec = any_addr();
-        // Address byte and its inverse disagree.
-        let bad_addr = u32::from_le_bytes([0x00, 0xFE, 0x45, 0xBA]);
-        assert!(decode(&mut dec, 0, &raw_frame_pulses_us(bad_addr)).is_empty());
+        // Address byte and its inverse disagree: an extended address, not
+        // the standard remote's.
+        let extended = u32::from_le_bytes([0x00, 0xFE, 0x45, 0xBA]);
+        assert_eq!(
+            decode(&mut dec, 0, &raw_frame_pulses_us(extended)),
+            [NecEvent::Frame {
+                address: Address(0xFE00),
+                command: 0x45
+            }]
+        );
+        assert!(Address(0xFE00).is_extended() && !Address::standard(0).is_extended());
+        assert_ne!(Address(0xFE00), Address::standard(0));
         let bad_cmd = u32::from_le_bytes([0x00, 0xFF, 0x45, 0x45]);
         assert!(decode(&mut dec, 200_000, &raw_frame_pulses_us(bad_cmd)).is_empty());
         let good = u32::from_le_bytes([0x12, 0xED, 0x45, 0xBA]);
         assert_eq!(
             decode(&mut dec, 400_000, &raw_frame_pulses_us(good)),
             [NecEvent::Frame {
-                address: 0x12,
+                address: Address::standard(0x12),
                 command: 0x45
             }]
         );
@@ -291,7 +304,7 @@ mod tests {
         assert_eq!(
             ev,
             [NecEvent::Frame {
-                address: 0,
+                address: Address::standard(0),
                 command: 0x47
             }]
         );
@@ -311,7 +324,7 @@ mod tests {
         assert_eq!(
             ev,
             [NecEvent::Frame {
-                address: 0,
+                address: Address::standard(0),
                 command: 0x47
             }]
         );
@@ -327,7 +340,7 @@ mod tests {
         assert_eq!(
             ev,
             [NecEvent::Frame {
-                address: 0,
+                address: Address::standard(0),
                 command: 0x45
             }]
         );
@@ -370,14 +383,26 @@ mod tests {
             for (d, j) in p.iter_mut().zip(&jitter) {
                 *d = d.saturating_add_signed(*j);
             }
-            prop_assert_eq!(decode(&mut dec, start, &p), [NecEvent::Frame { address: addr, command: cmd }]);
+            prop_assert_eq!(decode(&mut dec, start, &p), [NecEvent::Frame { address: Address::standard(addr), command: cmd }]);
         }
 
+        /// A flipped command bit never decodes; a flipped address bit
+        /// decodes as another address, never as the sender's.
         #[test]
-        fn one_flipped_bit_never_decodes(addr: u8, cmd: u8, bit in 0usize..32) {
+        fn one_flipped_bit_never_decodes_as_the_sent_frame(addr: u8, cmd: u8, bit in 0usize..32) {
             let mut dec = any_addr();
             let payload = u32::from_le_bytes([addr, !addr, cmd, !cmd]) ^ (1 << bit);
-            prop_assert!(decode(&mut dec, 0, &raw_frame_pulses_us(payload)).is_empty());
+            let got = decode(&mut dec, 0, &raw_frame_pulses_us(payload));
+            if bit >= 16 {
+                prop_assert!(got.is_empty());
+            } else {
+                prop_assert_eq!(got.len(), 1);
+                let NecEvent::Frame { address, command } = got[0] else {
+                    return Err(TestCaseError::fail("not a frame"));
+                };
+                prop_assert_eq!(command, cmd);
+                prop_assert_ne!(address, Address::standard(addr));
+            }
         }
 
         #[test]

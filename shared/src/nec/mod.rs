@@ -2,7 +2,9 @@
 //! TSOP-style receiver (output low while a 38 kHz burst is received).
 //!
 //! A frame is a 9 ms burst, a 4.5 ms space, 32 bits sent LSB first (address,
-//! inverted address, command, inverted command; every bit is a 562.5 us burst
+//! inverted address, command, inverted command; an extended-NEC remote
+//! sends a 16-bit address in place of the address and its inverse, so only
+//! the command carries the inversion check there; every bit is a 562.5 us burst
 //! followed by a 562.5 us space for 0 or a 1687.5 us space for 1) and a final
 //! 562.5 us stop burst. A held key sends repeat frames: 9 ms burst, 2.25 ms
 //! space, stop burst. Repeats are reported but carry no command, so a stuck
@@ -24,6 +26,32 @@ mod decoder;
 mod pulses;
 
 pub use decoder::{AddressFilter, NecDecoder, NecEvent};
+
+/// A remote's address as sent: the first byte low, the second high. A
+/// standard remote sends its 8-bit address and then its inverse; an
+/// extended one any other 16 bits. Kept whole, so that two remotes whose
+/// first bytes agree are still two (NEC as extended by NEC/Renesas, and as
+/// pico-sdk's and IRremote's decoders report it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Address(pub u16);
+
+impl Address {
+    /// A standard remote's address `a`: `a`, then `!a`.
+    pub const fn standard(a: u8) -> Self {
+        Self(a as u16 | ((!a as u16) << 8))
+    }
+
+    /// The first byte (the whole address of a standard remote).
+    pub const fn low(self) -> u8 {
+        self.0 as u8
+    }
+
+    /// The second byte is not the first's inverse.
+    pub const fn is_extended(self) -> bool {
+        (self.0 >> 8) as u8 != !(self.0 as u8)
+    }
+}
 pub use pulses::{
     for_each_edge, frame_pulses_us, raw_frame_pulses_us, FRAME_PULSES, REPEAT_PULSES_US,
 };

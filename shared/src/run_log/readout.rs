@@ -15,8 +15,10 @@ pub const MAX_REQUEST: usize = 16;
 pub enum Request {
     /// `LOG`: the log image.
     Log,
-    /// `INFO`: one line about the log.
+    /// `INFO`: one line about the log and the robot (`status`).
     Info,
+    /// `BOOTSEL`: reboot into the ROM's USB bootloader (`status::bootsel`).
+    Bootsel,
     /// Anything else: `ERR unknown request`.
     Unknown,
 }
@@ -51,6 +53,7 @@ impl RequestReader {
         let request = match (self.overflow, line) {
             (false, b"LOG") => Request::Log,
             (false, b"INFO") => Request::Info,
+            (false, b"BOOTSEL") => Request::Bootsel,
             _ => Request::Unknown,
         };
         self.line.clear();
@@ -60,7 +63,7 @@ impl RequestReader {
 }
 
 /// Capacity of an answer [`Line`].
-pub const LINE_MAX: usize = 136;
+pub const LINE_MAX: usize = 320;
 
 /// An answer line of at most [`LINE_MAX`] bytes. Filled with
 /// `copy_from_slice`: heapless's `extend_from_slice` copies byte by byte
@@ -91,7 +94,7 @@ impl Line {
     }
 
     /// Append `bytes` whole, or nothing if they do not fit.
-    fn put(&mut self, bytes: &[u8]) {
+    pub(super) fn put(&mut self, bytes: &[u8]) {
         let Some(to) = self.bytes.get_mut(self.len..self.len + bytes.len()) else {
             return;
         };
@@ -100,7 +103,7 @@ impl Line {
     }
 
     /// Append `n` in decimal.
-    fn put_decimal(&mut self, mut n: u32) {
+    pub(super) fn put_decimal(&mut self, mut n: u32) {
         let mut digits = [0u8; 10];
         let mut i = digits.len();
         loop {
@@ -129,12 +132,14 @@ impl core::ops::Deref for Line {
     }
 }
 
-/// The `INFO` answer for `header`, newline included. Formatted by hand:
-/// `core::fmt` would cost the firmware about 2 kB of flash for this line.
-pub fn info_line(header: &Header) -> Line {
+/// The `INFO` answer for `header` and the robot's `status` (the robot's
+/// own fields after the log's; `None`: the log's only), newline included. Formatted by hand: `core::fmt` would cost the firmware about
+/// 2 kB of flash for this line.
+pub fn info_line(header: &Header, status: Option<&super::status::Status>) -> Line {
     let mut s = Line::new();
-    // The longest line (three 10-digit counts, a 5-digit period,
-    // `log=this this_run=partly-dropped`) is 133 bytes: every put fits.
+    // The log's part is at most 133 bytes (three 10-digit counts, a 5-digit
+    // period, `log=this this_run=partly-dropped`), the status's at most 171
+    // (`Status::put`): every put fits in LINE_MAX.
     s.put(b"swimbot-log v");
     s.put_decimal(u32::from(VERSION));
     s.put(b" records=");
@@ -163,6 +168,9 @@ pub fn info_line(header: &Header) -> Line {
     s.put(b" this_run=");
     if let Some(run) = ThisRun::of(header, VERSION) {
         s.put(run.word());
+    }
+    if let Some(status) = status {
+        status.put(&mut s);
     }
     s.put(b"\n");
     s

@@ -153,7 +153,7 @@ fn readout_requests() {
         sample_period_ms: u16::MAX,
         ..header()
     };
-    let line = std::string::String::from_utf8(info_line(&h).to_vec()).unwrap();
+    let line = std::string::String::from_utf8(info_line(&h, None).to_vec()).unwrap();
     assert_eq!(
         line,
         "swimbot-log v2 records=4294967295 period_ms=65535 dropped=4294967295 \
@@ -163,25 +163,34 @@ fn readout_requests() {
     // never this one's, kept or partly).
     assert_eq!(line.len(), 133);
     assert!(line.len() <= LINE_MAX, "the longest line fits");
-    let earlier = info_line(&Header {
-        flags: FLAG_CLOSED | FLAG_RECOVERED,
-        ..h
-    });
+    let earlier = info_line(
+        &Header {
+            flags: FLAG_CLOSED | FLAG_RECOVERED,
+            ..h
+        },
+        None,
+    );
     assert!(earlier.ends_with(b"paired=0x5a log=earlier this_run=dropped\n"));
-    let unpaired = info_line(&Header {
-        paired_address: Some(0x0b),
-        ..header()
-    });
+    let unpaired = info_line(
+        &Header {
+            paired_address: Some(0x0b),
+            ..header()
+        },
+        None,
+    );
     // No record and 3 dropped: this power-up's run was lost, nothing to send.
     assert_eq!(
         unpaired.as_slice(),
         b"swimbot-log v2 records=0 period_ms=100 dropped=3 foreign=7 paired=0x0b \
           log=none this_run=dropped\n"
     );
-    let none = info_line(&Header {
-        paired_address: None,
-        ..header()
-    });
+    let none = info_line(
+        &Header {
+            paired_address: None,
+            ..header()
+        },
+        None,
+    );
     assert!(none.ends_with(b"paired=none log=none this_run=dropped\n"));
 }
 

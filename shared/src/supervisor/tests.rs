@@ -66,6 +66,23 @@ fn a_jammed_rotor_at_full_drive_trips_within_two_seconds() {
 }
 
 #[test]
+fn repeated_jams_lock_the_motor_out_until_power_up() {
+    let mut sup = board();
+    for n in 1..=board::SUPERVISOR.lockout_trips {
+        assert!(!sup.refuses_start(), "before trip {n}");
+        sup.started();
+        let (_, f) = drive(&mut sup, Duty::FULL, 0, 10_000_000).expect("trips");
+        assert_eq!((f, sup.trips()), (SensorFault::Jammed, n));
+    }
+    assert!(sup.locked_out() && sup.refuses_start());
+    // A healthy rotor afterwards changes nothing: only a power-up (a new
+    // supervisor) clears it.
+    drive(&mut sup, Duty::ZERO, 1_000, 5_000_000);
+    assert!(sup.refuses_start());
+    assert!(!board().refuses_start());
+}
+
+#[test]
 fn a_rotor_turning_at_a_tenth_of_a_hertz_trips_within_two_seconds() {
     let mut sup = board();
     let (t, f) = drive(&mut sup, Duty::FULL, 100, 10_000_000).expect("trips");

@@ -119,6 +119,10 @@ export class Board {
   /** One rotor step: the rate from the last millisecond's drive, the Hall edges of the next. */
   stepRotor() {
     const t = this.nowNs;
+    // Unpowered, the latches' open-drain outputs let go and the pull-ups
+    // lift both lines (within this step): what the firmware's pre-start
+    // self-test reads with the motor off.
+    if (!this.hallPowered) this.setHall(true, true);
     const v = this.dutyIn(t - ROTOR_STEP_NS, t) * this.cell.loadedV;
     const crossings = this.rotor.advance(v, ROTOR_STEP_NS);
     this.rateTrace.push({ t, hz: this.rotor.rateHz, v });

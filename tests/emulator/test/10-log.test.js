@@ -122,7 +122,10 @@ test('pairing: unpaired obeys nobody; a 1 s hold of Off in the window pairs, kep
   b.runUntil(b.nowNs + 50 * MS);
   const programs = b.flashChip.ops.filter((o) => o.op === 'program' && o.offset >= f.pairingOffset);
   assert.equal(programs.length, 1, 'one page program stores the pairing');
-  assert.deepEqual([...b.flashChip.bytes.subarray(f.pairingOffset, f.pairingOffset + 4)], [0x50, remote, ~remote & 0xff, 0xaf]);
+  // The 8-byte entry (shared/src/pairing/sector.rs): R, the address's two
+  // bytes, On, Off, their XOR, it inverted, !R.
+  const lo = remote, hi = ~remote & 0xff, x = lo ^ hi ^ f.necCmdOn ^ f.necCmdOff;
+  assert.deepEqual([...b.flashChip.bytes.subarray(f.pairingOffset, f.pairingOffset + 8)], [0x52, lo, hi, f.necCmdOn, f.necCmdOff, x, ~x & 0xff, 0xad]);
   assert.ok(b.nowNs < f.pairingWindowMs * MS + 1500 * MS);
   const on = sendFrame(b, b.nowNs + GAP, necFrame(remote, f.necCmdOn));
   b.runUntil(on.end + 300 * MS);

@@ -4,7 +4,8 @@
 // once the port is configured, and checks them: the composite class
 // 0xEF/0x02/0x01 that Windows 10/11 bind to usbser.sys without an INF (with
 // the interface association that the configuration carries), the IDs, and
-// a serial number of 16 hex digits (the flash chip's unique ID). Also: the
+// a serial number of the maker's domain, a colon and 16 hex digits (the
+// flash chip's unique ID). Also: the
 // D+ pull-up follows VBUS, and the motor stays off with the cable in.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
@@ -72,7 +73,9 @@ test('usb: composite CDC descriptor, IAD, serial number from the flash ID; pull-
   const serial = controlIn(b, getDescriptor(3, dev[16], 255));
   assert.equal(serial[1], 3);
   const text = serial.subarray(2, serial[0]).toString('utf16le');
-  assert.match(text, /^[0-9A-F]{16}$/, `serial number '${text}'`);
+  // The shared ID pair's rule: the maker's domain (or e-mail), a colon,
+  // then the flash chip's unique ID (shared/src/board.rs, USB_VID).
+  assert.match(text, /^[a-z0-9.@-]+\.[a-z]+:[0-9A-F]{16}$/, `serial number '${text}'`);
 
   // The motor stays off with the cable in, On or not.
   const on = sendOn(b, b.nowNs + 40 * MS);

@@ -264,7 +264,7 @@ fn a_dropped_run_is_said_in_the_readout() {
     );
     assert_eq!(log.header.dropped_records, 17);
     assert_eq!(log.this_run(), Some(ThisRun::Dropped { dropped: 17 }));
-    let info = info_line(&log.header);
+    let info = info_line(&log.header, None);
     assert!(
         info.ends_with(b" dropped=17 foreign=15 paired=0x5a log=earlier this_run=dropped\n"),
         "{:?}",
