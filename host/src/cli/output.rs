@@ -271,6 +271,7 @@ pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<()
             dir.display()
         )));
     }
+    guard::refuse_dir_holding_input(dir, inputs)?;
     guard::claim_dir(dir, command, inputs)?;
     cleanup::create_dir_all(dir).map_err(|e| {
         CliError::input(format!(
@@ -278,8 +279,9 @@ pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<()
             dir.display()
         ))
     })?;
-    // Only once the folder exists does its path resolve (`new/../D` is
-    // `D` after `new/` is made): checked before, it hid the inputs in `D`.
+    // Again once the folder exists: only then does its path resolve
+    // (`new/../D` is `D` after `new/` is made), and checked before alone
+    // it hid the inputs in `D`.
     // A refusal removes the folders just made (the library's callers too).
     if let Err(e) = guard::refuse_dir_holding_input(dir, inputs) {
         cleanup::settle_output_dir(dir, false);
