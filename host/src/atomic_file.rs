@@ -262,8 +262,27 @@ pub fn replace(path: &Path, bytes: &[u8]) -> Result<(), String> {
             new_sha256: crate::provenance::sha256_hex(bytes),
         });
     }
+    drop(p);
+    pause_after_commit();
     Ok(())
 }
+
+/// The moment between a file's commit and the run's end, widened in
+/// debug builds only (the integration tests) by
+/// `SWIMBOT_FAULT_PAUSE_AFTER_COMMIT_MS=N`, so that a test can signal a
+/// run exactly there.
+#[cfg(debug_assertions)]
+fn pause_after_commit() {
+    if let Some(ms) = std::env::var("SWIMBOT_FAULT_PAUSE_AFTER_COMMIT_MS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+    {
+        std::thread::sleep(std::time::Duration::from_millis(ms));
+    }
+}
+
+#[cfg(not(debug_assertions))]
+fn pause_after_commit() {}
 
 #[cfg(test)]
 mod tests {

@@ -231,6 +231,41 @@ fn a_signal_during_add_leaves_no_temporary_and_the_exit_agrees_with_the_study() 
 }
 
 #[test]
+#[cfg_attr(
+    not(debug_assertions),
+    ignore = "the pause after the commit exists in debug builds only (atomic_file)"
+)]
+fn a_signal_just_after_the_study_is_written_puts_the_old_study_back() {
+    // Exactly the moment the exit status and the study disagreed: the
+    // step renamed in, the run not yet ended (here held open 3 s).
+    let (dir, path) = study();
+    let before = std::fs::read(&path).unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        .args(["add", "buoyancy", "--force"])
+        .env("SWIMBOT_FAULT_PAUSE_AFTER_COMMIT_MS", "3000")
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while std::fs::read(&path).unwrap() == before {
+        assert!(start.elapsed().as_secs() < 30, "the step was never written");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    // SAFETY: a signal to the child this test started.
+    unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "{status:?}");
+    assert_eq!(std::fs::read(&path).unwrap(), before, "{status:?}");
+    assert!(
+        temps_in(dir.path()).is_empty(),
+        "{:?}",
+        temps_in(dir.path())
+    );
+}
+
+#[test]
 fn a_study_name_near_the_file_name_limit_is_written() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("paper.csv"), PAPER_CSV).unwrap();
