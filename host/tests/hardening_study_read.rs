@@ -203,6 +203,28 @@ fn non_finite_or_absurd_stored_numbers_are_refused_not_printed() {
 }
 
 #[test]
+fn an_absurd_stored_cross_validated_error_or_interval_is_refused() {
+    // Checked by range only (the fits would be needed again), but a
+    // cross-validated MARE of 1e308 printed "inf %" with exit 0.
+    let (dir, path) = paper_study(&["body-correction"]);
+    let s = Study::open(&path).unwrap();
+    let cv = s.steps()[0].after.stats.cv_mare;
+    let hi = s.steps()[0].params.iter().find_map(|p| p.hi).unwrap();
+    drop(s);
+    edit(&path, &format!("cv_mare = {cv:?}"), "cv_mare = 1e308");
+    let o = run_in(dir.path(), &["steps"]);
+    refused(&o, &[DEFAULT_FILE, "step 1", "after.stats.cv_mare"]);
+    assert!(!stdout(&o).contains("inf %"));
+    // An interval that does not hold its value.
+    let (dir, path) = paper_study(&["body-correction"]);
+    edit(&path, &format!("hi = {hi:?}"), "hi = -1e9");
+    refused(
+        &run_in(dir.path(), &["steps"]),
+        &[DEFAULT_FILE, "step 1", "lo"],
+    );
+}
+
+#[test]
 fn an_absurd_stored_prediction_is_refused_quickly_and_leaves_no_folder() {
     for bad in ["1e308", "1e-320"] {
         let (dir, path) = paper_study(&["body-correction"]);
