@@ -11,8 +11,9 @@
 //!    its recorded parameters, is compared again with the pinned dataset,
 //!    and its MARE, chi-square, reduced chi-square, noise floor, counts and
 //!    every case's predictions must be the stored ones. The
-//!    cross-validated MARE needs the fits again and is checked by range
-//!    only. A deleted, swapped or duplicated step, an edited parameter,
+//!    cross-validated MARE, the parameters' intervals and the two
+//!    calibrations a step tried need the fits again and are checked by
+//!    range only (an interval must hold its value). A deleted, swapped or duplicated step, an edited parameter,
 //!    formula or preset, all change a recomputed number.
 //!
 //! Any failure names the step and the field.
@@ -25,6 +26,10 @@ use super::Study;
 /// Relative agreement required of a recomputed number: the same
 /// computation on the same bytes, up to the order of parallel sums.
 const REL_TOL: f64 = 1e-9;
+
+/// The largest error (a fraction) believed: a model a million times off
+/// is no step of a study, and a larger stored one prints as `inf %`.
+const MAX_MARE: f64 = 1e6;
 
 /// Where a failure is.
 struct At<'a> {
@@ -93,9 +98,20 @@ fn non_negative(at: &At, field: &str, v: f64) -> Result<(), StudyError> {
     Ok(())
 }
 
+fn a_mare(at: &At, field: &str, v: f64) -> Result<(), StudyError> {
+    non_negative(at, field, v)?;
+    if v > MAX_MARE {
+        return Err(at.fail(
+            field,
+            format!("stored {v}: an error above {MAX_MARE} (a fraction) is no model's"),
+        ));
+    }
+    Ok(())
+}
+
 fn stats_numbers(at: &At, field: &str, s: &Stats) -> Result<(), StudyError> {
-    non_negative(at, &format!("{field}.mare"), s.mare)?;
-    non_negative(at, &format!("{field}.cv_mare"), s.cv_mare)?;
+    a_mare(at, &format!("{field}.mare"), s.mare)?;
+    a_mare(at, &format!("{field}.cv_mare"), s.cv_mare)?;
     non_negative(at, &format!("{field}.chi2"), s.chi2)?;
     if let Some(v) = s.chi2_reduced {
         non_negative(at, &format!("{field}.chi2_reduced"), v)?;
@@ -140,10 +156,13 @@ fn params_numbers(at: &At, field: &str, ps: &[ParamRecord]) -> Result<(), StudyE
             }
         }
         if let (Some(lo), Some(hi)) = (p.lo, p.hi) {
-            if lo > hi {
+            if !(lo <= p.value && p.value <= hi) {
                 return Err(at.fail(
                     &name("lo"),
-                    format!("stored interval {lo} .. {hi} is empty"),
+                    format!(
+                        "stored interval {lo} .. {hi} does not hold the value {}",
+                        p.value
+                    ),
                 ));
             }
         }
@@ -158,7 +177,7 @@ fn step_numbers(at: &At, s: &StepRecord) -> Result<(), StudyError> {
     params_numbers(at, "refitted", &s.refitted)?;
     if let Some(c) = &s.choice {
         for (t, trial) in [("held", &c.held), ("joint", &c.joint)] {
-            non_negative(at, &format!("choice.{t}.mare"), trial.mare)?;
+            a_mare(at, &format!("choice.{t}.mare"), trial.mare)?;
             non_negative(at, &format!("choice.{t}.chi2"), trial.chi2)?;
         }
         if let Some(f) = c.f {

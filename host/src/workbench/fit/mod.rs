@@ -118,7 +118,8 @@ pub enum FitError {
     )]
     NoFiniteStart {
         free: String,
-        first: Option<ModelError>,
+        /// Boxed: a `ModelError` inline would make every fit's `Result` large.
+        first: Option<Box<ModelError>>,
     },
     #[error("{0}: its range is too wide to fit (the width overflows a float, or the ends are not finite numbers): give bounds within about 1e300 of each other")]
     RangeTooWide(String),
@@ -345,7 +346,7 @@ pub fn fit_with(
     }
     let (m, _, ok) = best.ok_or_else(|| FitError::NoFiniteStart {
         free: describe_free(model, free),
-        first: first_failure,
+        first: first_failure.map(Box::new),
     })?;
     Ok(self::uncertainty::finish(m, free, &cases, likelihood, ok)?)
 }
