@@ -5,6 +5,7 @@
 //! eqs. 1-11), its built-in data (Tables I, II, IV), and the workbench that
 //! compares the model with measurements.
 pub mod atomic_dir;
+pub mod atomic_file;
 pub mod chart;
 pub mod cli;
 pub mod data;

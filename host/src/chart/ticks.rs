@@ -19,6 +19,14 @@ pub struct Axis {
 const MIN_REL_SPAN: f64 = 0.1;
 /// Padding on each side, as a fraction of the span.
 const PAD: f64 = 0.06;
+/// The widest axis drawn, in the scale's own units (decades on a log
+/// axis): beyond it `10^x` or the span overflows, and the ticks counted
+/// across it are unbounded (a stored prediction of 1e308 asked for
+/// gigabytes of them).
+const LOG_LIMIT: f64 = 300.0;
+const LINEAR_LIMIT: f64 = 1e300;
+/// More ticks than a chart could ever draw: none are drawn instead.
+const MAX_TICKS: i64 = 10_000;
 
 impl Axis {
     /// The axis that shows `values` (non-finite ones ignored; non-positive
@@ -32,6 +40,8 @@ impl Axis {
         if lo > hi {
             (lo, hi) = (0.0, 1.0);
         }
+        let limit = if log { LOG_LIMIT } else { LINEAR_LIMIT };
+        (lo, hi) = (lo.clamp(-limit, limit), hi.clamp(-limit, limit));
         if include_zero && !log {
             lo = lo.min(0.0);
             hi = hi.max(0.0);
@@ -53,8 +63,8 @@ impl Axis {
         let zeroed = include_zero && !log;
         let (floor, ceiling) = (zeroed && lo == 0.0, zeroed && hi == 0.0);
         let pad = PAD * (hi - lo);
-        let lo = if floor { lo } else { lo - pad };
-        let hi = if ceiling { hi } else { hi + pad };
+        let lo = if floor { lo } else { lo - pad }.clamp(-limit, limit);
+        let hi = if ceiling { hi } else { hi + pad }.clamp(-limit, limit);
         let back = |v: f64| if log { 10f64.powf(v) } else { v };
         Self {
             lo: back(lo),
@@ -90,12 +100,18 @@ impl Axis {
 
     /// Labelled ticks inside the range, about `target` of them.
     pub fn ticks(&self, target: f64) -> Vec<(f64, String)> {
+        if !self.drawable() {
+            return Vec::new();
+        }
         if self.log {
             return self.log_ticks();
         }
         let step = nice_step((self.hi - self.lo) / target.max(2.0));
         let first = (self.lo / step).ceil() as i64;
         let last = (self.hi / step).floor() as i64;
+        if last.saturating_sub(first) > MAX_TICKS {
+            return Vec::new();
+        }
         (first..=last)
             .map(|i| {
                 let v = i as f64 * step;
@@ -106,12 +122,12 @@ impl Axis {
 
     /// Unlabelled minor ticks (log axes: 2..9 times each power of ten).
     pub fn minor_ticks(&self) -> Vec<f64> {
-        if !self.log {
+        if !self.log || !self.drawable() {
             return Vec::new();
         }
         let (e0, e1) = (
-            self.lo.log10().floor() as i32,
-            self.hi.log10().ceil() as i32,
+            decade(self.lo.log10().floor()),
+            decade(self.hi.log10().ceil()),
         );
         if e1 - e0 > 8 {
             // Many decades: the unlabelled powers of ten only.
@@ -128,8 +144,8 @@ impl Axis {
 
     fn log_ticks(&self) -> Vec<(f64, String)> {
         let (e0, e1) = (
-            self.lo.log10().ceil() as i32,
-            self.hi.log10().floor() as i32,
+            decade(self.lo.log10().ceil()),
+            decade(self.hi.log10().floor()),
         );
         if e1 - e0 < 1 {
             // Less than a decade shown: 1-2-5 ticks, written plainly.
@@ -146,6 +162,22 @@ impl Axis {
             .map(|e| (10f64.powi(e), power_of_ten(e)))
             .collect()
     }
+}
+
+impl Axis {
+    /// Finite ends in order (positive on a log axis): an axis made by hand
+    /// or from a corrupt file may be neither, and then has no ticks.
+    fn drawable(&self) -> bool {
+        self.lo.is_finite()
+            && self.hi.is_finite()
+            && self.lo <= self.hi
+            && (!self.log || self.lo > 0.0)
+    }
+}
+
+/// A power of ten's exponent, within what an `f64` holds.
+fn decade(e: f64) -> i32 {
+    e.clamp(-330.0, 330.0) as i32
 }
 
 /// The 1, 2 or 5 times a power of ten closest (in ratio) to `raw`.
@@ -247,6 +279,49 @@ mod tests {
         // Real variation is untouched.
         let v = Axis::fit([3.75, 4.2].into_iter(), false, false);
         assert!(v.hi - v.lo < 0.6);
+    }
+
+    #[test]
+    fn extreme_values_give_a_bounded_finite_axis() {
+        for (values, log) in [
+            (vec![1.0, 1e308], true),
+            (vec![1e-320, 1.0], true),
+            (vec![f64::MIN_POSITIVE, f64::MAX], true),
+            (vec![-1e308, 1e308], false),
+            (vec![f64::MAX, f64::MAX], false),
+        ] {
+            let a = Axis::fit(values.into_iter(), log, false);
+            assert!(a.lo.is_finite() && a.hi.is_finite() && a.lo < a.hi, "{a:?}");
+            let (t, m) = (a.ticks(6.0), a.minor_ticks());
+            assert!(
+                t.len() < 100 && m.len() < 1000,
+                "{a:?}: {} {}",
+                t.len(),
+                m.len()
+            );
+            assert!(t.iter().all(|(v, _)| v.is_finite()), "{a:?}");
+        }
+        // An axis no fit makes (a corrupt file's numbers) has no ticks.
+        for a in [
+            Axis {
+                lo: 0.0,
+                hi: f64::INFINITY,
+                log: true,
+            },
+            Axis {
+                lo: f64::NEG_INFINITY,
+                hi: 1.0,
+                log: false,
+            },
+            Axis {
+                lo: -1e308,
+                hi: 1e308,
+                log: false,
+            },
+        ] {
+            assert!(a.ticks(6.0).len() <= MAX_TICKS as usize + 1, "{a:?}");
+            assert!(a.minor_ticks().len() < 10_000, "{a:?}");
+        }
     }
 
     #[test]

@@ -95,6 +95,7 @@ pub fn settle_output_dir(dir: &Path, succeeded: bool) {
 /// new folders that are then empty.
 pub fn clean_up() {
     crate::atomic_dir::remove_pending();
+    crate::atomic_file::remove_pending();
     let p = pending();
     for t in &p.temps {
         let _ = std::fs::remove_file(t);
@@ -135,32 +136,7 @@ pub fn install_signal_cleanup() {
 pub fn install_signal_cleanup() {}
 
 /// Removes `.NAME.tmp-PID` files next to `dest` left by runs that were
-/// killed outright (process PID gone; a regular file of ours by name).
+/// killed outright ([`crate::atomic_file::sweep_stale_temps`]).
 pub fn sweep_stale_temps(dest: &Path) {
-    let (Some(name), parent) = (dest.file_name(), dest.parent()) else {
-        return;
-    };
-    let parent = match parent {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let prefix = format!(".{}.tmp-", name.to_string_lossy());
-    let Ok(entries) = std::fs::read_dir(parent) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let file = e.file_name().to_string_lossy().into_owned();
-        let Some(pid) = file
-            .strip_prefix(&prefix)
-            .and_then(|p| p.parse::<u32>().ok())
-        else {
-            continue;
-        };
-        if pid != std::process::id()
-            && e.file_type().is_ok_and(|t| t.is_file())
-            && !crate::atomic_dir::process_alive(pid)
-        {
-            let _ = std::fs::remove_file(e.path());
-        }
-    }
+    crate::atomic_file::sweep_stale_temps(dest);
 }

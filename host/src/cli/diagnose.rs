@@ -78,12 +78,14 @@ pub fn diagnosed(
             a.margin
         )));
     }
-    if data.cases.len() < 2 {
-        // Cross-validation leaves a case out; with one case there is nothing
-        // to predict it from, and every one-parameter effect fits its two
-        // quantities, so no ranking could mean anything.
+    let measured = data.measured_cases();
+    if measured < 2 {
+        // Cross-validation leaves a case out; with one measured case there
+        // is nothing to predict it from, and every one-parameter effect fits
+        // its two quantities, so no ranking could mean anything (unmeasured
+        // cases beside it change nothing: they enter no error).
         return Err(CliError::input(format!(
-            "{}: diagnose needs at least 2 cases, the dataset has {}: with one case, cross-validation \
+            "{}: diagnose needs at least 2 cases with a measured speed or rotation rate, the dataset has {measured} (of {} cases): with one, cross-validation \
              has nothing to predict from and every effect with a free parameter fits its two quantities; \
              `swimbot compare` shows the model's error on it and `swimbot fit` calibrates on it",
             data.name,

@@ -117,7 +117,16 @@ pub fn fitted(
         true,
         a.likelihood.get(),
     )
-    .map_err(CliError::input)?;
+    .map_err(|e| {
+        let file = a
+            .data
+            .data
+            .as_ref()
+            .map_or("<built-in paper data>".to_string(), |p| {
+                p.display().to_string()
+            });
+        CliError::input(format!("{file}: {e}"))
+    })?;
     let all = compare(&result.model, &data, free.len())
         .map_err(super::model_args::in_data(&a.data.data))?;
     super::output::check_finite("fit", &result)?;

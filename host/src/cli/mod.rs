@@ -118,6 +118,7 @@ pub fn run(cli: Cli, command: Vec<String>) -> Result<(), CliError> {
     crate::progress::set_quiet(cli.quiet);
     stdout::check_stdout_open()?;
     cleanup::install_signal_cleanup();
+    crate::atomic_file::set_transactional(true);
     stdout::install_stdout_failure_exit();
     let inputs = &Inputs::for_command(command);
     let done = dispatch(cli, inputs).and_then(|()| {
@@ -128,6 +129,7 @@ pub fn run(cli: Cli, command: Vec<String>) -> Result<(), CliError> {
         Ok(()) => {
             output_guard::mark_claimed_dirs(inputs);
             cleanup::keep_new_dirs();
+            crate::atomic_file::keep_committed();
         }
         Err(_) => cleanup::clean_up(),
     }

@@ -279,6 +279,14 @@ pub fn check_output_dir(dir: &Path, command: &str, inputs: &Inputs) -> Result<()
             dir.display()
         ))
     })?;
+    // Again once the folder exists: only then does its path resolve
+    // (`new/../D` is `D` after `new/` is made), and checked before alone
+    // it hid the inputs in `D`.
+    // A refusal removes the folders just made (the library's callers too).
+    if let Err(e) = guard::refuse_dir_holding_input(dir, inputs) {
+        cleanup::settle_output_dir(dir, false);
+        return Err(e);
+    }
     // A run killed outright (SIGKILL) between creating and removing its
     // probe left it: the next run into the folder sweeps it.
     cleanup::sweep_stale_temps(&dir.join("probe"));
@@ -330,13 +338,10 @@ fn probe(probe_path: &Path, shown: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
-/// `.NAME.tmp-PID` next to `path`.
+/// `.NAME.tmp-PID` next to `path`, within the file-name limit
+/// ([`crate::atomic_file::temp_sibling`]).
 fn temp_sibling(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "output".into());
-    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+    crate::atomic_file::temp_sibling(path)
 }
 
 /// Output that cannot be written is the user's to fix (path, permissions,

@@ -98,6 +98,8 @@ fn is_broken_pipe(_: &str) -> bool {
 /// `set -o pipefail`). Files already renamed into place stay; a temporary
 /// file or an empty new folder does not.
 pub fn end_on_closed_stdout() -> ! {
+    // A success: what the run recorded (a study's step) stays.
+    crate::atomic_file::keep_committed();
     clean_up();
     std::process::exit(0)
 }

@@ -121,6 +121,12 @@ pub fn definition(text: &str, inputs: &Inputs) -> Result<Definition, CliError> {
         Some((f, n)) => (f, Some(n)),
         None => (text, None),
     };
+    if name.is_some() && file.trim().is_empty() {
+        return Err(CliError::input(format!(
+            "`{}`: no effects file before `#`: give FILE.toml#NAME (the file `diagnose --write-effect` wrote, and a law in it), or a catalogue effect (`swimbot effects`)",
+            crate::data::limits::echo(text)
+        )));
+    }
     let looks_like_file = name.is_some() || file.ends_with(".toml") || Path::new(file).is_file();
     if looks_like_file {
         return Definition::of_file(Path::new(file), name, inputs).map_err(CliError::input);

@@ -110,6 +110,15 @@ pub fn read(
     inputs: &Inputs,
 ) -> Result<Read, DataError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    // Classic Mac OS (and its Excel) ends each line with a lone CR: read
+    // as LF, one line each, so rows are numbered as the file shows them.
+    let lf;
+    let text = if text.contains('\r') && !text.contains('\n') {
+        lf = text.replace('\r', "\n");
+        lf.as_str()
+    } else {
+        text
+    };
     // Excel's `sep=;` first line names the separator; it is no header line.
     let declared = declared_separator(text.lines().next().unwrap_or(""));
     let skipped = text

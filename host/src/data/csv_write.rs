@@ -105,7 +105,7 @@ fn write_keys(out: &mut String, table: &toml::Table) {
     let mut keys: Vec<&String> = table.keys().collect();
     keys.sort_by_key(|k| order_of(k));
     for k in keys {
-        let _ = writeln!(out, "{k} = {}", inline(&table[k]));
+        let _ = writeln!(out, "{} = {}", key(k), inline(&table[k]));
     }
 }
 
@@ -225,6 +225,20 @@ fn cell(v: &toml::Value) -> String {
     }
 }
 
+/// A key as TOML reads it back: bare when TOML allows (`A-Za-z0-9_-`),
+/// else quoted with escapes: a CSV column `room temp (C)` or `Opérateur`
+/// written bare does not parse, and `temp.c` reads back as a table `temp`.
+fn key(k: &str) -> String {
+    let bare = !k.is_empty()
+        && k.bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
+    if bare {
+        k.to_string()
+    } else {
+        toml::Value::String(k.to_string()).to_string()
+    }
+}
+
 /// A value as TOML on one line (tables inline).
 fn inline(v: &toml::Value) -> String {
     match v {
@@ -233,7 +247,7 @@ fn inline(v: &toml::Value) -> String {
             keys.sort_by_key(|k| order_of(k));
             let kv: Vec<String> = keys
                 .iter()
-                .map(|k| format!("{k} = {}", inline(&t[*k])))
+                .map(|k| format!("{} = {}", key(k), inline(&t[*k])))
                 .collect();
             format!("{{ {} }}", kv.join(", "))
         }

@@ -69,6 +69,17 @@ pub struct Dataset {
     pub rig: rig::RigLimits,
 }
 
+impl Dataset {
+    /// The cases with a measured speed or rotation rate: those any error,
+    /// fit or diagnosis is computed on.
+    pub fn measured_cases(&self) -> usize {
+        self.cases
+            .iter()
+            .filter(|c| c.u_mm_s.is_some() || c.omega_body_hz.is_some())
+            .count()
+    }
+}
+
 /// A measured mean with its confidence interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Measured {

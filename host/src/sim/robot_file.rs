@@ -251,6 +251,20 @@ impl Check<'_> {
             recorded: Default::default(),
             derived: Default::default(),
         };
+        // The body model (a prolate spheroid, physics::body) needs length
+        // >= diameter; found only when the first case was simulated, the
+        // error named that case rather than this field.
+        if setup.body_length_mm < setup.body_diameter_mm {
+            return Err(fail(
+                self.file,
+                Some("body.length_mm"),
+                format!(
+                    "{} mm is shorter than the body's diameter ({} mm, body.diameter_mm): the prolate-spheroid body model needs length >= diameter",
+                    crate::data::limits::show(setup.body_length_mm),
+                    crate::data::limits::show(setup.body_diameter_mm)
+                ),
+            ));
+        }
         if setup.body_diameter_mm >= setup.channel_diameter_mm {
             return Err(fail(
                 self.file,

@@ -32,6 +32,25 @@ pub enum StudyError {
         expected: String,
         found: String,
     },
+    /// A file the dataset reads (a CSV's setup file) is not the one the
+    /// study pinned, or is not pinned at all.
+    #[error("{file}: {message}")]
+    InputChanged {
+        file: PathBuf,
+        input: PathBuf,
+        message: String,
+    },
+    /// What the study stores is not what its model computes: a number
+    /// edited by hand, a step deleted or moved, a study from a swimbot
+    /// whose physics differs.
+    #[error("{file}: {at}, field `{field}`: {message}")]
+    Unverified {
+        file: PathBuf,
+        /// `the start` or `step N (`effect`)`.
+        at: String,
+        field: String,
+        message: String,
+    },
     /// The dataset cannot be loaded.
     #[error("{file}: dataset: {message}")]
     Data { file: PathBuf, message: String },

@@ -1,6 +1,7 @@
 //! The study file: TOML, human-readable, with a schema version, written
 //! atomically (a temporary file beside it, then a rename, so that a crash
-//! leaves the old study or the new one, never half of one).
+//! leaves the old study or the new one, never half of one) under the
+//! output rules of [`crate::atomic_file`].
 //! docs/study.md documents every field.
 
 use super::definition::Definition;
@@ -48,6 +49,10 @@ pub struct DatasetRef {
     pub sha256: String,
     /// The dataset's own name.
     pub name: String,
+    /// Every other file the dataset reads (a CSV's `# setup_file`) and the
+    /// SHA-256 of its bytes: a changed one is refused too.
+    #[serde(default, rename = "pin", skip_serializing_if = "Vec::is_empty")]
+    pub pins: Vec<super::pin::PinRecord>,
 }
 
 /// What the steps start from.
@@ -132,6 +137,12 @@ impl StudyFile {
     /// [`crate::input_file::cap::STUDY`] while reading (a study pointed at `/dev/zero` or a
     /// FIFO costs the cap, never the machine).
     pub fn read_hashed(path: &Path) -> Result<(Self, String), StudyError> {
+        let (file, text) = Self::read_with_text(path)?;
+        Ok((file, crate::provenance::sha256_hex(text.as_bytes())))
+    }
+
+    /// Read and check a study file; also its text as read.
+    pub fn read_with_text(path: &Path) -> Result<(Self, String), StudyError> {
         use crate::input_file::{cap, read_text, ReadError};
         let text = read_text(path, cap::STUDY, "a study file").map_err(|e| match e {
             ReadError::Io(_) if !path.exists() && !path.is_symlink() => StudyError::NotFound {
@@ -143,8 +154,7 @@ impl StudyFile {
                 message: e.to_string(),
             },
         })?;
-        let sha = crate::provenance::sha256_hex(text.as_bytes());
-        Ok((Self::parse(&text, path)?, sha))
+        Ok((Self::parse(&text, path)?, text))
     }
 
     /// Parse a study's text; `path` names it in errors.
@@ -197,32 +207,17 @@ impl StudyFile {
         )
     }
 
-    /// Write atomically: a temporary file in the same folder, flushed to
-    /// disk, renamed over `path`. Returns the SHA-256 of the text written.
+    /// Write atomically under the rules of every output
+    /// ([`crate::atomic_file`]): a temporary file in the same folder,
+    /// flushed to disk, renamed over `path`; a symbolic link is followed,
+    /// a FIFO, device or directory refused. Returns the SHA-256 of the
+    /// text written.
     pub fn write(&self, path: &Path) -> Result<String, StudyError> {
         let text = self.to_text();
-        let io = |e: std::io::Error| StudyError::Io {
+        crate::atomic_file::replace(path, text.as_bytes()).map_err(|message| StudyError::Io {
             file: path.to_path_buf(),
-            message: format!("cannot write it: {e}"),
-        };
-        let dir = path
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        let name = path
-            .file_name()
-            .map_or("study".into(), |n| n.to_string_lossy().into_owned());
-        let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-        let result = (|| {
-            let mut f = std::fs::File::create(&tmp)?;
-            crate::atomic_dir::fault_injection::write_all(&mut f, text.as_bytes())?;
-            f.sync_all()?;
-            std::fs::rename(&tmp, path)
-        })();
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result.map_err(io)?;
+            message,
+        })?;
         Ok(crate::provenance::sha256_hex(text.as_bytes()))
     }
 

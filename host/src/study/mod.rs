@@ -19,13 +19,16 @@ pub mod definition;
 pub mod diagnosis;
 mod error;
 pub mod file;
+pub mod pin;
 pub mod refit;
 pub mod snapshot;
+pub mod verify;
 
 pub use definition::Definition;
 pub use diagnosis::DiagnosisRecord;
 pub use error::{ParamValueError, StudyError};
 pub use file::{StepRecord, StudyFile, DEFAULT_FILE, SCHEMA};
+pub use pin::PinRecord;
 pub use refit::{RefitChoice, Trial};
 pub use snapshot::{CaseRow, Snapshot, Stats};
 
@@ -145,13 +148,11 @@ impl Study {
     /// Start a study at `path` on the dataset at `data_path`: the base
     /// model's comparison (and diagnosis) recorded, the file written.
     pub fn init(path: &Path, data_path: &Path, o: &InitOptions) -> Result<Study, StudyError> {
-        if path.exists() && !o.force {
-            return Err(StudyError::Exists {
-                file: path.to_path_buf(),
-            });
-        }
+        replaceable(path, o.force)?;
         let inputs = Inputs::new();
         let (data, sha256) = load_pinned(path, data_path, &inputs)?;
+        not_an_input(path, &inputs)?;
+        let pins = pin::pins_of(path, data_path, &inputs);
         let model = preset(&o.preset).ok_or_else(|| StudyError::Format {
             file: path.to_path_buf(),
             field: "model.preset".into(),
@@ -170,6 +171,19 @@ impl Study {
             message: m,
         };
         let start = Snapshot::of(&model, &data, &[]).map_err(|e| model_err(e.to_string()))?;
+        let measured = data.measured_cases();
+        if measured < 2 {
+            // A step calibrated on one case passes through it exactly, and
+            // its cross-validation has nothing to hold out.
+            return Err(StudyError::Data {
+                file: path.to_path_buf(),
+                message: format!(
+                    "{}: {measured} of its {} cases has a measured speed or rotation rate: a study calibrates its steps on measurements and needs at least 2 measured cases",
+                    data_path.display(),
+                    data.cases.len()
+                ),
+            });
+        }
         let first_diagnosis = if o.diagnose {
             Some(
                 DiagnosisRecord::run(&model, &data, o.likelihood)
@@ -186,6 +200,7 @@ impl Study {
                 path: stored_path(path, data_path),
                 sha256,
                 name: data.name.clone(),
+                pins,
             },
             model: file::BaseModel {
                 preset: o.preset.clone(),
@@ -208,7 +223,8 @@ impl Study {
     /// Open the study at `path`: its dataset loaded and checked against
     /// the pinned SHA-256, every step's effect rebuilt.
     pub fn open(path: &Path) -> Result<Study, StudyError> {
-        let (file, opened_sha256) = StudyFile::read_hashed(path)?;
+        let (file, text) = StudyFile::read_with_text(path)?;
+        let opened_sha256 = crate::provenance::sha256_hex(text.as_bytes());
         let data_path = resolve(path, &file.dataset.path);
         let inputs = Inputs::new();
         let (data, sha256) = load_pinned(path, &data_path, &inputs)?;
@@ -220,6 +236,10 @@ impl Study {
                 found: sha256,
             });
         }
+        pin::check(path, &file.dataset.pins, &data_path, &inputs)?;
+        // The study is an input of what is made from it (its provenance,
+        // and the output guard: no output may replace it).
+        inputs.record(path, text.as_bytes());
         let study = Study {
             path: path.to_path_buf(),
             file,
@@ -229,6 +249,7 @@ impl Study {
         };
         study.likelihood()?;
         study.model()?;
+        verify::verify(&study)?;
         Ok(study)
     }
 
@@ -318,6 +339,15 @@ impl Study {
                 .effect
                 .effect(&mut catalogue)
                 .map_err(|m| err("effect", m.to_string()))?;
+            if model.effects.iter().any(|e| e.name() == effect.name()) {
+                return Err(err(
+                    "effect",
+                    format!(
+                        "`{}` is already in the model before this step (a step repeated?): an effect applied twice is not a model",
+                        effect.name()
+                    ),
+                ));
+            }
             let mut inst = EffectInstance::default_of(effect);
             set_values(&mut inst, &s.params).map_err(|m| err("param", m.to_string()))?;
             model.effects.push(inst);
@@ -467,14 +497,25 @@ impl Study {
     ) -> Result<(calibrate::Calibrated, Option<RefitChoice>), StudyError> {
         let new = model.effects.len() - 1;
         let earlier: Vec<usize> = (first_step..new).collect();
-        let cal = |joint: bool| {
-            calibrate::calibrate(model.clone(), first_step, joint, &self.data, lik)
-                .map_err(|e| model_err(e.to_string()))
-        };
+        let raw =
+            |joint: bool| calibrate::calibrate(model.clone(), first_step, joint, &self.data, lik);
+        let cal = |joint: bool| raw(joint).map_err(|e| model_err(e.to_string()));
         if refit_all || crate::workbench::fit::free_params_of(&model, &earlier).is_empty() {
             return Ok((cal(refit_all)?, None));
         }
-        let (held, joint) = (cal(false)?, cal(true)?);
+        let held = cal(false)?;
+        // The joint refit is a second opinion: when it fails, the held
+        // fit stands, and the note says what was tried.
+        let joint = match raw(true) {
+            Ok(j) => j,
+            Err(e) => {
+                let mut held = held;
+                held.notes.push(format!(
+                    "a joint refit of every step was tried and failed ({e}); the earlier steps are held at their values"
+                ));
+                return Ok((held, None));
+            }
+        };
         let trial = |c: &calibrate::Calibrated| {
             Trial::of(c, &self.data).map_err(|e| model_err(e.to_string()))
         };
@@ -519,6 +560,11 @@ impl Study {
             message: format!("{}: {m}", data.name),
         };
         let start = Snapshot::of(&self.base_model()?, data, &[]).map_err(|e| err(e.to_string()))?;
+        if start.stats.n == 0 {
+            return Err(err(
+                "no case has a measured speed or rotation rate: there is no error to compute on these data".into(),
+            ));
+        }
         let mut steps = Vec::new();
         for (k, s) in self.file.steps.iter().enumerate() {
             let m = self.model_upto(k + 1)?;
@@ -573,6 +619,58 @@ fn set_values(
             });
         }
         inst.values[i] = r.value;
+    }
+    Ok(())
+}
+
+/// Whether `init` may write a study at `path`: nothing there; or, with
+/// `force`, a study (a regular file, or a link to one, whose TOML has a
+/// `schema`): `--force` starts a study again, it never replaces a FIFO, a
+/// device, a dataset or any other file.
+fn replaceable(path: &Path, force: bool) -> Result<(), StudyError> {
+    let exists = path.exists() || path.is_symlink();
+    if !exists {
+        return Ok(());
+    }
+    if !force {
+        return Err(StudyError::Exists {
+            file: path.to_path_buf(),
+        });
+    }
+    let io = |message: String| StudyError::Io {
+        file: path.to_path_buf(),
+        message,
+    };
+    crate::atomic_file::resolve(path).map_err(io)?;
+    let text =
+        crate::input_file::read_text(path, crate::input_file::cap::STUDY, "a study file").ok();
+    let is_study = text
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .is_some_and(|t| t.contains_key("schema") && t.contains_key("dataset"));
+    if !is_study {
+        return Err(io(
+            "is not a study file (no TOML `schema` and `[dataset]`): `init --force` replaces a study, never another file; name another --study, or move the file".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The study at `path` is none of the files its dataset read (`--study
+/// paper.csv`, `--study` naming the setup file): writing it would destroy them.
+fn not_an_input(path: &Path, inputs: &Inputs) -> Result<(), StudyError> {
+    let Ok(study) = std::fs::canonicalize(path) else {
+        return Ok(());
+    };
+    for i in inputs.list() {
+        if std::fs::canonicalize(&i.path).is_ok_and(|p| p == study) {
+            return Err(StudyError::Io {
+                file: path.to_path_buf(),
+                message: format!(
+                    "is {}, an input of the study (its dataset, or a file the dataset reads): writing the study there would destroy it; name another --study",
+                    i.path
+                ),
+            });
+        }
     }
     Ok(())
 }

@@ -110,10 +110,17 @@ pub enum FitError {
     NoData,
     /// Names the free parameters and their ranges: which one the user
     /// must narrow is theirs to see.
+    /// The first prediction that failed says which case, place and
+    /// formula (the error `compare` gives on the same model).
     #[error(
-        "the fit did not produce a finite chi-square (a prediction failed at every start) for {0}"
+        "the fit did not produce a finite chi-square (a prediction failed at every start) for {free}{}",
+        first.as_ref().map(|e| format!("; first failure: {e}")).unwrap_or_default()
     )]
-    NoFiniteStart(String),
+    NoFiniteStart {
+        free: String,
+        /// Boxed: a `ModelError` inline would make every fit's `Result` large.
+        first: Option<Box<ModelError>>,
+    },
     #[error("{0}: its range is too wide to fit (the width overflows a float, or the ends are not finite numbers): give bounds within about 1e300 of each other")]
     RangeTooWide(String),
 }
@@ -306,6 +313,7 @@ pub fn fit_with(
         }
     }
     let mut best: Option<(Model, f64, bool)> = None;
+    let mut first_failure: Option<ModelError> = None;
     let all_starts = starts(model, free);
     let tried = if multi_start {
         &all_starts[..]
@@ -326,13 +334,20 @@ pub fn fit_with(
             .minimize(problem);
         let objective = match deviance_of(&solved.model, &cases, likelihood) {
             Ok(c) if c.is_finite() => c,
-            _ => continue,
+            Ok(_) => continue,
+            Err(e) => {
+                first_failure.get_or_insert(e);
+                continue;
+            }
         };
         if best.as_ref().is_none_or(|b| objective < b.1) {
             best = Some((solved.model, objective, report.termination.was_successful()));
         }
     }
-    let (m, _, ok) = best.ok_or_else(|| FitError::NoFiniteStart(describe_free(model, free)))?;
+    let (m, _, ok) = best.ok_or_else(|| FitError::NoFiniteStart {
+        free: describe_free(model, free),
+        first: first_failure.map(Box::new),
+    })?;
     Ok(self::uncertainty::finish(m, free, &cases, likelihood, ok)?)
 }
 
