@@ -132,11 +132,11 @@ pub fn headline(d: &Diagnosis, write_effect: Option<&std::path::Path>) -> Headli
     }
 }
 
-fn candidate<'a>(d: &'a Diagnosis, name: &str) -> Option<&'a crate::workbench::diagnose::Candidate> {
-    d.ranking
-        .iter()
-        .chain(&d.pairs)
-        .find(|c| c.effect == name)
+fn candidate<'a>(
+    d: &'a Diagnosis,
+    name: &str,
+) -> Option<&'a crate::workbench::diagnose::Candidate> {
+    d.ranking.iter().chain(&d.pairs).find(|c| c.effect == name)
 }
 
 /// Step `i` of the found set; a catalogue step below a located law shows
@@ -146,9 +146,11 @@ fn step(d: &Diagnosis, i: usize, s: &SetMember, law: Option<&Located>) -> Headli
     let mut st = match law {
         Some(l) => located_step(l),
         None => {
-            let later = d.verdict.steps[i + 1..]
-                .iter()
-                .find_map(|t| t.on_top_of.iter().find(|e| e.split(':').next() == Some(&s.name)));
+            let later = d.verdict.steps[i + 1..].iter().find_map(|t| {
+                t.on_top_of
+                    .iter()
+                    .find(|e| e.split(':').next() == Some(&s.name))
+            });
             match (later, candidate(d, &s.name)) {
                 (Some(joint), _) => catalogue_step(&s.name, &[], Some(joint)),
                 (None, Some(c)) => catalogue_step(&s.name, &c.params, None),
@@ -165,10 +167,13 @@ fn catalogue_step(
     params: &[crate::workbench::fit::Estimate],
     joint: Option<&String>,
 ) -> HeadlineStep {
-    let reading = crate::effects::Catalogue::builtin()
-        .by_name(name)
-        .map(|e| e.statement().to_string())
-        .unwrap_or_default();
+    // A pair is named `a + b`.
+    let catalogue = crate::effects::Catalogue::builtin();
+    let reading = name
+        .split(" + ")
+        .filter_map(|n| catalogue.by_name(n).map(|e| e.statement().to_string()))
+        .collect::<Vec<_>>()
+        .join("; ");
     let params = match joint {
         // `NAME:k=v,...` at full precision.
         Some(j) => j
@@ -199,7 +204,11 @@ fn located_step(l: &Located) -> HeadlineStep {
         law: format!("{} = {law}", l.place),
         variable,
         reading: reading(&l.interpretation),
-        params: l.params.iter().map(|e| ParamReport::of(&e.name, e)).collect(),
+        params: l
+            .params
+            .iter()
+            .map(|e| ParamReport::of(&e.name, e))
+            .collect(),
         explains: l.explained_fraction,
     }
 }
@@ -221,8 +230,11 @@ fn readable_law(l: &Located) -> (String, Option<String>) {
     };
     let median: Option<f64> = rest[..close].parse().ok();
     let law = format!("{}x{}", &l.formula[..at], &rest[close + 1..]);
-    let q = quantities::by_id(id)
-        .or_else(|| crate::data::model_quantities::MODEL_QUANTITIES.iter().find(|q| q.id == id));
+    let q = quantities::by_id(id).or_else(|| {
+        crate::data::model_quantities::MODEL_QUANTITIES
+            .iter()
+            .find(|q| q.id == id)
+    });
     let what = q.map_or(id.to_string(), |q| {
         let symbol = q.name.split(" = ").next().unwrap_or(q.name);
         format!("{} {symbol}", q.doc)
@@ -269,7 +281,10 @@ fn next_command(d: &Diagnosis, write_effect: Option<&std::path::Path>) -> String
     let has_law = v.steps.iter().any(|s| s.kind == "located") || !v.located.is_empty();
     match (&v.effect, has_law) {
         (_, true) => "swimbot diagnose --write-effect found.toml".into(),
-        (Some(e), false) => format!("swimbot compare --effect {e}"),
+        (Some(e), false) => {
+            let flags: Vec<String> = e.split(" + ").map(|n| format!("--effect {n}")).collect();
+            format!("swimbot compare {}", flags.join(" "))
+        }
         (None, false) => "swimbot diagnose --verbose".into(),
     }
 }

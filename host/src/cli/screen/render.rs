@@ -9,32 +9,54 @@ use super::wrap;
 use crate::format::fmt_sig;
 use crate::workbench::fit::report::ParamReport;
 
+/// One item of the screen: its text and the indents of its first and
+/// further lines.
+pub struct Item {
+    pub first: String,
+    pub rest: String,
+    pub text: String,
+}
+
+fn item(first: &str, rest: &str, text: String) -> Item {
+    Item {
+        first: first.into(),
+        rest: rest.into(),
+        text,
+    }
+}
+
 /// The screen, lines at most `width` columns.
 pub fn render(h: &Headline, width: usize) -> String {
-    let mut out = Vec::new();
-    out.push(wrap(&format!("verdict: {} ({})", h.kind, summary(h)), width, "", "  "));
+    items(h)
+        .iter()
+        .map(|i| wrap(&i.text, width, &i.first, &i.rest))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The screen's items, in order, before wrapping.
+pub fn items(h: &Headline) -> Vec<Item> {
+    let mut out = vec![item(
+        "",
+        "  ",
+        format!("verdict: {} ({})", h.kind, summary(h)),
+    )];
     for (i, s) in h.steps.iter().enumerate() {
-        out.extend(step(i, s, width));
+        out.extend(step(i, s));
     }
-    out.push(error_lines(h, width));
-    out.push(wrap(&format!("how sure: {}", how_sure(h)), width, "", "  "));
-    out.extend(rivals(h, width));
+    out.extend(error_lines(h));
+    out.extend(how_sure(h));
+    out.extend(rivals(h));
     if let Some(e) = &h.next_experiment {
-        out.push(wrap(
-            &format!("next experiment: {}", symbols(e)),
-            width,
-            "",
-            "  ",
-        ));
+        out.push(item("", "  ", format!("next experiment: {}", symbols(e))));
     }
-    out.push(wrap(&format!("next: {}", h.next_command), width, "", "  "));
-    out.push(wrap(
-        "(the full tables: --verbose; every number: --format json)",
-        width,
+    out.push(item("", "  ", format!("next: {}", h.next_command)));
+    out.push(item(
         "",
         "",
+        "(the full tables: --verbose; every number: --format json)".into(),
     ));
-    out.join("\n")
+    out
 }
 
 fn summary(h: &Headline) -> String {
@@ -53,24 +75,24 @@ fn summary(h: &Headline) -> String {
     }
 }
 
-fn step(i: usize, s: &HeadlineStep, width: usize) -> Vec<String> {
+fn step(i: usize, s: &HeadlineStep) -> Vec<Item> {
     let explains = s
         .explains
-        .map(|f| format!(", removes {:.0} % of the excess χ² left", 100.0 * f))
+        .map(|f| format!(", removes {:.0}\u{a0}% of the excess χ² left", 100.0 * f))
         .unwrap_or_default();
     let head = format!("{}. {} [{}{explains}]", i + 1, symbols(&s.law), s.kind);
-    let mut lines = vec![wrap(&head, width, "  ", "     ")];
+    let mut items = vec![item("  ", "     ", head)];
     if let Some(v) = &s.variable {
-        lines.push(wrap(&symbols(v), width, "     ", "     "));
+        items.push(item("     ", "       ", symbols(v)));
     }
     if !s.reading.is_empty() {
-        lines.push(wrap(&symbols(&s.reading), width, "     ", "     "));
+        items.push(item("     ", "       ", symbols(&s.reading)));
     }
     if !s.params.is_empty() {
         let ps: Vec<String> = s.params.iter().map(param).collect();
-        lines.push(wrap(&ps.join("; "), width, "     ", "       "));
+        items.push(item("     ", "       ", ps.join("; ")));
     }
-    lines
+    items
 }
 
 /// `name = value ± u unit (rel %, 95 % lo .. hi)`, or the value alone.
@@ -93,7 +115,7 @@ pub fn param(p: &ParamReport) -> String {
         .unwrap_or_default();
     let ci = match (p.ci95_low, p.ci95_high) {
         (Some(lo), Some(hi)) => format!(
-            "95 % {} .. {}",
+            "95\u{a0}% {}\u{a0}..\u{a0}{}",
             value_pm(lo, Some(u)).split(" ±").next().unwrap_or(""),
             value_pm(hi, Some(u)).split(" ±").next().unwrap_or("")
         ),
@@ -106,8 +128,12 @@ pub fn param(p: &ParamReport) -> String {
     )
 }
 
-fn error_lines(h: &Headline, width: usize) -> String {
-    let mare: Vec<String> = h.mare.iter().map(|m| format!("{:.2} %", 100.0 * m)).collect();
+fn error_lines(h: &Headline) -> Vec<Item> {
+    let mare: Vec<String> = h
+        .mare
+        .iter()
+        .map(|m| format!("{:.2}\u{a0}%", 100.0 * m))
+        .collect();
     let chi: Vec<String> = h
         .chi2_reduced
         .iter()
@@ -116,22 +142,17 @@ fn error_lines(h: &Headline, width: usize) -> String {
     let floor = h
         .noise_floor_chi2_reduced
         .map_or("-".into(), |f| fmt_sig(f, 3));
-    [
-        wrap(&format!("error: MARE {}", mare.join(" -> ")), width, "", "  "),
-        wrap(
-            &format!(
-                "       reduced χ² {} (noise floor {floor})",
-                chi.join(" -> ")
-            ),
-            width,
-            "",
+    vec![
+        item("", "  ", format!("error: MARE {}", mare.join(" -> "))),
+        item(
+            "       ",
             "         ",
+            format!("reduced χ² {} (noise floor {floor})", chi.join(" -> ")),
         ),
     ]
-    .join("\n")
 }
 
-fn how_sure(h: &Headline) -> String {
+fn how_sure(h: &Headline) -> Vec<Item> {
     let sets = match h.rivals.len() {
         0 => "no rival set within the margin".to_string(),
         n => format!(
@@ -140,30 +161,42 @@ fn how_sure(h: &Headline) -> String {
         ),
     };
     if h.stability.is_empty() {
-        return format!("{sets}; stability under resampling was not measured");
+        return vec![item(
+            "",
+            "  ",
+            format!("how sure: {sets}; stability under resampling was not measured"),
+        )];
     }
-    let terms: Vec<String> = h
-        .stability
-        .iter()
-        .map(|t| {
+    let mut items = vec![item("", "  ", format!("how sure: {sets}"))];
+    items.extend(h.stability.iter().map(|t| {
+        item(
+            "  ",
+            "    ",
             format!(
-                "{} chosen in {} of {} {} resamples ({:.0} %)",
+                "{} chosen in {} of {} {} resamples ({:.0}\u{a0}%)",
                 symbols(&t.term),
                 t.selected,
                 t.resamples,
                 t.method,
                 100.0 * t.fraction
-            )
-        })
-        .collect();
-    format!("{sets}; {}", terms.join("; "))
+            ),
+        )
+    }));
+    items
 }
 
-fn rivals(h: &Headline, width: usize) -> Vec<String> {
+fn rivals(h: &Headline) -> Vec<Item> {
     if h.rivals.len() < 2 {
         return Vec::new();
     }
-    let mut lines = vec![format!("  {:>3} {:>8} {:>7} {:>5}  set", "", "Δkey", "weight", "floor")];
+    let mut items = vec![item(
+        "",
+        "",
+        format!(
+            "  {:>3} {:>8} {:>7} {:>5}  set",
+            "", "Δkey", "weight", "floor"
+        ),
+    )];
     for (i, r) in h.rivals.iter().enumerate() {
         let first = format!(
             "  {:>3} {:>8} {:>7.3} {:>5}  ",
@@ -173,7 +206,41 @@ fn rivals(h: &Headline, width: usize) -> Vec<String> {
             if r.at_noise_floor { "yes" } else { "no" }
         );
         let pad = " ".repeat(first.chars().count());
-        lines.push(wrap(&symbols(&r.members.join(" + ")), width, &first, &pad));
+        items.push(Item {
+            first,
+            rest: pad,
+            text: symbols(&r.members.join(" + ")),
+        });
     }
-    lines
+    items
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
+
+    /// Every item of the paper's screen is one sentence of at most 60
+    /// words, and every line of it fits the width.
+    #[test]
+    fn the_paper_s_screen_has_short_items_and_lines() {
+        let d = diagnose(
+            &crate::model::Model::base(),
+            &crate::data::paper(),
+            &DiagnoseSettings::default(),
+        )
+        .unwrap();
+        let h = super::super::headline::headline(&d, None);
+        let items = items(&h);
+        assert!(items.len() >= 6);
+        for i in &items {
+            let words = i.text.split_whitespace().count();
+            assert!(words <= 60, "{words} words: {}", i.text);
+        }
+        for width in [40, 72, 100] {
+            for line in render(&h, width).lines() {
+                assert!(textwrap::core::display_width(line) <= width, "{line:?}");
+            }
+        }
+    }
 }

@@ -34,9 +34,11 @@ fn fixed(x: f64, u: f64) -> String {
     }
 }
 
-/// A relative uncertainty in % to two significant digits (`4.3 %`).
+/// A relative uncertainty in % to two significant digits (`4.3 %`, a
+/// no-break space before the sign so that a wrapped line never starts
+/// with it).
 pub fn percent(p: f64) -> String {
-    format!("{} %", fmt_sig(p, 2))
+    format!("{}\u{a0}%", fmt_sig(p, 2))
 }
 
 #[cfg(test)]
@@ -61,6 +63,6 @@ mod tests {
     fn without_an_uncertainty_the_value_has_four_digits() {
         assert_eq!(value_pm(0.8145555, None), "0.8146");
         assert_eq!(value_pm(0.8145555, Some(f64::NAN)), "0.8146");
-        assert_eq!(percent(9.7432), "9.7 %");
+        assert_eq!(percent(9.7432), "9.7\u{a0}%");
     }
 }

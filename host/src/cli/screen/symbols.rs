@@ -49,7 +49,10 @@ mod tests {
             symbols("tau_t = B_t[wx,x] U + B_t[wx,wx] omega"),
             "tau_t = B_t[ωx,x] U + B_t[ωx,ωx] ω"
         );
-        assert_eq!(symbols("Omega_b vs pitch_angle_deg"), "Ω_b vs pitch_angle_deg");
+        assert_eq!(
+            symbols("Omega_b vs pitch_angle_deg"),
+            "Ω_b vs pitch_angle_deg"
+        );
         assert_eq!(symbols("k * x^p"), "k · x^p");
     }
 }

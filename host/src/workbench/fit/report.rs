@@ -153,7 +153,10 @@ mod tests {
         ];
         let s = strong_correlations(&names, &m);
         assert_eq!(s.len(), 2);
-        assert_eq!((s[0].a.as_str(), s[0].b.as_str(), s[0].r), ("a", "c", -0.95));
+        assert_eq!(
+            (s[0].a.as_str(), s[0].b.as_str(), s[0].r),
+            ("a", "c", -0.95)
+        );
         assert_eq!((s[1].a.as_str(), s[1].b.as_str()), ("a", "b"));
     }
 }
