@@ -122,3 +122,36 @@ fn a_planted_set_s_screen_names_the_pair_and_a_command_that_runs() {
     let o = swimbot(&args);
     assert!(o.status.success(), "`swimbot {next}` fails: {}", stderr(&o));
 }
+
+#[test]
+fn the_study_commands_print_within_the_width_and_the_note_behind_verbose() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let paper = concat!(env!("CARGO_MANIFEST_DIR"), "/data/paper.csv");
+    let run = |args: &[&str]| {
+        let o = crate::common::run_in(d, args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        stdout(&o)
+    };
+    let init = run(&["init", "--data", paper]);
+    check_layout(&init);
+    assert!(init.contains("first diagnosis: unexplained\n"), "{init}");
+    assert!(
+        !init.contains("2 steps lower") && !init.contains("reduced chi-square"),
+        "{init}"
+    );
+    let add = run(&["add", "body-correction"]);
+    check_layout(&add);
+    let steps = run(&["steps"]);
+    check_layout(&steps);
+    let verbose = run(&["steps", "--verbose"]);
+    check_layout(&verbose);
+    let study: toml::Value =
+        toml::from_str(&std::fs::read_to_string(d.join("swimbot-study.toml")).unwrap()).unwrap();
+    let note = study["first_diagnosis"]["note"].as_str().unwrap();
+    let first_words: Vec<&str> = note.split_whitespace().take(4).collect();
+    assert!(
+        verbose.contains(&first_words.join(" ")) && !steps.contains(&first_words.join(" ")),
+        "{note}\n{verbose}"
+    );
+}

@@ -39,6 +39,9 @@ pub struct InitArgs {
     pub force: bool,
     #[command(flatten)]
     pub likelihood: super::likelihood::LikelihoodArgs,
+    /// Also print the first diagnosis's verdict in full.
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 #[derive(Args, Debug)]
@@ -53,6 +56,9 @@ pub struct AddArgs {
     /// Record the step even if the error (MARE) rises.
     #[arg(long)]
     pub force: bool,
+    /// Also print the diagnosis after the step in full.
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 #[derive(Args, Debug)]
@@ -66,6 +72,9 @@ pub struct StepsArgs {
     /// data as recorded].
     #[arg(long, value_name = "NEW.csv")]
     pub data: Option<PathBuf>,
+    /// Also print the diagnoses' verdicts in full.
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 #[derive(Args, Debug)]
@@ -110,7 +119,7 @@ pub fn run_init(a: InitArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result
         path.display(),
         s.dataset_path().display()
     );
-    print_table(&s);
+    print_table(&s, a.verbose);
     Ok(())
 }
 
@@ -154,7 +163,10 @@ pub fn run_add(a: AddArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(
     println!("added step {n} to {}:", s.path().display());
     print_step(n, &step);
     if let Some(d) = &step.diagnosis_after {
-        println!("diagnose now: {} — {}", d.verdict, d.note);
+        println!(
+            "{}",
+            super::screen::study::diagnosis("diagnose now", d, a.verbose, super::screen::width())
+        );
     }
     Ok(())
 }
@@ -182,7 +194,7 @@ pub fn run_steps(a: StepsArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Resu
     match a.format {
         TableJsonCsv::Json => print_json(s.file(), inputs),
         TableJsonCsv::Csv => print_csv(&rows(&s), inputs)?,
-        TableJsonCsv::Table => print_table(&s),
+        TableJsonCsv::Table => print_table(&s, a.verbose),
     }
     Ok(())
 }
@@ -245,7 +257,7 @@ fn rows(s: &Study) -> Vec<StepRow> {
 fn stats_line(label: &str, s: &Snapshot) -> String {
     let st = &s.stats;
     format!(
-        "  {:<34} MARE {:>9}  CV MARE {:>9}  chi2 {:>10}  chi2_red {:>8}  floor {:>8}{}",
+        "  {:<24} MARE {:>8}  CV MARE {:>8}  χ² {:>9}  χ²/ν {:>7}  floor {:>6}{}",
         label,
         pct(st.mare),
         pct(st.cv_mare),
@@ -260,9 +272,16 @@ fn stats_line(label: &str, s: &Snapshot) -> String {
     )
 }
 
-fn print_table(s: &Study) {
+/// `println!` wrapped at the terminal's width (`cli/screen/study.rs`).
+macro_rules! say {
+    ($($t:tt)*) => {
+        println!("{}", super::screen::study::line(&format!($($t)*), super::screen::width()))
+    };
+}
+
+fn print_table(s: &Study, verbose: bool) {
     let f = s.file();
-    println!(
+    say!(
         "data: {} ({}; SHA-256 {}…, {} cases, {} quantities); base: {}; likelihood: {}",
         f.dataset.path.display(),
         f.dataset.name,
@@ -273,17 +292,21 @@ fn print_table(s: &Study) {
         f.model.likelihood
     );
     if let Some(d) = &f.first_diagnosis {
-        println!("first diagnosis: {} — {}", d.verdict, d.note);
-        if s.steps().is_empty() {
-            print_proposals(d);
+        let mut d = d.clone();
+        if !s.steps().is_empty() {
+            d.proposals.clear();
         }
+        println!(
+            "{}",
+            super::screen::study::diagnosis("first diagnosis", &d, verbose, super::screen::width())
+        );
     }
-    println!(
+    say!(
         "{}",
         stats_line(&format!("0. base ({})", f.model.preset), &f.start)
     );
     for (i, st) in s.steps().iter().enumerate() {
-        println!(
+        say!(
             "{}   (MARE {} -> {})",
             stats_line(&format!("{}. + {}", i + 1, st.effect.name), &st.after),
             pct(st.before.mare),
@@ -293,34 +316,27 @@ fn print_table(s: &Study) {
     match s.last_diagnosis() {
         Some(_) if s.steps().is_empty() => {}
         Some(d) => {
-            println!("diagnose now: {} — {}", d.verdict, d.note);
-            print_proposals(d);
+            println!(
+                "{}",
+                super::screen::study::diagnosis("diagnose now", d, verbose, super::screen::width())
+            );
         }
-        None => println!("diagnose now: not run"),
-    }
-}
-
-fn print_proposals(d: &crate::study::DiagnosisRecord) {
-    {
-        {
-            for p in &d.proposals {
-                let how: Vec<String> = p.add_commands().iter().map(|c| format!("`{c}`")).collect();
-                println!("  proposes: {} ({})", p.text, how.join(", then "));
-            }
-        }
+        None => say!("diagnose now: not run"),
     }
 }
 
 fn print_step(n: usize, st: &StepRecord) {
-    println!(
+    say!(
         "  {n}. + {} ({}): {}",
-        st.effect.name, st.effect.kind, st.effect.statement
+        st.effect.name,
+        st.effect.kind,
+        st.effect.statement
     );
     for f in &st.effect.formula {
-        println!("     {f}");
+        say!("     {f}");
     }
     if let Some(p) = &st.proposed_by {
-        println!("     proposed by {p}");
+        say!("     proposed by {p}");
     }
     for p in st.params.iter().chain(&st.refitted) {
         let unit = if p.unit.is_empty() || p.unit == "1" {
@@ -332,7 +348,7 @@ fn print_step(n: usize, st: &StepRecord) {
             (Some(lo), Some(hi)) => format!(" (95 % CI {} .. {})", fmt_sig(lo, 4), fmt_sig(hi, 4)),
             _ => String::new(),
         };
-        println!(
+        say!(
             "     {}.{} = {}{unit}{interval}  [{}]{}",
             p.effect,
             p.name,
@@ -345,9 +361,9 @@ fn print_step(n: usize, st: &StepRecord) {
         );
     }
     for note in &st.notes {
-        println!("     {note}");
+        say!("     {note}");
     }
-    println!(
+    say!(
         "     MARE {} -> {}, CV MARE {}, chi-square {} -> {}{}",
         pct(st.before.mare),
         pct(st.after.stats.mare),

@@ -7,6 +7,7 @@
 pub mod headline;
 pub mod render;
 pub mod rounding;
+pub mod study;
 pub mod symbols;
 
 /// Off a terminal (a pipe, a file, a test) lines stop at this many columns.
