@@ -64,9 +64,11 @@ pub struct AddArgs {
 #[derive(Args, Debug)]
 pub struct StepsArgs {
     /// Output format on stdout (json: the whole study, the numbers the page
-    /// prints; csv: one row per step, its statistics before and after).
+    /// prints; csv: one row per step, its statistics before and after;
+    /// latex: the steps as a booktabs table; markdown: the same for a lab
+    /// notebook).
     #[arg(long, value_enum, default_value = "table")]
-    pub format: TableJsonCsv,
+    pub format: StepsFormat,
     /// Apply the study to other data, every parameter held at the study's
     /// values (calibrated on the study's data, predicting these) [default: none, the study's own
     /// data as recorded].
@@ -75,6 +77,16 @@ pub struct StepsArgs {
     /// Also print the diagnoses' verdicts in full.
     #[arg(long)]
     pub verbose: bool,
+}
+
+/// `steps --format`: the console table, JSON, CSV, or a paper's table.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepsFormat {
+    Table,
+    Json,
+    Csv,
+    Latex,
+    Markdown,
 }
 
 #[derive(Args, Debug)]
@@ -189,14 +201,62 @@ pub fn run_steps(a: StepsArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Resu
     if let Some(other) = &a.data {
         let data = crate::data::load_recorded(other, inputs)?;
         let app = s.apply_to(&data)?;
-        return print_application(&s, &app, a.format, inputs);
+        let format = match a.format {
+            StepsFormat::Json => TableJsonCsv::Json,
+            StepsFormat::Csv => TableJsonCsv::Csv,
+            StepsFormat::Table => TableJsonCsv::Table,
+            StepsFormat::Latex | StepsFormat::Markdown => {
+                return Err(CliError::input(
+                    "steps --data prints table, json or csv; the paper's table (latex, markdown) is of the study's own data",
+                ))
+            }
+        };
+        return print_application(&s, &app, format, inputs);
     }
     match a.format {
-        TableJsonCsv::Json => print_json(s.file(), inputs),
-        TableJsonCsv::Csv => print_csv(&rows(&s), inputs)?,
-        TableJsonCsv::Table => print_table(&s, a.verbose),
+        StepsFormat::Json => print_json(s.file(), inputs),
+        StepsFormat::Csv => print_csv(&rows(&s), inputs)?,
+        StepsFormat::Table => print_table(&s, a.verbose),
+        StepsFormat::Latex => print!("{}", super::screen::paper::latex(&paper_rows(&s))),
+        StepsFormat::Markdown => print!("{}", super::screen::paper::markdown(&paper_rows(&s))),
     }
     Ok(())
+}
+
+/// The steps as the paper's table has them: the error after each, and
+/// each step's parameters with their 95 % intervals.
+fn paper_rows(s: &Study) -> Vec<super::screen::paper::PaperRow> {
+    let start = &s.file().start.stats;
+    let mut out = vec![super::screen::paper::PaperRow {
+        step: 0,
+        effect: format!("base ({})", s.file().model.preset),
+        mare: start.mare,
+        cv_mare: start.cv_mare,
+        chi2_reduced: start.chi2_reduced,
+        params: Vec::new(),
+    }];
+    out.extend(s.steps().iter().enumerate().map(|(i, st)| {
+        let params = st
+            .params
+            .iter()
+            .map(|p| {
+                let ci = match (p.lo, p.hi) {
+                    (Some(lo), Some(hi)) => format!(" [{}, {}]", fmt_sig(lo, 4), fmt_sig(hi, 4)),
+                    _ => String::new(),
+                };
+                format!("{} = {}{ci}", p.name, fmt_sig(p.value, 4))
+            })
+            .collect();
+        super::screen::paper::PaperRow {
+            step: i + 1,
+            effect: st.effect.name.clone(),
+            mare: st.after.stats.mare,
+            cv_mare: st.after.stats.cv_mare,
+            chi2_reduced: st.after.stats.chi2_reduced,
+            params,
+        }
+    }));
+    out
 }
 
 fn pct(v: f64) -> String {

@@ -5,6 +5,7 @@
 //! which the JSON carries too; everything else is behind `--verbose`.
 
 pub mod headline;
+pub mod paper;
 pub mod render;
 pub mod rounding;
 pub mod study;
