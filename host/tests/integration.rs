@@ -51,6 +51,7 @@ mod report;
 mod robust;
 mod run_log;
 mod run_log_lost;
+mod screens;
 mod sim;
 mod spreadsheets;
 mod study;

@@ -54,6 +54,11 @@ pub struct DiagnoseArgs {
     /// is made, and one over 10 s is announced on stderr].
     #[arg(long, value_name = "SECONDS")]
     pub max_seconds: Option<f64>,
+    /// Print every table behind the answer (the residuals, the trends, the
+    /// catalogue's ranking, the searches' laws) before it [default: the
+    /// answer alone].
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 /// `diagnose`'s work on `data` with the flags in `a` (its `--data` is not
@@ -158,15 +163,23 @@ pub fn run(a: DiagnoseArgs, inputs: &Inputs) -> Result<(), CliError> {
         }
         TableJsonCsv::Csv => print_csv(&ranking_rows(&d), inputs)?,
         TableJsonCsv::Table => {
-            if a.input_uncertainty {
-                println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
+            if a.verbose {
+                if a.input_uncertainty {
+                    println!("(judged against the combined uncertainty: each standard error below is the measurement's and the inputs' in quadrature)\n");
+                }
+                // Every "by AICc" below is that deviance's AICc (workbench::score).
+                println!(
+                    "{}; every AICc below is that deviance's\n",
+                    super::likelihood::minimised_line(lik)
+                );
+                print_table(&d);
+                println!();
             }
-            // Every "by AICc" below is that deviance's AICc (workbench::score).
+            let h = super::screen::headline::headline(&d, a.write_effect.as_deref());
             println!(
-                "{}; every AICc below is that deviance's\n",
-                super::likelihood::minimised_line(lik)
+                "{}",
+                super::screen::render::render(&h, super::screen::width())
             );
-            print_table(&d)
         }
     }
     Ok(())

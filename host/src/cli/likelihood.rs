@@ -71,6 +71,8 @@ pub struct DiagnosisJson<'a> {
     #[serde(flatten)]
     pub diagnosis: &'a crate::workbench::diagnose::Diagnosis,
     pub deviances: Vec<CandidateDeviance>,
+    /// The numbers the terminal's screen prints (`cli/screen/headline.rs`).
+    pub headline: super::screen::headline::Headline,
 }
 
 pub fn diagnosis_json<'a>(
@@ -98,5 +100,6 @@ pub fn diagnosis_json<'a>(
         likelihood: lik.label(),
         diagnosis: d,
         deviances,
+        headline: super::screen::headline::headline(d, None),
     })
 }

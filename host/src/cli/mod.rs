@@ -21,6 +21,7 @@ mod model_args;
 mod output;
 mod output_guard;
 mod report;
+pub mod screen;
 mod sim;
 mod stdout;
 mod study;

@@ -39,6 +39,9 @@ pub struct InitArgs {
     pub force: bool,
     #[command(flatten)]
     pub likelihood: super::likelihood::LikelihoodArgs,
+    /// Also print the first diagnosis's verdict in full.
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 #[derive(Args, Debug)]
@@ -53,19 +56,37 @@ pub struct AddArgs {
     /// Record the step even if the error (MARE) rises.
     #[arg(long)]
     pub force: bool,
+    /// Also print the diagnosis after the step in full.
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 #[derive(Args, Debug)]
 pub struct StepsArgs {
     /// Output format on stdout (json: the whole study, the numbers the page
-    /// prints; csv: one row per step, its statistics before and after).
+    /// prints; csv: one row per step, its statistics before and after;
+    /// latex: the steps as a booktabs table; markdown: the same for a lab
+    /// notebook).
     #[arg(long, value_enum, default_value = "table")]
-    pub format: TableJsonCsv,
+    pub format: StepsFormat,
     /// Apply the study to other data, every parameter held at the study's
     /// values (calibrated on the study's data, predicting these) [default: none, the study's own
     /// data as recorded].
     #[arg(long, value_name = "NEW.csv")]
     pub data: Option<PathBuf>,
+    /// Also print the diagnoses' verdicts in full.
+    #[arg(long)]
+    pub verbose: bool,
+}
+
+/// `steps --format`: the console table, JSON, CSV, or a paper's table.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepsFormat {
+    Table,
+    Json,
+    Csv,
+    Latex,
+    Markdown,
 }
 
 #[derive(Args, Debug)]
@@ -110,7 +131,7 @@ pub fn run_init(a: InitArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result
         path.display(),
         s.dataset_path().display()
     );
-    print_table(&s);
+    print_table(&s, a.verbose);
     Ok(())
 }
 
@@ -160,7 +181,10 @@ pub fn run_add(a: AddArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(
     println!("added step {n} to {}:", s.path().display());
     print_step(n, &step);
     if let Some(d) = &step.diagnosis_after {
-        println!("diagnose now: {} — {}", d.verdict, d.note);
+        println!(
+            "{}",
+            super::screen::study::diagnosis("diagnose now", d, a.verbose, super::screen::width())
+        );
     }
     Ok(())
 }
@@ -183,14 +207,62 @@ pub fn run_steps(a: StepsArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Resu
     if let Some(other) = &a.data {
         let data = crate::data::load_recorded(other, inputs)?;
         let app = s.apply_to(&data)?;
-        return print_application(&s, &app, a.format, inputs);
+        let format = match a.format {
+            StepsFormat::Json => TableJsonCsv::Json,
+            StepsFormat::Csv => TableJsonCsv::Csv,
+            StepsFormat::Table => TableJsonCsv::Table,
+            StepsFormat::Latex | StepsFormat::Markdown => {
+                return Err(CliError::input(
+                    "steps --data prints table, json or csv; the paper's table (latex, markdown) is of the study's own data",
+                ))
+            }
+        };
+        return print_application(&s, &app, format, inputs);
     }
     match a.format {
-        TableJsonCsv::Json => print_json(s.file(), inputs),
-        TableJsonCsv::Csv => print_csv(&rows(&s), inputs)?,
-        TableJsonCsv::Table => print_table(&s),
+        StepsFormat::Json => print_json(s.file(), inputs),
+        StepsFormat::Csv => print_csv(&rows(&s), inputs)?,
+        StepsFormat::Table => print_table(&s, a.verbose),
+        StepsFormat::Latex => print!("{}", super::screen::paper::latex(&paper_rows(&s))),
+        StepsFormat::Markdown => print!("{}", super::screen::paper::markdown(&paper_rows(&s))),
     }
     Ok(())
+}
+
+/// The steps as the paper's table has them: the error after each, and
+/// each step's parameters with their 95 % intervals.
+fn paper_rows(s: &Study) -> Vec<super::screen::paper::PaperRow> {
+    let start = &s.file().start.stats;
+    let mut out = vec![super::screen::paper::PaperRow {
+        step: 0,
+        effect: format!("base ({})", s.file().model.preset),
+        mare: start.mare,
+        cv_mare: start.cv_mare,
+        chi2_reduced: start.chi2_reduced,
+        params: Vec::new(),
+    }];
+    out.extend(s.steps().iter().enumerate().map(|(i, st)| {
+        let params = st
+            .params
+            .iter()
+            .map(|p| {
+                let ci = match (p.lo, p.hi) {
+                    (Some(lo), Some(hi)) => format!(" [{}, {}]", fmt_sig(lo, 4), fmt_sig(hi, 4)),
+                    _ => String::new(),
+                };
+                format!("{} = {}{ci}", p.name, fmt_sig(p.value, 4))
+            })
+            .collect();
+        super::screen::paper::PaperRow {
+            step: i + 1,
+            effect: st.effect.name.clone(),
+            mare: st.after.stats.mare,
+            cv_mare: st.after.stats.cv_mare,
+            chi2_reduced: st.after.stats.chi2_reduced,
+            params,
+        }
+    }));
+    out
 }
 
 fn pct(v: f64) -> String {
@@ -251,7 +323,7 @@ fn rows(s: &Study) -> Vec<StepRow> {
 fn stats_line(label: &str, s: &Snapshot) -> String {
     let st = &s.stats;
     format!(
-        "  {:<34} MARE {:>9}  CV MARE {:>9}  chi2 {:>10}  chi2_red {:>8}  floor {:>8}{}",
+        "  {:<24} MARE {:>8}  CV MARE {:>8}  χ² {:>9}  χ²/ν {:>7}  floor {:>6}{}",
         label,
         pct(st.mare),
         pct(st.cv_mare),
@@ -266,9 +338,16 @@ fn stats_line(label: &str, s: &Snapshot) -> String {
     )
 }
 
-fn print_table(s: &Study) {
+/// `println!` wrapped at the terminal's width (`cli/screen/study.rs`).
+macro_rules! say {
+    ($($t:tt)*) => {
+        println!("{}", super::screen::study::line(&format!($($t)*), super::screen::width()))
+    };
+}
+
+fn print_table(s: &Study, verbose: bool) {
     let f = s.file();
-    println!(
+    say!(
         "data: {} ({}; SHA-256 {}…, {} cases, {} quantities); base: {}; likelihood: {}",
         f.dataset.path.display(),
         f.dataset.name,
@@ -279,17 +358,21 @@ fn print_table(s: &Study) {
         f.model.likelihood
     );
     if let Some(d) = &f.first_diagnosis {
-        println!("first diagnosis: {} — {}", d.verdict, d.note);
-        if s.steps().is_empty() {
-            print_proposals(d);
+        let mut d = d.clone();
+        if !s.steps().is_empty() {
+            d.proposals.clear();
         }
+        println!(
+            "{}",
+            super::screen::study::diagnosis("first diagnosis", &d, verbose, super::screen::width())
+        );
     }
-    println!(
+    say!(
         "{}",
         stats_line(&format!("0. base ({})", f.model.preset), &f.start)
     );
     for (i, st) in s.steps().iter().enumerate() {
-        println!(
+        say!(
             "{}   (MARE {} -> {})",
             stats_line(&format!("{}. + {}", i + 1, st.effect.name), &st.after),
             pct(st.before.mare),
@@ -299,34 +382,27 @@ fn print_table(s: &Study) {
     match s.last_diagnosis() {
         Some(_) if s.steps().is_empty() => {}
         Some(d) => {
-            println!("diagnose now: {} — {}", d.verdict, d.note);
-            print_proposals(d);
+            println!(
+                "{}",
+                super::screen::study::diagnosis("diagnose now", d, verbose, super::screen::width())
+            );
         }
-        None => println!("diagnose now: not run"),
-    }
-}
-
-fn print_proposals(d: &crate::study::DiagnosisRecord) {
-    {
-        {
-            for p in &d.proposals {
-                let how: Vec<String> = p.add_commands().iter().map(|c| format!("`{c}`")).collect();
-                println!("  proposes: {} ({})", p.text, how.join(", then "));
-            }
-        }
+        None => say!("diagnose now: not run"),
     }
 }
 
 fn print_step(n: usize, st: &StepRecord) {
-    println!(
+    say!(
         "  {n}. + {} ({}): {}",
-        st.effect.name, st.effect.kind, st.effect.statement
+        st.effect.name,
+        st.effect.kind,
+        st.effect.statement
     );
     for f in &st.effect.formula {
-        println!("     {f}");
+        say!("     {f}");
     }
     if let Some(p) = &st.proposed_by {
-        println!("     proposed by {p}");
+        say!("     proposed by {p}");
     }
     for p in st.params.iter().chain(&st.refitted) {
         let unit = if p.unit.is_empty() || p.unit == "1" {
@@ -338,7 +414,7 @@ fn print_step(n: usize, st: &StepRecord) {
             (Some(lo), Some(hi)) => format!(" (95 % CI {} .. {})", fmt_sig(lo, 4), fmt_sig(hi, 4)),
             _ => String::new(),
         };
-        println!(
+        say!(
             "     {}.{} = {}{unit}{interval}  [{}]{}",
             p.effect,
             p.name,
@@ -351,9 +427,9 @@ fn print_step(n: usize, st: &StepRecord) {
         );
     }
     for note in &st.notes {
-        println!("     {note}");
+        say!("     {note}");
     }
-    println!(
+    say!(
         "     MARE {} -> {}, CV MARE {}, chi-square {} -> {}{}",
         pct(st.before.mare),
         pct(st.after.stats.mare),

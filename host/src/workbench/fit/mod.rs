@@ -28,6 +28,7 @@
 //! K. L. Lange, R. J. A. Little & J. M. G. Taylor, J. Am. Stat. Assoc. 84
 //! (1989) 881 (the t likelihood and its information).
 
+pub mod report;
 pub mod uncertainty;
 
 use crate::data::{Case, Dataset};

@@ -123,7 +123,7 @@ pub(super) fn finish(
              other parameters' intervals are with {c} held on its fitted value"
         ));
     }
-    let t95 = 1.96;
+    let t95 = super::report::Z95;
     let estimates = free
         .iter()
         .enumerate()
