@@ -438,8 +438,8 @@ fn main() {
         );
         println!("|---|---|---|---|---|---|");
     } else {
-        println!("| design | kinds | expected | verdict | stated sets | right | with rivals | wrong alone | floor | s |");
-        println!("|---|---|---|---|---|---|---|---|---|---|");
+        println!("| design | kinds | expected | verdict | stated sets | right | with rivals | wrong alone | floor | stability | s |");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|");
     }
     let (mut right, mut rivals, mut wrong, mut floor) = (0, 0, 0, 0);
     for (id, seed, ks) in DESIGNS {
@@ -494,15 +494,21 @@ fn main() {
         wrong += wrong_alone as u32;
         floor += at_floor as u32;
         let stated: Vec<String> = sets.iter().map(|s| s.join(", ")).collect();
+        let sure: Vec<String> = v
+            .stability
+            .iter()
+            .map(|t| format!("{} {:.2}", t.term, t.fraction))
+            .collect();
         println!(
-            "| {id} | {} | {expected} | {} | {} | {} | {} | {} | {} | {secs:.1} |",
+            "| {id} | {} | {expected} | {} | {} | {} | {} | {} | {} | {} | {secs:.1} |",
             kinds.join(" + "),
             v.kind.name(),
             stated.join(" / "),
             is_right,
             with_rivals,
             wrong_alone,
-            at_floor
+            at_floor,
+            sure.join(", ")
         );
     }
     if mode != "freeze" {
