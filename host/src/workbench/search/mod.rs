@@ -134,6 +134,7 @@ mod rivals;
 mod screened;
 mod set;
 mod speed_pairs;
+pub mod stability;
 pub mod verdict;
 
 use super::diagnosis::{DiagnoseSettings, Verdict, VerdictKind};
