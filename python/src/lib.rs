@@ -12,9 +12,9 @@
 //!
 //! Each call records the files it reads in an [`Inputs`] of its own, so a
 //! report written by a notebook names the files its study read, not every
-//! file read before in the interpreter. Process-wide state the library
-//! still keeps: effect files given with `--effect-file` stay registered for
-//! the process.
+//! file read before in the interpreter. Effects files are loaded the same
+//! way, into the call's own catalogue (`swimbot::effects::Catalogue`):
+//! nothing one call loads is seen by the next.
 
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
