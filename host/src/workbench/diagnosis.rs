@@ -156,6 +156,10 @@ pub struct ExplainingSet {
     /// The measurement that best tells it from the found set, inside the
     /// rig (`None` for the found set itself).
     pub suggestion: Option<Suggestion>,
+    /// The starting model with the set at its joint fit (what `plan`
+    /// separates); not serialised.
+    #[serde(skip)]
+    pub model: Option<Model>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -83,6 +83,7 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
         key_difference: 0.0,
         at_noise_floor: last.at_floor,
         suggestion: None,
+        model: Some(last.model.clone()),
     }];
     for r in &path.rivals {
         sets.push(ExplainingSet {
@@ -91,6 +92,7 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
             key_difference: r.key_difference,
             at_noise_floor: r.at_floor,
             suggestion: best_discriminating_case(data, &last.model, &r.model),
+            model: Some(r.model.clone()),
         });
     }
     let agreed: Vec<String> = found
