@@ -105,11 +105,7 @@ pub fn run(a: PlanArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), 
     super::output::check_output_file(&a.output, inputs)?;
     super::output::write_all_atomically(&[(a.output.clone(), text.into_bytes())], inputs)?;
     print_plan(&plan, &rivals);
-    println!(
-        "wrote {} (fill in the measurements, then `swimbot data add {}`)",
-        a.output.display(),
-        a.output.display()
-    );
+    println!("wrote {} (fill in the measurements)", a.output.display());
     Ok(())
 }
 
