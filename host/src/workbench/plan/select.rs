@@ -138,7 +138,7 @@ pub fn plan(cands: Vec<Candidate>, rivals: &Rivals, noise: &Noise, runs: usize) 
             candidate: cands[ci].clone(),
             separates: live[p],
             separation_sigma: best.sqrt(),
-            expected: preds[ci].as_ref().expect("usable")[0].clone(),
+            expected: preds[ci].as_ref().expect("usable")[0],
         });
     }
     Plan {
