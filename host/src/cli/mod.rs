@@ -20,6 +20,7 @@ mod log;
 mod model_args;
 mod output;
 mod output_guard;
+mod plan;
 mod report;
 pub mod screen;
 mod sim;
@@ -107,6 +108,8 @@ pub enum Command {
     Steps(study::StepsArgs),
     /// Remove the study's last step.
     Undo(study::UndoArgs),
+    /// The next runs: those that best separate the study's rival explanations, as a run sheet.
+    Plan(plan::PlanArgs),
 }
 
 /// Run a parsed command line. A run that fails (or is interrupted by
@@ -172,5 +175,6 @@ fn dispatch(cli: Cli, inputs: &Inputs) -> Result<(), CliError> {
         Command::Add(a) => study::run_add(a, st, inputs),
         Command::Steps(a) => study::run_steps(a, st, inputs),
         Command::Undo(a) => study::run_undo(a, st, inputs),
+        Command::Plan(a) => plan::run(a, st, inputs),
     }
 }

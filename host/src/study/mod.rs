@@ -15,6 +15,7 @@
 //! layers over it. The file format is in docs/study.md.
 
 mod calibrate;
+pub mod data_add;
 pub mod definition;
 pub mod diagnosis;
 mod error;

@@ -182,6 +182,10 @@ pub struct ExplainingSet {
     /// over their key differences `d` (Burnham & Anderson 2002, sec. 2.9):
     /// the weight of evidence that it is the best of them.
     pub akaike_weight: f64,
+    /// The starting model with the set at its joint fit (what `plan`
+    /// separates); not serialised.
+    #[serde(skip)]
+    pub model: Option<Model>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

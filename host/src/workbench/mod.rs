@@ -13,6 +13,7 @@ pub mod fit;
 pub mod input_covariance;
 pub mod noise;
 pub mod path;
+pub mod plan;
 pub mod progress;
 pub mod propagate;
 pub mod robust;

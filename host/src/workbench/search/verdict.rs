@@ -84,6 +84,7 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
         at_noise_floor: last.at_floor,
         suggestion: None,
         akaike_weight: f64::NAN,
+        model: Some(last.model.clone()),
     }];
     for r in &path.rivals {
         sets.push(ExplainingSet {
@@ -93,6 +94,7 @@ fn put_rivals(path: &Found, v: &mut Verdict, data: &Dataset, margin: f64) {
             at_noise_floor: r.at_floor,
             suggestion: best_discriminating_case(data, &last.model, &r.model),
             akaike_weight: f64::NAN,
+            model: Some(r.model.clone()),
         });
     }
     put_akaike_weights(&mut sets);

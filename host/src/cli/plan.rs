@@ -1,0 +1,162 @@
+//! `swimbot plan`: inside a study, the runs that best separate what
+//! `diagnose` cannot tell apart (or sharpen what it located), written as a
+//! run sheet for the lab ([`crate::workbench::plan`]).
+
+use super::CliError;
+use crate::format::fmt_sig;
+use crate::provenance::Inputs;
+use crate::study::{Study, DEFAULT_FILE};
+use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
+use crate::workbench::plan::{
+    candidates, plan, rivals::Rivals, rivals_of, sheet, Goal, Noise, Plan, PlanRig,
+};
+use clap::Args;
+use std::path::{Path, PathBuf};
+
+#[derive(Args, Debug)]
+pub struct PlanArgs {
+    /// Runs to plan.
+    #[arg(long, default_value_t = 6)]
+    pub runs: usize,
+    /// The run sheet to write (a dataset CSV, measurements empty).
+    #[arg(short, long, value_name = "FILE", default_value = "plan.csv")]
+    pub output: PathBuf,
+    /// Also plan tails not yet built, inside the data's geometry ranges [default: the data's tails only].
+    #[arg(long)]
+    pub new_tails: bool,
+    /// The tubes on hand, inner diameters, e.g. 26,35,45 [default: the data's (or its [rig])].
+    #[arg(long, value_name = "MM,...", value_delimiter = ',')]
+    pub tubes_mm: Option<Vec<f64>>,
+    /// The oils on hand, viscosities, e.g. 1.0,3.5 [default: the data's].
+    #[arg(long, value_name = "PA_S,...", value_delimiter = ',')]
+    pub oils_pa_s: Option<Vec<f64>>,
+}
+
+/// A plan made for a study: the rivals, the plan, the sheet's text.
+pub struct Planned {
+    pub rivals: Rivals,
+    pub plan: Option<Plan>,
+}
+
+/// Plan `a.runs` runs on the study's data and current model.
+pub fn plan_study(s: &Study, a: &PlanArgs) -> Result<Planned, CliError> {
+    let data = s.dataset();
+    let rig = PlanRig::of(data, a.tubes_mm.clone(), a.oils_pa_s.clone(), a.new_tails);
+    let cands = candidates(data, &rig).map_err(CliError::input)?;
+    let settings = DiagnoseSettings {
+        likelihood: s.likelihood()?,
+        catalogue: s.catalogue()?,
+        ..DiagnoseSettings::default()
+    };
+    let d = diagnose(&s.model()?, data, &settings).map_err(CliError::failure)?;
+    let rivals = rivals_of(&d);
+    if rivals.goal == Goal::Nothing {
+        return Ok(Planned { rivals, plan: None });
+    }
+    let p = plan(cands, &rivals, &Noise::of(data), a.runs);
+    Ok(Planned {
+        rivals,
+        plan: Some(p),
+    })
+}
+
+fn open(study: &Option<PathBuf>, inputs: &Inputs) -> Result<Study, CliError> {
+    let path = Study::locate(study.as_deref(), Path::new(".")).ok_or_else(|| {
+        CliError::input(format!(
+            "plan works inside a study: no {DEFAULT_FILE} here; start one with `swimbot init --data FILE`, or give --study FILE"
+        ))
+    })?;
+    let s = Study::open(&path)?;
+    inputs.record_all(s.inputs());
+    Ok(s)
+}
+
+pub fn run(a: PlanArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), CliError> {
+    if a.runs == 0 {
+        return Err(CliError::input("--runs: give at least one run"));
+    }
+    let s = open(study, inputs)?;
+    let spinner = crate::progress::spinner("diagnosing the study's model for its rivals");
+    let planned = plan_study(&s, &a);
+    spinner.finish_and_clear();
+    let Planned { rivals, plan } = planned?;
+    let Some(plan) = plan else {
+        println!(
+            "nothing to plan: diagnose finds no rival explanations and no fitted law with an interval to sharpen; no sheet written"
+        );
+        return Ok(());
+    };
+    print_rivals(&rivals);
+    for &(i, j) in &plan.ties {
+        println!(
+            "no run separates {} from {}: their predictions agree to round-off on every run the rig can make (the same model)",
+            rivals.models[i].name, rivals.models[j].name
+        );
+    }
+    if plan.runs.is_empty() {
+        println!("nothing can be separated inside this rig; no sheet written");
+        return Ok(());
+    }
+    let header = vec![
+        format!("plan for the study {}", s.path().display()),
+        "expected separation: T-optimal (Atkinson & Fedorov 1975), rivals held at their fits, sigma from the data's median relative standard error".into(),
+    ];
+    let text = sheet::to_csv(&plan, &rivals, &header).map_err(CliError::failure)?;
+    super::output::check_output_file(&a.output, inputs)?;
+    super::output::write_all_atomically(&[(a.output.clone(), text.into_bytes())], inputs)?;
+    print_plan(&plan, &rivals);
+    println!("wrote {} (fill in the measurements)", a.output.display());
+    Ok(())
+}
+
+fn print_rivals(r: &Rivals) {
+    let what = match r.goal {
+        Goal::Separate => "rivals the data cannot tell apart",
+        _ => "the fitted law's intervals to sharpen (each parameter's two ends)",
+    };
+    println!("{what}:");
+    for (i, m) in r.models.iter().enumerate() {
+        println!("  ({}) {}", i + 1, m.name);
+    }
+}
+
+fn print_plan(p: &Plan, r: &Rivals) {
+    println!(
+        "{} runs chosen of {} the rig can make, in the order to run them:",
+        p.runs.len(),
+        p.offered
+    );
+    for run in sheet::ordered(p) {
+        let c = &run.candidate.case;
+        let (i, j) = run.separates;
+        println!(
+            "  {}: tail {} in the {} mm tube, {} Pa s, {} Hz; keys {}; about {} s; separates ({}) from ({}) by {} sd",
+            c.id,
+            run.candidate.tail,
+            fmt_sig(c.channel_diameter_mm, 3),
+            fmt_sig(c.viscosity_pa_s, 3),
+            fmt_sig(c.frequency_hz, 3),
+            crate::workbench::plan::keys::run_keys(c.frequency_hz).unwrap_or_default(),
+            crate::workbench::plan::keys::duration_s(c, run.expected.u_mm_s)
+                .map_or("?".into(), |t| format!("{t:.0}")),
+            i + 1,
+            j + 1,
+            fmt_sig(run.separation_sigma, 2)
+        );
+    }
+    println!("expected separation of each pair over the plan:");
+    for ((i, j), s) in &p.pair_sigma {
+        println!(
+            "  ({}) vs ({}): {} sd{}",
+            i + 1,
+            j + 1,
+            fmt_sig(*s, 2),
+            if *s < 2.0 {
+                " (not enough: more runs, or a wider rig)"
+            } else {
+                ""
+            }
+        );
+    }
+    let _ = r;
+}

@@ -1,0 +1,24 @@
+//! The next experiment: the runs that best tell apart the explanations the
+//! data cannot (the rival sets of a `diagnose` verdict), or otherwise most
+//! sharpen the fitted law's parameters, chosen inside what the rig can run.
+//!
+//! - [`criterion`]: the T-optimal distance between two models over planned
+//!   runs, in the standard errors the study's noise model gives each run;
+//! - [`rivals`]: the models to separate, taken from a diagnosis;
+//! - [`candidates`]: the runs the rig can make (the tails on hand, the
+//!   tubes and oils on hand, rates inside the motor's range);
+//! - [`select`]: the greedy (sequential) choice of runs, maximin over pairs;
+//! - [`keys`]: a run's set-point as the IR keys the lab presses;
+//! - [`sheet`]: the run sheet, a dataset CSV with the measurements empty.
+
+pub mod candidates;
+pub mod criterion;
+pub mod keys;
+pub mod rivals;
+pub mod select;
+pub mod sheet;
+
+pub use candidates::{candidates, Candidate, PlanRig, RigError};
+pub use criterion::Noise;
+pub use rivals::{rivals_of, Goal, Rival};
+pub use select::{plan, Plan, PlannedRun};
