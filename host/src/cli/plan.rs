@@ -24,10 +24,10 @@ pub struct PlanArgs {
     /// Also plan tails not yet built, inside the data's geometry ranges [default: the data's tails only].
     #[arg(long)]
     pub new_tails: bool,
-    /// The tubes on hand, inner diameters, e.g. 26,35,45 [default: the data's (or its [rig])].
+    /// The tubes on hand, inner diameters in mm, e.g. 26,35,45 [default: the data's (or its [rig])].
     #[arg(long, value_name = "MM,...", value_delimiter = ',')]
     pub tubes_mm: Option<Vec<f64>>,
-    /// The oils on hand, viscosities, e.g. 1.0,3.5 [default: the data's].
+    /// The oils on hand, viscosities in Pa s, e.g. 1.0,3.5 [default: the data's].
     #[arg(long, value_name = "PA_S,...", value_delimiter = ',')]
     pub oils_pa_s: Option<Vec<f64>>,
 }
