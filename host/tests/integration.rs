@@ -46,6 +46,7 @@ mod outputs;
 mod page;
 mod page_escaping;
 mod physics_tail;
+mod plan_loop;
 mod provenance;
 mod rate_control;
 mod report;

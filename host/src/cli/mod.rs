@@ -8,6 +8,7 @@ mod budget;
 mod cleanup;
 mod compare;
 mod convert;
+mod data;
 mod diagnose;
 mod effects;
 mod error;
@@ -24,6 +25,7 @@ mod plan;
 mod report;
 pub mod screen;
 mod sim;
+mod sim_plan;
 mod stdout;
 mod study;
 mod sweep;
@@ -110,6 +112,8 @@ pub enum Command {
     Undo(study::UndoArgs),
     /// The next runs: those that best separate the study's rival explanations, as a run sheet.
     Plan(plan::PlanArgs),
+    /// The study's data: join a filled run sheet (`data add SHEET`, every step recalibrated), list what joined.
+    Data(data::DataArgs),
 }
 
 /// Run a parsed command line. A run that fails (or is interrupted by
@@ -176,5 +180,6 @@ fn dispatch(cli: Cli, inputs: &Inputs) -> Result<(), CliError> {
         Command::Steps(a) => study::run_steps(a, st, inputs),
         Command::Undo(a) => study::run_undo(a, st, inputs),
         Command::Plan(a) => plan::run(a, st, inputs),
+        Command::Data(a) => data::run(a, st, inputs),
     }
 }

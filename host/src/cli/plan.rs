@@ -53,7 +53,8 @@ pub fn plan_study(s: &Study, a: &PlanArgs) -> Result<Planned, CliError> {
     if rivals.goal == Goal::Nothing {
         return Ok(Planned { rivals, plan: None });
     }
-    let p = plan(cands, &rivals, &Noise::of(data), a.runs);
+    let robot = crate::sim::default_robot();
+    let p = plan(cands, &rivals, &Noise::of(data), a.runs, &robot);
     Ok(Planned {
         rivals,
         plan: Some(p),
@@ -110,11 +111,7 @@ pub fn run(a: PlanArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), 
 }
 
 fn print_rivals(r: &Rivals) {
-    let what = match r.goal {
-        Goal::Separate => "rivals the data cannot tell apart",
-        _ => "the fitted law's intervals to sharpen (each parameter's two ends)",
-    };
-    println!("{what}:");
+    println!("{}:", r.why);
     for (i, m) in r.models.iter().enumerate() {
         println!("  ({}) {}", i + 1, m.name);
     }
@@ -122,21 +119,23 @@ fn print_rivals(r: &Rivals) {
 
 fn print_plan(p: &Plan, r: &Rivals) {
     println!(
-        "{} runs chosen of {} the rig can make, in the order to run them:",
+        "{} runs chosen of the {} the robot can hold ({} offered by the rig's tubes, oils, tails and set-points), in the order to run them:",
         p.runs.len(),
+        p.reachable,
         p.offered
     );
     for run in sheet::ordered(p) {
         let c = &run.candidate.case;
         let (i, j) = run.separates;
         println!(
-            "  {}: tail {} in the {} mm tube, {} Pa s, {} Hz; keys {}; about {} s; separates ({}) from ({}) by {} sd",
+            "  {}: tail {} in the {} mm tube, {} Pa s, motor at {} Hz (tail {} Hz in the lab); keys {}; about {} s; separates ({}) from ({}) by {} sd",
             c.id,
             run.candidate.tail,
             fmt_sig(c.channel_diameter_mm, 3),
             fmt_sig(c.viscosity_pa_s, 3),
+            fmt_sig(run.candidate.set_point_hz, 3),
             fmt_sig(c.frequency_hz, 3),
-            crate::workbench::plan::keys::run_keys(c.frequency_hz).unwrap_or_default(),
+            crate::workbench::plan::keys::run_keys(run.candidate.set_point_hz).unwrap_or_default(),
             crate::workbench::plan::keys::duration_s(c, run.expected.u_mm_s)
                 .map_or("?".into(), |t| format!("{t:.0}")),
             i + 1,

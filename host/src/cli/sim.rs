@@ -60,6 +60,21 @@ pub struct SimArgs {
     /// Keep going past the channel's top (the height then exceeds the channel).
     #[arg(long)]
     pub no_stop_at_top: bool,
+    /// Run a run sheet (the CSV `swimbot plan` wrote) row by row through the robot, --truth the world: writes SHEET-filled.csv (the camera's measurements) and each run's log ID.swlog [default: one run of --tail].
+    #[arg(long, value_name = "SHEET", requires = "truth", conflicts_with_all = ["rate_hz", "script", "script_file", "set_points_from", "fit_motor", "write_log"])]
+    pub plan: Option<PathBuf>,
+    /// The world --plan runs in: a preset or coefficient set, then effects joined by `+`, as `synth --truth`, e.g. "base + backflow" [default: none; --plan needs it].
+    #[arg(long, value_name = "MODEL", requires = "plan")]
+    pub truth: Option<String>,
+    /// --plan: relative noise (standard deviation) of one trial of a measured U or Omega_b, as a fraction [default: 0.02].
+    #[arg(long, requires = "plan")]
+    pub noise: Option<f64>,
+    /// --plan: trials per run behind each measured mean [default: 5].
+    #[arg(long, requires = "plan")]
+    pub trials: Option<u32>,
+    /// --plan: seed of the measurement noise (the same seed, the same sheet) [default: 1].
+    #[arg(long, requires = "plan")]
+    pub seed: Option<u64>,
     /// Fit one motor to the observed tail rates of all cases instead of simulating.
     #[arg(long)]
     pub fit_motor: bool,
@@ -183,6 +198,9 @@ fn check_finite(o: &sim::Outcome) -> Result<(), CliError> {
 
 pub fn run(args: SimArgs, inputs: &Inputs) -> Result<(), CliError> {
     let robot = robot_with_model(&args, inputs)?;
+    if args.plan.is_some() {
+        return super::sim_plan::run(&args, &robot, inputs);
+    }
     if args.fit_motor {
         let data = load_data(&args.data, inputs)?;
         let fit = calibrate::fit_motor(&robot, &data)?;

@@ -99,7 +99,7 @@ pub fn locate(explicit: &Option<PathBuf>) -> Option<PathBuf> {
 }
 
 /// The study, its files recorded in `inputs`.
-fn open(explicit: &Option<PathBuf>, inputs: &Inputs) -> Result<Study, CliError> {
+pub(super) fn open(explicit: &Option<PathBuf>, inputs: &Inputs) -> Result<Study, CliError> {
     let path = locate(explicit).ok_or_else(|| {
         CliError::input(format!(
             "no study in this folder ({DEFAULT_FILE}); start one with `swimbot init --data FILE`, or give --study FILE"

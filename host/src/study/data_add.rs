@@ -2,10 +2,10 @@
 //! of the study's robot (the same body, coupler, wire and density: a sheet
 //! from another robot is refused) carrying a tail it names truthfully (a
 //! row whose `labels.tail` names a data case must have that case's tail
-//! geometry: a tail changed since is refused), with at least one
-//! measurement and an id of its own. A refusal names the sheet, the row
-//! (the case's id and its place among the sheet's cases) and the field,
-//! and changes nothing.
+//! geometry: a tail changed since is refused) and an id of its own. A row
+//! with no measurement is a run not made: it is left out and listed. A
+//! refusal names the sheet, the row (the case's id and its place among the
+//! sheet's cases) and the field, and changes nothing.
 
 use crate::data::{Case, Dataset};
 
@@ -79,13 +79,6 @@ fn check_row(data: &Dataset, c: &Case) -> Result<(), (&'static str, String)> {
             }
         }
     }
-    if c.u_mm_s.is_none() && c.omega_body_hz.is_none() {
-        return Err((
-            "u_mm_s",
-            "no measurement: fill in u_mm_s or omega_body_hz (with their intervals or trials)"
-                .into(),
-        ));
-    }
     if data.cases.iter().any(|d| d.id == c.id) {
         return Err((
             "id",
@@ -95,19 +88,60 @@ fn check_row(data: &Dataset, c: &Case) -> Result<(), (&'static str, String)> {
     Ok(())
 }
 
-/// The study's data with the sheet's rows after them, or the first row
-/// that cannot join (module docs); `sheet_name` names the sheet in errors.
-pub fn merge(data: &Dataset, sheet: &Dataset, sheet_name: &str) -> Result<Dataset, SheetError> {
-    let mut out = data.clone();
+/// A sheet joined: the data with its measured rows after them.
+#[derive(Debug, Clone)]
+pub struct Merged {
+    pub data: Dataset,
+    /// The ids of the rows that joined, in the sheet's order.
+    pub joined: Vec<String>,
+    /// Rows with no measurement at all (runs not made), left out.
+    pub skipped: Vec<String>,
+}
+
+fn measured(c: &Case) -> bool {
+    c.u_mm_s.is_some() || c.omega_body_hz.is_some()
+}
+
+/// The study's data with the sheet's measured rows after them, or the
+/// first row that cannot join (module docs); `sheet_name` names the sheet
+/// in errors. A row with no measurement is a run not made: left out and
+/// listed, unless no row has one.
+pub fn merge(data: &Dataset, sheet: &Dataset, sheet_name: &str) -> Result<Merged, SheetError> {
+    let mut out = Merged {
+        data: data.clone(),
+        joined: Vec::new(),
+        skipped: Vec::new(),
+    };
+    let refuse = |i: usize, c: &Case, field, message| SheetError {
+        sheet: sheet_name.to_string(),
+        row: i + 1,
+        case: c.id.clone(),
+        field,
+        message,
+    };
     for (i, c) in sheet.cases.iter().enumerate() {
-        check_row(&out, c).map_err(|(field, message)| SheetError {
+        if !measured(c) {
+            out.skipped.push(c.id.clone());
+            continue;
+        }
+        check_row(&out.data, c).map_err(|(field, message)| refuse(i, c, field, message))?;
+        out.joined.push(c.id.clone());
+        out.data.cases.push(c.clone());
+    }
+    if out.joined.is_empty() {
+        let first = sheet.cases.first().ok_or_else(|| SheetError {
             sheet: sheet_name.to_string(),
-            row: i + 1,
-            case: c.id.clone(),
-            field,
-            message,
+            row: 0,
+            case: String::new(),
+            field: "id",
+            message: "the sheet has no rows".into(),
         })?;
-        out.cases.push(c.clone());
+        return Err(refuse(
+            0,
+            first,
+            "u_mm_s",
+            "no row of the sheet has a measurement: fill in u_mm_s or omega_body_hz (with u_ci_mm_s / omega_body_ci_hz, or trials) for the runs made".into(),
+        ));
     }
     Ok(out)
 }
@@ -132,8 +166,9 @@ mod tests {
     fn a_filled_run_of_the_same_robot_joins_after_the_data() {
         let data = crate::data::paper();
         let merged = merge(&data, &filled(&data), "plan.csv").unwrap();
-        assert_eq!(merged.cases.len(), data.cases.len() + 1);
-        assert_eq!(merged.cases.last().unwrap().id, "plan-1");
+        assert_eq!(merged.data.cases.len(), data.cases.len() + 1);
+        assert_eq!(merged.data.cases.last().unwrap().id, "plan-1");
+        assert_eq!(merged.joined, ["plan-1"]);
     }
 
     #[test]
@@ -159,6 +194,14 @@ mod tests {
         empty.cases[0].u_mm_s = None;
         empty.cases[0].omega_body_hz = None;
         assert_eq!(merge(&data, &empty, "s").unwrap_err().field, "u_mm_s");
+        let mut one_run_made = filled(&data);
+        one_run_made.cases.push(empty.cases[0].clone());
+        one_run_made.cases[1].id = "plan-2".into();
+        let m = merge(&data, &one_run_made, "s").unwrap();
+        assert_eq!(
+            (m.joined, m.skipped),
+            (vec!["plan-1".to_string()], vec!["plan-2".to_string()])
+        );
 
         let mut taken = filled(&data);
         taken.cases[0].id = data.cases[2].id.clone();

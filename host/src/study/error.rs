@@ -93,6 +93,12 @@ pub enum StudyError {
     /// The model cannot predict a case, or the fit failed.
     #[error("{file}: {message}")]
     Model { file: PathBuf, message: String },
+    /// A run sheet's row cannot join the study's data.
+    #[error("{file}: the run sheet cannot join the study (nothing was changed): {error}")]
+    Sheet {
+        file: PathBuf,
+        error: super::data_add::SheetError,
+    },
 }
 
 /// A recorded parameter value that does not fit its effect (a step's

@@ -53,6 +53,10 @@ pub struct DatasetRef {
     /// SHA-256 of its bytes: a changed one is refused too.
     #[serde(default, rename = "pin", skip_serializing_if = "Vec::is_empty")]
     pub pins: Vec<super::pin::PinRecord>,
+    /// Run sheets joined after it, in order: the study's data are the
+    /// dataset's cases, then each sheet's rows.
+    #[serde(default, rename = "sheet", skip_serializing_if = "Vec::is_empty")]
+    pub sheets: Vec<super::sheets::SheetRecord>,
 }
 
 /// What the steps start from.

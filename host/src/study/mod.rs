@@ -22,6 +22,7 @@ mod error;
 pub mod file;
 pub mod pin;
 pub mod refit;
+pub mod sheets;
 pub mod snapshot;
 pub mod verify;
 
@@ -31,6 +32,7 @@ pub use error::{ParamValueError, StudyError};
 pub use file::{StepRecord, StudyFile, DEFAULT_FILE, SCHEMA};
 pub use pin::PinRecord;
 pub use refit::{RefitChoice, Trial};
+pub use sheets::{JoinOptions, Joined, Recalibrated, SheetRecord};
 pub use snapshot::{CaseRow, Snapshot, Stats};
 
 use crate::data::Dataset;
@@ -202,6 +204,7 @@ impl Study {
                 sha256,
                 name: data.name.clone(),
                 pins,
+                sheets: Vec::new(),
             },
             model: file::BaseModel {
                 preset: o.preset.clone(),
@@ -238,6 +241,7 @@ impl Study {
             });
         }
         pin::check(path, &file.dataset.pins, &data_path, &inputs)?;
+        let data = sheets::load_joined(path, &file.dataset.sheets, data, &inputs)?;
         // The study is an input of what is made from it (its provenance,
         // and the output guard: no output may replace it).
         inputs.record(path, text.as_bytes());
@@ -385,6 +389,21 @@ impl Study {
     /// refuse it when the error (MARE) rises unless `o.force`, record it
     /// and write the file.
     pub fn add(&mut self, def: Definition, o: &AddOptions) -> Result<&StepRecord, StudyError> {
+        let record = self.step_record(def, o)?;
+        self.file.steps.push(record);
+        match self.file.write_over(&self.path, &self.opened_sha256) {
+            Ok(sha) => self.opened_sha256 = sha,
+            Err(e) => {
+                self.file.steps.pop();
+                return Err(e);
+            }
+        }
+        Ok(self.file.steps.last().expect("just pushed"))
+    }
+
+    /// The step `def` would be on top of the current model (what
+    /// [`Study::add`] records), the file untouched.
+    fn step_record(&self, def: Definition, o: &AddOptions) -> Result<StepRecord, StudyError> {
         let eff_err = |m: String| StudyError::Effect {
             file: self.path.clone(),
             effect: def.name.clone(),
@@ -461,7 +480,7 @@ impl Study {
         };
         let forced = after.stats.mare > before.mare;
         let joint = o.refit_all || choice.as_ref().is_some_and(|c| c.kept == "joint");
-        self.file.steps.push(StepRecord {
+        Ok(StepRecord {
             effect: def,
             refit: if joint { "all" } else { "held" }.into(),
             choice,
@@ -475,15 +494,7 @@ impl Study {
             forced,
             swimbot_version: env!("CARGO_PKG_VERSION").into(),
             date_utc: now_utc(),
-        });
-        match self.file.write_over(&self.path, &self.opened_sha256) {
-            Ok(sha) => self.opened_sha256 = sha,
-            Err(e) => {
-                self.file.steps.pop();
-                return Err(e);
-            }
-        }
-        Ok(self.file.steps.last().expect("just pushed"))
+        })
     }
 
     /// Calibrate the new (last) effect of `model`: held, jointly refitted,

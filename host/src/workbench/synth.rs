@@ -49,7 +49,6 @@ impl Default for SynthSettings {
 /// Replace the measurements of `design` by synthetic ones from `truth`.
 pub fn generate(truth: &Model, design: &Dataset, s: SynthSettings) -> Result<Dataset, ModelError> {
     let mut rng = StdRng::seed_from_u64(s.seed);
-    let unit = Normal::new(0.0, 1.0).expect("unit normal");
     let mut out = design.clone();
     out.name = format!(
         "synthetic ({} + noise {} %, {} trials, seed {})",
@@ -73,25 +72,30 @@ pub fn generate(truth: &Model, design: &Dataset, s: SynthSettings) -> Result<Dat
             case.clone()
         };
         let p = truth.predict(&true_case)?;
-        let mut draw = |truth_value: f64| {
-            let trials: Vec<f64> = (0..s.trials.max(2))
-                .map(|_| truth_value * (1.0 + s.noise_rel * unit.sample(&mut rng)))
-                .collect();
-            let (mean, half) = mean_and_ci(&trials, s.confidence);
-            Measured {
-                mean,
-                // Noise 0 gives identical trials; the floor is the finest
-                // resolution the data limits accept (twice it, so that a
-                // TOML round trip stays inside).
-                ci_half_width: half.max(2.0 * MIN_RELATIVE_CI * mean.abs()),
-                confidence: s.confidence,
-                trials: s.trials.max(2),
-            }
-        };
-        case.u_mm_s = Some(draw(p.u_mm_s));
-        case.omega_body_hz = Some(draw(p.omega_body_hz));
+        case.u_mm_s = Some(measure(p.u_mm_s, &s, &mut rng));
+        case.omega_body_hz = Some(measure(p.omega_body_hz, &s, &mut rng));
     }
     Ok(out)
+}
+
+/// One measured quantity: `s.trials` trials (at least 2), each the true
+/// value with relative Gaussian noise `s.noise_rel`, as their mean and
+/// confidence interval.
+pub fn measure(truth_value: f64, s: &SynthSettings, rng: &mut StdRng) -> Measured {
+    let unit = Normal::new(0.0, 1.0).expect("unit normal");
+    let trials: Vec<f64> = (0..s.trials.max(2))
+        .map(|_| truth_value * (1.0 + s.noise_rel * unit.sample(rng)))
+        .collect();
+    let (mean, half) = mean_and_ci(&trials, s.confidence);
+    Measured {
+        mean,
+        // Noise 0 gives identical trials; the floor is the finest
+        // resolution the data limits accept (twice it, so that a TOML
+        // round trip stays inside).
+        ci_half_width: half.max(2.0 * MIN_RELATIVE_CI * mean.abs()),
+        confidence: s.confidence,
+        trials: s.trials.max(2),
+    }
 }
 
 /// `case` with its uncertain inputs drawn around the recorded values:

@@ -42,6 +42,11 @@ pub struct Candidate {
     pub case: Case,
     /// The tail: the id of the first data case with it, or `new tail`.
     pub tail: String,
+    /// The controller's set-point, the motor's rate (tail relative to
+    /// body, Hz). The case's `frequency_hz` is the tail's rate in the lab,
+    /// lower by the body's counter-rotation: [`super::select`] sets it from
+    /// the model's prediction at this set-point.
+    pub set_point_hz: f64,
 }
 
 fn check_list(field: &'static str, v: &[f64], unit: &str) -> Result<(), RigError> {
@@ -181,6 +186,7 @@ pub fn candidates(data: &crate::data::Dataset, rig: &PlanRig) -> Result<Vec<Cand
                         out.push(Candidate {
                             case: c,
                             tail: tail.clone(),
+                            set_point_hz: f,
                         });
                     }
                 }

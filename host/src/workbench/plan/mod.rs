@@ -8,17 +8,20 @@
 //! - [`candidates`]: the runs the rig can make (the tails on hand, the
 //!   tubes and oils on hand, rates inside the motor's range);
 //! - [`select`]: the greedy (sequential) choice of runs, maximin over pairs;
+//! - [`reach`]: the set-points the robot's motor can hold against the load;
 //! - [`keys`]: a run's set-point as the IR keys the lab presses;
 //! - [`sheet`]: the run sheet, a dataset CSV with the measurements empty.
 
 pub mod candidates;
 pub mod criterion;
 pub mod keys;
+pub mod reach;
 pub mod rivals;
 pub mod select;
 pub mod sheet;
 
 pub use candidates::{candidates, Candidate, PlanRig, RigError};
 pub use criterion::Noise;
+pub use reach::{Reach, Unlimited};
 pub use rivals::{rivals_of, Goal, Rival};
-pub use select::{plan, Plan, PlannedRun};
+pub use select::{plan, reachable, Plan, PlannedRun};

@@ -4,6 +4,12 @@
 //!   ([`crate::workbench::diagnosis::Verdict::sets`], each at its joint
 //!   fit), else the catalogue effects named indistinguishable (each at its
 //!   fit in the ranking). Every pair of them is to be separated.
+//!   Else, when the verdict names one catalogue effect, the effects ranked
+//!   within [`NEAR_AICC`] of the best: by Burnham & Anderson's scale
+//!   (Model Selection and Multimodel Inference, 2nd ed., 2002, sec.
+//!   2.6.9) a model 4-7 AICc behind has considerably less support but is
+//!   not ruled out, and beyond 10 essentially none. A verdict that names
+//!   one of two such models is the one experiment most worth testing.
 //! - **Sharpen**: no rivals, but a fitted law or effect: for each of its
 //!   parameters with a 95 % interval, the model at the interval's two ends
 //!   (`value +- ci95 / 2` each, the others held) is a pair. Their distance
@@ -36,6 +42,8 @@ pub enum Goal {
 #[derive(Debug, Clone)]
 pub struct Rivals {
     pub goal: Goal,
+    /// What the models are, in words (the terminal's heading).
+    pub why: &'static str,
     pub models: Vec<Rival>,
     pub pairs: Vec<(usize, usize)>,
 }
@@ -87,9 +95,33 @@ fn sharpen(model: &Model, estimates: &[Estimate]) -> Rivals {
         } else {
             Goal::Sharpen
         },
+        why: "the fitted law's intervals to sharpen (each parameter's two ends)",
         models,
         pairs,
     }
+}
+
+/// The largest AICc behind the best at which a ranked effect is still a
+/// rival to test (module docs).
+pub const NEAR_AICC: f64 = 10.0;
+
+/// The ranked effects within [`NEAR_AICC`] of the best, each named with
+/// its distance, when the verdict names the best.
+fn near_rivals(d: &Diagnosis) -> Vec<Rival> {
+    let best = d.ranking.first();
+    let named = best.is_some_and(|b| d.verdict.effect.as_deref() == Some(b.effect.as_str()));
+    let Some(best_aicc) = best.and_then(|b| b.score.aicc).filter(|_| named) else {
+        return Vec::new();
+    };
+    d.ranking
+        .iter()
+        .filter_map(|c| Some((c, c.score.aicc? - best_aicc)))
+        .filter(|(_, delta)| delta.is_finite() && *delta <= NEAR_AICC)
+        .map(|(c, delta)| Rival {
+            name: format!("{} (AICc +{delta:.1})", c.effect),
+            model: c.model.clone(),
+        })
+        .collect()
 }
 
 /// The models a plan for `d` separates (module docs).
@@ -116,10 +148,16 @@ pub fn rivals_of(d: &Diagnosis) -> Rivals {
             })
         })
         .collect();
-    for models in [sets, ties] {
+    let whys = [
+        "the rival sets the data cannot tell apart",
+        "the effects the data cannot tell apart",
+        "the verdict's effect and the effects within 10 AICc of it, which the data do not rule out",
+    ];
+    for (models, why) in [sets, ties, near_rivals(d)].into_iter().zip(whys) {
         if models.len() >= 2 {
             return Rivals {
                 goal: Goal::Separate,
+                why,
                 pairs: all_pairs(models.len()),
                 models,
             };
@@ -133,6 +171,7 @@ pub fn rivals_of(d: &Diagnosis) -> Rivals {
     }
     Rivals {
         goal: Goal::Nothing,
+        why: "nothing to separate or sharpen",
         models: Vec::new(),
         pairs: Vec::new(),
     }

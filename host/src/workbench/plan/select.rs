@@ -22,6 +22,7 @@
 
 use super::candidates::Candidate;
 use super::criterion::Noise;
+use super::reach::{Reach, HEADROOM};
 use super::rivals::Rivals;
 use crate::model::Prediction;
 use crate::workbench::experiments::separation::SAME_MODEL_REL;
@@ -48,6 +49,8 @@ pub struct Plan {
     pub ties: Vec<(usize, usize)>,
     /// Candidate runs the rig offered.
     pub offered: usize,
+    /// Of them, those the motor can hold and every rival can predict.
+    pub reachable: usize,
 }
 
 impl Plan {
@@ -57,11 +60,48 @@ impl Plan {
     }
 }
 
-/// Every rival's prediction at every candidate (`None`: one fails there).
-fn predictions(cands: &[Candidate], rivals: &Rivals) -> Vec<Option<Vec<Prediction>>> {
+/// The tail's lab rate `f` a set-point (the motor's rate `m = f +
+/// Omega_b`) gives, by the first rival: in Stokes flow `Omega_b = r f`,
+/// so `f = m / (1 + r)`, with `r` read from a prediction at `f = m`.
+/// Every rival then predicts the same run (the lab's rate is measured, not
+/// modelled). `None`: the model fails there.
+fn at_set_point(c: &mut Candidate, first: &crate::model::Model) -> Option<()> {
+    let m = c.set_point_hz;
+    c.case.frequency_hz = m;
+    let p = first.predict(&c.case).ok()?;
+    let r = p.omega_body_hz / m;
+    let f = m / (1.0 + r);
+    (f.is_finite() && f > 0.0).then(|| c.case.frequency_hz = f)
+}
+
+/// The candidates the robot can run for the models `rivals` (each at its
+/// set-point's lab rate, those the motor cannot hold dropped): what a plan
+/// chooses from, and what a random design of the same rig draws from.
+pub fn reachable(mut cands: Vec<Candidate>, rivals: &Rivals, reach: &dyn Reach) -> Vec<Candidate> {
+    let preds = predictions(&mut cands, rivals, reach);
     cands
-        .par_iter()
+        .into_iter()
+        .zip(preds)
+        .filter_map(|(c, p)| p.map(|_| c))
+        .collect()
+}
+
+/// Every rival's prediction at every candidate (`None`: one fails there,
+/// or the motor cannot hold its set-point, [`super::reach`]).
+fn predictions(
+    cands: &mut [Candidate],
+    rivals: &Rivals,
+    reach: &dyn Reach,
+) -> Vec<Option<Vec<Prediction>>> {
+    cands
+        .par_iter_mut()
         .map(|c| {
+            let first = &rivals.models.first()?.model;
+            at_set_point(c, first)?;
+            let max = reach.max_rate_hz(first, &c.case)?;
+            if c.set_point_hz > HEADROOM * max {
+                return None;
+            }
             rivals
                 .models
                 .iter()
@@ -92,8 +132,14 @@ fn best_pick(d2: &[Vec<f64>], acc: &[f64], used: &[bool]) -> Option<usize> {
 }
 
 /// Plan `runs` runs among `cands` that separate the `rivals` (module docs).
-pub fn plan(cands: Vec<Candidate>, rivals: &Rivals, noise: &Noise, runs: usize) -> Plan {
-    let preds = predictions(&cands, rivals);
+pub fn plan(
+    mut cands: Vec<Candidate>,
+    rivals: &Rivals,
+    noise: &Noise,
+    runs: usize,
+    reach: &dyn Reach,
+) -> Plan {
+    let preds = predictions(&mut cands, rivals, reach);
     let usable: Vec<usize> = (0..cands.len()).filter(|&k| preds[k].is_some()).collect();
     let (mut live, mut ties) = (Vec::new(), Vec::new());
     for &(i, j) in &rivals.pairs {
@@ -150,5 +196,6 @@ pub fn plan(cands: Vec<Candidate>, rivals: &Rivals, noise: &Noise, runs: usize) 
             .collect(),
         ties,
         offered: cands.len(),
+        reachable: usable.len(),
     }
 }

@@ -2,10 +2,13 @@
 //! measurement columns (`u_mm_s`, `u_ci_mm_s`, `omega_body_hz`,
 //! `omega_body_ci_hz`, `trials`) left empty for the lab to fill in, one row
 //! per run in the order to run them (by tail, then tube and oil, then
-//! rate). What the plan says of each run rides in `labels.` columns, text
-//! the dataset keeps but never offers `diagnose` as a feature: the tail,
-//! the expected separation in standard deviations, the rivals it
-//! separates, the remote's keys and the expected duration.
+//! rate). `frequency_hz` is the tail's expected rate in the lab at the
+//! run's set-point; the lab writes over it the rate it measured. What the
+//! plan says of each run rides in `labels.` columns, text the dataset
+//! keeps but never offers `diagnose` as a feature: the tail, the
+//! set-point (the motor's rate, which the controller holds), the expected
+//! separation in standard deviations, the rivals it separates, the
+//! remote's keys and the expected duration.
 
 use super::keys::{duration_s, run_keys};
 use super::rivals::Rivals;
@@ -41,8 +44,9 @@ pub const MEASURED_COLUMNS: [&str; 5] = [
     "trials",
 ];
 /// The plan's columns.
-pub const PLAN_COLUMNS: [&str; 5] = [
+pub const PLAN_COLUMNS: [&str; 6] = [
     "labels.tail",
+    "labels.set_point_hz",
     "labels.expected_sigma",
     "labels.separates",
     "labels.keys",
@@ -70,6 +74,19 @@ fn case_cells(c: &Case) -> Vec<String> {
         n(c.coupler_diameter_mm),
         n(c.coupler_length_mm),
     ]
+}
+
+/// A candidate run as a sheet row's case: its labels say the tail and
+/// the set-point the controller holds, as the sheet's columns do (what
+/// [`crate::sim::lab`] reads to run it).
+pub fn labelled(c: &super::Candidate, id: &str) -> Case {
+    let mut case = c.case.clone();
+    case.id = id.to_string();
+    case.recorded.labels.push(("tail".into(), c.tail.clone()));
+    case.recorded
+        .labels
+        .push(("set_point_hz".into(), format!("{:?}", c.set_point_hz)));
+    case
 }
 
 /// The runs in the order to run them, each with its sheet id `plan-N`.
@@ -117,12 +134,13 @@ pub fn to_csv(plan: &Plan, rivals: &Rivals, header: &[String]) -> Result<String,
         row.extend(MEASURED_COLUMNS.iter().map(|_| String::new()));
         let (i, j) = r.separates;
         row.push(r.candidate.tail.clone());
+        row.push(format!("{:?}", r.candidate.set_point_hz));
         row.push(format!("{:.2}", r.separation_sigma));
         row.push(format!(
             "{} vs {}",
             rivals.models[i].name, rivals.models[j].name
         ));
-        row.push(run_keys(c.frequency_hz).unwrap_or_default());
+        row.push(run_keys(r.candidate.set_point_hz).unwrap_or_default());
         row.push(
             duration_s(c, r.expected.u_mm_s)
                 .map(|t| format!("{t:.0}"))
@@ -133,4 +151,74 @@ pub fn to_csv(plan: &Plan, rivals: &Rivals, header: &[String]) -> Result<String,
     let bytes = w.into_inner().map_err(|e| e.into_error())?;
     out.push_str(&String::from_utf8_lossy(&bytes));
     Ok(out)
+}
+
+/// A measured run to write into its sheet row.
+#[derive(Debug, Clone, Copy)]
+pub struct Filled {
+    pub frequency_hz: f64,
+    pub u: crate::data::Measured,
+    pub omega: crate::data::Measured,
+}
+
+/// The sheet's text (`text`, as [`to_csv`] wrote it) with each row named
+/// in `runs` filled in: the measured rate, means, intervals and trials.
+/// Comment lines and every other cell are kept; `note` is added as a
+/// comment. A missing column, or a run naming no row, is an error.
+pub fn fill(text: &str, runs: &[(String, Filled)], note: &str) -> Result<String, String> {
+    let body_at = text
+        .lines()
+        .take_while(|l| l.starts_with('#'))
+        .map(|l| l.len() + 1)
+        .sum::<usize>()
+        .min(text.len());
+    let (comments, body) = text.split_at(body_at);
+    let mut r = csv::ReaderBuilder::new().from_reader(body.as_bytes());
+    let header = r.headers().map_err(|e| e.to_string())?.clone();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h.trim() == name)
+            .ok_or_else(|| format!("the sheet has no `{name}` column"))
+    };
+    let [id, f, u, u_ci, om, om_ci, trials] = [
+        "id",
+        "frequency_hz",
+        "u_mm_s",
+        "u_ci_mm_s",
+        "omega_body_hz",
+        "omega_body_ci_hz",
+        "trials",
+    ]
+    .map(col);
+    let (id, f, u, u_ci, om, om_ci, trials) = (id?, f?, u?, u_ci?, om?, om_ci?, trials?);
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(&header).map_err(|e| e.to_string())?;
+    let mut used = vec![false; runs.len()];
+    for rec in r.records() {
+        let mut row: Vec<String> = rec
+            .map_err(|e| e.to_string())?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        if let Some(k) = runs.iter().position(|(i, _)| row.get(id) == Some(i)) {
+            let m = &runs[k].1;
+            used[k] = true;
+            row[f] = format!("{:?}", m.frequency_hz);
+            row[u] = format!("{:?}", m.u.mean);
+            row[u_ci] = format!("{:?}", m.u.ci_half_width);
+            row[om] = format!("{:?}", m.omega.mean);
+            row[om_ci] = format!("{:?}", m.omega.ci_half_width);
+            row[trials] = m.u.trials.to_string();
+        }
+        w.write_record(&row).map_err(|e| e.to_string())?;
+    }
+    if let Some(k) = used.iter().position(|u| !u) {
+        return Err(format!("no row of the sheet has the id `{}`", runs[k].0));
+    }
+    let bytes = w.into_inner().map_err(|e| e.into_error().to_string())?;
+    Ok(format!(
+        "{comments}# {note}\n{}",
+        String::from_utf8_lossy(&bytes)
+    ))
 }
