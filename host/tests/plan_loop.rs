@@ -126,7 +126,7 @@ fn a_planned_run_in_another_tube_resolves_the_mimic_and_names_the_truth() {
 
     let listed = ok(d, &["data", "list"]);
     assert!(
-        listed.contains("lab/plan-filled.csv: 1 runs (plan-1)"),
+        listed.contains("lab/plan-filled.csv: 1 run (plan-1)"),
         "{listed}"
     );
     assert!(listed.contains("7 cases in all"), "{listed}");
@@ -225,4 +225,72 @@ fn a_plan_with_nothing_to_separate_or_sharpen_says_so_and_writes_nothing() {
     let said = ok(d, &["plan", "-o", "plan.csv"]);
     assert!(said.starts_with("nothing to plan"), "{said}");
     assert!(!d.join("plan.csv").exists());
+}
+
+/// The lines of docs/study.md's worked example inside ```text blocks
+/// after its heading.
+fn worked_example_lines() -> Vec<String> {
+    let doc =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/study.md")).unwrap();
+    let from = doc
+        .find("### A worked example: a mimic refuted by one planned run")
+        .expect("the worked example's heading");
+    let mut lines = Vec::new();
+    let mut inside = false;
+    for l in doc[from..]
+        .lines()
+        .take_while(|l| !l.starts_with("**Planned against"))
+    {
+        match l {
+            "```text" => inside = true,
+            "```" => inside = false,
+            l if inside => lines.push(l.to_string()),
+            _ => {}
+        }
+    }
+    lines
+}
+
+#[test]
+fn the_worked_example_of_the_docs_is_what_the_commands_print() {
+    let dir = confined_study();
+    let d = dir.path();
+    let mut said = ok(d, &["add", "body-correction"]);
+    said += &ok(
+        d,
+        &[
+            "plan",
+            "--runs",
+            "1",
+            "--tubes-mm",
+            "25,35,50",
+            "-o",
+            "plan.csv",
+        ],
+    );
+    said += &ok(
+        d,
+        &[
+            "sim",
+            "--plan",
+            "plan.csv",
+            "--truth",
+            "base + body-confinement",
+            "-o",
+            "lab",
+        ],
+    );
+    let joined = ok(d, &["data", "add", "lab/plan-filled.csv"]);
+    assert!(joined.contains("the new runs contradict it"), "{joined}");
+    said += &joined;
+    said += &ok(d, &["undo"]);
+    said += &ok(d, &["diagnose"]);
+    let quoted = worked_example_lines();
+    assert!(quoted.len() >= 10, "{quoted:?}");
+    for l in &quoted {
+        assert!(
+            said.lines().any(|s| s == l),
+            "docs/study.md quotes `{l}`, the commands print:\n{said}"
+        );
+    }
 }

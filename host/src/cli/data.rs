@@ -126,7 +126,26 @@ fn joined_lines(s: &Study, j: &Joined) -> Vec<String> {
             }
         ));
     }
+    if let Some(k) = j.models.iter().skip(1).position(contradicted) {
+        let steps = j.models.len() - 1;
+        out.push(format!(
+            "step {} ({}) was at the noise floor and is far above it now: the new runs contradict it. `swimbot undo`{} back to the model before it, then `swimbot diagnose`",
+            k + 1,
+            j.models[k + 1].what,
+            match steps - k {
+                1 => String::new(),
+                n => format!(" {n} times"),
+            }
+        ));
+    }
     out
+}
+
+/// A step the joined runs refute: at its noise floor on the data before,
+/// ten times its floor's chi-square now.
+fn contradicted(m: &crate::study::Recalibrated) -> bool {
+    let floor = m.after.noise_floor_chi2.unwrap_or(f64::INFINITY);
+    m.before.at_noise_floor && m.after.chi2 > 10.0 * floor
 }
 
 fn run_list(study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), CliError> {
@@ -136,9 +155,10 @@ fn run_list(study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), CliError> {
     println!("{}: {base} cases, SHA-256 {}", d.path.display(), d.sha256);
     for sh in &d.sheets {
         println!(
-            "  + {}: {} runs ({}), SHA-256 {}, joined {}",
+            "  + {}: {} run{} ({}), SHA-256 {}, joined {}",
             sh.path.display(),
             sh.cases.len(),
+            if sh.cases.len() == 1 { "" } else { "s" },
             sh.cases.join(", "),
             sh.sha256,
             sh.joined_utc

@@ -252,11 +252,18 @@ pub struct DataArgs {
     /// The CSV writes numbers with a decimal comma (0,586) [default: detected from the cells].
     #[arg(long)]
     pub decimal_comma: bool,
+    /// A study's data with the run sheets joined to it (never a flag):
+    /// `data` names the study's dataset file, these are all its cases.
+    #[arg(skip)]
+    pub joined: Option<Dataset>,
 }
 
 impl DataArgs {
     /// The dataset, or the built-in paper data, recorded in `inputs`.
     pub fn load(&self, inputs: &Inputs) -> Result<Dataset, CliError> {
+        if let Some(d) = &self.joined {
+            return Ok(d.clone());
+        }
         let options = data::ReadOptions {
             decimal_comma: self.decimal_comma,
         };

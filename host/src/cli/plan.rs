@@ -6,10 +6,8 @@ use super::CliError;
 use crate::format::fmt_sig;
 use crate::provenance::Inputs;
 use crate::study::{Study, DEFAULT_FILE};
-use crate::workbench::diagnose::{diagnose, DiagnoseSettings};
-use crate::workbench::plan::{
-    candidates, plan, rivals::Rivals, rivals_of, sheet, Goal, Noise, Plan, PlanRig,
-};
+use crate::workbench::diagnose::DiagnoseSettings;
+use crate::workbench::plan::{plan_for, rivals::Rivals, sheet, Plan, PlanError, PlanRig};
 use clap::Args;
 use std::path::{Path, PathBuf};
 
@@ -42,22 +40,33 @@ pub struct Planned {
 pub fn plan_study(s: &Study, a: &PlanArgs) -> Result<Planned, CliError> {
     let data = s.dataset();
     let rig = PlanRig::of(data, a.tubes_mm.clone(), a.oils_pa_s.clone(), a.new_tails);
-    let cands = candidates(data, &rig).map_err(CliError::input)?;
     let settings = DiagnoseSettings {
         likelihood: s.likelihood()?,
         catalogue: s.catalogue()?,
         ..DiagnoseSettings::default()
     };
-    let d = diagnose(&s.model()?, data, &settings).map_err(CliError::failure)?;
-    let rivals = rivals_of(&d);
-    if rivals.goal == Goal::Nothing {
+    let robot = crate::sim::default_robot();
+    let plan_on = |model| {
+        plan_for(&model, data, &settings, &rig, a.runs, &robot).map_err(|e| match e {
+            PlanError::Rig(e) => CliError::input(e),
+            PlanError::Fit(e) => CliError::failure(e),
+        })
+    };
+    let (rivals, plan) = plan_on(s.model()?)?;
+    let n = s.steps().len();
+    if plan.is_some() || n == 0 {
+        return Ok(Planned { rivals, plan });
+    }
+    // Nothing left on the model now: test its last step against what the
+    // data did not rule out in its place, on the model before it.
+    let (mut before, plan) = plan_on(s.model_upto(n - 1)?)?;
+    if plan.is_none() {
         return Ok(Planned { rivals, plan: None });
     }
-    let robot = crate::sim::default_robot();
-    let p = plan(cands, &rivals, &Noise::of(data), a.runs, &robot);
+    before.why = "nothing is missing now; the last step's place, on the model before it: the effects the data do not rule out (within 10 AICc of the best)";
     Ok(Planned {
-        rivals,
-        plan: Some(p),
+        rivals: before,
+        plan,
     })
 }
 
@@ -119,8 +128,9 @@ fn print_rivals(r: &Rivals) {
 
 fn print_plan(p: &Plan, r: &Rivals) {
     println!(
-        "{} runs chosen of the {} the robot can hold ({} offered by the rig's tubes, oils, tails and set-points), in the order to run them:",
+        "{} run{} chosen of the {} the robot can hold ({} offered by the rig's tubes, oils, tails and set-points), in the order to run them:",
         p.runs.len(),
+        if p.runs.len() == 1 { "" } else { "s" },
         p.reachable,
         p.offered
     );

@@ -101,8 +101,9 @@ pub fn run(args: &SimArgs, robot: &Robot, inputs: &Inputs) -> Result<(), CliErro
     }
     super::output::write_all_atomically(&files, inputs)?;
     println!(
-        "ran {} rows of {} in a world of {}:",
+        "ran {} row{} of {} in a world of {}:",
         runs.len(),
+        if runs.len() == 1 { "" } else { "s" },
         sheet_path.display(),
         truth.describe()
     );
@@ -119,9 +120,10 @@ pub fn run(args: &SimArgs, robot: &Robot, inputs: &Inputs) -> Result<(), CliErro
         );
     }
     println!(
-        "wrote {} and {} run logs in {}; join the sheet with `swimbot data add {}`",
+        "wrote {} and {} run log{} in {}; join the sheet with `swimbot data add {}`",
         sheet_out.display(),
         runs.len(),
+        if runs.len() == 1 { "" } else { "s" },
         args.output.display(),
         sheet_out.display()
     );

@@ -525,15 +525,26 @@ pub fn fill_from_study(
     model.effect_files.known = s.catalogue()?;
     let first = m.effects.len() - s.steps().len();
     data.data = Some(s.dataset_path());
+    if !s.file().dataset.sheets.is_empty() {
+        data.joined = Some(s.dataset().clone());
+    }
     model.preset = Some(s.file().model.preset.clone());
     model.effects = m.effects[first..]
         .iter()
         .map(crate::workbench::discovery::write::exact_spec)
         .collect();
+    let sheets = s.file().dataset.sheets.len();
     eprintln!(
-        "note: the study {}: {} with {} step(s)",
+        "note: the study {}: {}{} with {} step(s)",
         s.path().display(),
         s.dataset_path().display(),
+        match sheets {
+            0 => String::new(),
+            n => format!(
+                " and {n} joined run sheet(s), {} cases",
+                s.dataset().cases.len()
+            ),
+        },
         s.steps().len()
     );
     Ok(true)

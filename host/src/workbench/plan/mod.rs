@@ -25,3 +25,35 @@ pub use criterion::Noise;
 pub use reach::{Reach, Unlimited};
 pub use rivals::{rivals_of, Goal, Rival};
 pub use select::{plan, reachable, Plan, PlannedRun};
+
+/// A plan for a model on its data: `diagnose` for the rivals, then the
+/// runs of `rig` that `reach` can hold, `runs` of them chosen (`None`:
+/// nothing to separate or sharpen). What `swimbot plan` runs in a study.
+pub fn plan_for(
+    model: &crate::model::Model,
+    data: &crate::data::Dataset,
+    settings: &crate::workbench::diagnose::DiagnoseSettings,
+    rig: &PlanRig,
+    runs: usize,
+    reach: &dyn Reach,
+) -> Result<(rivals::Rivals, Option<Plan>), PlanError> {
+    let cands = candidates(data, rig).map_err(PlanError::Rig)?;
+    let d = crate::workbench::diagnose::diagnose(model, data, settings).map_err(PlanError::Fit)?;
+    let rivals = rivals_of(&d);
+    if rivals.goal == Goal::Nothing {
+        return Ok((rivals, None));
+    }
+    let p = plan(cands, &rivals, &Noise::of(data), runs, reach);
+    Ok((rivals, Some(p)))
+}
+
+/// Why no plan was made.
+#[derive(Debug, thiserror::Error)]
+pub enum PlanError {
+    /// The rig can run nothing (an input error, naming the flag).
+    #[error("{0}")]
+    Rig(RigError),
+    /// The diagnosis failed.
+    #[error("{0}")]
+    Fit(crate::workbench::fit::FitError),
+}
