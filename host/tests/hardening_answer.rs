@@ -284,3 +284,17 @@ fn on_terminal(dir: &Path, args: &[&str], cols: u16) -> String {
     assert!(child.wait().unwrap().success());
     String::from_utf8_lossy(&out).replace("\r\n", "\n")
 }
+
+#[test]
+fn a_tube_outside_the_data_limits_is_refused_naming_tubes_mm() {
+    let dir = study();
+    // Named the field `rate` before: every run failed the tube's limit.
+    let o = within(
+        dir.path(),
+        &["plan", "--tubes-mm=1e308", "-o", "p.csv"],
+        &[],
+        Duration::from_secs(120),
+    );
+    refused(&o, &["--tubes-mm", "data limits"]);
+    assert!(!dir.path().join("p.csv").exists());
+}
