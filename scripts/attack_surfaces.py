@@ -16,7 +16,10 @@ byte for byte as it was, and no temporary file behind.
 
     SWIMBOT_BIN=target/release/swimbot python3 scripts/attack_surfaces.py [study|csv|python|hostile|names|widths|outputs|tables|plan|pystudy ...]
 
-The Python part needs `import swimbot` (pip install ./python). The tally is
+The Python parts need `import swimbot` (pip install ./python). The full
+disk of `study` is simulated by debug builds only: run that part with
+SWIMBOT_BIN=$PWD/target/debug/swimbot (a release binary writes the file,
+and those attempts are tallied as faults). The tally is
 printed at the end, one line per category: tried / faults; each fault is
 printed with what was tried and what happened.
 """
