@@ -1,7 +1,12 @@
 #!/usr/bin/env python3
-"""A scripted attack on three surfaces a lab feeds swimbot: the study file
+"""A scripted attack on the surfaces a lab feeds swimbot: the study file
 (swimbot-study.toml), spreadsheets as labs export them (CSV with European
-separators and decimal marks), and the Python package.
+separators and decimal marks), and the Python package; and on the
+answer-first commands (attack_screens.py: hostile datasets through
+`diagnose`, `init`, `add`, `steps`, `undo`, `plan`, `report`, and terminal
+widths; attack_outputs.py: where they write, what reaches `steps --format
+latex|markdown`, `plan`'s flags; attack_pystudy.py: the Python `Study` API
+and `Dataset.from_pandas`).
 
 Every attempt is judged by the same rules: the run ends with exit 0 and no
 NaN/inf printed, or exit 2 with a `swimbot: error:` message that names the
@@ -9,96 +14,28 @@ file (and the field where there is one); never a panic, a signal, a hang
 or a silent wrong number; a refused command leaves every file it was given
 byte for byte as it was, and no temporary file behind.
 
-    SWIMBOT_BIN=target/release/swimbot python3 scripts/attack_surfaces.py [study|csv|python ...]
+    SWIMBOT_BIN=target/release/swimbot python3 scripts/attack_surfaces.py [study|csv|python|hostile|names|widths|outputs|tables|plan|pystudy ...]
 
-The Python part needs `import swimbot` (pip install ./python). The tally is
+The Python parts need `import swimbot` (pip install ./python). The full
+disk of `study` is simulated by debug builds only: run that part with
+SWIMBOT_BIN=$PWD/target/debug/swimbot (a release binary writes the file,
+and those attempts are tallied as faults). The tally is
 printed at the end, one line per category: tried / faults; each fault is
 printed with what was tried and what happened.
 """
 
-import hashlib
 import json
 import os
 import random
 import re
 import shutil
-import stat
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-BIN = os.environ.get("SWIMBOT_BIN") or str(ROOT / "target" / "debug" / "swimbot")
-PAPER_CSV = ROOT / "host" / "data" / "paper.csv"
-TALLY = {}
-FAULTS = []
-NAN = re.compile(r"\b(nan|NaN|inf|-inf|Infinity)\b")
-
-
-def run(args, cwd=None, timeout=120, env=None, stdin=None):
-    e = dict(os.environ, NO_COLOR="1")
-    e.update(env or {})
-    try:
-        p = subprocess.run(
-            [BIN, *args], cwd=cwd, capture_output=True, text=True, timeout=timeout,
-            env=e, stdin=stdin if stdin is not None else subprocess.DEVNULL,
-        )
-        return p.returncode, p.stdout, p.stderr
-    except subprocess.TimeoutExpired:
-        return "timeout", "", ""
-
-
-def snapshot(folder):
-    """Every file under `folder` with its SHA-256."""
-    out = {}
-    for p in sorted(Path(folder).rglob("*")):
-        if p.is_file() and not p.is_symlink():
-            out[str(p.relative_to(folder))] = hashlib.sha256(p.read_bytes()).hexdigest()
-    return out
-
-
-def judge(cat, name, result, names=(), before=None, folder=None, accept_ok=True, check=None):
-    """Records one attempt; `names` must all appear in a refusal's message;
-    `before` (a snapshot of `folder`) must equal the folder after a refusal."""
-    rc, out, err = result
-    TALLY.setdefault(cat, [0, 0])
-    TALLY[cat][0] += 1
-    why = None
-    if rc == "timeout":
-        why = "no answer within the time limit"
-    elif "panicked" in err or "RUST_BACKTRACE" in err:
-        why = "panic"
-    elif rc == 0:
-        if not accept_ok:
-            why = "accepted"
-        elif NAN.search(out):
-            why = "NaN/inf printed"
-        elif check is not None:
-            why = check(out)
-    elif rc == 2:
-        if "swimbot: error:" not in err:
-            why = "exit 2 without an error message"
-        else:
-            missing = [n for n in names if n not in err]
-            if missing:
-                why = f"message does not name {missing}"
-    else:
-        why = f"exit code {rc}"
-    if why is None and folder is not None and before is not None and rc != 0:
-        after = snapshot(folder)
-        if after != before:
-            why = f"files changed by a refused command: {sorted(set(after.items()) ^ set(before.items()))[:4]}"
-    if why is None and folder is not None:
-        tmp = [p.name for p in Path(folder).rglob("*") if ".tmp" in p.name]
-        if tmp:
-            why = f"temporary files left: {tmp[:3]}"
-    if why:
-        TALLY[cat][1] += 1
-        FAULTS.append((cat, name, why, str(rc), err.strip()[-300:]))
-    return why
+from attack_common import BIN, FAULTS, PAPER_CSV, ROOT, TALLY, judge, record, run, snapshot  # noqa: F401
 
 
 # --- the study file --------------------------------------------------------
@@ -565,14 +502,21 @@ def attack_python(tmp):
 
 
 def main():
-    which = sys.argv[1:] or ["study", "csv", "python"]
+    from attack_outputs import attack_outputs, attack_plan_flags, attack_tables
+    from attack_pystudy import attack_study_api
+    from attack_screens import attack_file_names, attack_hostile, attack_widths
+
+    attacks = {"study": attack_study, "csv": attack_csv, "python": attack_python, "hostile": attack_hostile, "names": attack_file_names,
+               "widths": attack_widths, "outputs": attack_outputs, "tables": attack_tables,
+               "plan": attack_plan_flags, "pystudy": attack_study_api}
+    which = sys.argv[1:] or list(attacks)
     with tempfile.TemporaryDirectory() as tmp:
         os.chmod(tmp, 0o755)
         for w in which:
             sub = Path(tmp) / w
             sub.mkdir()
             t0 = time.perf_counter()
-            {"study": attack_study, "csv": attack_csv, "python": attack_python}[w](sub)
+            attacks[w](sub)
             print(f"# {w}: {time.perf_counter() - t0:.0f} s", file=sys.stderr)
     for cat, name, why, rc, err in FAULTS:
         print(f"FAULT [{cat}] {name}: {why} (exit {rc}) {err!r}")

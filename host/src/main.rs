@@ -20,6 +20,26 @@ extern "C" fn note_closed_stdout() {
     }
 }
 
+/// A command line clap refuses: `--help` and `--version` print as clap
+/// prints them; a mistake gets the prefix every other refusal has
+/// (`swimbot: error:`), so that one rule finds every message, and exit 2.
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    use std::io::Write;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit();
+    }
+    let text = e.render().to_string();
+    let text = text.strip_prefix("error: ").unwrap_or(&text);
+    let _ = write!(std::io::stderr(), "swimbot: error: {text}");
+    ExitCode::from(2)
+}
+
 fn main() -> ExitCode {
     // A reader that stops early (`| head`) is handled in the CLI
     // (`cli::stdout::end_on_closed_stdout`): exit 0, as ripgrep does.
@@ -30,7 +50,10 @@ fn main() -> ExitCode {
         .iter()
         .map(|a| a.to_string_lossy().into_owned())
         .collect();
-    let cli = Cli::parse_from(args);
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
     match run(cli, command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

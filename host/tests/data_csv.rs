@@ -127,7 +127,7 @@ fn bad_csv_cases(paper: &str) -> Vec<(String, Vec<String>)> {
         ),
         (
             paper.replacen("# viscosity_pa_s = 3.5", "# viscosity_pa_s = ", 1),
-            vec!["bad.csv", "line", "header line"],
+            vec!["bad.csv", "line", "`viscosity_pa_s`", "not a TOML value"],
         ),
         (
             paper.replacen("tail-3,16,", "tail-3,-16,", 1),

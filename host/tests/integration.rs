@@ -28,6 +28,7 @@ mod discovery_write;
 mod emulator_motor;
 mod formula_input;
 mod hardening;
+mod hardening_answer;
 mod hardening_inputs;
 mod hardening_log;
 mod hardening_messages;

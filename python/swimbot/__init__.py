@@ -24,6 +24,7 @@ import html
 import json
 import math
 import re
+import os
 import warnings
 from os import PathLike
 from typing import Any, Iterable, Mapping, Optional, Sequence
@@ -93,7 +94,11 @@ class Dataset:
         per case, or per trial with a shared ``id``; docs/data-format.md)
         and ``setup`` as the ``[setup]`` defaults. Columns that are no
         dataset field are kept as recorded variables (numbers) or labels."""
-        lines = [f"# name = {_toml(name)}"]
+        if not (hasattr(df, "to_csv") and hasattr(df, "columns")):
+            raise SwimbotError(f"df: {type(df).__name__} is not a pandas DataFrame")
+        if setup is not None and not isinstance(setup, Mapping):
+            raise SwimbotError(f"setup: {type(setup).__name__} is not a mapping of setup keys to values")
+        lines = [f"# name = {_toml(_text('name', name))}"]
         for key, value in (setup or {}).items():
             # A key is one `# key = value` line: a newline in it would
             # start a line of its own (a forged setup line or header).
@@ -133,7 +138,7 @@ def _noted(inner: "_swimbot.Dataset") -> "_swimbot.Dataset":
 def load(path: Any, decimal_comma: bool = False) -> Dataset:
     """Read a dataset file: CSV (``.csv``; ``,`` ``;`` or tab between cells,
     decimal commas detected or forced with ``decimal_comma``) or TOML."""
-    return Dataset(_noted(_swimbot.load(str(path), decimal_comma)))
+    return Dataset(_noted(_swimbot.load(_path("path", path), _bool("decimal_comma", decimal_comma))))
 
 
 def paper() -> Dataset:
@@ -169,6 +174,33 @@ def _flag(name: str, value: Any) -> str:
     (``mc_draws=-1``) reaches the flag's own check instead of reading as
     another flag."""
     return f"--{name}={value}"
+
+
+def _path(name: str, value: Any) -> str:
+    """A path argument: text or an ``os.PathLike`` (bytes decoded as the
+    file system does). Anything else is refused naming the argument:
+    ``str(None)`` made a file called ``None``."""
+    if isinstance(value, (str, bytes, PathLike)):
+        path = os.fsdecode(os.fspath(value))
+        if path:
+            return path
+        raise SwimbotError(f"{name}: an empty path")
+    raise SwimbotError(f"{name}: {value!r} is not a path ({type(value).__name__})")
+
+
+def _text(name: str, value: Any) -> str:
+    if isinstance(value, str):
+        return value
+    raise SwimbotError(f"{name}: {value!r} is not a text ({type(value).__name__})")
+
+
+def _bool(name: str, value: Any) -> bool:
+    """True or False (numpy's too); 0, 1, None or a text are refused: a
+    flag given a count or a word is a mistake to say, not to guess."""
+    numpy_bool = getattr(getattr(value, "dtype", None), "kind", None) == "b" and getattr(value, "ndim", 1) == 0
+    if isinstance(value, bool) or numpy_bool:
+        return bool(value)
+    raise SwimbotError(f"{name}: {value!r} is not True or False")
 
 
 def _model_args(preset: Optional[str], effects: Sequence[str], effect_files: Sequence[Any]) -> list:
@@ -499,12 +531,14 @@ class Study:
         diagnose: bool = True,
     ) -> "Study":
         """``swimbot init``: a new study at ``path`` on the dataset file ``data``."""
-        return cls(_swimbot.study_init(str(path), str(data), preset, likelihood, force, diagnose))
+        return cls(_swimbot.study_init(_path("path", path), _path("data", data), _text("preset", preset),
+                                       _text("likelihood", likelihood), _bool("force", force),
+                                       _bool("diagnose", diagnose)))
 
     @classmethod
     def open(cls, path: Any = "swimbot-study.toml") -> "Study":
         """Open a study (its dataset checked against the pinned SHA-256)."""
-        return cls(_swimbot.study_open(str(path)))
+        return cls(_swimbot.study_open(_path("path", path)))
 
     @property
     def path(self) -> str:
@@ -520,7 +554,11 @@ class Study:
 
     def add(self, effect: str, refit_all: bool = False, force: bool = False, diagnose: bool = True) -> dict:
         """``swimbot add``: a catalogue effect or ``FILE[#NAME]``; the new step."""
-        return json.loads(self._inner.add(str(effect), refit_all, force, diagnose))
+        if not isinstance(effect, (str, PathLike)):
+            raise SwimbotError(f"effect: {effect!r} is neither a catalogue effect nor an effects file")
+        effect = os.fspath(effect)
+        return json.loads(self._inner.add(effect, _bool("refit_all", refit_all), _bool("force", force),
+                                          _bool("diagnose", diagnose)))
 
     def undo(self) -> dict:
         """``swimbot undo``: removes the last step and returns it."""
@@ -528,11 +566,13 @@ class Study:
 
     def apply_to(self, ds: Dataset) -> dict:
         """``swimbot steps --data``: the study's models on other data, parameters held."""
+        if ds is None:
+            raise SwimbotError("ds: give the Dataset (or its file) to apply the study to")
         return json.loads(self._inner.apply_to(_data(ds)))
 
     def report(self, directory: Any = "swimbot-out/report") -> str:
         """``swimbot report``: the study's page written to ``directory``; its path."""
-        return str(self._inner.report(str(directory)))
+        return str(self._inner.report(_path("directory", directory)))
 
     def __repr__(self) -> str:
         return repr(self._inner)

@@ -299,3 +299,54 @@ def test_bad_arguments_are_swimbot_errors_naming_them():
     df = pd.read_csv(PAPER_CSV, comment="#")
     with pytest.raises(swimbot.SwimbotError, match="setup: viscosity_pa_s"):
         swimbot.Dataset.from_pandas(df, setup={"viscosity_pa_s": object()})
+
+
+def test_a_study_call_given_a_wrong_type_is_refused_by_name_and_writes_nothing(tmp_path, monkeypatch):
+    # `str(None)` was taken as a path: Study.init(None, ...) made a file
+    # called `None`, report(42) a folder `42`.
+    monkeypatch.chdir(tmp_path)
+    data = tmp_path / "paper.csv"
+    data.write_text(PAPER_CSV.read_text())
+    s = swimbot.Study.init(tmp_path / "s.toml", data, diagnose=False)
+    for bad in (None, 42, 3.5, True, ["s.toml"], ""):
+        with pytest.raises(swimbot.SwimbotError, match="path"):
+            swimbot.Study.init(bad, data, diagnose=False)
+        with pytest.raises(swimbot.SwimbotError, match="path"):
+            swimbot.Study.open(bad)
+        with pytest.raises(swimbot.SwimbotError, match="directory"):
+            s.report(bad)
+        with pytest.raises(swimbot.SwimbotError, match="data"):
+            swimbot.Study.init(tmp_path / "t.toml", bad, diagnose=False)
+    # Types pyo3 refused with a TypeError, now the package's own error.
+    with pytest.raises(swimbot.SwimbotError, match="preset"):
+        swimbot.Study.init(tmp_path / "u.toml", data, preset=None, diagnose=False)
+    with pytest.raises(swimbot.SwimbotError, match="likelihood"):
+        swimbot.Study.init(tmp_path / "u.toml", data, likelihood=3, diagnose=False)
+    with pytest.raises(swimbot.SwimbotError, match="refit_all"):
+        s.add("buoyancy", refit_all=None)
+    with pytest.raises(swimbot.SwimbotError, match="effect"):
+        s.add(None)
+    # apply_to(None) applied the study to the paper's data in silence.
+    with pytest.raises(swimbot.SwimbotError, match="ds"):
+        s.apply_to(None)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["paper.csv", "s.toml"]
+    # A path object and numpy's booleans still work.
+    s.add("buoyancy", force=np.bool_(True), diagnose=False)
+    assert len(swimbot.Study.open(Path("s.toml")).steps()["step"]) == 1
+
+
+def test_from_pandas_refuses_what_is_no_frame_setup_or_name_by_name():
+    import pandas as pd
+
+    df = pd.read_csv(PAPER_CSV, comment="#")
+    for bad in (None, [1, 2], {"id": ["a"]}, np.ones((6, 9)), "paper.csv"):
+        with pytest.raises(swimbot.SwimbotError, match="DataFrame"):
+            swimbot.Dataset.from_pandas(bad)
+    with pytest.raises(swimbot.SwimbotError, match="setup"):
+        swimbot.Dataset.from_pandas(df, setup=[("viscosity_pa_s", 3.5)])
+    with pytest.raises(swimbot.SwimbotError, match="name"):
+        swimbot.Dataset.from_pandas(df, name=None)
+    # A setup value TOML cannot hold is refused naming its key (the
+    # message named only a line).
+    with pytest.raises(swimbot.SwimbotError, match="viscosity_pa_s"):
+        swimbot.Dataset.from_pandas(df, setup={"viscosity_pa_s": 10**400})

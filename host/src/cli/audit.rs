@@ -21,10 +21,10 @@ pub struct AuditArgs {
     #[arg(long, value_enum, default_value = "table")]
     pub format: TableJsonCsv,
     /// Members of the model family sampled for the ratio test.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = 256, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<usize>)]
     pub family_samples: usize,
     /// Seed of the family's Latin hypercube (the same seed gives the same audit).
-    #[arg(long, default_value_t = 12)]
+    #[arg(long, default_value_t = 12, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<u64>)]
     pub seed: u64,
     /// Refuse the audit when its estimated run time (from timed predictions
     /// of the model before the work) is longer [default: no limit; an audit

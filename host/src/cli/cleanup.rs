@@ -50,21 +50,42 @@ pub fn forget_temp(p: &Path) {
 /// the lock [`clean_up`] takes, as [`create_temp`] does: a signal between
 /// creating and registering would leave the folders behind (seen in a
 /// loaded test run).
+///
+/// Only folders this call made are registered: each prefix of `dir` is
+/// made with `create_dir`, whose "already exists" says it was not ours.
+/// Deciding by a missing path instead registered `new/../D`, which does
+/// not resolve before `new/` exists, and so removed the user's empty
+/// folder `D` when the run failed.
 pub fn create_dir_all(dir: &Path) -> std::io::Result<()> {
     let mut pending = pending();
-    let mut missing = Vec::new();
-    let mut at = Some(dir);
-    while let Some(d) = at.filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
-        missing.push(d.to_path_buf());
-        at = d.parent();
+    let mut made = Vec::new();
+    let mut at = PathBuf::new();
+    let mut result = Ok(());
+    for part in dir.components() {
+        at.push(part);
+        if matches!(
+            part,
+            std::path::Component::Prefix(_)
+                | std::path::Component::RootDir
+                | std::path::Component::CurDir
+                | std::path::Component::ParentDir
+        ) {
+            continue;
+        }
+        match std::fs::create_dir(&at) {
+            Ok(()) => made.push(at.clone()),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && at.is_dir() => {}
+            Err(e) => {
+                result = Err(e);
+                break;
+            }
+        }
     }
-    let made = std::fs::create_dir_all(dir);
     // Deepest first, the order they must be removed in; registered even
     // when a deeper one failed, so that the parents made are removed.
-    pending
-        .new_dirs
-        .extend(missing.into_iter().filter(|d| d.exists()));
-    made
+    made.reverse();
+    pending.new_dirs.extend(made);
+    result
 }
 
 /// The run succeeded: its folders are outputs now.
@@ -139,4 +160,32 @@ pub fn install_signal_cleanup() {}
 /// killed outright ([`crate::atomic_file::sweep_stale_temps`]).
 pub fn sweep_stale_temps(dest: &Path) {
     crate::atomic_file::sweep_stale_temps(dest);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{create_dir_all, settle_output_dir};
+
+    #[test]
+    fn only_the_folders_a_call_made_are_removed_when_it_fails() {
+        let root = tempfile::tempdir().unwrap();
+        let existing = root.path().join("D");
+        std::fs::create_dir(&existing).unwrap();
+        // `new/../D` names the user's empty folder D once `new/` exists.
+        let through_new = root.path().join("new").join("..").join("D");
+        create_dir_all(&through_new).unwrap();
+        settle_output_dir(&through_new, false);
+        assert!(existing.is_dir(), "the user's folder D was removed");
+        assert!(
+            !root.path().join("new").exists(),
+            "the folder made was kept"
+        );
+        // A plain new chain is made and removed whole.
+        let deep = root.path().join("a").join("b").join("c");
+        create_dir_all(&deep).unwrap();
+        assert!(deep.is_dir());
+        settle_output_dir(&deep, false);
+        assert!(!root.path().join("a").exists());
+        assert!(existing.is_dir());
+    }
 }

@@ -37,7 +37,7 @@ pub struct CompareArgs {
     pub input_uncertainty: bool,
     /// Monte-Carlo draws per case that check the linearised bands (0: no check; always
     /// skipped for costly models: non-local tail or wall-resolved effects).
-    #[arg(long, default_value_t = 300)]
+    #[arg(long, default_value_t = 300, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<usize>)]
     pub mc_draws: usize,
 }
 

@@ -38,7 +38,7 @@ pub struct HelixArgs {
     #[arg(long, value_enum)]
     pub method: Option<HelixMethod>,
     /// Quadrature nodes per wavelength (with --method quadrature; the paper used 100).
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<usize>)]
     pub nodes_per_wavelength: usize,
     /// Tail hydrodynamics: local RFT (eq. 3), or non-local slender-body theory /
     /// regularized Stokeslets [default: rft in free space, stokeslets in a channel, the
@@ -46,7 +46,7 @@ pub struct HelixArgs {
     #[arg(long, value_enum)]
     pub tail_model: Option<TailModelArg>,
     /// Segments per helix turn of the non-local tail models, sbt and stokeslets (12 is converged to 1 %).
-    #[arg(long, default_value_t = 12)]
+    #[arg(long, default_value_t = 12, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<usize>)]
     pub segments_per_turn: usize,
     /// Left-handed helix instead of the paper's right-handed one.
     #[arg(long)]

@@ -8,6 +8,7 @@ mod budget;
 mod cleanup;
 mod compare;
 mod convert;
+mod count;
 mod data;
 mod diagnose;
 mod effects;

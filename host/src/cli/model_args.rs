@@ -33,13 +33,13 @@ pub struct ModelArgs {
     #[arg(long, value_enum, default_value = "exact")]
     pub method: MethodArg,
     /// Quadrature nodes per wavelength (with --method quadrature; the paper used 100).
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<usize>)]
     pub nodes_per_wavelength: usize,
     /// Tail hydrodynamics: local RFT (eq. 3), or non-local slender-body theory / regularized Stokeslets.
     #[arg(long, value_enum, default_value = "rft")]
     pub tail_model: TailModelArg,
     /// Segments per helix turn of the non-local tail models, sbt and stokeslets (12 is converged to 1 %).
-    #[arg(long, default_value_t = 12)]
+    #[arg(long, default_value_t = 12, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<usize>)]
     pub segments_per_turn: usize,
     /// Degrees of freedom: axial (x-translation and x-rotation, the paper) or all six.
     #[arg(long, value_enum, default_value = "axial")]

@@ -186,10 +186,7 @@ impl AtomicFile {
                 })
             }
             Target::WriteThrough(path) => {
-                let file = std::fs::OpenOptions::new()
-                    .write(true)
-                    .open(&path)
-                    .map_err(|e| cannot_write(dest, &e))?;
+                let file = guard::open_write_through(&path).map_err(|e| cannot_write(dest, &e))?;
                 Ok(AtomicFile {
                     dest: path,
                     tmp: None,

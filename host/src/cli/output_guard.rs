@@ -13,7 +13,9 @@
 //!   a named pipe): **written through**, as a shell redirection does. It
 //!   cannot be replaced atomically, and replacing it was the defect (run as
 //!   root, `--write-effect /dev/null` turned the system's /dev/null into a
-//!   regular file); naming one is a deliberate choice of where the bytes go;
+//!   regular file); naming one is a deliberate choice of where the bytes go.
+//!   A FIFO no reader opens within [`FIFO_READER_WAIT`] is refused
+//!   ([`open_write_through`]);
 //! - a directory, a block device or a socket: refused (no command writes a
 //!   disk image or talks to a socket; a block device would be overwritten).
 //!
@@ -266,4 +268,56 @@ fn identity(path: &Path) -> Option<(u64, u64)> {
 #[cfg(not(unix))]
 fn identity(_: &Path) -> Option<(u64, u64)> {
     None
+}
+
+/// How long a write-through output that is a FIFO waits for its reader
+/// (`mkfifo f; swimbot ... -o f & reader < f` may start the reader a
+/// moment later) before the run is refused instead of hanging.
+pub const FIFO_READER_WAIT: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// Opens a write-through output ([`Target::WriteThrough`]). A FIFO opened
+/// for writing blocks until a reader opens it, for ever when none comes
+/// (`plan -o fifo` hung); opened non-blocking it fails at once with ENXIO
+/// instead (fifo(7)), so the open is retried until [`FIFO_READER_WAIT`]
+/// has passed. Once open the descriptor is made blocking again: a slow
+/// reader then slows the writes instead of failing them with EAGAIN.
+#[cfg(unix)]
+pub fn open_write_through(path: &Path) -> std::io::Result<std::fs::File> {
+    use std::os::fd::AsRawFd;
+    use std::os::unix::fs::OpenOptionsExt;
+    let start = std::time::Instant::now();
+    let file = loop {
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .custom_flags(libc::O_NONBLOCK)
+            .open(path)
+        {
+            Ok(f) => break f,
+            Err(e) if e.raw_os_error() == Some(libc::ENXIO) => {
+                if start.elapsed() >= FIFO_READER_WAIT {
+                    return Err(std::io::Error::new(
+                        e.kind(),
+                        format!(
+                            "a FIFO that no reader opened within {} s; start its reader first",
+                            FIFO_READER_WAIT.as_secs()
+                        ),
+                    ));
+                }
+                std::thread::sleep(std::time::Duration::from_millis(50));
+            }
+            Err(e) => return Err(e),
+        }
+    };
+    let fd = file.as_raw_fd();
+    // SAFETY: F_GETFL and F_SETFL on the descriptor `file` owns.
+    let flags = unsafe { libc::fcntl(fd, libc::F_GETFL) };
+    if flags < 0 || unsafe { libc::fcntl(fd, libc::F_SETFL, flags & !libc::O_NONBLOCK) } < 0 {
+        return Err(std::io::Error::last_os_error());
+    }
+    Ok(file)
+}
+
+#[cfg(not(unix))]
+pub fn open_write_through(path: &Path) -> std::io::Result<std::fs::File> {
+    std::fs::OpenOptions::new().write(true).open(path)
 }

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 #[derive(Args, Debug)]
 pub struct PlanArgs {
     /// Runs to plan.
-    #[arg(long, default_value_t = 6)]
+    #[arg(long, default_value_t = 6, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<usize>)]
     pub runs: usize,
     /// The run sheet to write (a dataset CSV, measurements empty).
     #[arg(short, long, value_name = "FILE", default_value = "plan.csv")]

@@ -15,6 +15,20 @@ use crate::study::{
 use clap::Args;
 use std::path::{Path, PathBuf};
 
+/// `println!` wrapped at the terminal's width (`cli/screen/study.rs`).
+macro_rules! say {
+    ($($t:tt)*) => {
+        println!("{}", super::screen::study::line(&format!($($t)*), super::screen::width()))
+    };
+}
+
+/// [`say!`] for lines that name files: no symbols in place of their words.
+macro_rules! say_plain {
+    ($($t:tt)*) => {
+        println!("{}", super::screen::study::plain_line(&format!($($t)*), super::screen::width()))
+    };
+}
+
 impl From<StudyError> for CliError {
     fn from(e: StudyError) -> Self {
         if e.is_input() {
@@ -126,7 +140,7 @@ pub fn run_init(a: InitArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result
     spinner.finish_and_clear();
     let s = s?;
     inputs.record_all(s.inputs());
-    println!(
+    say_plain!(
         "started the study {} on {}",
         path.display(),
         s.dataset_path().display()
@@ -178,7 +192,7 @@ pub fn run_add(a: AddArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(
     spinner.finish_and_clear();
     let step = r?.clone();
     let n = s.steps().len();
-    println!("added step {n} to {}:", s.path().display());
+    say_plain!("added step {n} to {}:", s.path().display());
     print_step(n, &step);
     if let Some(d) = &step.diagnosis_after {
         println!(
@@ -193,7 +207,7 @@ pub fn run_undo(_a: UndoArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Resul
     let mut s = open(study, inputs)?;
     let n = s.steps().len();
     let gone = s.undo()?;
-    println!(
+    say_plain!(
         "removed step {n} ({}) from {}; the model is back to MARE {}",
         gone.effect.name,
         s.path().display(),
@@ -338,16 +352,9 @@ fn stats_line(label: &str, s: &Snapshot) -> String {
     )
 }
 
-/// `println!` wrapped at the terminal's width (`cli/screen/study.rs`).
-macro_rules! say {
-    ($($t:tt)*) => {
-        println!("{}", super::screen::study::line(&format!($($t)*), super::screen::width()))
-    };
-}
-
 fn print_table(s: &Study, verbose: bool) {
     let f = s.file();
-    say!(
+    say_plain!(
         "data: {} ({}; SHA-256 {}…, {} cases, {} quantities); base: {}; likelihood: {}",
         f.dataset.path.display(),
         f.dataset.name,

@@ -22,10 +22,10 @@ pub struct SynthArgs {
     #[arg(long, default_value_t = 0.02)]
     pub noise: f64,
     /// Trials per case (each measured mean and its 95 % CI come from them).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<u32>)]
     pub trials: u32,
     /// Seed of the noise generator (the same seed gives the same data).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = crate::cli::count::whole::<u64>)]
     pub seed: u64,
     /// Output dataset file (TOML).
     #[arg(short, long, value_name = "FILE.toml")]

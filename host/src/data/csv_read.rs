@@ -537,15 +537,32 @@ fn header(
     }
     let mut setup: toml::Table = toml::from_str(&block).map_err(|e| {
         let why = e.message().trim_end().to_string();
-        let at = e
+        let line = e
             .span()
-            .map(|s| block[..s.start].matches('\n').count() + 1)
-            .map_or(file.to_string(), |l| format!("{file}: line {l}"));
-        fail(
-            at,
-            None,
-            format!("not a `# key = value` header line: {why}"),
-        )
+            .map(|s| block[..s.start].matches('\n').count() + 1);
+        let at = line.map_or(file.to_string(), |l| format!("{file}: line {l}"));
+        // The line is a `key = value` (only those reach the block): what
+        // is wrong is its value, so the key is named.
+        let key = line
+            .and_then(|l| block.lines().nth(l - 1))
+            .and_then(|l| l.split_once('='))
+            .map(|(k, _)| k.trim());
+        match key {
+            Some(k) => fail(
+                at,
+                None,
+                format!(
+                    "`# {} = ...`: the value of `{}` is not a TOML value (a number, a quoted text, true/false or a list): {why}",
+                    super::limits::echo(k),
+                    super::limits::echo(k)
+                ),
+            ),
+            None => fail(
+                at,
+                None,
+                format!("not a `# key = value` header line: {why}"),
+            ),
+        }
     })?;
     let mut top = toml::Table::new();
     for key in ["name", "source", "rig"] {

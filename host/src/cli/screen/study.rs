@@ -43,3 +43,11 @@ pub fn line(text: &str, width: usize) -> String {
     let rest = format!("{indent}    ");
     wrap(&symbols(text.trim_start()), width, &indent, &rest)
 }
+
+/// [`line`] without the paper's symbols, for lines that name files and
+/// datasets: they must print as spelled (`lambda pi.csv` is no `λ π.csv`).
+pub fn plain_line(text: &str, width: usize) -> String {
+    let indent: String = text.chars().take_while(|c| *c == ' ').collect();
+    let rest = format!("{indent}    ");
+    wrap(text.trim_start(), width, &indent, &rest)
+}

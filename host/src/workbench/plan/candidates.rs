@@ -210,11 +210,18 @@ fn no_run(data: &crate::data::Dataset, rig: &PlanRig) -> RigError {
     };
     let fits =
         |d: f64| c.body_diameter_mm < d && c.amplitude_mm + 0.5 * c.wire_diameter_mm < 0.5 * d;
-    if !rig.tubes_mm.iter().any(|d| fits(*d)) {
+    let in_limits = |d: f64| {
+        crate::data::limits::check_case(&Case {
+            channel_diameter_mm: d,
+            ..c.clone()
+        })
+        .is_ok()
+    };
+    if !rig.tubes_mm.iter().any(|d| fits(*d) && in_limits(*d)) {
         return RigError {
             field: "--tubes-mm",
             message: format!(
-                "no tube given fits the robot (body {} mm, the tails' helix): nothing can run",
+                "no tube given fits the robot (body {} mm, the tails' helix) inside the data limits (docs/limits.md): nothing can run",
                 c.body_diameter_mm
             ),
         };
