@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 mod background;
+mod hil_check;
 mod layout;
 mod python;
 mod size;
