@@ -239,6 +239,14 @@ impl Robot {
             if log(&out, &mut level, &mut led_mode) {
                 keeping.recorder.note(Events::EDGES_DROPPED);
             }
+            if out.may_erase_flash && keeping.erase_pending() {
+                // A frame queued during the erase's stall is decoded by the
+                // passes right after it: at full speed, not on the crystal
+                // (emulator, `12-stalls`: an On's first pulse 0.87 ms after
+                // a 150 ms block with the erase pass on the crystal, 0.60 ms
+                // with it at 125 MHz; the board adds PLL_SYS's relock).
+                self.power.set_speed(Speed::Full);
+            }
             keeping.after_pass(now_us, &out, watchdog);
             faults.note(&out);
             if usb {
