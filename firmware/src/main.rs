@@ -22,6 +22,8 @@ mod board;
 mod flash;
 #[cfg(all(target_os = "none", feature = "hil"))]
 mod hil;
+#[cfg(all(target_os = "none", feature = "hil-faults"))]
+mod hil_faults;
 #[cfg(target_os = "none")]
 mod ir;
 #[cfg(target_os = "none")]
@@ -89,7 +91,8 @@ fn main() -> ! {
     // `take` cannot fail this early: nothing else has taken them.
     let mut p = pac::Peripherals::take().unwrap();
     let mut cortex = pac::CorePeripherals::take().unwrap();
-    let sio = hal::Sio::new(p.SIO);
+    #[allow(unused_mut)]
+    let mut sio = hal::Sio::new(p.SIO);
     // Before anything could be fetched from flash behind our back
     // (interrupts are still off): the serial number of the USB port.
     let flash_id = flash::unique_id();
@@ -110,6 +113,17 @@ fn main() -> ! {
     power::rosc_off();
     let clocks = &power.clocks;
     let sys_hz = hal::Clock::freq(&clocks.system_clock).to_Hz();
+    #[cfg(feature = "hil-faults")]
+    {
+        // The previous boot's record first, then core 1 times the gate's
+        // falls on the jig's loopback (GPIO17, pulled down: no wire, no fall).
+        static CORE1_STACK: hal::multicore::Stack<256> = hal::multicore::Stack::new();
+        hil_faults::take_record(watchdog_reset, forced_reset);
+        let _loopback = pins.gpio17.into_pull_down_input();
+        let mut mc = hal::multicore::Multicore::new(&mut p.PSM, &mut p.PPB, &mut sio.fifo);
+        let stack = CORE1_STACK.take().unwrap();
+        let _ = mc.cores()[1].spawn(stack, || hil_faults::watch());
+    }
     if watchdog_reset {
         defmt::warn!("reset by the watchdog");
     }

@@ -11,15 +11,26 @@
 //! I2C, PIO, DMA, RTC, ROM, XIP and the rest are gated; the USB
 //! controller's clocks only while no USB host is connected (`usb_awake`).
 //!
+//! clk_sys (`Speed`): 125 MHz from PLL_SYS only while the motor may run,
+//! a USB host is served or IR frames arrive (`run::speed_after`, which
+//! gives the measured reasons); the 12 MHz crystal with PLL_SYS powered
+//! down otherwise, between idle passes included. Not the crystal with the
+//! motor on: the PWM counts clk_sys, 5000 steps a 25 kHz period at 125 MHz
+//! but at most 480 on the crystal (the floor is 1024). Not while IR frames
+//! arrive: decoded on the crystal, On took 0.92 ms to its first pulse
+//! (0.45 ms at 125 MHz; the contract is 1 ms), and 2.50 ms after a block
+//! erase that had queued the frame (emulator, `2-on` and `12-stalls`). PLL_USB and clk_usb run
+//! only while VBUS is present (`usb_awake`); clk_adc is on the crystal
+//! after boot and clk_rtc is stopped.
+//!
 //! DORMANT stops the crystal and every clock; only a GPIO edge restarts
 //! them. Before it: motor off (the caller's condition), the system clock
-//! moved to the crystal, the clocks fed by the USB PLL stopped, both PLLs
-//! stopped (the sequence of the C SDK's `sleep_run_from_xosc` and
-//! `sleep_goto_dormant_until_pin`). After the wake the chip runs on the
-//! stable crystal (`Speed::Crystal`) until the next pass asks for the
-//! boot's tree (125 MHz system, 48 MHz ADC) and the PLLs relock, before
-//! any duty is applied, so the PWM divider and every timing stay valid. The 1 MHz timer stops
-//! during DORMANT (its tick comes from the crystal): time simply resumes.
+//! on the crystal, both PLLs stopped (the sequence of the C SDK's
+//! `sleep_run_from_xosc` and `sleep_goto_dormant_until_pin`). After the
+//! wake the chip runs on the stable crystal until a pass needs PLL_SYS,
+//! which is relocked before any duty is applied, so the PWM divider and
+//! every timing stay valid. The 1 MHz timer stops during DORMANT (its tick
+//! comes from the crystal): time simply resumes.
 //!
 //! Two wake-ups (the IO bank's DORMANT_WAKE_INTE, RP2040 datasheet 2.19.3
 //! and 2.19.6: the same raw events as the GPIO interrupts, pin levels and
@@ -42,12 +53,8 @@
 //!   9 ms +-25 % window. Should the first frame be lost on a given board,
 //!   the next press works.
 //!
-//! Current: not measured for this configuration (clk_sys 125 MHz from
-//! PLL_SYS and PLL_USB at 48 MHz for clk_adc and clk_usb between passes,
-//! whether or not VBUS is present), and no figure is claimed: the RP2040
-//! datasheet's 5.4 table and the MicroPython developers' Pico figures
-//! (commit b004e7e) describe other clock configurations. The board's
-//! bring-up measures it (firmware/README.md, bring-up step 5).
+//! Current: computed per state in firmware/README.md ("Current budget"),
+//! to be measured on a board; no figure is claimed here.
 
 use crate::board;
 use fugit::RateExtU32;
@@ -108,25 +115,19 @@ const EDGE_LOW: u32 = 2;
 const IR_WAKE: WakeEvent = WakeEvent::new(board::IR_GPIO, EDGE_LOW);
 const VBUS_WAKE: WakeEvent = WakeEvent::new(board::VBUS_SENSE_GPIO, LEVEL_HIGH);
 
-/// How fast the chip runs between passes.
+/// What clk_sys runs from.
 #[derive(Clone, Copy, PartialEq, Eq, defmt::Format)]
 pub enum Speed {
-    /// The boot's tree: 125 MHz system (PLL_SYS), 48 MHz USB and ADC
-    /// (PLL_USB). Whenever the motor may run: its PWM divider and the
-    /// ADC's mid-pulse timing are set for it.
+    /// 125 MHz from PLL_SYS: whenever the motor may run (the PWM counter
+    /// and its divider are set for it) or a USB host is served.
     Full,
-    /// USB suspended: the system clock on the 12 MHz crystal, PLL_SYS off;
-    /// PLL_USB keeps clk_usb, which the controller needs to see the host
-    /// resume the bus.
-    UsbSuspended,
-    /// Everything on the crystal (system, peripherals, ADC), both PLLs
-    /// off: the state DORMANT is entered from and left in. Usable between
-    /// idle passes too (`run::speed_after` explains why it is not).
+    /// The 12 MHz crystal, PLL_SYS off: idle passes, and the state DORMANT
+    /// is entered from and left in.
     Crystal,
 }
 
-/// The clock tree and what it is built from, kept so that the idle speeds
-/// and DORMANT can take it down and put it back.
+/// The clock tree and what it is built from, kept so that the idle speed,
+/// the USB clocks and DORMANT can take it down and put it back.
 pub struct Power {
     pub clocks: ClocksManager,
     xosc: Option<CrystalOscillator<Stable>>,
@@ -134,6 +135,8 @@ pub struct Power {
     pll_usb: Pll<PLL_USB>,
     /// Handed over once every peripheral is out of reset (`keep_resets`).
     resets: Option<RESETS>,
+    /// PLL_USB and clk_usb run (VBUS present); until `keep_resets`, the
+    /// boot's tree.
     usb_awake: bool,
     speed: Speed,
 }
@@ -173,10 +176,12 @@ impl<P: rp2040_hal::pll::PhaseLockedLoopDevice> Pll<P> {
 
 impl Power {
     /// rp2040-hal's `init_clocks_and_plls` (125 MHz system, 48 MHz USB and
-    /// ADC), keeping the crystal and the PLLs for the idle speeds and
-    /// DORMANT; then the sleep clock gates, applied by SLEEPDEEP. A clock
-    /// that does not start is a panic: the fail-safe handler keeps the
-    /// motor off and resets.
+    /// ADC), keeping the crystal and the PLLs for the idle speed, the USB
+    /// clocks and DORMANT; then the sleep clock gates, applied by
+    /// SLEEPDEEP. Both PLLs run until `keep_resets`: the USB controller and
+    /// the ADC leave reset only with their clocks running (RESET_DONE waits
+    /// for them). A clock that does not start is a panic: the fail-safe
+    /// handler keeps the motor off and resets.
     pub fn start(
         (xosc, clocks, pll_sys, pll_usb): (XOSC, CLOCKS, PLL_SYS, PLL_USB),
         resets: &mut RESETS,
@@ -202,99 +207,114 @@ impl Power {
             pll_sys: Pll::Locked(pll_sys),
             pll_usb: Pll::Locked(pll_usb),
             resets: None,
-            usb_awake: false,
+            usb_awake: true,
             speed: Speed::Full,
         }
     }
 
-    /// Keep the USB controller's clocks running in sleep (while USB is
-    /// connected: it answers the host between passes), or gate them again.
+    /// The reset controller, needed to restart the PLLs; every peripheral
+    /// is out of reset now, so the boot's tree becomes the running one:
+    /// clk_adc on the crystal for good (a conversion takes 96 x 83 ns =
+    /// 8 us instead of 2 us; the mid-pulse start still fits, the shortest
+    /// running pulse being 24 us), clk_rtc stopped (no RTC is used), and
+    /// PLL_USB and clk_usb only while VBUS is present (`usb_awake`).
+    pub fn keep_resets(&mut self, resets: RESETS) {
+        self.resets = Some(resets);
+        if let Some(xosc) = self.xosc.as_ref() {
+            let _ = self
+                .clocks
+                .adc_clock
+                .configure_clock(xosc, xosc.operating_frequency());
+        }
+        self.clocks.rtc_clock.disable();
+        self.usb_awake(false);
+    }
+
+    /// VBUS present: PLL_USB relocked and clk_usb (48 MHz) on, and the USB
+    /// controller's clocks kept running in sleep (it answers the host
+    /// between passes); absent: clk_usb and PLL_USB stopped, the
+    /// controller's clocks gated. Nothing is done before `keep_resets`.
     pub fn usb_awake(&mut self, awake: bool) {
         if awake == self.usb_awake {
             return;
         }
+        let Some(resets) = self.resets.as_mut() else {
+            return;
+        };
+        if awake {
+            self.pll_usb.start(resets);
+            let Some(pll_usb) = self.pll_usb.locked() else {
+                panic!("PLL_USB is not running");
+            };
+            if self
+                .clocks
+                .usb_clock
+                .configure_clock(pll_usb, pll_usb.operating_frequency())
+                .is_err()
+            {
+                panic!("clk_usb did not start");
+            }
+        } else {
+            self.clocks.usb_clock.disable();
+            self.pll_usb.stop();
+        }
         let mut gates = sleep_clock_gates();
         gates.set_sys_usbctrl(awake);
         gates.set_usb_usbctrl(awake);
+        gates.set_sys_pll_usb(awake);
         self.clocks.configure_sleep_enable(gates);
         self.usb_awake = awake;
-    }
-
-    /// The reset controller, needed to restart the PLLs.
-    pub fn keep_resets(&mut self, resets: RESETS) {
-        self.resets = Some(resets);
     }
 
     pub fn speed(&self) -> Speed {
         self.speed
     }
 
-    /// Run at `speed` from now on. Going up relocks the PLLs first (the
-    /// PLL's lock takes tens of microseconds; the caller does this before
-    /// it drives the motor); going down moves every clock off a PLL before
-    /// stopping it (RP2040 datasheet 2.15.3.2: glitchless muxes for
-    /// clk_sys and clk_ref; the aux sources are switched with the clock
-    /// briefly stopped, as `configure_clock` does). Nothing is done before
-    /// `keep_resets`.
+    /// Run clk_sys at `speed` from now on. Going up relocks PLL_SYS first
+    /// (the caller does this before it drives the motor); going down moves
+    /// clk_sys (and clk_peri with it) to clk_ref, the crystal, before
+    /// stopping the PLL (RP2040 datasheet 2.15.3.2: clk_sys's glitchless
+    /// mux). Nothing is done before `keep_resets`.
     pub fn set_speed(&mut self, speed: Speed) {
-        if speed == self.speed || self.resets.is_none() {
+        if speed == self.speed {
             return;
         }
-        self.full_speed();
-        if speed != Speed::Full {
-            self.slow_down(speed == Speed::UsbSuspended);
-        }
-        self.speed = speed;
-    }
-
-    /// The boot's tree again, from any speed.
-    fn full_speed(&mut self) {
         let Some(resets) = self.resets.as_mut() else {
             return;
         };
-        if self.pll_sys.locked().is_some() && self.pll_usb.locked().is_some() {
-            return;
+        match speed {
+            Speed::Full => {
+                self.pll_sys.start(resets);
+                let Some(pll_sys) = self.pll_sys.locked() else {
+                    panic!("PLL_SYS is not running");
+                };
+                if self
+                    .clocks
+                    .system_clock
+                    .configure_clock(pll_sys, pll_sys.operating_frequency())
+                    .is_err()
+                {
+                    panic!("clk_sys did not come back");
+                }
+            }
+            Speed::Crystal => {
+                let Some(xosc) = self.xosc.as_ref() else {
+                    return;
+                };
+                let _ = self
+                    .clocks
+                    .system_clock
+                    .configure_clock(&self.clocks.reference_clock, xosc.operating_frequency());
+                self.pll_sys.stop();
+            }
         }
-        self.pll_sys.start(resets);
-        self.pll_usb.start(resets);
-        let (Some(xosc), Some(pll_sys), Some(pll_usb)) = (
-            self.xosc.as_ref(),
-            self.pll_sys.locked(),
-            self.pll_usb.locked(),
-        ) else {
-            panic!("the clock tree is incomplete");
-        };
-        if self.clocks.init_default(xosc, pll_sys, pll_usb).is_err() {
-            panic!("the clock tree did not come back");
-        }
-        self.speed = Speed::Full;
-    }
-
-    /// From the boot's tree: clk_sys (and clk_peri with it) on clk_ref,
-    /// the crystal; PLL_SYS stopped; unless `keep_usb`, clk_adc on the
-    /// crystal too (a conversion then takes 96 x 83 ns = 8 us instead of
-    /// 2 us: the motor is off, so there is no pulse to fit it in), clk_usb
-    /// and clk_rtc stopped and PLL_USB stopped.
-    fn slow_down(&mut self, keep_usb: bool) {
-        let Some(xosc) = self.xosc.as_ref() else {
-            return;
-        };
-        let freq = xosc.operating_frequency();
-        let _ = self
-            .clocks
-            .system_clock
-            .configure_clock(&self.clocks.reference_clock, freq);
+        // clk_peri follows clk_sys; its recorded frequency with it.
+        let f = self.clocks.system_clock.freq();
         let _ = self
             .clocks
             .peripheral_clock
-            .configure_clock(&self.clocks.system_clock, freq);
-        self.pll_sys.stop();
-        if !keep_usb {
-            let _ = self.clocks.adc_clock.configure_clock(xosc, freq);
-            self.clocks.usb_clock.disable();
-            self.clocks.rtc_clock.disable();
-            self.pll_usb.stop();
-        }
+            .configure_clock(&self.clocks.system_clock, f);
+        self.speed = speed;
     }
 
     /// Go DORMANT until the IR pin falls or VBUS is present; return on the
@@ -306,6 +326,8 @@ impl Power {
         if self.resets.is_none() || self.xosc.is_none() {
             return false;
         }
+        // Both PLLs stopped: DORMANT's precondition (no VBUS, so no USB).
+        self.usb_awake(false);
         self.set_speed(Speed::Crystal);
         let Some(xosc) = self.xosc.take() else {
             return false;

@@ -208,8 +208,14 @@ impl Robot {
         let mut next_rate_log_us = 0;
         let mut foreign = 0;
         let mut faults = Faults::default();
+        let mut ir_full_until_us = 0;
         loop {
             let now_us = self.timer.get_counter().ticks();
+            // IR edges waiting: decoded at full speed (see `IR_FULL_SPEED_US`).
+            if critical_section::with(ir::has_edges) {
+                ir_full_until_us = now_us + IR_FULL_SPEED_US;
+                self.power.set_speed(Speed::Full);
+            }
             let usb = self.usb.connected();
             main_loop.set_usb_connected(usb);
             main_loop.set_erase_pending(keeping.erase_pending());
@@ -219,7 +225,8 @@ impl Robot {
             let out = main_loop.pass(now_us, ir::drain(), ir::drain_hall(), || {
                 battery.read(motor.timing())
             });
-            let speed = speed_after(&out, usb, self.usb.suspended());
+            let ir_active = now_us < ir_full_until_us;
+            let speed = speed_after(&out, usb && !self.usb.suspended(), ir_active);
             if speed != self.power.speed() {
                 defmt::info!("clocks: {}", speed);
                 self.power.set_speed(speed);
@@ -231,6 +238,14 @@ impl Robot {
             }
             if log(&out, &mut level, &mut led_mode) {
                 keeping.recorder.note(Events::EDGES_DROPPED);
+            }
+            if out.may_erase_flash && keeping.erase_pending() {
+                // A frame queued during the erase's stall is decoded by the
+                // passes right after it: at full speed, not on the crystal
+                // (emulator, `12-stalls`: an On's first pulse 0.87 ms after
+                // a 150 ms block with the erase pass on the crystal, 0.60 ms
+                // with it at 125 MHz; the board adds PLL_SYS's relock).
+                self.power.set_speed(Speed::Full);
             }
             keeping.after_pass(now_us, &out, watchdog);
             faults.note(&out);
@@ -298,22 +313,33 @@ impl Robot {
     }
 }
 
-/// The clock speed the pass's decision needs: the crystal with the USB
-/// clock kept while the bus is suspended (motor off: USB holds it off),
-/// else the boot's full tree. Set before the duty is applied, so a motor
-/// never starts on the crystal.
+/// How long the chip stays on PLL_SYS after an IR edge was queued: a NEC
+/// frame (67.5 ms) and the 108 ms repeat period of a held key. Decoding on
+/// the crystal was measured in the emulator: an On frame's end to its first
+/// PWM pulse took 0.92 ms (0.46 ms at 125 MHz), and an On queued during a
+/// block erase, its 67 edges decoded in one pass, 2.50 ms after the erase
+/// (the 1 ms contract: scenarios `2-on`, `12-stalls`).
+const IR_FULL_SPEED_US: u64 = 120_000;
+
+/// The clock speed the pass's decision needs: PLL_SYS's 125 MHz whenever
+/// the motor may run or a USB host is served, else the crystal. Set before
+/// the duty is applied, so a motor never starts on the crystal.
 ///
-/// Not `Speed::Crystal` between idle passes: measured in the emulator
-/// (rp2040js derives clk_sys from the clock registers), a pass at 12 MHz
-/// takes ten times as long, so the core was asleep 82.8 % of an idle
-/// second instead of 98 %, and an On queued during a block erase gave its
-/// first pulse 2.5 ms after the erase instead of within 1 ms. Whether the
-/// PLLs' saving outweighs that needs the board's currents (bring-up
-/// checklist); DORMANT, the long idle, is entered from the crystal.
-fn speed_after(out: &PassOutput, usb: bool, suspended: bool) -> Speed {
+/// Not the crystal while the motor runs: the PWM counter is clocked by
+/// clk_sys. At 125 MHz the 25 kHz carrier has 5000 steps (divider 1, TOP
+/// 4999); on the 12 MHz crystal the same setting gives 2.4 kHz, and no
+/// divider gives 25 kHz with more than 480 steps, under the 1024 that
+/// `motor.rs` asserts (and the emulator's `2-on` checks). Changing clk_sys
+/// between the passes of a running motor would change its carrier, and
+/// relocking PLL_SYS every 1 ms pass costs its lock time each time.
+/// Not the crystal with USB connected and its bus active (`usb_active`):
+/// the board then runs from VBUS, not from the cell, and a 64-byte packet
+/// goes out per pass at full speed. A suspended bus (the PC asleep) is
+/// idle: crystal. Nor while IR frames arrive (`ir_active`).
+fn speed_after(out: &PassOutput, usb_active: bool, ir_active: bool) -> Speed {
     let motor_idle = out.duty.raw() == 0 && !out.hall_power && out.next_pass_in_us.is_none();
-    if motor_idle && usb && suspended {
-        Speed::UsbSuspended
+    if motor_idle && !usb_active && !ir_active {
+        Speed::Crystal
     } else {
         Speed::Full
     }

@@ -80,6 +80,8 @@ pub struct Usb {
     answer: Answer,
     /// `BOOTSEL` was honoured: reboot once its answer has gone out.
     bootsel_due: bool,
+    #[cfg(feature = "hil-faults")]
+    faults: crate::hil_faults::Faults,
 }
 
 /// What the port needs of the robot to answer.
@@ -167,6 +169,8 @@ impl Usb {
             answer: Answer::None,
             zlp_due: false,
             bootsel_due: false,
+            #[cfg(feature = "hil-faults")]
+            faults: Default::default(),
         }
     }
 
@@ -213,6 +217,10 @@ impl Usb {
                 break;
             }
             for &b in &buf[..n] {
+                #[cfg(feature = "hil-faults")]
+                let mut fault_text = [0u8; crate::hil_faults::ANSWER_MAX];
+                #[cfg(feature = "hil-faults")]
+                let fault_len = self.faults.push(b, now_us(), &mut fault_text);
                 let Some(request) = self.reader.push(b) else {
                     continue;
                 };
@@ -247,9 +255,18 @@ impl Usb {
                         pos: 0,
                     },
                 };
+                #[cfg(feature = "hil-faults")]
+                if let Some(len) = fault_len {
+                    self.answer = Answer::Text {
+                        line: Line::from_bytes(&fault_text[..len]),
+                        pos: 0,
+                    };
+                }
             }
         }
         self.send(flash);
+        #[cfg(feature = "hil-faults")]
+        self.faults.poll(now_us());
         if self.bootsel_due && matches!(self.answer, Answer::None) && !self.zlp_due {
             self.reboot_to_bootsel();
         }
@@ -313,6 +330,13 @@ impl Usb {
             Answer::None => {}
         }
     }
+}
+
+/// The 1 MHz timer's low word (the `hil-faults` schedule).
+#[cfg(feature = "hil-faults")]
+fn now_us() -> u32 {
+    // SAFETY: a read of the free-running timer.
+    unsafe { &*pac::TIMER::ptr() }.timerawl().read().bits()
 }
 
 /// The D+ pull-up (SIE_CTRL.PULLUP_EN, RP2040 datasheet 4.1.4): the

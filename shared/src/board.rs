@@ -129,7 +129,7 @@ pub const MOTOR_RATED_MV: u16 = 3_700;
 /// healthy 1.8 W run settles 63 K up), with 70 K allowed (105 C from a
 /// 35 C sealed body). Fit the housing node on the bench from a slowed or
 /// stalled run's log and the can's temperature (`swimbot log --thermal`,
-/// docs/run-log.md) and enter the two constants it prints here. A
+/// docs/run-log.md) and build with the `thermal.toml` it writes (`HOUSING`). A
 /// turning motor held at the 3.7 V ceiling from a 4.0 V cell (2.0 W)
 /// passes the limit after 7.3 minutes (host test); a new start waits until
 /// the winding is back under 35 K. The driver is
@@ -150,10 +150,7 @@ pub const SUPERVISOR: SupervisorConfig = SupervisorConfig {
             r_th_mk_per_w: 10_000,
             tau_ms: 2_500,
         },
-        housing: ThermalNode {
-            r_th_mk_per_w: 25_000,
-            tau_ms: 100_000,
-        },
+        housing: HOUSING,
         winding_rise_max_mk: 70_000,
         winding_restart_mk: 35_000,
         driver_resistance_mohm: 150,
@@ -168,6 +165,61 @@ pub const SUPERVISOR: SupervisorConfig = SupervisorConfig {
     // the bench).
     lockout_trips: 3,
 };
+
+/// The motor housing's node: 25 K/W and 100 s (the assumption above),
+/// unless the firmware is built from a bench fit (`cargo xtask fw|uf2
+/// --thermal thermal.toml`, which sets `SWIMBOT_HOUSING_R_TH_MK_PER_W` and
+/// `SWIMBOT_HOUSING_TAU_MS` for that build only; firmware/README.md,
+/// "Heat limits from the bench"). The ranges are xtask's, checked again
+/// here so that a hand-set variable cannot build an image either.
+pub const HOUSING: ThermalNode = ThermalNode {
+    r_th_mk_per_w: env_u32(option_env!("SWIMBOT_HOUSING_R_TH_MK_PER_W"), 25_000),
+    tau_ms: env_u32(option_env!("SWIMBOT_HOUSING_TAU_MS"), 100_000),
+};
+/// Accepted housing thermal resistance, mK/W: from a heat-sunk can (2 K/W)
+/// to twice the free-air class value (150 K/W); outside, the fit is wrong.
+pub const HOUSING_R_TH_RANGE_MK_PER_W: (u32, u32) = (2_000, 150_000);
+/// Accepted housing time constant, ms: 10 s (four times the winding's
+/// 2.5 s, so the two nodes stay apart) to 1 000 s (ten times the class
+/// value).
+pub const HOUSING_TAU_RANGE_MS: (u32, u32) = (10_000, 1_000_000);
+const _: () = assert!(
+    HOUSING.r_th_mk_per_w >= HOUSING_R_TH_RANGE_MK_PER_W.0
+        && HOUSING.r_th_mk_per_w <= HOUSING_R_TH_RANGE_MK_PER_W.1,
+    "SWIMBOT_HOUSING_R_TH_MK_PER_W outside 2 000-150 000 mK/W"
+);
+const _: () = assert!(
+    HOUSING.tau_ms >= HOUSING_TAU_RANGE_MS.0 && HOUSING.tau_ms <= HOUSING_TAU_RANGE_MS.1,
+    "SWIMBOT_HOUSING_TAU_MS outside 10 000-1 000 000 ms"
+);
+
+/// A build-time variable's decimal digits, or `default` when it is unset;
+/// anything else stops the build.
+const fn env_u32(value: Option<&str>, default: u32) -> u32 {
+    let Some(text) = value else {
+        return default;
+    };
+    let bytes = text.as_bytes();
+    assert!(!bytes.is_empty(), "a SWIMBOT_HOUSING_* variable is empty");
+    let mut n: u32 = 0;
+    let mut i = 0;
+    while i < bytes.len() {
+        let d = bytes[i];
+        assert!(
+            d.is_ascii_digit(),
+            "a SWIMBOT_HOUSING_* variable is not decimal digits"
+        );
+        n = match n.checked_mul(10) {
+            Some(v) => match v.checked_add((d - b'0') as u32) {
+                Some(v) => v,
+                None => panic!("a SWIMBOT_HOUSING_* variable overflows u32"),
+            },
+            None => panic!("a SWIMBOT_HOUSING_* variable overflows u32"),
+        };
+        i += 1;
+    }
+    n
+}
 
 /// The set-point after power-up: 1 Hz, inside the paper's observed
 /// 0.57-1.50 Hz (Table II). The remote's keys change it.
@@ -322,6 +374,30 @@ pub const EXPORT_PAIRS: usize = 43;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn build_time_housing_digits_or_the_default() {
+        assert_eq!(env_u32(None, 25_000), 25_000);
+        assert_eq!(env_u32(Some("31250"), 25_000), 31_250);
+        assert_eq!(env_u32(Some("0"), 7), 0);
+        // Without the variables (a plain build) the assumed node is built in.
+        if option_env!("SWIMBOT_HOUSING_R_TH_MK_PER_W").is_none() {
+            assert_eq!(HOUSING.r_th_mk_per_w, 25_000);
+        }
+        if option_env!("SWIMBOT_HOUSING_TAU_MS").is_none() {
+            assert_eq!(HOUSING.tau_ms, 100_000);
+        }
+        assert_eq!(SUPERVISOR.thermal.housing, HOUSING);
+    }
+
+    #[test]
+    #[should_panic(expected = "not decimal digits")]
+    fn build_time_housing_refuses_other_text() {
+        extern crate std;
+        // At run time here; in the const above the same panic stops the build.
+        let text = std::string::String::from("25.5");
+        env_u32(Some(&text), 25_000);
+    }
 
     #[test]
     fn export_is_tagged_and_unique() {

@@ -7,15 +7,21 @@
 //! `cargo fw`'s path never keeps the test image.
 //!
 //! Then the plain image is flashed (`probe-rs download`, `probe-rs reset`)
-//! and checked from the host's side of its USB cable (Linux: sysfs and
-//! `stty`): the port enumerates within 5 s with the serial number's domain
-//! prefix (`board::USB_SERIAL_DOMAIN`), and `INFO` answers one line with
-//! the log's and the robot's fields. The board's USB cable must be in the
-//! host running this. Not yet checked here: the gate-low time after an
-//! injected panic, hang and stack overflow, which needs the jig of
-//! firmware/README.md's bring-up checklist (GPIO16 looped back to a spare
-//! input, GPIO17) and the `fault-test` image; the emulator measures it
-//! (scenario 6).
+//! and checked from the host's side of its USB cable (Linux: sysfs finds
+//! the port, the `serialport` crate talks to it): the port enumerates
+//! within 5 s with the serial number's domain prefix
+//! (`board::USB_SERIAL_DOMAIN`), and `INFO` answers one line with the log's
+//! and the robot's fields. The board's USB cable must be in the host
+//! running this.
+//!
+//! Last, the fail-safe timing on the jig (firmware/README.md, "Fail-safe
+//! timing on the jig": motor disconnected, GPIO16 wired to GPIO17): the
+//! `hil-faults` image is flashed, and for a panic, a hang and a stack
+//! overflow in turn `FAULT <KIND>` is sent, the board resets, re-enumerates
+//! and answers `FAULT RESULT` with the time from the injection to the
+//! gate's last fall, which `hil_check::judge` holds to its bound (1 ms for
+//! the panic; the 80 ms watchdog, one pass and one PWM period for the
+//! others). The plain image is flashed back whatever the outcome.
 
 use std::path::Path;
 use std::process::Command;
@@ -23,6 +29,7 @@ use std::process::Command;
 const CHIP: &str = "RP2040";
 const ELF: &str = "target/thumbv6m-none-eabi/fw/firmware";
 const HIL_ELF: &str = "target/hil/firmware-hil.elf";
+const FAULTS_ELF: &str = "target/hil/firmware-hil-faults.elf";
 
 pub fn run(root: &Path) -> Result<(), String> {
     match probes() {
@@ -36,7 +43,7 @@ pub fn run(root: &Path) -> Result<(), String> {
         }
         Probes::Some(list) => println!("hil: probes:\n{list}"),
     }
-    let built = build_hil_image(root);
+    let built = build_image(root, "hil", HIL_ELF).and(build_image(root, "hil-faults", FAULTS_ELF));
     // The plain image back in place whatever happened above.
     super::run(root, "cargo", &["fw"])?;
     built?;
@@ -46,7 +53,15 @@ pub fn run(root: &Path) -> Result<(), String> {
     println!("hil: flashing the plain image for the USB checks");
     super::run(root, "probe-rs", &["download", "--chip", CHIP, ELF])?;
     super::run(root, "probe-rs", &["reset", "--chip", CHIP])?;
-    usb_checks()
+    usb_checks()?;
+    println!("hil: flashing the hil-faults image (jig: motor disconnected, GPIO16 wired to GPIO17)");
+    super::run(root, "probe-rs", &["download", "--chip", CHIP, FAULTS_ELF])?;
+    super::run(root, "probe-rs", &["reset", "--chip", CHIP])?;
+    let timed = fault_checks();
+    println!("hil: flashing the plain image back");
+    super::run(root, "probe-rs", &["download", "--chip", CHIP, ELF])?;
+    super::run(root, "probe-rs", &["reset", "--chip", CHIP])?;
+    timed
 }
 
 /// The domain the firmware's serial number starts with.
@@ -72,12 +87,12 @@ fn find_port() -> Option<(String, String)> {
     None
 }
 
-/// The port enumerates and answers `INFO` with every field.
-fn usb_checks() -> Result<(), String> {
+/// The board's port, waited for up to 5 s.
+fn wait_for_port() -> Result<(String, String, f64), String> {
     let start = std::time::Instant::now();
-    let (port, serial) = loop {
-        if let Some(found) = find_port() {
-            break found;
+    loop {
+        if let Some((port, serial)) = find_port() {
+            return Ok((port, serial, start.elapsed().as_secs_f64()));
         }
         if start.elapsed() > std::time::Duration::from_secs(5) {
             return Err(format!(
@@ -85,43 +100,70 @@ fn usb_checks() -> Result<(), String> {
             ));
         }
         std::thread::sleep(std::time::Duration::from_millis(100));
-    };
-    println!(
-        "hil: USB enumerated in {:.1} s: {port} serial {serial}",
-        start.elapsed().as_secs_f64()
-    );
-    // Raw, no echo, reads return after 3 s of silence.
-    super::run(
-        std::path::Path::new("/"),
-        "stty",
-        &["-F", &port, "raw", "-echo", "min", "0", "time", "30"],
-    )?;
+    }
+}
+
+/// Send `request` on `port` and read one answer line (3 s of silence ends it).
+fn ask(port: &str, request: &str) -> Result<String, String> {
     use std::io::{Read, Write};
-    let mut tty = std::fs::OpenOptions::new()
-        .read(true)
-        .write(true)
-        .open(&port)
+    let mut tty = serialport::new(port, 115_200)
+        .timeout(std::time::Duration::from_secs(3))
+        .open()
         .map_err(|e| format!("{port}: {e}"))?;
-    tty.write_all(b"INFO\n").map_err(|e| format!("{port}: {e}"))?;
+    tty.write_all(request.as_bytes())
+        .map_err(|e| format!("{port}: {e}"))?;
     let mut line = Vec::new();
     let mut byte = [0u8; 1];
     while !line.ends_with(b"\n") {
         match tty.read(&mut byte) {
             Ok(1) => line.push(byte[0]),
-            Ok(_) => return Err(format!("{port}: INFO not answered within 3 s")),
-            Err(e) => return Err(format!("{port}: {e}")),
+            Ok(_) => return Err(format!("{port}: {:?} not answered", request.trim_end())),
+            Err(e) => return Err(format!("{port}: {:?}: {e}", request.trim_end())),
         }
     }
-    let text = String::from_utf8_lossy(&line);
+    Ok(String::from_utf8_lossy(&line).into_owned())
+}
+
+/// The port enumerates and answers `INFO` with every field.
+fn usb_checks() -> Result<(), String> {
+    let (port, serial, secs) = wait_for_port()?;
+    println!("hil: USB enumerated in {secs:.1} s: {port} serial {serial}");
+    let text = ask(&port, "INFO\n")?;
     println!("hil: INFO: {}", text.trim_end());
-    let missing: Vec<&str> = ["fw=", "commit=", "battery_mv=", "fault=", "pairing="]
-        .into_iter()
-        .filter(|f| !text.contains(f))
-        .collect();
-    if !text.starts_with("swimbot-log v2 ") || !missing.is_empty() {
-        return Err(format!("{port}: INFO line malformed (missing {missing:?})"));
+    crate::hil_check::check_info(&text).map_err(|e| format!("{port}: {e}"))
+}
+
+/// Each fault injected in turn; the gate's fall after it, judged.
+fn fault_checks() -> Result<(), String> {
+    use crate::hil_check::{judge, parse_result, Fault};
+    let mut failed = Vec::new();
+    for fault in Fault::ALL {
+        let (port, _, _) = wait_for_port()?;
+        let answer = ask(&port, fault.request())?;
+        if answer.trim_end() != "OK FAULT" {
+            return Err(format!("{port}: {:?} answered {answer:?}", fault.request().trim_end()));
+        }
+        // The image injects 120 ms after its answer, then resets; the port
+        // goes and comes back.
+        std::thread::sleep(std::time::Duration::from_millis(1_500));
+        let (port, _, secs) = wait_for_port()?;
+        let result = ask(&port, "FAULT RESULT\n")?;
+        match parse_result(&result).and_then(|r| judge(fault, &r)) {
+            Ok(us) => println!(
+                "hil: ok   {fault:?}: gate low {us} us after the injection (bound {} us; back on USB in {secs:.1} s)",
+                fault.bound_us()
+            ),
+            Err(e) => {
+                println!("hil: FAIL {fault:?}: {e}");
+                failed.push(fault);
+            }
+        }
     }
-    Ok(())
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("fail-safe timing failed for {failed:?}"))
+    }
 }
 
 enum Probes {
@@ -154,7 +196,9 @@ fn probes() -> Probes {
     }
 }
 
-fn build_hil_image(root: &Path) -> Result<(), String> {
+/// The firmware built with `feature`, copied to `to` (`cargo fw`'s path is
+/// restored by the caller).
+fn build_image(root: &Path, feature: &str, to: &str) -> Result<(), String> {
     super::run(
         root,
         "cargo",
@@ -167,12 +211,12 @@ fn build_hil_image(root: &Path) -> Result<(), String> {
             "--profile",
             "fw",
             "--features",
-            "hil",
+            feature,
         ],
     )?;
     let dir = root.join("target/hil");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    std::fs::copy(root.join(ELF), root.join(HIL_ELF))
+    std::fs::copy(root.join(ELF), root.join(to))
         .map(|_| ())
-        .map_err(|e| format!("{ELF} -> {HIL_ELF}: {e}"))
+        .map_err(|e| format!("{ELF} -> {to}: {e}"))
 }

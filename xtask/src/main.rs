@@ -13,10 +13,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 mod background;
+mod hil_check;
 mod layout;
 mod python;
 mod size;
 mod steps;
+mod thermal;
 mod uf2;
 
 use background::Background;
@@ -40,19 +42,44 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         Some("test") => test_all(&root),
         Some("size") => firmware_size(&root, &mut Steps::new()),
-        Some("fw") => clippy_env().and_then(|lint| build_firmware(&root, &mut Steps::new(), &lint)),
+        Some(cmd @ ("fw" | "uf2" | "flash")) => {
+            // A bad `--thermal` file is bad input: exit 2, nothing built.
+            let housing = thermal::file_arg(&args[1..])
+                .and_then(|file| file.map(|f| thermal::read(&f)).transpose());
+            let housing = match housing {
+                Ok(h) => h,
+                Err(e) => {
+                    eprintln!("xtask: {e}");
+                    return ExitCode::from(2);
+                }
+            };
+            clippy_env().and_then(|mut env| {
+                if let Some(h) = housing {
+                    println!(
+                        "thermal: housing {} mK/W, {} ms built in (SUPERVISOR.thermal.housing)",
+                        h.r_th_mk_per_w, h.tau_ms
+                    );
+                    env.extend(h.env());
+                }
+                match cmd {
+                    "fw" => build_firmware(&root, &mut Steps::new(), &env),
+                    "uf2" => firmware_uf2(&root, &env).map(|_| ()),
+                    _ => flash(&root, &env),
+                }
+            })
+        }
         Some("motor-wasm") => {
             clippy_env().and_then(|lint| motor_wasm(&root, &mut Steps::new(), &lint))
         }
-        Some("uf2") => clippy_env().and_then(|lint| firmware_uf2(&root, &lint).map(|_| ())),
-        Some("flash") => clippy_env().and_then(|lint| flash(&root, &lint)),
         Some("hil") => {
             #[path = "hil.rs"]
             mod hil;
             hil::run(&root)
         }
         _ => {
-            eprintln!("usage: cargo xtask <test|size|fw|uf2|flash|motor-wasm|hil>");
+            eprintln!(
+                "usage: cargo xtask <test|size|fw|uf2|flash|motor-wasm|hil> (fw, uf2, flash: [--thermal thermal.toml])"
+            );
             return ExitCode::from(2);
         }
     };

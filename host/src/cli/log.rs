@@ -31,7 +31,7 @@ pub struct LogArgs {
     /// Read an earlier power-up's run even though the robot says its current power-up's run was dropped (not logged) [default: refused, exit 2].
     #[arg(long)]
     pub earlier: bool,
-    /// A bench run's can temperature (CSV `t_s,temp_c`, a thermocouple meter's, on the log's clock): fit the motor housing's thermal resistance and time constant to the log's copper loss, and print the board constants they set [default: no fit].
+    /// A bench run's can temperature (CSV `t_s,temp_c`, a thermocouple meter's, on the log's clock): fit the motor housing's thermal resistance and time constant to the log's copper loss, print the board constants they set and write thermal.toml for `cargo xtask uf2 --thermal` [default: no fit].
     #[arg(long, value_name = "CSV")]
     pub thermal: Option<PathBuf>,
     /// Output directory for log.svg, log.csv, trials.toml (and run.swlog, the image read from a port).
@@ -52,9 +52,14 @@ pub fn run(args: LogArgs, inputs: &Inputs) -> Result<(), CliError> {
         eprintln!("warning: {}: {w}", source.name());
     }
     let trace = Trace::of(&log);
-    if let Some(csv) = &args.thermal {
-        print!("{}", thermal_fit(csv, &trace)?);
-    }
+    let thermal_toml = match &args.thermal {
+        Some(csv) => {
+            let (report, toml) = thermal_fit(csv, &trace, &source.name())?;
+            print!("{report}");
+            Some(toml)
+        }
+        None => None,
+    };
     let windows = steady_windows(&trace);
     let pooled = pool(&windows);
     let title = format!("run log {}", source.name());
@@ -83,6 +88,9 @@ pub fn run(args: LogArgs, inputs: &Inputs) -> Result<(), CliError> {
         }
         let toml = trials::dataset_toml(case, &pooled, &source.name());
         files.push((args.output.join("trials.toml"), toml.into_bytes()));
+    }
+    if let Some(toml) = thermal_toml {
+        files.push((args.output.join("thermal.toml"), toml.into_bytes()));
     }
     if matches!(source, Source::Port(_)) {
         files.push((args.output.join("run.swlog"), bytes));
@@ -204,8 +212,13 @@ fn summary(
     s
 }
 
-/// `--thermal`: the housing node fitted to the bench readings in `csv`.
-fn thermal_fit(csv: &std::path::Path, trace: &Trace) -> Result<String, CliError> {
+/// `--thermal`: the housing node fitted to the bench readings in `csv`:
+/// the printed report and `thermal.toml` (for `cargo xtask fw|uf2 --thermal`).
+fn thermal_fit(
+    csv: &std::path::Path,
+    trace: &Trace,
+    log_name: &str,
+) -> Result<(String, String), CliError> {
     use crate::runlog::thermal;
     let name = csv.display().to_string();
     let text = std::fs::read_to_string(csv).map_err(|e| CliError::input(format!("{name}: {e}")))?;
@@ -217,5 +230,8 @@ fn thermal_fit(csv: &std::path::Path, trace: &Trace) -> Result<String, CliError>
     ) * 1e-3;
     let fit = thermal::fit(&thermal::losses(trace, r_ohm), &temps)
         .map_err(|e| CliError::input(format!("{name}: {e}")))?;
-    Ok(thermal::report(&fit))
+    Ok((
+        thermal::report(&fit),
+        thermal::toml_text(&fit, log_name, &name),
+    ))
 }

@@ -181,9 +181,54 @@ pub fn report(fit: &ThermalFit) -> String {
     )
 }
 
+/// The fit as `thermal.toml`, what `cargo xtask fw|uf2|flash --thermal`
+/// builds into the firmware (`housing_r_th_k_per_w`, `housing_tau_s`; xtask
+/// checks their range). Also the limit they imply with the board's winding
+/// node and allowed rise, for the reader: the steady loss that takes the
+/// winding to its limit, `rise_max / (R_winding + R_housing)`.
+pub fn toml_text(fit: &ThermalFit, log: &str, readings: &str) -> String {
+    let t = swimbot_shared::board::SUPERVISOR.thermal;
+    let rise_max_k = f64::from(t.winding_rise_max_mk) * 1e-3;
+    let winding_k_per_w = f64::from(t.winding.r_th_mk_per_w) * 1e-3;
+    let limit_w = rise_max_k / (winding_k_per_w + fit.r_th_k_per_w);
+    format!(
+        "# The motor housing's thermal node fitted by `swimbot log --thermal`\n\
+         # from {log:?} and {readings:?}; build it in with\n\
+         # `cargo xtask uf2 --thermal thermal.toml` (firmware/README.md).\n\
+         format = \"swimbot-thermal v1\"\n\
+         housing_r_th_k_per_w = {:.2}\n\
+         housing_tau_s = {:.1}\n\
+         rms_residual_k = {:.3}\n\
+         readings = {}\n\
+         # The limit these give with the board's winding node ({winding_k_per_w} K/W)\n\
+         # and allowed winding rise ({rise_max_k} K): the steady loss that reaches it.\n\
+         winding_rise_max_k = {rise_max_k}\n\
+         steady_loss_limit_w = {limit_w:.3}\n",
+        fit.r_th_k_per_w, fit.tau_s, fit.rms_k, fit.readings
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_toml_carries_the_fit_and_the_limit_it_implies() {
+        let fit = ThermalFit {
+            r_th_k_per_w: 30.0,
+            tau_s: 84.25,
+            rms_k: 0.125,
+            readings: 120,
+        };
+        let text = toml_text(&fit, "run.swlog", "can.csv");
+        let table: toml::Table = text.parse().unwrap();
+        assert_eq!(table["format"].as_str(), Some("swimbot-thermal v1"));
+        assert_eq!(table["housing_r_th_k_per_w"].as_float(), Some(30.0));
+        assert_eq!(table["housing_tau_s"].as_float(), Some(84.2));
+        assert_eq!(table["readings"].as_integer(), Some(120));
+        // 70 K over 10 + 30 K/W.
+        assert_eq!(table["steady_loss_limit_w"].as_float(), Some(1.75));
+    }
 
     /// A 1 s-record loss: `w` from `on_s` to `off_s`, 0 around, over `len_s`.
     fn step_loss(w: f64, on_s: f64, off_s: f64, len_s: f64) -> Vec<(f64, f64)> {

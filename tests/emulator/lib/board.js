@@ -476,10 +476,25 @@ export class Board {
 
   runUntil(t) {
     while (this.nowNs < t) {
+      const before = this.nowNs;
       const next = this.events.length && this.events[0].t < t ? this.events[0].t : t;
       this.runChipUntil(next);
+      let applied = false;
       while (this.events.length && this.events[0].t <= this.nowNs) {
         this.events.shift().fn();
+        applied = true;
+      }
+      if (this.nowNs === before) {
+        // `nowNs` is the clock's nanoseconds plus the offset of the jumps
+        // (power-ups, DORMANT): `end` in `runChipUntil` is `next` less that
+        // offset, and the sum can fall short of `next` by its rounding. A
+        // target within that rounding of now is reached (this loop once
+        // never ended there).
+        while (this.events.length && this.events[0].t <= next) {
+          this.events.shift().fn();
+          applied = true;
+        }
+        if (!applied) break;
       }
     }
   }
@@ -531,7 +546,12 @@ export class Board {
         const left = end - clock.nanos;
         const toAlarm = clock.nextAlarm ? clock.nanosToNextAlarm : Infinity;
         const from = this.nowNs;
-        clock.tick(Math.max(0, Math.min(toAlarm, left)));
+        // At least a picosecond when time is left: ~28 s into a run the
+        // clock's nanoseconds have an ulp of ~4e-6 ns, and a remainder
+        // below it added nothing, a loop that never advanced (seen once the
+        // idle passes ran on the crystal and shifted the wake-ups).
+        const dt = Math.max(0, Math.min(toAlarm, left));
+        clock.tick(dt > 0 ? Math.max(dt, 1e-3) : 0);
         const last = this.asleep[this.asleep.length - 1];
         if (last && last.to === from) last.to = this.nowNs;
         else this.asleep.push({ from, to: this.nowNs });
