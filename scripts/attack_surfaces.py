@@ -504,11 +504,13 @@ def attack_python(tmp):
 def main():
     from attack_outputs import attack_outputs, attack_plan_flags, attack_tables
     from attack_pystudy import attack_study_api
+    from attack_sheets import attack_sheets
     from attack_screens import attack_file_names, attack_hostile, attack_widths
 
     attacks = {"study": attack_study, "csv": attack_csv, "python": attack_python, "hostile": attack_hostile, "names": attack_file_names,
                "widths": attack_widths, "outputs": attack_outputs, "tables": attack_tables,
-               "plan": attack_plan_flags, "pystudy": attack_study_api}
+               "plan": attack_plan_flags, "pystudy": attack_study_api,
+               "sheets": attack_sheets}
     which = sys.argv[1:] or list(attacks)
     with tempfile.TemporaryDirectory() as tmp:
         os.chmod(tmp, 0o755)
