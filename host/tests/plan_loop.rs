@@ -141,6 +141,17 @@ fn the_loop_refuses_what_it_cannot_run_or_join_and_loses_nothing() {
     let e = refused(d, &["plan", "--oils-pa-s", "1e9", "-o", "p.csv"]);
     assert!(e.contains("--oils-pa-s"), "{e}");
     assert!(!d.join("p.csv").exists());
+    // A robot whose motor holds no set-point against this load.
+    let robot = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/robot.toml"))
+        .unwrap()
+        .replace(
+            "viscous_friction_n_m_s = 1.18e-4",
+            "viscous_friction_n_m_s = 5e-2",
+        );
+    std::fs::write(d.join("weak.toml"), robot).unwrap();
+    let e = refused(d, &["plan", "--robot", "weak.toml", "-o", "p.csv"]);
+    assert!(e.contains("--robot") && e.contains("holds none"), "{e}");
+    assert!(!d.join("p.csv").exists());
 
     ok(
         d,

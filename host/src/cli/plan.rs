@@ -28,6 +28,9 @@ pub struct PlanArgs {
     /// The oils on hand, viscosities in Pa s, e.g. 1.0,3.5 [default: the data's].
     #[arg(long, value_name = "PA_S,...", value_delimiter = ',')]
     pub oils_pa_s: Option<Vec<f64>>,
+    /// The robot whose motor and cell bound the set-points it can hold (TOML, docs/robot-format.md) [default: the built-in paper robot].
+    #[arg(long, value_name = "FILE.toml")]
+    pub robot: Option<PathBuf>,
 }
 
 /// A plan made for a study: the rivals, the plan, the sheet's text.
@@ -37,7 +40,7 @@ pub struct Planned {
 }
 
 /// Plan `a.runs` runs on the study's data and current model.
-pub fn plan_study(s: &Study, a: &PlanArgs) -> Result<Planned, CliError> {
+pub fn plan_study(s: &Study, a: &PlanArgs, inputs: &Inputs) -> Result<Planned, CliError> {
     let data = s.dataset();
     let rig = PlanRig::of(data, a.tubes_mm.clone(), a.oils_pa_s.clone(), a.new_tails);
     let settings = DiagnoseSettings {
@@ -45,7 +48,11 @@ pub fn plan_study(s: &Study, a: &PlanArgs) -> Result<Planned, CliError> {
         catalogue: s.catalogue()?,
         ..DiagnoseSettings::default()
     };
-    let robot = crate::sim::default_robot();
+    let robot = match &a.robot {
+        Some(p) => crate::sim::Robot::load_file(p, &settings.catalogue, inputs)
+            .map_err(|e| CliError::input(format!("--robot: {e}")))?,
+        None => crate::sim::default_robot(),
+    };
     let plan_on = |model| {
         plan_for(&model, data, &settings, &rig, a.runs, &robot).map_err(|e| match e {
             PlanError::Rig(e) => CliError::input(e),
@@ -87,7 +94,7 @@ pub fn run(a: PlanArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), 
     }
     let s = open(study, inputs)?;
     let spinner = crate::progress::spinner("diagnosing the study's model for its rivals");
-    let planned = plan_study(&s, &a);
+    let planned = plan_study(&s, &a, inputs);
     spinner.finish_and_clear();
     let Planned { rivals, plan } = planned?;
     let Some(plan) = plan else {
@@ -102,6 +109,13 @@ pub fn run(a: PlanArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Result<(), 
             "no run separates {} from {}: their predictions agree to round-off on every run the rig can make (the same model)",
             rivals.models[i].name, rivals.models[j].name
         );
+    }
+    if plan.reachable == 0 {
+        return Err(CliError::input(format!(
+            "--robot: of the {} runs the rig offers, the robot's motor holds none: every set-point is above {:.0} % of its full-drive rate against the tail's load (a weaker motor or cell, or a more viscous oil, than the data's); give a rig it can run (--oils-pa-s, --tubes-mm) or another --robot",
+            plan.offered,
+            100.0 * crate::workbench::plan::reach::HEADROOM
+        )));
     }
     if plan.runs.is_empty() {
         println!("nothing can be separated inside this rig; no sheet written");
