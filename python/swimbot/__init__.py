@@ -80,6 +80,37 @@ class Dataset:
     def __len__(self) -> int:
         return len(self._inner)
 
+    def summary(self) -> list:
+        """The study's headline, as ``swimbot steps`` opens: the start, then
+        each step with its MARE before -> after in percent, then what
+        ``diagnose`` says now. One dict a row: ``what``, ``mare_percent``
+        (after), ``mare_before_percent`` (steps only), ``chi2_reduced``."""
+        f = self.steps()
+        start = f["start"]["stats"]
+        rows = [{"what": f"start ({f['model']['preset']})", "mare_percent": 100.0 * start["mare"],
+                 "chi2_reduced": start.get("chi2_reduced")}]
+        for i, st in enumerate(f.get("step", []), 1):
+            after = st["after"]["stats"]
+            rows.append({"what": f"step {i} {st['effect']['name']}",
+                         "mare_before_percent": 100.0 * st["before"]["mare"],
+                         "mare_percent": 100.0 * after["mare"], "chi2_reduced": after.get("chi2_reduced")})
+        steps = f.get("step", [])
+        last = steps[-1].get("diagnosis_after") if steps else f.get("first_diagnosis")
+        if last:
+            rows.append({"what": f"diagnose now: {last['verdict']}"})
+        return rows
+
+    def _repr_html_(self) -> str:
+        cells = []
+        for r in self.summary():
+            if "mare_percent" not in r:
+                cells.append(f"<tr><td colspan='2'>{html.escape(r['what'])}</td></tr>")
+                continue
+            before = r.get("mare_before_percent")
+            arrow = f"{before:.2f} % &rarr; " if before is not None else ""
+            cells.append(f"<tr><td>{html.escape(r['what'])}</td><td>MARE {arrow}{r['mare_percent']:.2f} %</td></tr>")
+        return f"<p>study {html.escape(self.path)}</p><table>{''.join(cells)}</table>"
+
     def __repr__(self) -> str:
         return repr(self._inner)
 
@@ -272,8 +303,14 @@ class Comparison(_Result):
 
     @property
     def mare(self) -> float:
-        """Mean absolute relative error over the measured quantities."""
+        """Mean absolute relative error over the measured quantities, as a
+        fraction (2.946 is the terminal's 294.6 %); see ``mare_percent``."""
         return self._dict["summary"]["mare"]
+
+    @property
+    def mare_percent(self) -> float:
+        """``mare`` in percent, as the terminal and the page print it."""
+        return 100.0 * self.mare
 
     @property
     def chi2_reduced(self) -> float:
@@ -294,7 +331,7 @@ class Comparison(_Result):
 
     def _summary_html(self) -> str:
         return (
-            f"<p>model: {html.escape(self.model)}; MARE {self.mare:.4g}; "
+            f"<p>model: {html.escape(self.model)}; MARE {self.mare_percent:.2f} %; "
             f"reduced chi-square {self.chi2_reduced:.4g}</p>"
         )
 
@@ -335,7 +372,13 @@ class Fit(_Result):
 
     @property
     def mare(self) -> float:
+        """MARE after the fit, as a fraction; see ``mare_percent``."""
         return self._dict["comparison"]["summary"]["mare"]
+
+    @property
+    def mare_percent(self) -> float:
+        """``mare`` in percent, as the terminal prints it."""
+        return 100.0 * self.mare
 
     @property
     def chi2_reduced(self) -> float:
@@ -573,6 +616,37 @@ class Study:
     def report(self, directory: Any = "swimbot-out/report") -> str:
         """``swimbot report``: the study's page written to ``directory``; its path."""
         return str(self._inner.report(_path("directory", directory)))
+
+    def summary(self) -> list:
+        """The study's headline, as ``swimbot steps`` opens: the start, then
+        each step with its MARE before -> after in percent, then what
+        ``diagnose`` says now. One dict a row: ``what``, ``mare_percent``
+        (after), ``mare_before_percent`` (steps only), ``chi2_reduced``."""
+        f = self.steps()
+        start = f["start"]["stats"]
+        rows = [{"what": f"start ({f['model']['preset']})", "mare_percent": 100.0 * start["mare"],
+                 "chi2_reduced": start.get("chi2_reduced")}]
+        for i, st in enumerate(f.get("step", []), 1):
+            after = st["after"]["stats"]
+            rows.append({"what": f"step {i} {st['effect']['name']}",
+                         "mare_before_percent": 100.0 * st["before"]["mare"],
+                         "mare_percent": 100.0 * after["mare"], "chi2_reduced": after.get("chi2_reduced")})
+        steps = f.get("step", [])
+        last = steps[-1].get("diagnosis_after") if steps else f.get("first_diagnosis")
+        if last:
+            rows.append({"what": f"diagnose now: {last['verdict']}"})
+        return rows
+
+    def _repr_html_(self) -> str:
+        cells = []
+        for r in self.summary():
+            if "mare_percent" not in r:
+                cells.append(f"<tr><td colspan='2'>{html.escape(r['what'])}</td></tr>")
+                continue
+            before = r.get("mare_before_percent")
+            arrow = f"{before:.2f} % &rarr; " if before is not None else ""
+            cells.append(f"<tr><td>{html.escape(r['what'])}</td><td>MARE {arrow}{r['mare_percent']:.2f} %</td></tr>")
+        return f"<p>study {html.escape(self.path)}</p><table>{''.join(cells)}</table>"
 
     def __repr__(self) -> str:
         return repr(self._inner)

@@ -350,3 +350,24 @@ def test_from_pandas_refuses_what_is_no_frame_setup_or_name_by_name():
     # message named only a line).
     with pytest.raises(swimbot.SwimbotError, match="viscosity_pa_s"):
         swimbot.Dataset.from_pandas(df, setup={"viscosity_pa_s": 10**400})
+
+
+def test_percentages_are_named_and_the_study_opens_with_the_terminals_numbers(tmp_path):
+    cmp = swimbot.compare()
+    assert cmp.mare_percent == pytest.approx(100.0 * cmp.mare)
+    assert "294.60 %" in cmp._repr_html_()
+    data = tmp_path / "paper.csv"
+    data.write_text(PAPER_CSV.read_text())
+    path = tmp_path / "swimbot-study.toml"
+    s = swimbot.Study.init(path, data, diagnose=False)
+    s.add("body-correction", diagnose=False)
+    rows = s.summary()
+    assert rows[0]["what"] == "start (base)" and f"{rows[0]['mare_percent']:.2f}" == "294.60"
+    assert rows[1]["what"] == "step 1 body-correction"
+    assert rows[1]["mare_before_percent"] == pytest.approx(rows[0]["mare_percent"])
+    # The terminal's `steps` prints the same after-value.
+    out = subprocess.run(
+        [cli_binary(), "--study", str(path), "steps"], capture_output=True, text=True, check=True
+    ).stdout
+    assert f"{rows[1]['mare_percent']:.2f} %" in out
+    assert f"{rows[1]['mare_percent']:.2f} %" in s._repr_html_()
