@@ -29,25 +29,29 @@ fn sha(p: &Path) -> String {
     swimbot::provenance::sha256_hex(&std::fs::read(p).unwrap())
 }
 
-/// A study on the confined-body truth, and its first diagnosis's JSON.
-fn confined_study() -> tempfile::TempDir {
+/// A study on the paper's six cases measured in a world of `truth`
+/// (seed `seed` of the noise).
+fn study_of(truth: &str, seed: &str) -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    ok(
-        d,
-        &[
-            "synth",
-            "--truth",
-            "base + body-confinement",
-            "--seed",
-            "3",
-            "--nominal-inputs",
-            "-o",
-            "lab.toml",
-        ],
-    );
+    let synth = [
+        "synth",
+        "--truth",
+        truth,
+        "--seed",
+        seed,
+        "--nominal-inputs",
+        "-o",
+        "lab.toml",
+    ];
+    ok(d, &synth);
     ok(d, &["init", "--data", "lab.toml", "--quiet"]);
     dir
+}
+
+/// A study on the confined-body truth.
+fn confined_study() -> tempfile::TempDir {
+    study_of("base + body-confinement", "3")
 }
 
 fn last_verdict(d: &Path) -> serde_json::Value {
@@ -219,20 +223,8 @@ fn the_loop_refuses_what_it_cannot_run_or_join_and_loses_nothing() {
 
 #[test]
 fn a_plan_with_nothing_to_separate_or_sharpen_says_so_and_writes_nothing() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = study_of("base", "1");
     let d = dir.path();
-    ok(
-        d,
-        &[
-            "synth",
-            "--truth",
-            "base",
-            "--nominal-inputs",
-            "-o",
-            "lab.toml",
-        ],
-    );
-    ok(d, &["init", "--data", "lab.toml", "--quiet"]);
     let said = ok(d, &["plan", "-o", "plan.csv"]);
     assert!(said.starts_with("nothing to plan"), "{said}");
     assert!(!d.join("plan.csv").exists());

@@ -80,37 +80,6 @@ class Dataset:
     def __len__(self) -> int:
         return len(self._inner)
 
-    def summary(self) -> list:
-        """The study's headline, as ``swimbot steps`` opens: the start, then
-        each step with its MARE before -> after in percent, then what
-        ``diagnose`` says now. One dict a row: ``what``, ``mare_percent``
-        (after), ``mare_before_percent`` (steps only), ``chi2_reduced``."""
-        f = self.steps()
-        start = f["start"]["stats"]
-        rows = [{"what": f"start ({f['model']['preset']})", "mare_percent": 100.0 * start["mare"],
-                 "chi2_reduced": start.get("chi2_reduced")}]
-        for i, st in enumerate(f.get("step", []), 1):
-            after = st["after"]["stats"]
-            rows.append({"what": f"step {i} {st['effect']['name']}",
-                         "mare_before_percent": 100.0 * st["before"]["mare"],
-                         "mare_percent": 100.0 * after["mare"], "chi2_reduced": after.get("chi2_reduced")})
-        steps = f.get("step", [])
-        last = steps[-1].get("diagnosis_after") if steps else f.get("first_diagnosis")
-        if last:
-            rows.append({"what": f"diagnose now: {last['verdict']}"})
-        return rows
-
-    def _repr_html_(self) -> str:
-        cells = []
-        for r in self.summary():
-            if "mare_percent" not in r:
-                cells.append(f"<tr><td colspan='2'>{html.escape(r['what'])}</td></tr>")
-                continue
-            before = r.get("mare_before_percent")
-            arrow = f"{before:.2f} % &rarr; " if before is not None else ""
-            cells.append(f"<tr><td>{html.escape(r['what'])}</td><td>MARE {arrow}{r['mare_percent']:.2f} %</td></tr>")
-        return f"<p>study {html.escape(self.path)}</p><table>{''.join(cells)}</table>"
-
     def __repr__(self) -> str:
         return repr(self._inner)
 
