@@ -1,5 +1,5 @@
-//! Recovery study of the search over subsets (docs/discovery.md, "Recovery
-//! study of the search over subsets"): drawn truths with one to three
+//! Recovery study of the search over subsets (docs/discovery.md,
+//! "Measured: the recovery study"): drawn truths with one to three
 //! effects, diagnosed from the base model, ten seeds per category.
 //!
 //! Categories (constants and designs drawn per seed, host/tests/fixtures/

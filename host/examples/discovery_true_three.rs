@@ -21,8 +21,7 @@
 //! set's by more than the margin, the search missed a set its own key
 //! ranks better: the miss is the search's, not the data's. This knows the
 //! truth and is a measurement, not a check `diagnose` runs
-//! (docs/discovery.md, "Is a three-effect miss the search's or the
-//! data's?").
+//! (docs/discovery.md, "Is a miss the search's or the data's?").
 //!
 //! `FIRST_SEED=1701 cargo run --release -p swimbot --example
 //! discovery_true_three`; `SEEDS=n` runs n seeds from the first (10).
