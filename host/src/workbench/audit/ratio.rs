@@ -33,7 +33,7 @@ use super::{AuditSettings, Flag, Severity};
 use crate::data::Dataset;
 use crate::effects::{EffectInstance, CATALOGUE};
 use crate::model::{Model, ModelError};
-use crate::workbench::propagate::bands;
+use crate::workbench::propagate::{bands, Band};
 use rand::rngs::StdRng;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
@@ -167,6 +167,10 @@ fn pair_range(
     (lo <= hi).then_some(PairRange { r, sd, lo, hi })
 }
 
+/// One quantity of every case: its measured mean and the ratio's relative
+/// variance share (`None` when unmeasured or zero).
+type Observed = Vec<Option<(f64, f64)>>;
+
 /// Run the ratio test; returns the summary and its flags.
 pub fn ratio_test(
     model: &Model,
@@ -174,17 +178,7 @@ pub fn ratio_test(
     s: &AuditSettings,
 ) -> Result<(RatioSummary, Vec<Flag>), ModelError> {
     let (names, members) = family(model, s.family_samples, s.seed);
-    let preds: Vec<Vec<[f64; 2]>> = members
-        .par_iter()
-        .filter_map(|m| {
-            let v: Option<Vec<[f64; 2]>> = data
-                .cases
-                .iter()
-                .map(|c| m.predict(c).ok().map(|p| [p.u_mm_s, p.omega_body_hz]))
-                .collect();
-            v
-        })
-        .collect();
+    let preds = member_predictions(&members, data);
     let nominal: Vec<[f64; 2]> = data
         .cases
         .iter()
@@ -194,113 +188,15 @@ pub fn ratio_test(
     let mut flags = Vec::new();
     let (mut tested, mut out_total) = (0, 0);
     for q in 0..2 {
-        let label = ["U", "Omega_b"][q];
-        let obs: Vec<Option<(f64, f64)>> = data
-            .cases
-            .iter()
-            .zip(&band)
-            .zip(&nominal)
-            .map(|((c, b), nom)| {
-                let m = if q == 0 { c.u_mm_s } else { c.omega_body_hz }?;
-                let own = if q == 0 {
-                    b.u_per_case_sd_mm_s
-                } else {
-                    b.omega_per_case_sd_hz
-                };
-                let rel2 = (m.standard_error() / m.mean).powi(2) + (own / nom[q]).powi(2);
-                (m.mean != 0.0 && nom[q] != 0.0).then_some((m.mean, rel2))
-            })
-            .collect();
-        let idx: Vec<usize> = (0..obs.len()).filter(|&i| obs[i].is_some()).collect();
+        let obs = observed(data, &band, &nominal, q);
         // Per case, the members' predictions of this quantity (contiguous for the pair loop).
         let cols: Vec<Vec<f64>> = (0..data.cases.len())
             .map(|i| preds.iter().map(|p| p[i][q]).collect())
             .collect();
-        let pair = |i: usize, j: usize| pair_range(&obs, &cols, i, j);
-        // Each pair's range over the members, in parallel (n^2 / 2 pairs
-        // times the members: the one quadratic part of the audit); only
-        // the out-of-range pairs are kept.
-        let (n_tested, out): (usize, Vec<(u32, u32)>) = idx
-            .par_iter()
-            .enumerate()
-            .map(|(a, &i)| {
-                let mut tested = 0;
-                let mut out = Vec::new();
-                for &j in &idx[a + 1..] {
-                    if let Some(p) = pair(i, j) {
-                        tested += 1;
-                        if p.z() > Z_OUT {
-                            out.push((i as u32, j as u32));
-                        }
-                    }
-                }
-                (tested, out)
-            })
-            .reduce(
-                || (0, Vec::new()),
-                |(t, mut o), (t2, o2)| {
-                    o.extend(o2);
-                    (t + t2, o)
-                },
-            );
+        let (n_tested, out) = out_of_range_pairs(&obs, &cols);
         tested += n_tested;
         out_total += out.len();
-        let mut bad = vec![(0usize, usize::MAX); data.cases.len()];
-        for &(i, j) in &out {
-            for (k, other) in [(i, j), (j, i)] {
-                let b = &mut bad[k as usize];
-                b.0 += 1;
-                b.1 = b.1.min(other as usize);
-            }
-        }
-        let text = |i: usize, j: usize| {
-            let (a, b) = (i.min(j), i.max(j));
-            pair(a, b).map_or_else(String::new, |p| {
-                p.describe(label, &data.cases[a].id, &data.cases[b].id)
-            })
-        };
-        let others = idx.len().saturating_sub(1);
-        let singled: Vec<bool> = (0..data.cases.len())
-            .map(|i| obs[i].is_some() && others >= 2 && 2 * bad[i].0 > others)
-            .collect();
-        for i in (0..data.cases.len()).filter(|&i| singled[i]) {
-            flags.push(Flag {
-                case: data.cases[i].id.clone(),
-                kind: format!("ratio-{}", if q == 0 { "u" } else { "omega" }),
-                detail: format!(
-                    "{}: its measured {label} against the other cases is outside what any model of the family can produce in {} of {others} pairs (e.g. {}): check its recorded geometry and tail rate, and its {label} measurement",
-                    data.cases[i].id,
-                    bad[i].0,
-                    text(i, bad[i].1)
-                ),
-                severity: Severity::Error,
-            });
-        }
-        let unsingled: Vec<(usize, usize)> = out
-            .iter()
-            .map(|&(i, j)| (i as usize, j as usize))
-            .filter(|&(i, j)| !singled[i] && !singled[j])
-            .collect();
-        for &(i, j) in unsingled.iter().take(MAX_LISTED_PAIRS) {
-            flags.push(Flag {
-                case: format!("{} & {}", data.cases[i].id, data.cases[j].id),
-                kind: "ratio-pair".into(),
-                detail: format!("{}: one of the two is inconsistent with the model family, the data cannot say which", text(i, j)),
-                severity: Severity::Warning,
-            });
-        }
-        if unsingled.len() > MAX_LISTED_PAIRS {
-            flags.push(Flag {
-                case: format!("{} more pairs", unsingled.len() - MAX_LISTED_PAIRS),
-                kind: "ratio-pairs-not-listed".into(),
-                detail: format!(
-                    "{} pairs' {label} ratios of {n_tested} tested are outside the family's range without singling out a case; the first {MAX_LISTED_PAIRS} are listed, the other {} only counted: a family that misses this many pairs misses the data as a whole (check the model family and the data's shared setup)",
-                    unsingled.len(),
-                    unsingled.len() - MAX_LISTED_PAIRS
-                ),
-                severity: Severity::Warning,
-            });
-        }
+        flags.extend(quantity_flags(data, &obs, &cols, &out, n_tested, q));
     }
     Ok((
         RatioSummary {
@@ -312,6 +208,143 @@ pub fn ratio_test(
         },
         flags,
     ))
+}
+
+/// Each member's (U, Omega_b) on every case; members with a failed
+/// prediction on any case are left out of the range.
+fn member_predictions(members: &[Model], data: &Dataset) -> Vec<Vec<[f64; 2]>> {
+    members
+        .par_iter()
+        .filter_map(|m| {
+            data.cases
+                .iter()
+                .map(|c| m.predict(c).ok().map(|p| [p.u_mm_s, p.omega_body_hz]))
+                .collect()
+        })
+        .collect()
+}
+
+/// Quantity `q` (0 U, 1 Omega_b) of every case with its share of the
+/// ratio's relative variance: the measurement's relative squared standard
+/// error and the prediction's relative squared per-case input band.
+fn observed(data: &Dataset, band: &[Band], nominal: &[[f64; 2]], q: usize) -> Observed {
+    data.cases
+        .iter()
+        .zip(band)
+        .zip(nominal)
+        .map(|((c, b), nom)| {
+            let m = if q == 0 { c.u_mm_s } else { c.omega_body_hz }?;
+            let own = if q == 0 {
+                b.u_per_case_sd_mm_s
+            } else {
+                b.omega_per_case_sd_hz
+            };
+            let rel2 = (m.standard_error() / m.mean).powi(2) + (own / nom[q]).powi(2);
+            (m.mean != 0.0 && nom[q] != 0.0).then_some((m.mean, rel2))
+        })
+        .collect()
+}
+
+/// The pairs tested and those out of range, `i < j`. Each pair's range
+/// over the members in parallel (n^2 / 2 pairs times the members: the one
+/// quadratic part of the audit); only the out-of-range pairs are kept.
+fn out_of_range_pairs(obs: &Observed, cols: &[Vec<f64>]) -> (usize, Vec<(u32, u32)>) {
+    let idx: Vec<usize> = (0..obs.len()).filter(|&i| obs[i].is_some()).collect();
+    idx.par_iter()
+        .enumerate()
+        .map(|(a, &i)| {
+            let mut tested = 0;
+            let mut out = Vec::new();
+            for &j in &idx[a + 1..] {
+                if let Some(p) = pair_range(obs, cols, i, j) {
+                    tested += 1;
+                    if p.z() > Z_OUT {
+                        out.push((i as u32, j as u32));
+                    }
+                }
+            }
+            (tested, out)
+        })
+        .reduce(
+            || (0, Vec::new()),
+            |(t, mut o), (t2, o2)| {
+                o.extend(o2);
+                (t + t2, o)
+            },
+        )
+}
+
+/// The flags of one quantity: each case out of range with more than half
+/// of the others, then the pairs that single out no case (the first
+/// [`MAX_LISTED_PAIRS`] one by one, the rest counted).
+fn quantity_flags(
+    data: &Dataset,
+    obs: &Observed,
+    cols: &[Vec<f64>],
+    out: &[(u32, u32)],
+    n_tested: usize,
+    q: usize,
+) -> Vec<Flag> {
+    let label = ["U", "Omega_b"][q];
+    // Per case: how many of its pairs are out, and its first partner.
+    let mut bad = vec![(0usize, usize::MAX); data.cases.len()];
+    for &(i, j) in out {
+        for (k, other) in [(i, j), (j, i)] {
+            let b = &mut bad[k as usize];
+            b.0 += 1;
+            b.1 = b.1.min(other as usize);
+        }
+    }
+    let text = |i: usize, j: usize| {
+        let (a, b) = (i.min(j), i.max(j));
+        pair_range(obs, cols, a, b).map_or_else(String::new, |p| {
+            p.describe(label, &data.cases[a].id, &data.cases[b].id)
+        })
+    };
+    let others = obs.iter().filter(|o| o.is_some()).count().saturating_sub(1);
+    let singled: Vec<bool> = (0..data.cases.len())
+        .map(|i| obs[i].is_some() && others >= 2 && 2 * bad[i].0 > others)
+        .collect();
+    let mut flags = Vec::new();
+    for i in (0..data.cases.len()).filter(|&i| singled[i]) {
+        flags.push(Flag {
+            case: data.cases[i].id.clone(),
+            kind: format!("ratio-{}", if q == 0 { "u" } else { "omega" }),
+            detail: format!(
+                "{}: its measured {label} against the other cases is outside what any model of the family can produce in {} of {others} pairs (e.g. {}): check its recorded geometry and tail rate, and its {label} measurement",
+                data.cases[i].id,
+                bad[i].0,
+                text(i, bad[i].1)
+            ),
+            severity: Severity::Error,
+        });
+    }
+    let unsingled: Vec<(usize, usize)> = out
+        .iter()
+        .map(|&(i, j)| (i as usize, j as usize))
+        .filter(|&(i, j)| !singled[i] && !singled[j])
+        .collect();
+    for &(i, j) in unsingled.iter().take(MAX_LISTED_PAIRS) {
+        flags.push(Flag {
+            case: format!("{} & {}", data.cases[i].id, data.cases[j].id),
+            kind: "ratio-pair".into(),
+            detail: format!("{}: one of the two is inconsistent with the model family, the data cannot say which", text(i, j)),
+            severity: Severity::Warning,
+        });
+    }
+    if unsingled.len() > MAX_LISTED_PAIRS {
+        flags.push(Flag {
+            case: format!("{} more pairs", unsingled.len() - MAX_LISTED_PAIRS),
+            kind: "ratio-pairs-not-listed".into(),
+            detail: format!(
+                "{} pairs' {label} ratios of {n_tested} tested are outside the family's range without singling out a case; the first {MAX_LISTED_PAIRS} are listed, the other {} only counted: a family that misses this many pairs misses the data as a whole (check the model family and the data's shared setup)",
+                unsingled.len(),
+                unsingled.len() - MAX_LISTED_PAIRS
+            ),
+            severity: Severity::Warning,
+        });
+    }
+    flags
 }
 
 #[cfg(test)]
