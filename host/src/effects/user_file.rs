@@ -187,123 +187,13 @@ fn is_ident(s: &str) -> bool {
 fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectError> {
     let name = e.name.get_ref().clone();
     let at = |field: &str, span: Range<usize>, msg: String| cx.err(Some(&name), field, span, msg);
-    if !is_kebab(&name) {
-        return Err(at("name", e.name.span(), format!("`{}` is not kebab-case; allowed: a lowercase letter, then lowercase letters, digits and `-`", echo(&name))));
-    }
-    if super::CATALOGUE.iter().any(|c| c.name() == name) {
-        return Err(at("name", e.name.span(), format!("`{name}` is a catalogue effect; choose another name (`swimbot effects` lists the catalogue)")));
-    }
-    for (field, v) in [("statement", &e.statement), ("reference", &e.reference)] {
-        if v.get_ref().trim().is_empty() {
-            return Err(at(
-                field,
-                v.span(),
-                format!(
-                    "the {field} is empty; say the physics in one line and where it comes from"
-                ),
-            ));
-        }
-    }
+    check_identity(&e, &at)?;
     let mut params: Vec<UserParam> = Vec::new();
     for p in &e.param {
-        let pname = p.name.get_ref();
-        let field = format!("param.{pname}");
-        if !is_ident(pname) {
-            return Err(at("param.name", p.name.span(), format!("`{}` is not an identifier; allowed: a lowercase letter, then lowercase letters, digits and `_`", echo(pname))));
-        }
-        if quantities::by_id(pname).is_some() || is_reserved(pname) {
-            return Err(at("param.name", p.name.span(), format!("`{pname}` is the name of a case quantity, constant or function; rename the parameter")));
-        }
-        if params.iter().any(|q| &q.name == pname) {
-            return Err(at(
-                "param.name",
-                p.name.span(),
-                format!("parameter `{pname}` is declared twice"),
-            ));
-        }
-        for (what, v) in [("default", &p.default), ("min", &p.min), ("max", &p.max)] {
-            if !v.get_ref().is_finite() {
-                return Err(at(
-                    &format!("{field}.{what}"),
-                    v.span(),
-                    format!("{} is not a finite number", v.get_ref()),
-                ));
-            }
-        }
-        let (d, lo, hi) = (*p.default.get_ref(), *p.min.get_ref(), *p.max.get_ref());
-        if lo >= hi {
-            return Err(at(
-                &format!("{field}.min"),
-                p.min.span(),
-                format!("min = {lo} must be below max = {hi}"),
-            ));
-        }
-        if !(lo..=hi).contains(&d) {
-            return Err(at(
-                &format!("{field}.default"),
-                p.default.span(),
-                format!("default = {d} is outside [min, max] = [{lo}, {hi}]"),
-            ));
-        }
-        params.push(UserParam {
-            name: pname.clone(),
-            unit: p.unit.clone(),
-            default: d,
-            min: lo,
-            max: hi,
-            free: p.free.unwrap_or(true),
-            doc: p.doc.clone().unwrap_or_default(),
-        });
+        let param = check_param(p, &params, &at)?;
+        params.push(param);
     }
-    if e.places.get_ref().is_empty() {
-        return Err(at(
-            "places",
-            e.places.span(),
-            format!(
-                "the places table is empty; give at least one of: {}",
-                place_list()
-            ),
-        ));
-    }
-    let names: Vec<&str> = params.iter().map(|p| p.name.as_str()).collect();
-    let mut places = Vec::new();
-    let mut used = vec![false; params.len()];
-    for (key, formula) in e.places.get_ref() {
-        let place = Place::from_name(key.get_ref()).ok_or_else(|| {
-            at(
-                "places",
-                key.span(),
-                format!(
-                    "unknown place `{}`{}; places: {}",
-                    echo(key.get_ref()),
-                    suggest(key.get_ref(), Place::ALL.iter().map(|p| p.name())),
-                    place_list()
-                ),
-            )
-        })?;
-        let field = format!("places.\"{}\"", place.name());
-        let expr = super::expr::Expr::parse(formula.get_ref(), &names).map_err(|err| {
-            // The column counts decoded characters; map it through the value's raw text.
-            let span = formula.span();
-            let raw = cx.text.get(span.clone()).unwrap_or_default();
-            let s = span.start + raw_offset(raw, err.column - 1);
-            cx.err(
-                Some(&name),
-                &field,
-                s..s,
-                format!(
-                    "formula `{}`, formula column {}: {}",
-                    echo(formula.get_ref()),
-                    err.column,
-                    err.message
-                ),
-            )
-        })?;
-        for i in expr.params_used() {
-            used[i] = true;
-        }
-        places.push((place, formula.get_ref().clone()));
-    }
+    let (mut places, used) = check_places(cx, &name, &e.places, &params)?;
     for b in &e.base {
         let head = b.get_ref().split(':').next().unwrap_or("").trim();
         if !is_kebab(head) {
@@ -332,6 +222,147 @@ fn check_effect(cx: &Ctx, e: RawEffect) -> Result<UserEffectSpec, UserEffectErro
         places,
         base: e.base.into_iter().map(Spanned::into_inner).collect(),
     })
+}
+
+/// An error at a field of the effect being checked.
+type At<'a> = dyn Fn(&str, Range<usize>, String) -> UserEffectError + 'a;
+
+/// The name (kebab-case, not a catalogue effect's) and the two lines of
+/// prose every effect must carry.
+fn check_identity(e: &RawEffect, at: &At) -> Result<(), UserEffectError> {
+    let name = e.name.get_ref();
+    if !is_kebab(name) {
+        return Err(at("name", e.name.span(), format!("`{}` is not kebab-case; allowed: a lowercase letter, then lowercase letters, digits and `-`", echo(name))));
+    }
+    if super::CATALOGUE.iter().any(|c| c.name() == name) {
+        return Err(at("name", e.name.span(), format!("`{name}` is a catalogue effect; choose another name (`swimbot effects` lists the catalogue)")));
+    }
+    for (field, v) in [("statement", &e.statement), ("reference", &e.reference)] {
+        if v.get_ref().trim().is_empty() {
+            return Err(at(
+                field,
+                v.span(),
+                format!(
+                    "the {field} is empty; say the physics in one line and where it comes from"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// One parameter: a fresh identifier that names no case quantity, finite
+/// bounds with `min < max`, and a default inside them.
+fn check_param(p: &RawParam, before: &[UserParam], at: &At) -> Result<UserParam, UserEffectError> {
+    let pname = p.name.get_ref();
+    let field = format!("param.{pname}");
+    if !is_ident(pname) {
+        return Err(at("param.name", p.name.span(), format!("`{}` is not an identifier; allowed: a lowercase letter, then lowercase letters, digits and `_`", echo(pname))));
+    }
+    if quantities::by_id(pname).is_some() || is_reserved(pname) {
+        return Err(at("param.name", p.name.span(), format!("`{pname}` is the name of a case quantity, constant or function; rename the parameter")));
+    }
+    if before.iter().any(|q| &q.name == pname) {
+        return Err(at(
+            "param.name",
+            p.name.span(),
+            format!("parameter `{pname}` is declared twice"),
+        ));
+    }
+    for (what, v) in [("default", &p.default), ("min", &p.min), ("max", &p.max)] {
+        if !v.get_ref().is_finite() {
+            return Err(at(
+                &format!("{field}.{what}"),
+                v.span(),
+                format!("{} is not a finite number", v.get_ref()),
+            ));
+        }
+    }
+    let (d, lo, hi) = (*p.default.get_ref(), *p.min.get_ref(), *p.max.get_ref());
+    if lo >= hi {
+        return Err(at(
+            &format!("{field}.min"),
+            p.min.span(),
+            format!("min = {lo} must be below max = {hi}"),
+        ));
+    }
+    if !(lo..=hi).contains(&d) {
+        return Err(at(
+            &format!("{field}.default"),
+            p.default.span(),
+            format!("default = {d} is outside [min, max] = [{lo}, {hi}]"),
+        ));
+    }
+    Ok(UserParam {
+        name: pname.clone(),
+        unit: p.unit.clone(),
+        default: d,
+        min: lo,
+        max: hi,
+        free: p.free.unwrap_or(true),
+        doc: p.doc.clone().unwrap_or_default(),
+    })
+}
+
+/// The places table: each key a known place, each formula parsed over the
+/// parameters; returns the places and which parameters some formula uses.
+#[allow(clippy::type_complexity)]
+fn check_places(
+    cx: &Ctx,
+    name: &str,
+    table: &Spanned<BTreeMap<Spanned<String>, Spanned<String>>>,
+    params: &[UserParam],
+) -> Result<(Vec<(Place, String)>, Vec<bool>), UserEffectError> {
+    let at = |field: &str, span: Range<usize>, msg: String| cx.err(Some(name), field, span, msg);
+    if table.get_ref().is_empty() {
+        return Err(at(
+            "places",
+            table.span(),
+            format!(
+                "the places table is empty; give at least one of: {}",
+                place_list()
+            ),
+        ));
+    }
+    let names: Vec<&str> = params.iter().map(|p| p.name.as_str()).collect();
+    let mut places = Vec::new();
+    let mut used = vec![false; params.len()];
+    for (key, formula) in table.get_ref() {
+        let place = Place::from_name(key.get_ref()).ok_or_else(|| {
+            at(
+                "places",
+                key.span(),
+                format!(
+                    "unknown place `{}`{}; places: {}",
+                    echo(key.get_ref()),
+                    suggest(key.get_ref(), Place::ALL.iter().map(|p| p.name())),
+                    place_list()
+                ),
+            )
+        })?;
+        let field = format!("places.\"{}\"", place.name());
+        let expr = super::expr::Expr::parse(formula.get_ref(), &names).map_err(|err| {
+            // The column counts decoded characters; map it through the value's raw text.
+            let span = formula.span();
+            let raw = cx.text.get(span.clone()).unwrap_or_default();
+            let s = span.start + raw_offset(raw, err.column - 1);
+            at(
+                &field,
+                s..s,
+                format!(
+                    "formula `{}`, formula column {}: {}",
+                    echo(formula.get_ref()),
+                    err.column,
+                    err.message
+                ),
+            )
+        })?;
+        for i in expr.params_used() {
+            used[i] = true;
+        }
+        places.push((place, formula.get_ref().clone()));
+    }
+    Ok((places, used))
 }
 
 fn place_list() -> String {
