@@ -103,120 +103,8 @@ fn positive(flag: &str, v: f64) -> Result<f64, CliError> {
 const FLUX_ERROR_LIMIT: f64 = 1e-2;
 
 pub fn run(a: BodyArgs, inputs: &Inputs) -> Result<(), CliError> {
-    let mut mu = 3.5;
-    let mut channel: Option<(f64, f64, bool)> = None;
-    let profile = if let Some(spec) = &a.profile {
-        if !(a.rounded_mm.is_finite() && a.rounded_mm >= 0.0) {
-            return Err(CliError::input(format!(
-                "--rounded-mm must be a number >= 0, got {}",
-                a.rounded_mm
-            )));
-        }
-        BodyProfile::parse_sections(spec, a.rounded_mm)
-            .map_err(|e| CliError::input(format!("--profile: {e}")))?
-    } else if let Some(spec) = &a.spheroid {
-        let (l, d) = pair("spheroid", spec)?;
-        let p = BodyProfile::spheroid(l, d);
-        p.validate()
-            .map_err(|e| CliError::input(format!("--spheroid: {e}")))?;
-        p
-    } else if let (Some(path), Some(id)) = (&a.data, &a.case) {
-        let data = crate::data::load_file(path)?;
-        let case = data.cases.iter().find(|c| &c.id == id).ok_or_else(|| {
-            let ids: Vec<&str> = data.cases.iter().map(|c| c.id.as_str()).collect();
-            CliError::input(format!(
-                "{}: no case `{id}` (cases: {})",
-                path.display(),
-                ids.join(", ")
-            ))
-        })?;
-        mu = case.viscosity_pa_s;
-        channel = Some((
-            case.channel_diameter_mm,
-            case.channel_length_mm,
-            case.channel_closed,
-        ));
-        case.body_profile()
-    } else {
-        return Err(CliError::input(
-            "give the body: --profile L:D,..., --spheroid L:D, or --data FILE --case ID",
-        ));
-    };
-    if let Some(v) = a.viscosity_pa_s {
-        mu = positive("viscosity-pa-s", v)?;
-    }
-    if let Some(d) = a.channel_diameter_mm {
-        let d = positive("channel-diameter-mm", d)?;
-        let default_len = profile.length_mm() + 8.0 * d;
-        let len = channel.map(|c| c.1).unwrap_or(default_len);
-        channel = Some((d, len, true));
-    }
-    if let Some(l) = a.channel_length_mm {
-        let l = positive("channel-length-mm", l)?;
-        let c = channel.ok_or_else(|| {
-            CliError::input("--channel-length-mm needs a channel (--channel-diameter-mm or --case)")
-        })?;
-        channel = Some((c.0, l, c.2));
-    }
-    if a.open {
-        let c = channel.ok_or_else(|| {
-            CliError::input("--open needs a channel (--channel-diameter-mm or --case)")
-        })?;
-        channel = Some((c.0, c.1, false));
-    }
-    if !a.position_mm.is_finite() {
-        return Err(CliError::input("--position-mm must be a finite number"));
-    }
-    let confinement = match channel {
-        None => Confinement::Free,
-        Some((d, l, true)) => Confinement::Closed {
-            diameter_m: d * 1e-3,
-            length_m: l * 1e-3,
-        },
-        Some((d, l, false)) => Confinement::Open {
-            diameter_m: d * 1e-3,
-            length_m: l * 1e-3,
-        },
-    };
-    let settings = AxisymSettings {
-        resolution: a.resolution,
-        ..AxisymSettings::default()
-    };
-    let solved = solve_body(&profile, &confinement, a.position_mm * 1e-3, mu, &settings)
-        .map_err(CliError::input)?;
-    let free =
-        solve_body(&profile, &Confinement::Free, 0.0, mu, &settings).map_err(CliError::input)?;
-    let annular = channel.map(|(d, _, closed)| {
-        annular_formula(
-            0.5e-3 * profile.max_diameter_mm(),
-            0.5e-3 * d,
-            1e-3 * profile.length_mm(),
-            mu,
-            closed,
-        )
-    });
-    let out = BodyOut {
-        body: profile.describe(),
-        confinement: match channel {
-            None => "free space".into(),
-            Some((d, l, closed)) => format!(
-                "{} tube, {d} mm x {l} mm, body centre at {} mm",
-                if closed { "closed" } else { "open" },
-                a.position_mm
-            ),
-        },
-        viscosity_pa_s: mu,
-        drag_n_s_per_m: solved.drag_n_s_per_m,
-        rotational_drag_n_m_s: solved.rotational_drag_n_m_s,
-        free_drag_n_s_per_m: free.drag_n_s_per_m,
-        free_rotational_drag_n_m_s: free.rotational_drag_n_m_s,
-        annular_drag_n_s_per_m: annular.map(|a| a.0),
-        annular_rotational_drag_n_m_s: annular.map(|a| a.1),
-        flux_error: solved.flux_error(),
-        body_elements: solved.body_elements,
-        wall_elements: solved.wall_elements,
-        solve_seconds: solved.seconds,
-    };
+    let body = request(&a)?;
+    let out = solve(&body, a.position_mm, a.resolution)?;
     // The solve's own check: in a closed tube the net flux through any
     // cross-section is zero, so what the discrete solve lets through
     // measures its error (1e-4 of the piston flux for the paper's body). A
@@ -239,6 +127,159 @@ pub fn run(a: BodyArgs, inputs: &Inputs) -> Result<(), CliError> {
         TableOrJson::Table => print_table(&out),
     }
     Ok(())
+}
+
+/// The tube around the body: diameter and length in mm, closed or open.
+#[derive(Clone, Copy)]
+struct Tube {
+    diameter_mm: f64,
+    length_mm: f64,
+    closed: bool,
+}
+
+/// What to solve, validated from the flags before any work.
+struct BodyRequest {
+    profile: BodyProfile,
+    viscosity_pa_s: f64,
+    tube: Option<Tube>,
+}
+
+/// The body from `--profile`, `--spheroid` or a dataset's case (which also
+/// gives the oil and the tube), then the flags that override them.
+fn request(a: &BodyArgs) -> Result<BodyRequest, CliError> {
+    let (profile, mut mu, mut tube) = body_of(a)?;
+    if let Some(v) = a.viscosity_pa_s {
+        mu = positive("viscosity-pa-s", v)?;
+    }
+    if let Some(d) = a.channel_diameter_mm {
+        let d = positive("channel-diameter-mm", d)?;
+        let default_len = profile.length_mm() + 8.0 * d;
+        tube = Some(Tube {
+            diameter_mm: d,
+            length_mm: tube.map_or(default_len, |t| t.length_mm),
+            closed: true,
+        });
+    }
+    if let Some(l) = a.channel_length_mm {
+        let l = positive("channel-length-mm", l)?;
+        let t = tube.as_mut().ok_or_else(|| {
+            CliError::input("--channel-length-mm needs a channel (--channel-diameter-mm or --case)")
+        })?;
+        t.length_mm = l;
+    }
+    if a.open {
+        let t = tube.as_mut().ok_or_else(|| {
+            CliError::input("--open needs a channel (--channel-diameter-mm or --case)")
+        })?;
+        t.closed = false;
+    }
+    if !a.position_mm.is_finite() {
+        return Err(CliError::input("--position-mm must be a finite number"));
+    }
+    Ok(BodyRequest {
+        profile,
+        viscosity_pa_s: mu,
+        tube,
+    })
+}
+
+/// The body's profile, with the oil (3.5 Pa s unless a case gives it) and
+/// the case's tube.
+fn body_of(a: &BodyArgs) -> Result<(BodyProfile, f64, Option<Tube>), CliError> {
+    if let Some(spec) = &a.profile {
+        if !(a.rounded_mm.is_finite() && a.rounded_mm >= 0.0) {
+            return Err(CliError::input(format!(
+                "--rounded-mm must be a number >= 0, got {}",
+                a.rounded_mm
+            )));
+        }
+        let p = BodyProfile::parse_sections(spec, a.rounded_mm)
+            .map_err(|e| CliError::input(format!("--profile: {e}")))?;
+        Ok((p, 3.5, None))
+    } else if let Some(spec) = &a.spheroid {
+        let (l, d) = pair("spheroid", spec)?;
+        let p = BodyProfile::spheroid(l, d);
+        p.validate()
+            .map_err(|e| CliError::input(format!("--spheroid: {e}")))?;
+        Ok((p, 3.5, None))
+    } else if let (Some(path), Some(id)) = (&a.data, &a.case) {
+        let data = crate::data::load_file(path)?;
+        let case = data.cases.iter().find(|c| &c.id == id).ok_or_else(|| {
+            let ids: Vec<&str> = data.cases.iter().map(|c| c.id.as_str()).collect();
+            CliError::input(format!(
+                "{}: no case `{id}` (cases: {})",
+                path.display(),
+                ids.join(", ")
+            ))
+        })?;
+        let tube = Tube {
+            diameter_mm: case.channel_diameter_mm,
+            length_mm: case.channel_length_mm,
+            closed: case.channel_closed,
+        };
+        Ok((case.body_profile(), case.viscosity_pa_s, Some(tube)))
+    } else {
+        Err(CliError::input(
+            "give the body: --profile L:D,..., --spheroid L:D, or --data FILE --case ID",
+        ))
+    }
+}
+
+/// The exact axisymmetric solve in the tube and in free space, with the
+/// annular formula beside them.
+fn solve(r: &BodyRequest, position_mm: f64, resolution: f64) -> Result<BodyOut, CliError> {
+    let (profile, mu) = (&r.profile, r.viscosity_pa_s);
+    let confinement = match r.tube {
+        None => Confinement::Free,
+        Some(t) if t.closed => Confinement::Closed {
+            diameter_m: t.diameter_mm * 1e-3,
+            length_m: t.length_mm * 1e-3,
+        },
+        Some(t) => Confinement::Open {
+            diameter_m: t.diameter_mm * 1e-3,
+            length_m: t.length_mm * 1e-3,
+        },
+    };
+    let settings = AxisymSettings {
+        resolution,
+        ..AxisymSettings::default()
+    };
+    let solved = solve_body(profile, &confinement, position_mm * 1e-3, mu, &settings)
+        .map_err(CliError::input)?;
+    let free =
+        solve_body(profile, &Confinement::Free, 0.0, mu, &settings).map_err(CliError::input)?;
+    let annular = r.tube.map(|t| {
+        annular_formula(
+            0.5e-3 * profile.max_diameter_mm(),
+            0.5e-3 * t.diameter_mm,
+            1e-3 * profile.length_mm(),
+            mu,
+            t.closed,
+        )
+    });
+    Ok(BodyOut {
+        body: profile.describe(),
+        confinement: match r.tube {
+            None => "free space".into(),
+            Some(t) => format!(
+                "{} tube, {} mm x {} mm, body centre at {position_mm} mm",
+                if t.closed { "closed" } else { "open" },
+                t.diameter_mm,
+                t.length_mm
+            ),
+        },
+        viscosity_pa_s: mu,
+        drag_n_s_per_m: solved.drag_n_s_per_m,
+        rotational_drag_n_m_s: solved.rotational_drag_n_m_s,
+        free_drag_n_s_per_m: free.drag_n_s_per_m,
+        free_rotational_drag_n_m_s: free.rotational_drag_n_m_s,
+        annular_drag_n_s_per_m: annular.map(|a| a.0),
+        annular_rotational_drag_n_m_s: annular.map(|a| a.1),
+        flux_error: solved.flux_error(),
+        body_elements: solved.body_elements,
+        wall_elements: solved.wall_elements,
+        solve_seconds: solved.seconds,
+    })
 }
 
 fn print_table(o: &BodyOut) {
