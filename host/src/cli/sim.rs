@@ -212,16 +212,9 @@ pub fn run(args: SimArgs, inputs: &Inputs) -> Result<(), CliError> {
         Some(src) => Some(replayed_log(src, &robot, inputs)?),
         None => None,
     };
-    let script = match (&args.script, &args.script_file) {
-        _ if replayed.is_some() => replayed.as_ref().map(|r| r.1.clone()).unwrap_or_default(),
-        (Some(s), _) => Script::parse(s).map_err(SimError::from)?,
-        (None, Some(p)) => {
-            let text = crate::input_file::read_text(p, crate::input_file::cap::SCRIPT, "a script")
-                .map_err(|e| CliError::input(format!("{}: the script: {e}", p.display())))?;
-            inputs.record(p, text.as_bytes());
-            Script::parse(&text).map_err(|e| CliError::input(format!("{}: {e}", p.display())))?
-        }
-        (None, None) => Script::on_at_zero(),
+    let script = match &replayed {
+        Some((_, script, _)) => script.clone(),
+        None => script_of(&args, inputs)?,
     };
     if script.items.is_empty() {
         return Err(CliError::input(
@@ -229,14 +222,7 @@ pub fn run(args: SimArgs, inputs: &Inputs) -> Result<(), CliError> {
         ));
     }
     check_times(&args)?;
-    if let Some(p) = &args.write_log {
-        // An earlier --write-log file in the folder is an output, not an input.
-        super::output_guard::declare_output_file(p);
-    }
-    super::output::check_output_dir(&args.output, "sim", inputs)?;
-    if let Some(p) = &args.write_log {
-        super::output::check_output_file(p, inputs)?;
-    }
+    check_outputs(&args, inputs)?;
     // A replay ends with the log (a second after its last record) unless
     // the simulated robot stops first.
     let max_time_s = replayed.as_ref().map_or(args.max_time_s, |(log, _, _)| {
@@ -256,9 +242,61 @@ pub fn run(args: SimArgs, inputs: &Inputs) -> Result<(), CliError> {
     };
     let outcome = sim::simulate_with(&robot, &script, &opts, rate.as_ref())?;
     check_finite(&outcome)?;
-    // Every file is produced in memory first and renamed into place
-    // together, so a failure leaves none.
-    let svg = output::figure(&robot, &outcome)
+    let log = replayed.as_ref().map(|r| &r.0);
+    let (files, notes) = output_files(&args, &robot, &outcome, rate.is_some(), log, inputs)?;
+    super::output::write_all_atomically(&files, inputs)?;
+    print!("{}", output::summary(&robot, &outcome));
+    for n in &notes {
+        println!("log vs sim, {n}");
+    }
+    if rate.is_some() {
+        print!("{}", output::rate_summary(&outcome));
+    }
+    let names: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
+    println!("wrote {}", names.join(", "));
+    Ok(())
+}
+
+/// The script from `--script` or `--script-file` (recorded as an input),
+/// else the motor on at time zero.
+fn script_of(args: &SimArgs, inputs: &Inputs) -> Result<Script, CliError> {
+    Ok(match (&args.script, &args.script_file) {
+        (Some(s), _) => Script::parse(s).map_err(SimError::from)?,
+        (None, Some(p)) => {
+            let text = crate::input_file::read_text(p, crate::input_file::cap::SCRIPT, "a script")
+                .map_err(|e| CliError::input(format!("{}: the script: {e}", p.display())))?;
+            inputs.record(p, text.as_bytes());
+            Script::parse(&text).map_err(|e| CliError::input(format!("{}: {e}", p.display())))?
+        }
+        (None, None) => Script::on_at_zero(),
+    })
+}
+
+/// The output folder and `--write-log` file, checked before the run.
+fn check_outputs(args: &SimArgs, inputs: &Inputs) -> Result<(), CliError> {
+    if let Some(p) = &args.write_log {
+        // An earlier --write-log file in the folder is an output, not an input.
+        super::output_guard::declare_output_file(p);
+    }
+    super::output::check_output_dir(&args.output, "sim", inputs)?;
+    if let Some(p) = &args.write_log {
+        super::output::check_output_file(p, inputs)?;
+    }
+    Ok(())
+}
+
+/// Every output file in memory (so that they are renamed into place
+/// together and a failure leaves none), the rate plot when the rate
+/// controller ran, and the log-vs-sim notes of a replay.
+fn output_files(
+    args: &SimArgs,
+    robot: &Robot,
+    outcome: &sim::Outcome,
+    rated: bool,
+    log: Option<&Trace>,
+    inputs: &Inputs,
+) -> Result<(Vec<(PathBuf, Vec<u8>)>, Vec<String>), CliError> {
+    let svg = output::figure(robot, outcome)
         .map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
     let provenance = crate::provenance::Provenance::capture(inputs);
     let mut files = vec![
@@ -271,8 +309,8 @@ pub fn run(args: SimArgs, inputs: &Inputs) -> Result<(), CliError> {
             provenance.into_svg(&svg).into_bytes(),
         ),
     ];
-    if rate.is_some() {
-        let rate_svg = rate_figure::rate_svg(&outcome)
+    if rated {
+        let rate_svg = rate_figure::rate_svg(outcome)
             .map_err(|e| CliError::failure(format!("drawing the rate plot: {e}")))?;
         files.push((
             args.output.join("rate.csv"),
@@ -284,9 +322,9 @@ pub fn run(args: SimArgs, inputs: &Inputs) -> Result<(), CliError> {
         ));
     }
     let mut notes = Vec::new();
-    if let Some((log, _, _)) = &replayed {
+    if let Some(log) = log {
         let svg;
-        (svg, notes) = overlay(log, &outcome)?;
+        (svg, notes) = overlay(log, outcome)?;
         files.push((
             args.output.join("log-vs-sim.svg"),
             provenance.into_svg(&svg).into_bytes(),
@@ -296,17 +334,7 @@ pub fn run(args: SimArgs, inputs: &Inputs) -> Result<(), CliError> {
         let image = replay::log_image(&outcome.log_records).map_err(CliError::failure)?;
         files.push((p.clone(), image));
     }
-    super::output::write_all_atomically(&files, inputs)?;
-    print!("{}", output::summary(&robot, &outcome));
-    for n in &notes {
-        println!("log vs sim, {n}");
-    }
-    if rate.is_some() {
-        print!("{}", output::rate_summary(&outcome));
-    }
-    let names: Vec<String> = files.iter().map(|f| f.0.display().to_string()).collect();
-    println!("wrote {}", names.join(", "));
-    Ok(())
+    Ok((files, notes))
 }
 
 /// The `--rate-hz` schedule with the board's controller and sensor.
