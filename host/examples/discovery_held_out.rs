@@ -8,7 +8,9 @@
 //! discovery_held_out` draws every design, writes it to
 //! `$OUT/<id>.toml` (`/tmp/held_out` unless given) and prints its row of
 //! the frozen table (seed, kinds, truth, expected verdict, SHA-256 of the
-//! written data). `MODE=measure` diagnoses each design once from the base
+//! written data). `MODE=check` draws them again and compares each hash
+//! with the table in docs/held-out.md (exit 1 on a difference).
+//! `MODE=measure` diagnoses each design once from the base
 //! model and prints the scored table.
 //!
 //! Scored from the verdict alone, each stated member read at every place
@@ -344,17 +346,22 @@ fn draw(id: &'static str, seed: u64, ks: &[usize]) -> Drawn {
 fn main() {
     let mode = std::env::var("MODE").unwrap_or_else(|_| "freeze".into());
     let out = std::env::var("OUT").unwrap_or_else(|_| "/tmp/held_out".into());
+    std::fs::create_dir_all(&out).expect("the output folder");
     if mode == "freeze" {
-        std::fs::create_dir_all(&out).expect("the output folder");
         println!(
             "| design | seed | kinds | truth | expected verdict | SHA-256 of the drawn data |"
         );
         println!("|---|---|---|---|---|---|");
-    } else {
+    } else if mode == "measure" {
         println!("| design | kinds | expected | verdict | stated sets | right | with rivals | wrong alone | floor | stability | s |");
         println!("|---|---|---|---|---|---|---|---|---|---|---|");
     }
-    let mut tally = Tally::default();
+    let frozen = if mode == "check" {
+        held_out::frozen_hashes("held-out.md")
+    } else {
+        Vec::new()
+    };
+    let (mut tally, mut differ) = (Tally::default(), 0);
     for (id, seed, ks) in DESIGNS {
         let d = draw(id, seed, ks);
         let kinds: Vec<String> = ks.iter().map(|k| format!("K{k}")).collect();
@@ -370,6 +377,11 @@ fn main() {
                 expected,
                 hex
             );
+            continue;
+        }
+        if mode == "check" {
+            differ +=
+                !held_out::same_hash(&frozen, id, &held_out::freeze(&out, id, &d.data)) as u32;
             continue;
         }
         let t = Instant::now();
@@ -390,7 +402,13 @@ fn main() {
             stability(v)
         );
     }
-    if mode != "freeze" {
-        println!("\n{}", tally.line());
+    match mode.as_str() {
+        "freeze" => {}
+        "check" if differ > 0 => {
+            eprintln!("{differ} designs differ from docs/held-out.md");
+            std::process::exit(1);
+        }
+        "check" => {}
+        _ => println!("\n{}", tally.line()),
     }
 }

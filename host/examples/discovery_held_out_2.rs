@@ -272,20 +272,6 @@ fn expected_row(d: &Drawn) -> String {
     e
 }
 
-/// The frozen hashes in docs/held-out-2.md, by design.
-fn frozen_hashes() -> Vec<(String, String)> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/held-out-2.md");
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    text.lines()
-        .filter(|l| l.starts_with("| H2"))
-        .filter_map(|l| {
-            let id = l.split('|').nth(1)?.trim().to_string();
-            let hash = l.rsplit('`').nth(1)?.to_string();
-            (hash.len() == 64).then_some((id, hash))
-        })
-        .collect()
-}
-
 fn main() {
     let mode = std::env::var("MODE").unwrap_or_else(|_| "freeze".into());
     let out = std::env::var("OUT").unwrap_or_else(|_| "/tmp/held_out_2".into());
@@ -293,7 +279,7 @@ fn main() {
     let s_ref = paper_elastoviscous();
     check_swirl_sense();
     let frozen = if mode == "check" {
-        frozen_hashes()
+        held_out::frozen_hashes("held-out-2.md")
     } else {
         Vec::new()
     };
@@ -330,12 +316,7 @@ fn main() {
                 d.min_u_mm_s,
                 d.redraws,
             ),
-            "check" => {
-                let want = frozen.iter().find(|(i, _)| i == id).map(|(_, h)| h.as_str());
-                let same = want == Some(hex.as_str());
-                differ += !same as u32;
-                println!("{id} {}", if same { "same" } else { "DIFFERS" });
-            }
+            "check" => differ += !held_out::same_hash(&frozen, id, &hex) as u32,
             _ => {
                 let t = Instant::now();
                 let g = diagnose(&Model::base(), &d.data, &DiagnoseSettings::default())

@@ -114,6 +114,28 @@ pub fn sha256_hex(text: &str) -> String {
         .collect()
 }
 
+/// The frozen hashes of a doc's table (`docs/<doc>`), by design: every
+/// row whose last backquoted field is a SHA-256.
+pub fn frozen_hashes(doc: &str) -> Vec<(String, String)> {
+    let path = format!("{}/../docs/{doc}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    text.lines()
+        .filter(|l| l.starts_with("| H"))
+        .filter_map(|l| {
+            let id = l.split('|').nth(1)?.trim().to_string();
+            let hash = l.rsplit('`').nth(1)?.to_string();
+            (hash.len() == 64 && hash.bytes().all(|b| b.is_ascii_hexdigit())).then_some((id, hash))
+        })
+        .collect()
+}
+
+/// Whether design `id` hashes as frozen; prints `<id> same` or `<id> DIFFERS`.
+pub fn same_hash(frozen: &[(String, String)], id: &str, hex: &str) -> bool {
+    let same = frozen.iter().any(|(i, h)| i == id && h == hex);
+    println!("{id} {}", if same { "same" } else { "DIFFERS" });
+    same
+}
+
 /// The expected verdict as the frozen tables state it.
 pub fn expected(want: &[&str]) -> String {
     if want.is_empty() {
