@@ -8,7 +8,9 @@
 //! discovery_held_out` draws every design, writes it to
 //! `$OUT/<id>.toml` (`/tmp/held_out` unless given) and prints its row of
 //! the frozen table (seed, kinds, truth, expected verdict, SHA-256 of the
-//! written data). `MODE=measure` diagnoses each design once from the base
+//! written data). `MODE=check` draws them again and compares each hash
+//! with the table in docs/held-out.md (exit 1 on a difference).
+//! `MODE=measure` diagnoses each design once from the base
 //! model and prints the scored table.
 //!
 //! Scored from the verdict alone, each stated member read at every place
@@ -20,35 +22,29 @@
 //! alone** a `located`/`identified` set with a member that reads as no
 //! true place; **at the floor** the found set (or the base) at the floor.
 
+#[path = "held_out/mod.rs"]
+mod held_out;
+
+use held_out::{
+    expected, load_scale_mn, onset, rng, score, stability, stated, vary, Law, Tally, Truth,
+};
 use nalgebra::Matrix6;
-use rand::{rngs::StdRng, Rng, SeedableRng};
-use sha2::{Digest, Sha256};
+use rand::{rngs::StdRng, Rng};
 use std::f64::consts::PI;
 use std::sync::Arc;
 use std::time::Instant;
 use swimbot::data::{Case, Dataset};
-use swimbot::effects::place::Place;
-use swimbot::effects::{Effect, EffectError, EffectInstance};
+use swimbot::effects::EffectInstance;
 use swimbot::model::Model;
 use swimbot::physics::coefficients::LocalDrag;
 use swimbot::physics::solve::ForceBalance;
-use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, Verdict, VerdictKind};
-use swimbot::workbench::discovery::interpret::equivalents;
-use swimbot::workbench::discovery::Table;
+use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings};
 use swimbot::workbench::synth::{generate, SynthSettings};
-
-fn rng(seed: u64, salt: u64) -> StdRng {
-    StdRng::seed_from_u64(seed.wrapping_mul(7_000_003).wrapping_add(salt))
-}
 
 /// The helix's outer radius over the wall gap, `R_h / (R_ch - R_h)`.
 fn wall_ratio(c: &Case) -> f64 {
     let r_h = c.amplitude_mm + 0.5 * c.wire_diameter_mm;
     r_h / (0.5 * c.channel_diameter_mm - r_h)
-}
-
-fn onset(x: f64, x0: f64, p: f64) -> f64 {
-    (x / x0 - 1.0).max(0.0).powf(p)
 }
 
 /// One drawn truth: which kind, and its constants.
@@ -105,20 +101,9 @@ impl Kind {
     }
 }
 
-struct Truth(Kind);
-
-impl Effect for Truth {
-    fn name(&self) -> &str {
-        "held-out-truth"
-    }
-    fn statement(&self) -> &str {
-        "a held-out truth (docs/held-out.md)"
-    }
-    fn reference(&self) -> &str {
-        "held-out fixture"
-    }
-    fn local_drag(&self, _p: &[f64], c: &Case, drag: &mut LocalDrag) {
-        match self.0 {
+impl Law for Kind {
+    fn local_drag(&self, c: &Case, drag: &mut LocalDrag) {
+        match *self {
             Kind::Temperature { b } => *drag = drag.scaled(temperature_factor(c, b)),
             Kind::SlenderNormal { e, l0 } => {
                 let l = (2.0 * c.wavelength_mm / c.wire_diameter_mm).ln();
@@ -127,8 +112,8 @@ impl Effect for Truth {
             _ => {}
         }
     }
-    fn tail(&self, _p: &[f64], c: &Case, t: &mut Matrix6<f64>) -> Result<(), EffectError> {
-        match self.0 {
+    fn tail(&self, c: &Case, t: &mut Matrix6<f64>) {
+        match *self {
             Kind::WallOnset { k, w0, p } => t[(0, 0)] *= 1.0 + k * onset(wall_ratio(c), w0, p),
             Kind::WallTorque { a, q } => t[(3, 3)] *= 1.0 + a * wall_ratio(c).powf(q),
             Kind::Viscoelastic { lambda_s, beta } => {
@@ -144,10 +129,9 @@ impl Effect for Truth {
             }
             _ => {}
         }
-        Ok(())
     }
-    fn body(&self, _p: &[f64], c: &Case, b: &mut Matrix6<f64>) {
-        match self.0 {
+    fn body(&self, c: &Case, b: &mut Matrix6<f64>) {
+        match *self {
             Kind::Temperature { b: beta } => *b *= temperature_factor(c, beta),
             Kind::Oseen => {
                 let r_h = c.amplitude_mm + 0.5 * c.wire_diameter_mm;
@@ -169,8 +153,8 @@ impl Effect for Truth {
             _ => {}
         }
     }
-    fn balance(&self, _p: &[f64], c: &Case, fb: &mut ForceBalance) {
-        match self.0 {
+    fn balance(&self, c: &Case, fb: &mut ForceBalance) {
+        match *self {
             Kind::CurrentLimit { k, f_c } => {
                 fb.tail_rate_rad_s *= 1.0 - k * onset(c.frequency_hz, f_c, 1.0)
             }
@@ -201,16 +185,10 @@ fn design(seed: u64, kinds: &[Kind], trimmed: bool) -> Dataset {
     let mut out = paper.clone();
     out.name = format!("{} (held-out design, seed {seed})", paper.name);
     out.cases.clear();
-    let load = Table::build(&Model::base(), &paper)
-        .expect("the base model predicts the paper")
-        .load_scale(Place::LoadForce);
+    let load = load_scale_mn();
     for c in &paper.cases {
         for i in 0..6 {
-            let mut v = c.clone();
-            v.id = format!("{}-{i}", c.id);
-            v.channel_diameter_mm = r.gen_range(28.0..50.0);
-            v.frequency_hz *= r.gen_range(0.8..1.6);
-            v.tail_length_mm *= r.gen_range(0.9..1.3);
+            let mut v = vary(c, i, &mut r);
             for k in kinds {
                 match k {
                     Kind::Temperature { .. } => {
@@ -336,10 +314,7 @@ struct Drawn {
 }
 
 fn draw(id: &'static str, seed: u64, ks: &[usize]) -> Drawn {
-    let paper = swimbot::data::paper();
-    let load = Table::build(&Model::base(), &paper)
-        .expect("the base model predicts the paper")
-        .load_scale(Place::LoadForce);
+    let load = load_scale_mn();
     let mut r = rng(seed, 2);
     let kinds: Vec<Kind> = ks.iter().map(|k| draw_kind(*k, &mut r, load)).collect();
     let trimmed = ks.contains(&3);
@@ -368,93 +343,31 @@ fn draw(id: &'static str, seed: u64, ks: &[usize]) -> Drawn {
     }
 }
 
-fn readings(place: &str) -> Vec<&str> {
-    let mut v = vec![place];
-    if let Some(p) = Place::from_name(place) {
-        v.extend(equivalents(p).iter().map(|e| e.place));
-    }
-    v
-}
-
-fn catalogue_places(name: &str) -> Vec<String> {
-    match name {
-        "buoyancy" => vec!["load.force".into()],
-        "body-correction" => vec!["body.D_x".into(), "body.E_x".into()],
-        _ => vec![name.into()],
-    }
-}
-
-fn sets_of(v: &Verdict) -> Vec<Vec<String>> {
-    let raw: Vec<Vec<String>> = if !v.sets.is_empty() {
-        v.sets.iter().map(|s| s.places.clone()).collect()
-    } else {
-        let mut found: Vec<String> = v.located.iter().map(|l| l.place.to_string()).collect();
-        if let Some(e) = &v.effect {
-            found.extend(e.split(" + ").map(str::to_string));
-        }
-        vec![found]
-    };
-    raw.into_iter()
-        .map(|s| {
-            let mut p: Vec<String> = s.iter().flat_map(|x| catalogue_places(x)).collect();
-            p.sort();
-            p.dedup();
-            p
-        })
-        .collect()
-}
-
-/// Every true place read by a distinct member, and every member read as a
-/// true place.
-fn reads_exactly(set: &[String], want: &[&str]) -> bool {
-    fn assign(set: &[String], want: &[&str], used: &mut Vec<bool>) -> bool {
-        let Some((w, rest)) = want.split_first() else {
-            return true;
-        };
-        (0..set.len()).any(|i| {
-            if used[i] || !readings(&set[i]).contains(w) {
-                return false;
-            }
-            used[i] = true;
-            let ok = assign(set, rest, used);
-            used[i] = false;
-            ok
-        })
-    }
-    let covers = assign(set, want, &mut vec![false; set.len()]);
-    covers
-        && set
-            .iter()
-            .all(|m| readings(m).iter().any(|r| want.contains(r)))
-}
-
 fn main() {
     let mode = std::env::var("MODE").unwrap_or_else(|_| "freeze".into());
     let out = std::env::var("OUT").unwrap_or_else(|_| "/tmp/held_out".into());
+    std::fs::create_dir_all(&out).expect("the output folder");
     if mode == "freeze" {
-        std::fs::create_dir_all(&out).expect("the output folder");
         println!(
             "| design | seed | kinds | truth | expected verdict | SHA-256 of the drawn data |"
         );
         println!("|---|---|---|---|---|---|");
-    } else {
+    } else if mode == "measure" {
         println!("| design | kinds | expected | verdict | stated sets | right | with rivals | wrong alone | floor | stability | s |");
         println!("|---|---|---|---|---|---|---|---|---|---|---|");
     }
-    let (mut right, mut rivals, mut wrong, mut floor) = (0, 0, 0, 0);
+    let frozen = if mode == "check" {
+        held_out::frozen_hashes("held-out.md")
+    } else {
+        Vec::new()
+    };
+    let (mut tally, mut differ) = (Tally::default(), 0);
     for (id, seed, ks) in DESIGNS {
         let d = draw(id, seed, ks);
         let kinds: Vec<String> = ks.iter().map(|k| format!("K{k}")).collect();
-        let expected = if d.want.is_empty() {
-            "none-needed".to_string()
-        } else {
-            format!("located: {}", d.want.join(", "))
-        };
+        let expected = expected(&d.want);
         if mode == "freeze" {
-            let text = swimbot::data::to_toml(&d.data);
-            std::fs::write(format!("{out}/{id}.toml"), &text).expect("write the design");
-            let hash = Sha256::digest(text.as_bytes());
-            let hex: String = hash.iter().map(|b| format!("{b:02x}")).collect();
+            let hex = held_out::freeze(&out, id, &d.data);
             println!(
                 "| {} | {} | {} | {:?} | {} | `{}` |",
                 d.id,
@@ -466,54 +379,36 @@ fn main() {
             );
             continue;
         }
+        if mode == "check" {
+            differ +=
+                !held_out::same_hash(&frozen, id, &held_out::freeze(&out, id, &d.data)) as u32;
+            continue;
+        }
         let t = Instant::now();
         let g = diagnose(&Model::base(), &d.data, &DiagnoseSettings::default()).expect("diagnose");
         let secs = t.elapsed().as_secs_f64();
         let v = &g.verdict;
-        let sets = sets_of(v);
-        let alone = matches!(v.kind, VerdictKind::Located | VerdictKind::Identified);
-        let at_floor = match v.kind {
-            VerdictKind::NoneNeeded => true,
-            _ => v.steps.last().map_or(v.explained, |s| s.at_noise_floor),
-        };
-        let is_right = if d.want.is_empty() {
-            v.kind == VerdictKind::NoneNeeded
-        } else {
-            alone && sets.len() == 1 && reads_exactly(&sets[0], &d.want)
-        };
-        let with_rivals = !d.want.is_empty()
-            && v.kind == VerdictKind::Indistinguishable
-            && sets.iter().any(|s| reads_exactly(s, &d.want));
-        let wrong_alone = alone
-            && sets.first().is_some_and(|s| {
-                s.iter()
-                    .any(|m| !readings(m).iter().any(|r| d.want.contains(r)))
-            });
-        right += is_right as u32;
-        rivals += with_rivals as u32;
-        wrong += wrong_alone as u32;
-        floor += at_floor as u32;
-        let stated: Vec<String> = sets.iter().map(|s| s.join(", ")).collect();
-        let sure: Vec<String> = v
-            .stability
-            .iter()
-            .map(|t| format!("{} {:.2}", t.term, t.fraction))
-            .collect();
+        let s = score(v, &d.want);
+        tally.add(&s);
         println!(
             "| {id} | {} | {expected} | {} | {} | {} | {} | {} | {} | {} | {secs:.1} |",
             kinds.join(" + "),
             v.kind.name(),
-            stated.join(" / "),
-            is_right,
-            with_rivals,
-            wrong_alone,
-            at_floor,
-            sure.join(", ")
+            stated(&s),
+            s.right,
+            s.with_rivals,
+            s.wrong_alone,
+            s.at_floor,
+            stability(v)
         );
     }
-    if mode != "freeze" {
-        println!(
-            "\nright {right}/32, stated with rivals {rivals}/32, wrong alone {wrong}/32, at the floor {floor}/32"
-        );
+    match mode.as_str() {
+        "freeze" => {}
+        "check" if differ > 0 => {
+            eprintln!("{differ} designs differ from docs/held-out.md");
+            std::process::exit(1);
+        }
+        "check" => {}
+        _ => println!("\n{}", tally.line()),
     }
 }
