@@ -185,30 +185,15 @@ pub fn run(a: DiagnoseArgs, inputs: &Inputs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The corrections to write: the verdict's located laws (every step of a
-/// found set, in order), else the search's best (a partial finding
-/// is still a starting point to refine). A verdict of none-needed writes
-/// nothing: that is an answer, not an error.
+/// The corrections to write ([`Diagnosis::laws_to_write`]). A verdict of
+/// none-needed writes nothing: that is an answer, not an error.
 fn write_effect(
     d: &Diagnosis,
     dataset: &str,
     path: &std::path::Path,
     inputs: &Inputs,
 ) -> Result<(), CliError> {
-    use crate::workbench::diagnose::VerdictKind;
-    let list: Vec<Located> = if d.verdict.kind == VerdictKind::NoneNeeded {
-        Vec::new()
-    } else if d.verdict.located.is_empty() {
-        d.discovery
-            .as_ref()
-            .and_then(|x| x.located.first().cloned())
-            .into_iter()
-            .collect()
-    } else if d.verdict.steps.iter().any(|s| s.kind == "located") {
-        d.verdict.located.clone()
-    } else {
-        d.verdict.located[..1].to_vec()
-    };
+    let list = d.laws_to_write();
     if list.is_empty() {
         eprintln!(
             "--write-effect {}: nothing was located (verdict: {}), so no file was written",

@@ -8,7 +8,7 @@
 use crate::data::Dataset;
 use crate::model::Model;
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings, Diagnosis, VerdictKind};
-use crate::workbench::discovery::write::effect_name;
+use crate::workbench::discovery::write::written_names;
 use crate::workbench::fit::FitError;
 use crate::workbench::robust::Likelihood;
 use serde::{Deserialize, Serialize};
@@ -54,9 +54,19 @@ impl DiagnosisRecord {
                     explains: d.verdict.effect_explained_fraction,
                 });
             }
+            // Each law by the name the written file gives it, and only the
+            // laws written: a proposal is added from that file.
+            let written = d.laws_to_write();
+            let names = written_names(&written);
             for l in &d.verdict.located {
+                let Some(i) = written
+                    .iter()
+                    .position(|w| w.place == l.place && w.formula == l.formula)
+                else {
+                    continue;
+                };
                 proposals.push(Proposal {
-                    name: effect_name(l),
+                    name: names[i].clone(),
                     law: Some(format!("{} = {}", l.place, l.formula)),
                     text: format!("{}: {}", l.describe(), l.interpretation),
                     explains: l.explained_fraction,

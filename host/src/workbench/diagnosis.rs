@@ -256,6 +256,30 @@ pub struct Diagnosis {
     pub verdict: Verdict,
 }
 
+impl Diagnosis {
+    /// The laws `diagnose --write-effect` writes: the verdict's located
+    /// laws (every step of a found set, in order), else the search's best
+    /// (a partial finding is still a starting point to refine); nothing
+    /// when none is needed. The study proposes exactly these, by the names
+    /// the file gives them ([`super::discovery::write::written_names`]).
+    pub fn laws_to_write(&self) -> Vec<Located> {
+        let v = &self.verdict;
+        if v.kind == VerdictKind::NoneNeeded {
+            Vec::new()
+        } else if v.located.is_empty() {
+            self.discovery
+                .as_ref()
+                .and_then(|x| x.located.first().cloned())
+                .into_iter()
+                .collect()
+        } else if v.steps.iter().any(|s| s.kind == "located") {
+            v.located.clone()
+        } else {
+            v.located[..1].to_vec()
+        }
+    }
+}
+
 /// A located remainder on top of a catalogue effect.
 #[derive(Debug, Clone, Serialize)]
 pub struct Remainder {

@@ -32,6 +32,33 @@ pub fn effect_name(l: &Located) -> String {
     s
 }
 
+/// The names the file gives `steps`, in order. A name used beneath a law
+/// (a law loaded from an earlier step's file), by an earlier law of the
+/// file or by any known effect would clash when both files are loaded, and
+/// the base would name the new law itself (its own base then lost,
+/// silently): such a law takes the next free `-2`, `-3`, ... of
+/// [`effect_name`]. The study's proposals name the laws by these names.
+pub fn written_names(steps: &[Located]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for l in steps {
+        let beneath = &l.model.effects[..l.model.effects.len().saturating_sub(1)];
+        let stem = effect_name(l);
+        let taken = |n: &str| {
+            names.iter().any(|w| w == n)
+                || beneath.iter().any(|e| e.name() == n)
+                || crate::effects::by_name(n).is_some()
+        };
+        let mut name = stem.clone();
+        let mut k = 1;
+        while taken(&name) {
+            k += 1;
+            name = format!("{stem}-{k}");
+        }
+        names.push(name);
+    }
+    names
+}
+
 /// The effect file for one located correction found on `dataset`.
 pub fn to_toml(l: &Located, dataset: &str) -> String {
     to_toml_steps(std::slice::from_ref(l), dataset)
@@ -42,31 +69,16 @@ pub fn to_toml(l: &Located, dataset: &str) -> String {
 /// of, where an earlier law of the file is named by its name in the file
 /// (and a second law at one place gets `-2`, ...).
 pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
+    let written = written_names(steps);
     let mut names: Vec<(&str, String)> = Vec::new();
     let mut specs = Vec::new();
     let mut header =
         String::from("# Corrections located by `swimbot diagnose`, in the order found:\n");
-    for (i, l) in steps.iter().enumerate() {
+    for (i, (l, name)) in steps.iter().zip(written).enumerate() {
         // The model it was fitted on top of, machine-readable: every effect
         // beneath it at full precision, in order.
         let mut beneath = l.model.clone();
         beneath.effects.pop();
-        // A name used beneath (a law loaded from an earlier step's file) or
-        // by any known effect would clash when both files are loaded, and
-        // the base would name the new law itself (its own base then lost,
-        // silently): the next free `-2`, `-3`, ...
-        let stem = effect_name(l);
-        let taken = |n: &str| {
-            names.iter().any(|(_, w)| w == n)
-                || beneath.effects.iter().any(|e| e.name() == n)
-                || crate::effects::by_name(n).is_some()
-        };
-        let mut name = stem.clone();
-        let mut k = 1;
-        while taken(&name) {
-            k += 1;
-            name = format!("{stem}-{k}");
-        }
         let base = beneath
             .effects
             .iter()
