@@ -26,10 +26,13 @@ mod physics;
 mod physics_misses;
 mod remains;
 mod residuals;
+pub mod steps_table;
 pub mod story;
+mod study_answer;
 mod study_charts;
 mod study_fig4;
 mod study_page;
+mod tex_math;
 mod wording;
 mod yours;
 

@@ -59,6 +59,7 @@ pub fn page(s: &Study) -> String {
     }
     let body = html! {
         h1 { (title) }
+        (super::study_answer::section(s))
         p.note {
             "data: " code { (f.dataset.path.display()) } " (SHA-256 " code { (f.dataset.sha256) }
             "); base model: " code { (f.model.preset) } "; likelihood: " (f.model.likelihood)

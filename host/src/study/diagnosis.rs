@@ -10,6 +10,7 @@ use crate::model::Model;
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings, Diagnosis, VerdictKind};
 use crate::workbench::discovery::write::effect_name;
 use crate::workbench::fit::FitError;
+use crate::workbench::headline::{headline, Headline};
 use crate::workbench::robust::Likelihood;
 use serde::{Deserialize, Serialize};
 
@@ -39,27 +40,41 @@ pub struct DiagnosisRecord {
     pub note: String,
     #[serde(default, rename = "proposal", skip_serializing_if = "Vec::is_empty")]
     pub proposals: Vec<Proposal>,
+    /// The answer's numbers, as `diagnose --format json` prints them under
+    /// `headline` (absent from study files written before it was kept).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headline: Option<Headline>,
 }
 
 impl DiagnosisRecord {
-    /// Keep what the study needs of `d`.
+    /// Keep what the study needs of `d`: its headline, and the proposals
+    /// read off the headline's steps (the verdict's found set, each with
+    /// the share of the excess chi-square the headline gives it), so that
+    /// the page, the terminal and the JSON name the same effects with the
+    /// same numbers.
     pub fn of(d: &Diagnosis) -> Self {
+        let headline = headline(d, None);
         let mut proposals = Vec::new();
         if d.verdict.kind != VerdictKind::NoneNeeded {
-            if let Some(e) = &d.verdict.effect {
-                proposals.push(Proposal {
-                    name: e.clone(),
-                    law: None,
-                    text: format!("the catalogue effect {e}"),
-                    explains: d.verdict.effect_explained_fraction,
-                });
-            }
-            for l in &d.verdict.located {
-                proposals.push(Proposal {
-                    name: effect_name(l),
-                    law: Some(format!("{} = {}", l.place, l.formula)),
-                    text: format!("{}: {}", l.describe(), l.interpretation),
-                    explains: l.explained_fraction,
+            let mut located = d.verdict.located.iter();
+            for st in &headline.steps {
+                let law = match st.kind.as_ref() {
+                    "located" => located.next(),
+                    _ => None,
+                };
+                proposals.push(match law {
+                    Some(l) => Proposal {
+                        name: effect_name(l),
+                        law: Some(format!("{} = {}", l.place, l.formula)),
+                        text: format!("{}: {}", l.describe(), l.interpretation),
+                        explains: st.explains,
+                    },
+                    None => Proposal {
+                        name: st.law.clone(),
+                        law: None,
+                        text: format!("the catalogue effect {}", st.law),
+                        explains: st.explains,
+                    },
                 });
             }
         }
@@ -67,6 +82,7 @@ impl DiagnosisRecord {
             verdict: d.verdict.kind.name().to_string(),
             note: d.verdict.note.clone(),
             proposals,
+            headline: Some(headline),
         }
     }
 
