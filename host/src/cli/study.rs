@@ -237,14 +237,20 @@ pub fn run_steps(a: StepsArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Resu
         StepsFormat::Json => print_json(s.file(), inputs),
         StepsFormat::Csv => print_csv(&rows(&s), inputs)?,
         StepsFormat::Table => print_table(&s, a.verbose),
-        StepsFormat::Latex => print!(
-            "{}",
-            crate::report::steps_table::latex(&crate::report::steps_table::rows(&s))
-        ),
-        StepsFormat::Markdown => print!(
-            "{}",
-            crate::report::steps_table::markdown(&crate::report::steps_table::rows(&s))
-        ),
+        // The bundle's `tables/steps.*` then `tables/laws.*`, one renderer.
+        StepsFormat::Latex | StepsFormat::Markdown => {
+            let files = crate::report::steps_table::bundle_files(&s);
+            let ext = match a.format {
+                StepsFormat::Latex => ".tex",
+                _ => ".md",
+            };
+            let texts: Vec<&str> = files
+                .iter()
+                .filter(|f| f.file.ends_with(ext))
+                .map(|f| f.text.as_str())
+                .collect();
+            print!("{}", texts.join("\n"));
+        }
     }
     Ok(())
 }

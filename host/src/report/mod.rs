@@ -60,7 +60,7 @@ pub fn write_story(
     inputs: &Inputs,
 ) -> Result<std::path::PathBuf, BundleError> {
     let page = story::page(input)?;
-    bundle::write(dir, input.command, &page, guard, inputs)
+    bundle::write(dir, input.command, &page, &[], guard, inputs)
 }
 
 /// Write the story page for the model at the end of `path` on `data`
@@ -101,5 +101,12 @@ pub fn write_study(
     guard: bundle::Guard,
     inputs: &Inputs,
 ) -> Result<std::path::PathBuf, BundleError> {
-    bundle::write(dir, "report", &study_page::page(study), guard, inputs)
+    bundle::write(
+        dir,
+        "report",
+        &study_page::page(study),
+        &steps_table::bundle_files(study),
+        guard,
+        inputs,
+    )
 }

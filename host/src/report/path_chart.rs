@@ -228,15 +228,16 @@ pub fn chart(
         // A label is drawn as written (`body.E_x`, `pitch_angle_deg`: names,
         // not notation), but the engine's text checks read `_x` as a
         // subscript, so such a line pushes the next one down by its depth.
+        // 11 px, the page's smallest text (6.5 px a character on average).
         let mut y_line = y_bot + 16.0;
-        for line in wrap(&st.label, (slot / 6.2) as usize) {
+        for line in wrap(&st.label, (slot / 6.5) as usize) {
             let _ = write!(
                 s,
-                "<text x=\"{x:.1}\" y=\"{y_line:.1}\" text-anchor=\"middle\" font-size=\"10.5\">{}</text>",
+                "<text x=\"{x:.1}\" y=\"{y_line:.1}\" text-anchor=\"middle\" font-size=\"11\">{}</text>",
                 esc(&line)
             );
-            let (_, below) = extent(10.5, has_subscript(&line));
-            y_line += 13.0 + (below - extent(10.5, false).1);
+            let (_, below) = extent(11.0, has_subscript(&line));
+            y_line += 13.5 + (below - extent(11.0, false).1);
         }
         let Some(v) = value(st, m) else { continue };
         let y = scale.y(v);

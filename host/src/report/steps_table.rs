@@ -269,6 +269,44 @@ pub fn laws_markdown(s: &Study) -> String {
     out
 }
 
+/// The paper's files of `s` for the page's bundle: the steps table and
+/// the laws, each in LaTeX and in Markdown.
+pub fn bundle_files(s: &Study) -> Vec<super::bundle::Written> {
+    let rows = rows(s);
+    let file = |file: &str, kind, caption: &str, text| super::bundle::Written {
+        file: format!("tables/{file}"),
+        kind,
+        caption: caption.into(),
+        text,
+    };
+    vec![
+        file(
+            "steps.tex",
+            "table-latex",
+            "the steps table in LaTeX (booktabs), as `swimbot steps --format latex` prints it",
+            latex(&rows),
+        ),
+        file(
+            "steps.md",
+            "table-markdown",
+            "the steps table in Markdown, as `swimbot steps --format markdown` prints it",
+            markdown(&rows),
+        ),
+        file(
+            "laws.tex",
+            "equations-latex",
+            "each step's law with its fitted values, as LaTeX equations (amsmath)",
+            laws_latex(s),
+        ),
+        file(
+            "laws.md",
+            "equations-markdown",
+            "each step's law with its fitted values, as a Markdown list",
+            laws_markdown(s),
+        ),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
