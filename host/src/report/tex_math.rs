@@ -141,6 +141,10 @@ fn write(t: &[Token], i: &mut usize, out: &mut String, group: bool) {
                 out.push('}');
             }
             Token::Op('*') => out.push_str(" \\cdot "),
+            // a sign (after an opening or at the start) keeps to its number
+            Token::Op(c @ ('+' | '-')) if out.is_empty() || out.ends_with(['{', '(', '=', ' ']) => {
+                out.push(c);
+            }
             Token::Op(c) if "+-=".contains(c) => {
                 out.push(' ');
                 out.push(c);
