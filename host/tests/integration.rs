@@ -45,6 +45,7 @@ mod nonlocal;
 mod nonlocal_effects;
 mod outputs;
 mod page;
+mod page_answer;
 mod page_escaping;
 mod physics_tail;
 mod plan_loop;

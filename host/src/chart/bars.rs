@@ -13,8 +13,8 @@ use super::Rgb;
 use super::{ChartError, PlotResult, PALETTE};
 use crate::format::fmt_sig;
 
-const CATEGORY_FONT_PX: f64 = 10.0;
-const VALUE_FONT_PX: f64 = 10.0;
+const CATEGORY_FONT_PX: f64 = 11.0;
+const VALUE_FONT_PX: f64 = 11.0;
 
 /// A bar chart, configured by builder methods.
 #[derive(Debug, Clone)]

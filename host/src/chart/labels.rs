@@ -9,7 +9,7 @@ use super::geom::{Rect, Shape};
 use super::svg::Anchor;
 use super::svg_text::{extent, width};
 
-pub const LABEL_FONT_PX: f64 = 10.0;
+pub const LABEL_FONT_PX: f64 = 11.0;
 pub const NOTE_FONT_PX: f64 = 11.0;
 
 /// A point's label: text, anchor point, and its box.

@@ -237,46 +237,22 @@ pub fn run_steps(a: StepsArgs, study: &Option<PathBuf>, inputs: &Inputs) -> Resu
         StepsFormat::Json => print_json(s.file(), inputs),
         StepsFormat::Csv => print_csv(&rows(&s), inputs)?,
         StepsFormat::Table => print_table(&s, a.verbose),
-        StepsFormat::Latex => print!("{}", super::screen::paper::latex(&paper_rows(&s))),
-        StepsFormat::Markdown => print!("{}", super::screen::paper::markdown(&paper_rows(&s))),
+        // The bundle's `tables/steps.*` then `tables/laws.*`, one renderer.
+        StepsFormat::Latex | StepsFormat::Markdown => {
+            let files = crate::report::steps_table::bundle_files(&s);
+            let ext = match a.format {
+                StepsFormat::Latex => ".tex",
+                _ => ".md",
+            };
+            let texts: Vec<&str> = files
+                .iter()
+                .filter(|f| f.file.ends_with(ext))
+                .map(|f| f.text.as_str())
+                .collect();
+            print!("{}", texts.join("\n"));
+        }
     }
     Ok(())
-}
-
-/// The steps as the paper's table has them: the error after each, and
-/// each step's parameters with their 95 % intervals.
-fn paper_rows(s: &Study) -> Vec<super::screen::paper::PaperRow> {
-    let start = &s.file().start.stats;
-    let mut out = vec![super::screen::paper::PaperRow {
-        step: 0,
-        effect: format!("base ({})", s.file().model.preset),
-        mare: start.mare,
-        cv_mare: start.cv_mare,
-        chi2_reduced: start.chi2_reduced,
-        params: Vec::new(),
-    }];
-    out.extend(s.steps().iter().enumerate().map(|(i, st)| {
-        let params = st
-            .params
-            .iter()
-            .map(|p| {
-                let ci = match (p.lo, p.hi) {
-                    (Some(lo), Some(hi)) => format!(" [{}, {}]", fmt_sig(lo, 4), fmt_sig(hi, 4)),
-                    _ => String::new(),
-                };
-                format!("{} = {}{ci}", p.name, fmt_sig(p.value, 4))
-            })
-            .collect();
-        super::screen::paper::PaperRow {
-            step: i + 1,
-            effect: st.effect.name.clone(),
-            mare: st.after.stats.mare,
-            cv_mare: st.after.stats.cv_mare,
-            chi2_reduced: st.after.stats.chi2_reduced,
-            params,
-        }
-    }));
-    out
 }
 
 fn pct(v: f64) -> String {

@@ -308,6 +308,41 @@ fn table_json(rows: &[Vec<String>]) -> String {
     serde_json::to_string_pretty(&objects).expect("strings serialise") + "\n"
 }
 
+/// A file of the bundle written from the values that made it (the paper's
+/// tables and equations), not read back from the page.
+pub struct Written {
+    /// Relative to the folder (`tables/NAME`).
+    pub file: String,
+    /// `table-latex`, `table-markdown`, `equations-latex`, `equations-markdown`.
+    pub kind: &'static str,
+    pub caption: String,
+    pub text: String,
+}
+
+/// `text` with the provenance's lines on top as comments of its format:
+/// `%` for LaTeX, an HTML comment for Markdown. Each line is kept to one
+/// line, and a Markdown comment cannot be closed early by a path holding
+/// `-->`.
+fn with_comments(prov: &crate::provenance::Provenance, file: &str, text: &str) -> String {
+    let lines: Vec<String> = prov
+        .comment_block()
+        .lines()
+        .map(|l| {
+            l.trim_start_matches("# ")
+                .chars()
+                .map(|c| if c.is_control() { ' ' } else { c })
+                .collect()
+        })
+        .collect();
+    let head: String = if file.ends_with(".tex") {
+        lines.iter().map(|l| format!("% {l}\n")).collect()
+    } else {
+        let body: Vec<String> = lines.iter().map(|l| l.replace("--", "- -")).collect();
+        format!("<!--\n{}\n-->\n\n", body.join("\n"))
+    };
+    head + text
+}
+
 /// What may not be written or removed: `guard` refuses a path (the CLI's
 /// check that an output is none of the command's input files).
 pub type Guard<'a> = &'a dyn Fn(&Path) -> Result<(), String>;
@@ -320,6 +355,7 @@ pub fn write(
     dir: &Path,
     command: &str,
     page: &str,
+    written: &[Written],
     guard: Guard,
     inputs: &crate::provenance::Inputs,
 ) -> Result<PathBuf, BundleError> {
@@ -327,6 +363,18 @@ pub fn write(
     let provenance = crate::provenance::Provenance::capture(inputs);
     let page = provenance.into_html(page);
     let (mut files, mut entries) = files(&page);
+    for w in written {
+        entries.push(Entry {
+            file: w.file.clone(),
+            kind: w.kind.into(),
+            caption: w.caption.clone(),
+            sha256: String::new(),
+        });
+        files.push((
+            w.file.clone(),
+            with_comments(&provenance, &w.file, &w.text).into_bytes(),
+        ));
+    }
     // every file of the bundle can be traced back on its own
     for (rel, bytes) in &mut files {
         if rel.ends_with(".svg") {
@@ -450,7 +498,7 @@ mod tests {
     #[test]
     fn a_folder_another_command_wrote_is_refused() {
         let dir = tempfile::tempdir().unwrap();
-        write(dir.path(), "report", PAGE, &|_| Ok(()), &Inputs::new()).unwrap();
+        write(dir.path(), "report", PAGE, &[], &|_| Ok(()), &Inputs::new()).unwrap();
         assert!(check_dir(dir.path(), "report").is_ok());
         let e = check_dir(dir.path(), "compare").unwrap_err().to_string();
         assert!(e.contains("swimbot report") && e.contains("-o"), "{e}");

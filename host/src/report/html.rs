@@ -32,6 +32,9 @@ figcaption{font-size:.9em;color:#333;max-width:62em;margin-top:.3em}\
 .rise{color:#b2182b;font-weight:600}.fall{color:#1a7f37;font-weight:600}.flat{color:#666}\
 .note{color:#555;font-size:.9em}.err{color:#b00}.verdict{background:#fff7e6;border-left:4px solid #e6a23c;padding:.5em .9em}\
 .toc{columns:2;font-size:.95em}\
+.answer{background:#f4f8fb;border-left:4px solid #3b82c4;padding:.1em 1em .5em;margin:.8em 0}\
+.answer h2{margin-top:.4em;border:0}.answer p,.answer ul{margin:.35em 0}.answer table{background:#fff}\
+.answer td.params{white-space:normal;max-width:34em}.answer td.l{max-width:34em}\
 @media (max-width:900px){.grid{grid-template-columns:repeat(2,minmax(0,max-content))}\
 .flow .grid{grid-template-rows:repeat(var(--rows),auto);grid-auto-flow:column}}\
 @media print{body{max-width:none;margin:0;padding:0;font-size:10pt}h2{break-after:avoid;page-break-after:avoid}\

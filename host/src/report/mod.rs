@@ -26,10 +26,13 @@ mod physics;
 mod physics_misses;
 mod remains;
 mod residuals;
+pub mod steps_table;
 pub mod story;
+mod study_answer;
 mod study_charts;
 mod study_fig4;
 mod study_page;
+mod tex_math;
 mod wording;
 mod yours;
 
@@ -57,7 +60,7 @@ pub fn write_story(
     inputs: &Inputs,
 ) -> Result<std::path::PathBuf, BundleError> {
     let page = story::page(input)?;
-    bundle::write(dir, input.command, &page, guard, inputs)
+    bundle::write(dir, input.command, &page, &[], guard, inputs)
 }
 
 /// Write the story page for the model at the end of `path` on `data`
@@ -98,5 +101,12 @@ pub fn write_study(
     guard: bundle::Guard,
     inputs: &Inputs,
 ) -> Result<std::path::PathBuf, BundleError> {
-    bundle::write(dir, "report", &study_page::page(study), guard, inputs)
+    bundle::write(
+        dir,
+        "report",
+        &study_page::page(study),
+        &steps_table::bundle_files(study),
+        guard,
+        inputs,
+    )
 }

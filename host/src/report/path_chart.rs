@@ -107,16 +107,31 @@ fn value_lines(text: &str, room_px: f64, upwards: bool) -> Vec<(String, f64)> {
 
 /// A label broken into lines of about `chars` characters, at spaces.
 fn wrap(label: &str, chars: usize) -> Vec<String> {
-    let mut lines: Vec<String> = vec![String::new()];
+    // A word wider than a line breaks after its hyphens
+    // (`body-` / `confinement`): at 11 px an effect's name is wider than
+    // its slot, and a label over the next one's is unreadable.
+    let mut pieces: Vec<(String, bool)> = Vec::new();
     for word in label.split(' ') {
-        let cur = lines.last_mut().expect("one line");
-        if !cur.is_empty() && cur.len() + 1 + word.len() > chars {
-            lines.push(word.to_string());
+        if word.len() > chars && word.contains('-') {
+            let parts: Vec<&str> = word.split_inclusive('-').collect();
+            for (i, p) in parts.iter().enumerate() {
+                pieces.push((p.to_string(), i == 0));
+            }
         } else {
-            if !cur.is_empty() {
+            pieces.push((word.to_string(), true));
+        }
+    }
+    let mut lines: Vec<String> = vec![String::new()];
+    for (word, spaced) in pieces {
+        let cur = lines.last_mut().expect("one line");
+        let glue = usize::from(spaced && !cur.is_empty());
+        if !cur.is_empty() && cur.len() + glue + word.len() > chars {
+            lines.push(word);
+        } else {
+            if glue == 1 {
                 cur.push(' ');
             }
-            cur.push_str(word);
+            cur.push_str(&word);
         }
     }
     lines.truncate(5);
@@ -228,15 +243,16 @@ pub fn chart(
         // A label is drawn as written (`body.E_x`, `pitch_angle_deg`: names,
         // not notation), but the engine's text checks read `_x` as a
         // subscript, so such a line pushes the next one down by its depth.
+        // 11 px, the page's smallest text (6.5 px a character on average).
         let mut y_line = y_bot + 16.0;
-        for line in wrap(&st.label, (slot / 6.2) as usize) {
+        for line in wrap(&st.label, (slot / 6.5) as usize) {
             let _ = write!(
                 s,
-                "<text x=\"{x:.1}\" y=\"{y_line:.1}\" text-anchor=\"middle\" font-size=\"10.5\">{}</text>",
+                "<text x=\"{x:.1}\" y=\"{y_line:.1}\" text-anchor=\"middle\" font-size=\"11\">{}</text>",
                 esc(&line)
             );
-            let (_, below) = extent(10.5, has_subscript(&line));
-            y_line += 13.0 + (below - extent(10.5, false).1);
+            let (_, below) = extent(11.0, has_subscript(&line));
+            y_line += 13.5 + (below - extent(11.0, false).1);
         }
         let Some(v) = value(st, m) else { continue };
         let y = scale.y(v);
@@ -315,6 +331,13 @@ pub fn chart(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_name_wider_than_its_line_breaks_after_a_hyphen() {
+        assert_eq!(wrap("+ body-confinement", 15), ["+ body-", "confinement"]);
+        assert_eq!(wrap("+ backflow", 15), ["+ backflow"]);
+        assert_eq!(wrap("start", 15), ["start"]);
+    }
 
     fn step(label: &str, mare: f64, chi2: f64) -> ChartStep {
         ChartStep {

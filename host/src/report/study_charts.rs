@@ -1,15 +1,43 @@
 //! The study page's figures for data of any design, drawn from the study's
 //! stored predictions: a parity plot of a step (before and after on one
-//! chart, both labelled by case) and the relative error against the step's
-//! feature (the quantity its law names, else the geometry that varies
-//! across the cases).
+//! chart; with more than [`LABEL_ALL_UP_TO`] cases only the
+//! [`LABELLED_WORST`] worst after the step are named, the step's table
+//! holds every case) and the relative error against the step's feature
+//! (the quantity its law names, else the geometry that varies across the
+//! cases), before and after in panels of their own when the error before
+//! is many times the error after (one axis would flatten the after-values
+//! onto zero). Each panel is drawn at the width it is shown at, two to a
+//! row of the page, so that its text is the size it was drawn.
 
 use crate::chart::{Axis, Chart, Series, PALETTE};
 use crate::data::quantities::{by_id, FEATURES};
 use crate::data::Dataset;
 use crate::study::CaseRow;
 
+/// Every case is named up to this many; above, only the worst few.
+pub const LABEL_ALL_UP_TO: usize = 12;
+/// How many cases are named above [`LABEL_ALL_UP_TO`]: those with the
+/// largest relative error after the step.
+pub const LABELLED_WORST: usize = 5;
+/// A panel's size: two to a row of the page's 1240 px (16 px apart).
+pub const PANEL_PX: (u32, u32) = (600, 400);
+/// Before and after get panels of their own when the largest error before
+/// is more than this many times the largest after.
+pub const SPLIT_RATIO: f64 = 5.0;
+
+/// The ids to name in a parity plot of `after`: every one, or the worst.
+pub fn named_cases(after: &[CaseRow], omega: bool) -> Vec<String> {
+    let err = |c: &CaseRow| if omega { c.omega_rel_err } else { c.u_rel_err }.map_or(0.0, f64::abs);
+    let mut ids: Vec<&CaseRow> = after.iter().collect();
+    if ids.len() > LABEL_ALL_UP_TO {
+        ids.sort_by(|a, b| err(b).total_cmp(&err(a)));
+        ids.truncate(LABELLED_WORST);
+    }
+    ids.iter().map(|c| c.id.clone()).collect()
+}
+
 pub fn parity(before: &[CaseRow], after: &[CaseRow], omega: bool) -> crate::chart::PlotResult {
+    let named = named_cases(after, omega);
     let (q, unit) = if omega {
         ("Omega_b", "Hz")
     } else {
@@ -31,26 +59,31 @@ pub fn parity(before: &[CaseRow], after: &[CaseRow], omega: bool) -> crate::char
         let mut pts = Vec::new();
         let mut xe = Vec::new();
         let mut ids = Vec::new();
+        let mut all_ids = Vec::new();
         for c in rows {
             let (Some(obs), ci, pred) = pick(c) else {
                 continue;
             };
             pts.push((obs, pred, 0.0));
             xe.push(ci.unwrap_or(0.0));
-            ids.push(if measured {
+            ids.push(if measured && named.contains(&c.id) {
                 c.id.clone()
             } else {
                 String::new()
             });
+            all_ids.push(c.id.clone());
             all.extend([obs, pred]);
         }
         // The measured interval is drawn once, on the points after the
         // step; the points before are named by case in the figure's notes
         // as the labelled ones are.
         let s = if measured {
-            Series::measured(label, color, pts).x_errors(xe).labels(ids)
+            Series::measured(label, color, pts)
+                .x_errors(xe)
+                .labels(ids)
+                .names(all_ids)
         } else {
-            Series::model(label, color, pts).names(ids)
+            Series::model(label, color, pts).names(all_ids)
         };
         series.push(s);
     }
@@ -59,7 +92,8 @@ pub fn parity(before: &[CaseRow], after: &[CaseRow], omega: bool) -> crate::char
         &format!("{q} measured ({unit})"),
         &format!("{q} predicted ({unit})"),
     )
-    .diagonal();
+    .diagonal()
+    .size(PANEL_PX.0, PANEL_PX.1);
     if Axis::spans_decade(all.into_iter()) {
         chart = chart.log_x().log_y();
     }
@@ -97,11 +131,36 @@ fn varies(data: &Dataset, q: &crate::data::quantities::Quantity) -> bool {
     hi - lo > 1e-9 * hi.abs().max(1.0)
 }
 
+/// The relative error against `q`: one panel with before and after, or
+/// two (before, then after) when one axis would flatten the after-values
+/// ([`SPLIT_RATIO`]).
 pub fn residuals(
     data: &Dataset,
     q: &crate::data::quantities::Quantity,
     before: &[CaseRow],
     after: &[CaseRow],
+) -> Vec<crate::chart::PlotResult> {
+    let largest = |rows: &[CaseRow]| {
+        rows.iter()
+            .flat_map(|c| [c.u_rel_err, c.omega_rel_err])
+            .flatten()
+            .fold(0.0_f64, |m, e| m.max(e.abs()))
+    };
+    if largest(before) > SPLIT_RATIO * largest(after) {
+        vec![
+            residual_panel(data, q, Some(before), None),
+            residual_panel(data, q, None, Some(after)),
+        ]
+    } else {
+        vec![residual_panel(data, q, Some(before), Some(after))]
+    }
+}
+
+fn residual_panel(
+    data: &Dataset,
+    q: &crate::data::quantities::Quantity,
+    before: Option<&[CaseRow]>,
+    after: Option<&[CaseRow]>,
 ) -> crate::chart::PlotResult {
     let x_of = |id: &str| data.cases.iter().find(|c| c.id == id).map(|c| q.of(c));
     let mut series = Vec::new();
@@ -111,6 +170,9 @@ pub fn residuals(
         ("Ω_b before", before, crate::chart::Rgb(230, 170, 170), true),
         ("Ω_b after", after, PALETTE[1], false),
     ] {
+        let Some(rows) = rows else {
+            continue;
+        };
         let omega = label.starts_with('Ω');
         let pts: Vec<(f64, f64, f64)> = rows
             .iter()
@@ -130,11 +192,17 @@ pub fn residuals(
     } else {
         format!(" ({})", q.unit)
     };
+    let when = match (before, after) {
+        (Some(_), None) => " before the step",
+        (None, Some(_)) => " after the step",
+        _ => "",
+    };
     Chart::new(
-        &format!("Relative error against {}", q.name),
+        &format!("Relative error{when} against {}", q.name),
         &format!("{}{unit}", q.name),
         "relative error (%)",
     )
+    .size(PANEL_PX.0, PANEL_PX.1)
     .zero_line()
     .render(&series)
 }

@@ -10,7 +10,9 @@
 //! design, [`super::study_fig4`]).
 
 use super::html::{document, figure, html, omega_b, rich, table, Markup};
-use super::study_charts::{feature_of, parity, residuals};
+use super::study_charts::{
+    feature_of, parity, residuals, LABELLED_WORST, LABEL_ALL_UP_TO, SPLIT_RATIO,
+};
 use crate::chart::{notation, steps};
 use crate::data::Dataset;
 use crate::format::fmt_sig;
@@ -59,6 +61,7 @@ pub fn page(s: &Study) -> String {
     }
     let body = html! {
         h1 { (title) }
+        (super::study_answer::section(s))
         p.note {
             "data: " code { (f.dataset.path.display()) } " (SHA-256 " code { (f.dataset.sha256) }
             "); base model: " code { (f.model.preset) } "; likelihood: " (f.model.likelihood)
@@ -261,20 +264,39 @@ fn step_figure(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) ->
         return super::study_fig4::figure(data, n, &d.name, before, &st.after.cases);
     }
     let feature = feature_of(data, &d.formula);
-    let charts = [
+    let mut charts = vec![
         parity(before, &st.after.cases, false),
         parity(before, &st.after.cases, true),
-        residuals(data, feature, before, &st.after.cases),
     ];
+    let split = {
+        let r = residuals(data, feature, before, &st.after.cases);
+        let split = r.len() > 1;
+        charts.extend(r);
+        split
+    };
+    let some = st.after.cases.len() > LABEL_ALL_UP_TO;
     figure(
         &format!("fig-step-{n}"),
         &charts,
-        3,
+        2,
         html! {
             "Step " (n) ", + " (d.name) ": predicted against measured U and " (omega_b())
-            " before (hollow, grey) and after (filled) the step, each point labelled by its \
-            case, the measured 95 % intervals as horizontal bars; and the relative error \
-            against " (rich(feature.name)) " before and after."
+            " before (hollow, grey) and after (filled) the step, "
+            @if some {
+                "the " (LABELLED_WORST) " cases worst after the step labelled (the table above \
+                holds every case), "
+            } @else {
+                "each point labelled by its case, "
+            }
+            "the measured 95 % intervals as horizontal bars; and the relative error against "
+            (rich(feature.name))
+            @if split {
+                ", before and after the step in panels of their own (the error before is more \
+                than " (SPLIT_RATIO) " times the error after: on one axis the after-values \
+                would lie on zero)."
+            } @else {
+                " before and after."
+            }
         },
     )
 }

@@ -199,6 +199,7 @@ fn records(
                 status: "setting".into(),
                 lo: None,
                 hi: None,
+                standard_uncertainty: None,
                 at_bound: false,
                 reason: None,
             };
@@ -210,6 +211,7 @@ fn records(
                     rec.lo = Some(lo);
                     rec.hi = Some(hi);
                     rec.reason = cut;
+                    rec.standard_uncertainty = Some(ci.abs() / crate::workbench::fit::report::Z95);
                 }
                 rec.at_bound = est.is_some_and(|x| x.at_bound);
             } else if let Some(f) = fixed.iter().find(|f| f.at == at) {

@@ -10,6 +10,7 @@ use crate::model::Model;
 use crate::workbench::diagnose::{diagnose, DiagnoseSettings, Diagnosis, VerdictKind};
 use crate::workbench::discovery::write::written_names;
 use crate::workbench::fit::FitError;
+use crate::workbench::headline::{headline, Headline};
 use crate::workbench::robust::Likelihood;
 use serde::{Deserialize, Serialize};
 
@@ -39,44 +40,63 @@ pub struct DiagnosisRecord {
     pub note: String,
     #[serde(default, rename = "proposal", skip_serializing_if = "Vec::is_empty")]
     pub proposals: Vec<Proposal>,
+    /// The answer's numbers, as `diagnose --format json` prints them under
+    /// `headline` (absent from study files written before it was kept).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headline: Option<Headline>,
 }
 
 impl DiagnosisRecord {
-    /// Keep what the study needs of `d`.
+    /// Keep what the study needs of `d`: its headline, and the proposals
+    /// read off the headline's steps (the verdict's found set, each with
+    /// the share of the excess chi-square the headline gives it), so that
+    /// the page, the terminal and the JSON name the same effects with the
+    /// same numbers.
     pub fn of(d: &Diagnosis) -> Self {
+        let headline = headline(d, None);
         let mut proposals = Vec::new();
         if d.verdict.kind != VerdictKind::NoneNeeded {
-            if let Some(e) = &d.verdict.effect {
-                proposals.push(Proposal {
-                    name: e.clone(),
-                    law: None,
-                    text: format!("the catalogue effect {e}"),
-                    explains: d.verdict.effect_explained_fraction,
-                });
-            }
             // Each law by the name the written file gives it, and only the
             // laws written: a proposal is added from that file.
             let written = d.laws_to_write();
             let names = written_names(&written);
-            for l in &d.verdict.located {
-                let Some(i) = written
-                    .iter()
-                    .position(|w| w.place == l.place && w.formula == l.formula)
-                else {
-                    continue;
+            let mut located = d.verdict.located.iter();
+            for st in &headline.steps {
+                let law = match st.kind.as_ref() {
+                    "located" => Some(located.next()),
+                    _ => None,
                 };
-                proposals.push(Proposal {
-                    name: names[i].clone(),
-                    law: Some(format!("{} = {}", l.place, l.formula)),
-                    text: format!("{}: {}", l.describe(), l.interpretation),
-                    explains: l.explained_fraction,
-                });
+                let proposal = match law {
+                    Some(Some(l)) => {
+                        let Some(i) = written
+                            .iter()
+                            .position(|w| w.place == l.place && w.formula == l.formula)
+                        else {
+                            continue;
+                        };
+                        Proposal {
+                            name: names[i].clone(),
+                            law: Some(format!("{} = {}", l.place, l.formula)),
+                            text: format!("{}: {}", l.describe(), l.interpretation),
+                            explains: st.explains,
+                        }
+                    }
+                    Some(None) => continue,
+                    None => Proposal {
+                        name: st.law.clone(),
+                        law: None,
+                        text: format!("the catalogue effect {}", st.law),
+                        explains: st.explains,
+                    },
+                };
+                proposals.push(proposal);
             }
         }
         DiagnosisRecord {
             verdict: d.verdict.kind.name().to_string(),
             note: d.verdict.note.clone(),
             proposals,
+            headline: Some(headline),
         }
     }
 

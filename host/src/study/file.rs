@@ -86,11 +86,37 @@ pub struct ParamRecord {
     pub lo: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hi: Option<f64>,
+    /// Standard uncertainty of a fitted parameter (the 95 % half-width
+    /// over 1.96, before `lo`/`hi` are cut at the parameter's range).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub standard_uncertainty: Option<f64>,
     /// The fit ended on the parameter's bound.
     #[serde(default)]
     pub at_bound: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+}
+
+impl ParamRecord {
+    /// The parameter as the fit's report has it: its value and standard
+    /// uncertainty as stored, the 95 % interval as stored (cut at the
+    /// parameter's range).
+    pub fn report(&self) -> crate::workbench::fit::report::ParamReport {
+        let u = self.standard_uncertainty;
+        crate::workbench::fit::report::ParamReport {
+            name: self.name.clone(),
+            unit: self.unit.clone(),
+            value: self.value,
+            standard_uncertainty: u,
+            relative_uncertainty_percent: u
+                .filter(|_| self.value != 0.0)
+                .map(|u| 100.0 * u / self.value.abs()),
+            ci95_low: self.lo,
+            ci95_high: self.hi,
+            interval: "covariance".into(),
+            at_bound: self.at_bound,
+        }
+    }
 }
 
 /// One step: an effect added on top of the steps before it.

@@ -134,12 +134,12 @@ pub struct Verdict {
 /// selection (Meinshausen & Buehlmann 2010, J. R. Stat. Soc. B 72, 417),
 /// the ensembling of sparse regression as PySINDy does it. A term chosen
 /// on few resamples is not located, however well the full data fit it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct TermStability {
     /// The term as [`ExplainingSet::members`] and [`SetMember::name`] name it.
     pub term: String,
     /// `bootstrap` or `leave-one-out`.
-    pub method: &'static str,
+    pub method: std::borrow::Cow<'static, str>,
     /// Resampled data sets searched.
     pub resamples: usize,
     /// Resamples whose chosen set holds the term.

@@ -10,6 +10,7 @@ pub mod discovery;
 pub mod experiments;
 pub mod features;
 pub mod fit;
+pub mod headline;
 pub mod input_covariance;
 pub mod noise;
 pub mod path;

@@ -4,10 +4,9 @@
 //! place of their ASCII spellings. The numbers are [`headline::Headline`]'s,
 //! which the JSON carries too; everything else is behind `--verbose`.
 
-pub mod headline;
-pub mod paper;
+pub use crate::format::rounding;
+pub use crate::workbench::headline;
 pub mod render;
-pub mod rounding;
 pub mod study;
 pub mod symbols;
 

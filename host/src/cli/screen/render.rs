@@ -3,11 +3,10 @@
 //! 7.2.6 asks ([`super::rounding`]).
 
 use super::headline::{Headline, HeadlineStep};
-use super::rounding::{percent, value_pm};
 use super::symbols::symbols;
 use super::wrap;
 use crate::format::fmt_sig;
-use crate::workbench::fit::report::ParamReport;
+pub use crate::report::steps_table::param;
 
 /// One item of the screen: its text and the indents of its first and
 /// further lines.
@@ -61,7 +60,7 @@ pub fn items(h: &Headline) -> Vec<Item> {
 
 fn summary(h: &Headline) -> String {
     let n = h.steps.len();
-    match h.kind {
+    match h.kind.as_ref() {
         "none-needed" => "the model is at the noise floor: nothing is missing".into(),
         "identified" => "a catalogue effect explains what the model misses".into(),
         "located" => "a law beyond the catalogue explains what the model misses".into(),
@@ -93,39 +92,6 @@ fn step(i: usize, s: &HeadlineStep) -> Vec<Item> {
         items.push(item("     ", "       ", ps.join("; ")));
     }
     items
-}
-
-/// `name = value ± u unit (rel %, 95 % lo .. hi)`, or the value alone.
-pub fn param(p: &ParamReport) -> String {
-    let unit = match p.unit.as_str() {
-        "" | "1" => String::new(),
-        u => format!(" {u}"),
-    };
-    let bound = if p.at_bound { ", at its bound" } else { "" };
-    let Some(u) = p.standard_uncertainty else {
-        return format!(
-            "{} = {}{unit} (no interval of its own{bound})",
-            p.name,
-            value_pm(p.value, None)
-        );
-    };
-    let rel = p
-        .relative_uncertainty_percent
-        .map(|r| format!("{}, ", percent(r)))
-        .unwrap_or_default();
-    let ci = match (p.ci95_low, p.ci95_high) {
-        (Some(lo), Some(hi)) => format!(
-            "95\u{a0}% {}\u{a0}..\u{a0}{}",
-            value_pm(lo, Some(u)).split(" ±").next().unwrap_or(""),
-            value_pm(hi, Some(u)).split(" ±").next().unwrap_or("")
-        ),
-        _ => String::new(),
-    };
-    format!(
-        "{} = {}{unit} ({rel}{ci}{bound})",
-        p.name,
-        value_pm(p.value, Some(u))
-    )
 }
 
 fn error_lines(h: &Headline) -> Vec<Item> {

@@ -12,7 +12,8 @@
 //! names which one a report carries.
 
 use super::Estimate;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// The normal quantile of a two-sided 95 % interval: the factor between
 /// [`Estimate::ci95`] and the standard uncertainty (`uncertainty.rs`).
@@ -24,7 +25,7 @@ pub const Z95: f64 = 1.96;
 pub const STRONG_CORRELATION: f64 = 0.8;
 
 /// One fitted parameter, reported.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ParamReport {
     /// `effect.param` (or the law's parameter name).
     pub name: String,
@@ -39,7 +40,7 @@ pub struct ParamReport {
     pub ci95_low: Option<f64>,
     pub ci95_high: Option<f64>,
     /// How the interval was made: `covariance` (symmetric, `value ± 1.96 u`).
-    pub interval: &'static str,
+    pub interval: Cow<'static, str>,
     pub at_bound: bool,
 }
 
@@ -65,7 +66,7 @@ impl ParamReport {
                 .map(|u| 100.0 * u / e.value.abs()),
             ci95_low: u.map(|u| e.value - Z95 * u),
             ci95_high: u.map(|u| e.value + Z95 * u),
-            interval: "covariance",
+            interval: "covariance".into(),
             at_bound: e.at_bound,
         }
     }
@@ -81,7 +82,7 @@ impl ParamReport {
             relative_uncertainty_percent: None,
             ci95_low: None,
             ci95_high: None,
-            interval: "covariance",
+            interval: "covariance".into(),
             at_bound: false,
         }
     }

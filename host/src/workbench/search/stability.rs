@@ -115,7 +115,7 @@ pub fn stability(path: &Found, start: &Model, data: &Dataset) -> Vec<TermStabili
         .zip(selected)
         .map(|(term, selected)| TermStability {
             term,
-            method: "bootstrap",
+            method: "bootstrap".into(),
             resamples: RESAMPLES,
             selected,
             fraction: selected as f64 / RESAMPLES as f64,

@@ -5,24 +5,28 @@
 //! chi-square against the noise floor), how sure (the sets' Akaike weights
 //! and the terms' stability under resampling), the rivals and the next
 //! step. The terminal prints it ([`super::render`]) and `diagnose --format
-//! json` carries it as `headline`, so both say the same numbers.
+//! json` carries it as `headline`, so both say the same numbers; a study
+//! keeps it with each diagnosis, and its page renders it.
 
 use crate::data::quantities;
 use crate::workbench::diagnose::{Diagnosis, VerdictKind};
 use crate::workbench::diagnosis::{SetMember, TermStability};
 use crate::workbench::discovery::Located;
 use crate::workbench::fit::report::ParamReport;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Headline {
     /// The verdict's kind (`located`, `unexplained`, ...).
-    pub kind: &'static str,
+    pub kind: Cow<'static, str>,
     pub steps: Vec<HeadlineStep>,
     /// MARE (a fraction: 0.2107 is 21.07 %) of the base model, then after
     /// each step.
     pub mare: Vec<f64>,
-    /// The reduced chi-square of the base model, then after each step.
+    /// The reduced chi-square of the base model, then after each step
+    /// (`null` where the data carry no uncertainties).
+    #[serde(with = "nan_is_none")]
     pub chi2_reduced: Vec<Option<f64>>,
     /// The reduced chi-square a perfect model stays below.
     pub noise_floor_chi2_reduced: Option<f64>,
@@ -39,10 +43,10 @@ pub struct Headline {
 }
 
 /// One step of the found set.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct HeadlineStep {
     /// `catalogue` or `located`.
-    pub kind: &'static str,
+    pub kind: Cow<'static, str>,
     /// `place = law` (a located law) or the catalogue effect's name.
     pub law: String,
     /// The law's variable, normalised by its median over the cases.
@@ -55,7 +59,7 @@ pub struct HeadlineStep {
     pub explains: Option<f64>,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Rival {
     pub members: Vec<String>,
     pub key_difference: f64,
@@ -114,7 +118,7 @@ pub fn headline(d: &Diagnosis, write_effect: Option<&std::path::Path>) -> Headli
         .as_ref()
         .or_else(|| v.sets.iter().find_map(|s| s.suggestion.as_ref()));
     Headline {
-        kind: v.kind.name(),
+        kind: v.kind.name().into(),
         steps,
         mare,
         chi2_reduced,
@@ -188,7 +192,7 @@ fn catalogue_step(
         None => params.iter().map(|e| ParamReport::of(&e.name, e)).collect(),
     };
     HeadlineStep {
-        kind: "catalogue",
+        kind: "catalogue".into(),
         law: name.to_string(),
         variable: None,
         reading,
@@ -200,7 +204,7 @@ fn catalogue_step(
 fn located_step(l: &Located) -> HeadlineStep {
     let (law, variable) = readable_law(l);
     HeadlineStep {
-        kind: "located",
+        kind: "located".into(),
         law: format!("{} = {law}", l.place),
         variable,
         reading: reading(&l.interpretation),
@@ -286,5 +290,21 @@ fn next_command(d: &Diagnosis, write_effect: Option<&std::path::Path>) -> String
             format!("swimbot compare {}", flags.join(" "))
         }
         (None, false) => "swimbot diagnose --verbose".into(),
+    }
+}
+
+/// A list of optional numbers as TOML can hold it (a TOML array has no
+/// null): a missing one is written NaN, which JSON prints as `null`, and
+/// read back as missing from either.
+mod nan_is_none {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &[Option<f64>], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(v.iter().map(|x| x.unwrap_or(f64::NAN)))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Option<f64>>, D::Error> {
+        let v = Vec::<Option<f64>>::deserialize(d)?;
+        Ok(v.into_iter().map(|x| x.filter(|f| !f.is_nan())).collect())
     }
 }

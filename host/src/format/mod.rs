@@ -29,6 +29,8 @@
 //!   shortest round-trip: `1.11026`, `0.000012`), never `{:e}`.
 //! - **Non-finite**: `NaN`, `inf`, `-inf`; zero is `0`.
 
+pub mod rounding;
+
 /// Lowest magnitude written in plain decimal.
 pub const PLAIN_MIN: f64 = 1e-3;
 /// Magnitudes from this one up are written in scientific notation.
