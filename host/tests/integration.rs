@@ -58,6 +58,7 @@ mod screens;
 mod sim;
 mod spreadsheets;
 mod study;
+mod study_sweep;
 mod tail_compat;
 mod tail_tube;
 mod uncertainty;

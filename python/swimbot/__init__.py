@@ -475,11 +475,15 @@ def sweep(
     case: Optional[str] = None,
     preset: Optional[str] = None,
     effects: Sequence[str] = (),
+    study: Optional["Study"] = None,
 ):
     """The model's swimming speed U (mm/s) and body rotation rate Omega_b
     (Hz) over numpy arrays of geometries, broadcast together; a field not
     given is the template case's (``case`` of ``data``, default the
-    paper's first case). Returns ``(u_mm_s, omega_body_hz)`` in the
+    paper's first case). With ``study``, the study's calibrated model
+    (its preset and every step, located laws included) on the study's
+    data (``data`` still overrides the template), as ``swimbot sweep``
+    inside the study. Returns ``(u_mm_s, omega_body_hz)`` in the
     broadcast shape. Parallel, with the GIL released."""
     import numpy as np
 
@@ -509,9 +513,14 @@ def sweep(
         k: np.ascontiguousarray(np.broadcast_to(a, shape)).ravel().tobytes()
         for k, a in arrays.items()
     }
+    if study is not None and not isinstance(study, Study):
+        raise SwimbotError(f"sweep: study must be a swimbot.Study (swimbot.Study.open(path)), not {type(study).__name__}")
+    if study is not None and (preset is not None or _texts("effects", effects)):
+        raise SwimbotError("sweep: study and preset/effects: give one or the other (the study's model is its preset with its steps)")
     template = data._inner if isinstance(data, Dataset) else None
+    inner = study._inner if study is not None else None
     u, omega = _swimbot.sweep(
-        n, _model_args(preset, effects, ()), template, case, **columns
+        n, _model_args(preset, effects, ()), template, case, study=inner, **columns
     )
     as_array = lambda b: np.frombuffer(b, dtype=np.float64).reshape(shape)
     return as_array(u), as_array(omega)
@@ -585,6 +594,11 @@ class Study:
     def report(self, directory: Any = "swimbot-out/report") -> str:
         """``swimbot report``: the study's page written to ``directory``; its path."""
         return str(self._inner.report(_path("directory", directory)))
+
+    def sweep(self, **kwargs):
+        """:func:`sweep` of this study's calibrated model on its data's
+        setup (``case`` picks the case; keywords as :func:`sweep`'s)."""
+        return sweep(study=self, **kwargs)
 
     def summary(self) -> list:
         """The study's headline, as ``swimbot steps`` opens: the start, then

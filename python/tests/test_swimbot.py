@@ -371,3 +371,34 @@ def test_percentages_are_named_and_the_study_opens_with_the_terminals_numbers(tm
     ).stdout
     assert f"{rows[1]['mare_percent']:.2f} %" in out
     assert f"{rows[1]['mare_percent']:.2f} %" in s._repr_html_()
+
+
+def test_sweep_of_a_study_is_its_calibrated_model_with_the_located_law(tmp_path):
+    data = tmp_path / "paper.csv"
+    data.write_text(PAPER_CSV.read_text())
+    path = tmp_path / "swimbot-study.toml"
+    s = swimbot.Study.init(path, data, diagnose=False)
+    # As a user runs it: diagnose inside the study writes the law it located.
+    subprocess.run([cli_binary(), "--study", str(path), "diagnose", "--write-effect", "found.toml"],
+                   cwd=tmp_path, capture_output=True, check=True)
+    s.add(tmp_path / "found.toml", diagnose=False)
+    law = s.steps()["step"][0]["effect"]["name"]
+    assert law.startswith("located-")
+    cmp = cli_json("--study", str(path), "compare")["cases"]
+    rows = {l.split(",")[0]: l.split(",") for l in PAPER_CSV.read_text().splitlines() if l.startswith("tail-")}
+    lam, amp, length, f = (np.array([float(rows[c["id"]][i]) for c in cmp]) for i in (1, 2, 3, 4))
+    for c in cmp:
+        u, omega = s.sweep(case=c["id"])
+        assert (float(u), float(omega)) == (c["u_pred_mm_s"], c["omega_pred_hz"])
+    # Every case's geometry at once, on the setup they share.
+    u, omega = swimbot.sweep(lam, amp, length, f, study=s)
+    assert u.tolist() == [c["u_pred_mm_s"] for c in cmp]
+    assert omega.tolist() == [c["omega_pred_hz"] for c in cmp]
+    # The study's law is no catalogue effect: named alone it is refused, and
+    # with the study it is a contradiction, both said by name.
+    with pytest.raises(swimbot.SwimbotError, match=f"unknown effect `{law}`"):
+        swimbot.sweep(effects=[law])
+    with pytest.raises(swimbot.SwimbotError, match="study and preset/effects"):
+        swimbot.sweep(study=s, effects=["body-correction"])
+    with pytest.raises(swimbot.SwimbotError, match="swimbot.Study"):
+        swimbot.sweep(study=str(path))
