@@ -390,6 +390,30 @@ class Diagnosis(_Result):
     def verdict(self) -> Any:
         return self._dict.get("verdict")
 
+    @property
+    def headline(self) -> dict:
+        """The answer as the terminal's screen prints it (the JSON's
+        ``headline``): the verdict's kind, each step's law with its
+        parameters, MARE (fractions) and reduced chi-square before ->
+        after, the rivals and the next command."""
+        return self._dict.get("headline", {})
+
+    @property
+    def parameters(self) -> list:
+        """Every step's parameters as the terminal reports them, one dict
+        each with the step's ``law``: ``value``, ``standard_uncertainty``,
+        ``relative_uncertainty_percent`` (in percent), the 95 % interval
+        ``ci95_low`` .. ``ci95_high`` and ``interval``, which says how it was
+        made: ``"covariance"`` (value ± 1.96 u) or ``"profile"`` (the
+        profile likelihood's, where it is asymmetric)."""
+        return [dict(p, law=s["law"]) for s in self.headline.get("steps", []) for p in s["params"]]
+
+    @property
+    def correlations(self) -> list:
+        """Pairs of one step's parameters correlated beyond 0.8: ``a``,
+        ``b``, the correlation ``r`` and the step's ``law``."""
+        return [dict(c, law=s["law"]) for s in self.headline.get("steps", []) for c in s.get("correlations", [])]
+
     def _rows(self) -> list:
         return [
             {k: t.get(k) for k in ("quantity", "feature", "feature_id", "r", "slope")}

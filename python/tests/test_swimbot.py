@@ -460,3 +460,17 @@ def test_from_pandas_takes_the_ids_from_an_index_named_id():
     df, setup = paper_frame()
     ds = swimbot.Dataset.from_pandas(df.set_index("id"), setup=setup)
     assert ds.ids == df["id"].tolist()
+
+
+def test_diagnose_parameters_are_the_terminals_and_say_how_their_interval_was_made():
+    d = swimbot.diagnose()
+    assert d.headline == cli_json("diagnose")["headline"]
+    params = d.parameters
+    assert params, d.headline
+    for p in params:
+        assert p["interval"] in ("covariance", "profile") and isinstance(p["value"], float), p
+        if p["interval"] == "covariance" and p["ci95_low"] is not None:
+            assert p["ci95_high"] - p["value"] == pytest.approx(1.96 * p["standard_uncertainty"])
+            assert p["value"] - p["ci95_low"] == pytest.approx(1.96 * p["standard_uncertainty"])
+    for c in d.correlations:
+        assert isinstance(c["r"], float) and abs(c["r"]) > 0.8, c
