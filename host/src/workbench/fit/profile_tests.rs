@@ -58,7 +58,7 @@ fn scan(
     v: f64,
     (a, b): (f64, f64),
     threshold: f64,
-) -> (f64, f64) {
+) -> (Option<f64>, Option<f64>) {
     let n = 241;
     let others: Vec<FreeParam> = free
         .iter()
@@ -91,16 +91,13 @@ fn scan(
         .windows(2)
         .find(|w| w[0].0 >= v && w[0].1 < 0.0 && w[1].1 >= 0.0)
         .map(cross);
-    (
-        low.expect("a lower crossing on the grid"),
-        high.expect("an upper crossing on the grid"),
-    )
+    (low, high)
 }
 
 #[test]
 fn a_power_laws_profile_intervals_are_the_scans_and_asymmetric() {
     // The tail's normal resistance scaled by k (L_t/λ over 6)^p. The
-    // thrust saturates in c_n, so at 50 % half-widths the chi-square is far
+    // thrust saturates in c_n, so at 200 % half-widths the chi-square is far
     // from a parabola in the parameters.
     let planted_law = law(
         Place::TailNormal,
@@ -110,7 +107,7 @@ fn a_power_laws_profile_intervals_are_the_scans_and_asymmetric() {
         vec![1.5, 1.0],
     );
     let truth = Model::base().with_effect(planted_law);
-    let data = planted(&truth, 0.5);
+    let data = planted(&truth, 2.0);
     let start = Model::base().with_effect(law(
         Place::TailNormal,
         Some("n_waves"),
@@ -127,21 +124,30 @@ fn a_power_laws_profile_intervals_are_the_scans_and_asymmetric() {
     for (i, p) in intervals.iter().enumerate() {
         let h = at.estimates[i].ci95.expect("identifiable");
         let (lo, hi) = bounds(&at.model, free[i]);
-        let range = ((p.value - 4.0 * h).max(lo), (p.value + 8.0 * h).min(hi));
+        let range = ((p.value - 10.0 * h).max(lo), (p.value + 10.0 * h).min(hi));
         let (low, high) = scan(&at.model, &data, &free, i, p.value, range, threshold);
-        let (pl, ph) = (p.low.unwrap(), p.high.unwrap());
-        // The grid's step is h/20: its interpolation is good to about a
-        // hundredth of h.
+        // The grid's step is h/12: its interpolation is good to a few
+        // hundredths of h. An end the profile leaves open, the scan finds
+        // no crossing for within the range either.
         let step = (range.1 - range.0) / 240.0;
+        let agree = |a: Option<f64>, b: Option<f64>| match (a, b) {
+            (Some(a), Some(b)) => (a - b).abs() < 2.0 * step,
+            (None, None) => true,
+            _ => false,
+        };
         assert!(
-            (pl - low).abs() < 2.0 * step && (ph - high).abs() < 2.0 * step,
-            "{i}: profile {pl} .. {ph}, scan {low} .. {high}, h {h}"
+            agree(p.low, low) && agree(p.high, high),
+            "{i}: profile {:?} .. {:?}, scan {low:?} .. {high:?}, h {h}",
+            p.low,
+            p.high
         );
-        assert!(pl < p.value && p.value < ph);
     }
     let lopsided: Vec<&ProfileInterval> = intervals.iter().filter(|p| p.asymmetric).collect();
     assert!(!lopsided.is_empty(), "{intervals:?}");
-    for p in lopsided {
+    for p in lopsided
+        .iter()
+        .filter(|p| p.low.is_some() && p.high.is_some())
+    {
         let (below, above) = (p.value - p.low.unwrap(), p.high.unwrap() - p.value);
         assert!(
             (above - below).abs() > 0.1 * (above + below) / 2.0,
