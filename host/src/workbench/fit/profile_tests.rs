@@ -84,9 +84,9 @@ fn scan(
     };
     let low = grid
         .windows(2)
-        .filter(|w| w[1].0 <= v && w[0].1 >= 0.0 && w[1].1 < 0.0)
-        .map(cross)
-        .last();
+        .rev()
+        .find(|w| w[1].0 <= v && w[0].1 >= 0.0 && w[1].1 < 0.0)
+        .map(cross);
     let high = grid
         .windows(2)
         .find(|w| w[0].0 >= v && w[0].1 < 0.0 && w[1].1 >= 0.0)
