@@ -60,6 +60,7 @@ mod sim;
 mod spreadsheets;
 mod study;
 mod study_proposals;
+mod study_sweep;
 mod tail_compat;
 mod tail_tube;
 mod uncertainty;

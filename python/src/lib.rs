@@ -217,12 +217,28 @@ fn floats(bytes: Option<&[u8]>, n: usize, name: &str) -> PyResult<Option<Vec<f64
     ))
 }
 
+/// The model of a sweep: the study's calibrated model (every step, its
+/// located laws included, which only the study knows) or the flags' one.
+fn sweep_model(args: Vec<String>, study: Option<&Study>) -> PyResult<swimbot::model::Model> {
+    let Command::Compare(a) = parse("compare", args.clone())? else {
+        unreachable!("parsed as compare")
+    };
+    match study {
+        Some(_) if !args.is_empty() => Err(SwimbotError::new_err(
+            "sweep: study and preset/effects: give one or the other (the study's model is its preset with its steps)",
+        )),
+        Some(s) => s.with(|s| s.model()).map_err(study_err),
+        None => a.model.model(&Inputs::new()).map_err(cli_err),
+    }
+}
+
 /// The model's U (mm/s) and Omega_b (Hz) at `n` geometries: each column
 /// (native f64 bytes, `n` values) replaces the template case's field, an
-/// absent one keeps it. Parallel, the GIL released; the first bad
-/// geometry is an error naming its index and field.
+/// absent one keeps it. With `study`, the study's model on its data's
+/// cases (unless `template` names other data). Parallel, the GIL
+/// released; the first bad geometry is an error naming its index and field.
 #[pyfunction]
-#[pyo3(signature = (n, args, template = None, case = None, wavelength_mm = None, amplitude_mm = None, tail_length_mm = None, frequency_hz = None))]
+#[pyo3(signature = (n, args, template = None, case = None, wavelength_mm = None, amplitude_mm = None, tail_length_mm = None, frequency_hz = None, study = None))]
 #[allow(clippy::too_many_arguments)]
 fn sweep<'py>(
     py: Python<'py>,
@@ -234,12 +250,14 @@ fn sweep<'py>(
     amplitude_mm: Option<&[u8]>,
     tail_length_mm: Option<&[u8]>,
     frequency_hz: Option<&[u8]>,
+    study: Option<PyRef<'py, Study>>,
 ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>)> {
-    let Command::Compare(a) = parse("compare", args)? else {
-        unreachable!("parsed as compare")
+    let model = sweep_model(args, study.as_deref())?;
+    let base = match (template, &study) {
+        (Some(d), _) => d.inner.clone(),
+        (None, Some(s)) => s.with(|s| s.dataset().clone()),
+        (None, None) => data::paper(),
     };
-    let model = a.model.model(&Inputs::new()).map_err(cli_err)?;
-    let base = template.map_or_else(data::paper, |d| d.inner.clone());
     let mut t: Case = match &case {
         Some(id) => base
             .cases

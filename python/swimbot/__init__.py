@@ -98,8 +98,19 @@ class Dataset:
             raise SwimbotError(f"df: {type(df).__name__} is not a pandas DataFrame")
         if setup is not None and not isinstance(setup, Mapping):
             raise SwimbotError(f"setup: {type(setup).__name__} is not a mapping of setup keys to values")
+        setup = dict(setup or {})
+        if "name" in setup:
+            # The dataset's name is one line; two would be a duplicate key.
+            given = setup.pop("name")
+            if name != "<pandas>" and given != name:
+                raise SwimbotError(f"setup: name = {given!r} and name = {name!r}: give the dataset's name once")
+            name = given
+        if "id" not in df.columns and getattr(df.index, "name", None) == "id":
+            # `df.set_index("id")`: the ids are the index, and `to_csv`
+            # below leaves the index out.
+            df = df.reset_index()
         lines = [f"# name = {_toml(_text('name', name))}"]
-        for key, value in (setup or {}).items():
+        for key, value in setup.items():
             # A key is one `# key = value` line: a newline in it would
             # start a line of its own (a forged setup line or header).
             if not isinstance(key, str) or not re.fullmatch(r"[A-Za-z0-9_.]+", key):
@@ -110,8 +121,68 @@ class Dataset:
                 lines.append(f"# {key} = {_toml(value)}")
             except SwimbotError as e:
                 raise SwimbotError(f"setup: {key}: {e}") from None
-        text = "\n".join(lines) + "\n" + df.to_csv(index=False, float_format="%.17g")
-        return cls(_noted(_swimbot.from_csv(text, name)))
+        body = df.to_csv(index=False, float_format="%.17g")
+        text = "\n".join(lines) + "\n" + body
+        try:
+            return cls(_noted(_swimbot.from_csv(text, name)))
+        except SwimbotError as e:
+            raise SwimbotError(_frame_message(str(e), name, df, lines, body)) from None
+
+
+#: The CSV reader's place in a message: `NAME: row N` or `NAME: line N`,
+#: then a column, a case and a field, each optional, then what is wrong.
+_AT = r": (?P<kind>row|line) (?P<n>\d+)(?:: column `(?P<column>[^`]*)`)?(?:: case `(?P<case>[^`]*)`)?" \
+      r"(?:: field `(?P<field>[^`]*)`)?: (?P<what>.*)"
+
+
+def _frame_message(message: str, name: str, df: Any, lines: list, body: str) -> str:
+    """The CSV reader's message about the text ``from_pandas`` wrote, said
+    of the DataFrame: its column and index label instead of a CSV row, the
+    setup key instead of a ``# key = value`` line. A message of another
+    shape is returned as it is."""
+    import csv
+    import io
+
+    m = re.fullmatch(re.escape(name) + _AT, message, flags=re.S)
+    if not m:
+        return message
+    what = m["what"].replace("a `# key = value` line above the column names", "a setup key")
+    n = int(m["n"])
+    if n <= len(lines):
+        key = lines[n - 1][2:].split(" = ")[0]
+        what = re.sub(r"^`# [^`]*`: ", "", what)
+        return f"{name}: setup key {key!r}: {what}"
+    # Each record's first line in `body` (a text cell may hold a newline).
+    reader = csv.reader(io.StringIO(body))
+    starts, seen = [], 0
+    for _ in reader:
+        starts.append(seen + 1)
+        seen = reader.line_num
+    line = n - len(lines)
+    position = max((k for k, s in enumerate(starts) if s <= line), default=0) - 1
+    if position < 0:
+        return f"{name}: the DataFrame's columns: {what}"
+    label = df.index[position]
+    label = label.item() if hasattr(label, "item") else label
+    column = m["column"] or m["field"]
+    case = f" (case {m['case']!r})" if m["case"] and m["case"] != str(label) else ""
+    where = f"index {label!r}{case}"
+    if column is None:
+        return f"{name}: {where}: {what}"
+    keys = {l[2:].split(" = ")[0] for l in lines}
+    if column in keys and column not in df.columns:
+        # Not a column: the value came from the setup.
+        return f"{name}: setup key {column!r}, for {where}: {what}"
+    if column not in df.columns:
+        have = ", ".join(map(str, df.columns))
+        return f"{name}: no column {column!r} (the DataFrame has {have}) and no setup key of it, needed at {where}: {what}"
+    if _missing(df[column].iloc[position]):
+        what = re.sub(r"^missing( \(give it a column, or a setup key\))?", "NaN, read as missing", what)
+    return f"{name}: column {column!r}, {where}: {what}"
+
+
+def _missing(value: Any) -> bool:
+    return isinstance(value, float) and math.isnan(value) or value is None
 
 
 def _toml(value: Any) -> str:
@@ -319,6 +390,30 @@ class Diagnosis(_Result):
     def verdict(self) -> Any:
         return self._dict.get("verdict")
 
+    @property
+    def headline(self) -> dict:
+        """The answer as the terminal's screen prints it (the JSON's
+        ``headline``): the verdict's kind, each step's law with its
+        parameters, MARE (fractions) and reduced chi-square before ->
+        after, the rivals and the next command."""
+        return self._dict.get("headline", {})
+
+    @property
+    def parameters(self) -> list:
+        """Every step's parameters as the terminal reports them, one dict
+        each with the step's ``law``: ``value``, ``standard_uncertainty``,
+        ``relative_uncertainty_percent`` (in percent), the 95 % interval
+        ``ci95_low`` .. ``ci95_high`` and ``interval``, which says how it was
+        made: ``"covariance"`` (value ± 1.96 u) or ``"profile"`` (the
+        profile likelihood's, where it is asymmetric)."""
+        return [dict(p, law=s["law"]) for s in self.headline.get("steps", []) for p in s["params"]]
+
+    @property
+    def correlations(self) -> list:
+        """Pairs of one step's parameters correlated beyond 0.8: ``a``,
+        ``b``, the correlation ``r`` and the step's ``law``."""
+        return [dict(c, law=s["law"]) for s in self.headline.get("steps", []) for c in s.get("correlations", [])]
+
     def _rows(self) -> list:
         return [
             {k: t.get(k) for k in ("quantity", "feature", "feature_id", "r", "slope")}
@@ -475,11 +570,15 @@ def sweep(
     case: Optional[str] = None,
     preset: Optional[str] = None,
     effects: Sequence[str] = (),
+    study: Optional["Study"] = None,
 ):
     """The model's swimming speed U (mm/s) and body rotation rate Omega_b
     (Hz) over numpy arrays of geometries, broadcast together; a field not
     given is the template case's (``case`` of ``data``, default the
-    paper's first case). Returns ``(u_mm_s, omega_body_hz)`` in the
+    paper's first case). With ``study``, the study's calibrated model
+    (its preset and every step, located laws included) on the study's
+    data (``data`` still overrides the template), as ``swimbot sweep``
+    inside the study. Returns ``(u_mm_s, omega_body_hz)`` in the
     broadcast shape. Parallel, with the GIL released."""
     import numpy as np
 
@@ -509,9 +608,14 @@ def sweep(
         k: np.ascontiguousarray(np.broadcast_to(a, shape)).ravel().tobytes()
         for k, a in arrays.items()
     }
+    if study is not None and not isinstance(study, Study):
+        raise SwimbotError(f"sweep: study must be a swimbot.Study (swimbot.Study.open(path)), not {type(study).__name__}")
+    if study is not None and (preset is not None or _texts("effects", effects)):
+        raise SwimbotError("sweep: study and preset/effects: give one or the other (the study's model is its preset with its steps)")
     template = data._inner if isinstance(data, Dataset) else None
+    inner = study._inner if study is not None else None
     u, omega = _swimbot.sweep(
-        n, _model_args(preset, effects, ()), template, case, **columns
+        n, _model_args(preset, effects, ()), template, case, study=inner, **columns
     )
     as_array = lambda b: np.frombuffer(b, dtype=np.float64).reshape(shape)
     return as_array(u), as_array(omega)
@@ -585,6 +689,11 @@ class Study:
     def report(self, directory: Any = "swimbot-out/report") -> str:
         """``swimbot report``: the study's page written to ``directory``; its path."""
         return str(self._inner.report(_path("directory", directory)))
+
+    def sweep(self, **kwargs):
+        """:func:`sweep` of this study's calibrated model on its data's
+        setup (``case`` picks the case; keywords as :func:`sweep`'s)."""
+        return sweep(study=self, **kwargs)
 
     def summary(self) -> list:
         """The study's headline, as ``swimbot steps`` opens: the start, then

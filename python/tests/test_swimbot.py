@@ -371,3 +371,106 @@ def test_percentages_are_named_and_the_study_opens_with_the_terminals_numbers(tm
     ).stdout
     assert f"{rows[1]['mare_percent']:.2f} %" in out
     assert f"{rows[1]['mare_percent']:.2f} %" in s._repr_html_()
+
+
+def test_sweep_of_a_study_is_its_calibrated_model_with_the_located_law(tmp_path):
+    data = tmp_path / "paper.csv"
+    data.write_text(PAPER_CSV.read_text())
+    path = tmp_path / "swimbot-study.toml"
+    s = swimbot.Study.init(path, data, diagnose=False)
+    # As a user runs it: diagnose inside the study writes the law it located.
+    subprocess.run([cli_binary(), "--study", str(path), "diagnose", "--write-effect", "found.toml"],
+                   cwd=tmp_path, capture_output=True, check=True)
+    s.add(tmp_path / "found.toml", diagnose=False)
+    law = s.steps()["step"][0]["effect"]["name"]
+    assert law.startswith("located-")
+    cmp = cli_json("--study", str(path), "compare")["cases"]
+    rows = {l.split(",")[0]: l.split(",") for l in PAPER_CSV.read_text().splitlines() if l.startswith("tail-")}
+    lam, amp, length, f = (np.array([float(rows[c["id"]][i]) for c in cmp]) for i in (1, 2, 3, 4))
+    for c in cmp:
+        u, omega = s.sweep(case=c["id"])
+        assert (float(u), float(omega)) == (c["u_pred_mm_s"], c["omega_pred_hz"])
+    # Every case's geometry at once, on the setup they share.
+    u, omega = swimbot.sweep(lam, amp, length, f, study=s)
+    assert u.tolist() == [c["u_pred_mm_s"] for c in cmp]
+    assert omega.tolist() == [c["omega_pred_hz"] for c in cmp]
+    # The study's law is no catalogue effect: named alone it is refused, and
+    # with the study it is a contradiction, both said by name.
+    with pytest.raises(swimbot.SwimbotError, match=f"unknown effect `{law}`"):
+        swimbot.sweep(effects=[law])
+    with pytest.raises(swimbot.SwimbotError, match="study and preset/effects"):
+        swimbot.sweep(study=s, effects=["body-correction"])
+    with pytest.raises(swimbot.SwimbotError, match="swimbot.Study"):
+        swimbot.sweep(study=str(path))
+
+
+def paper_frame():
+    """The paper's CSV as a DataFrame and its ``# key = value`` lines as a
+    setup mapping."""
+    import pandas as pd
+    import tomllib
+
+    text = PAPER_CSV.read_text()
+    setup = tomllib.loads("\n".join(l[2:] for l in text.splitlines() if re.match(r"# [a-z0-9_.]+ = ", l)))
+    return pd.read_csv(PAPER_CSV, comment="#"), setup
+
+
+def frame_error(df, setup) -> str:
+    with pytest.raises(swimbot.SwimbotError) as e:
+        swimbot.Dataset.from_pandas(df, setup=setup)
+    message = str(e.value)
+    # Said of the DataFrame, never of the CSV text it was written as.
+    assert "row " not in message and "line " not in message and "# " not in message, message
+    return message
+
+
+def test_from_pandas_errors_name_the_frames_column_and_index():
+    import pandas as pd
+
+    df, setup = paper_frame()
+    assert len(swimbot.Dataset.from_pandas(df, setup=setup)) == 6  # the setup's `name` included
+    bad = df.astype({"wavelength_mm": object})
+    bad.loc[2, "wavelength_mm"] = "abc"
+    assert frame_error(bad, setup) == (
+        "tabak-yesilyurt-vertical: column 'wavelength_mm', index 2 (case 'tail-3'): `abc` is not a number"
+    )
+    nan = df.copy()
+    nan.loc[4, "wavelength_mm"] = float("nan")
+    assert "column 'wavelength_mm', index 4 (case 'tail-5'): NaN, read as missing" in frame_error(nan, setup)
+    missing = frame_error(df.drop(columns=["wavelength_mm"]), setup)
+    assert "no column 'wavelength_mm'" in missing and "index 0 (case 'tail-1')" in missing, missing
+    # An index of texts and one of numbers: each named by its label.
+    text = df.set_axis(["a", "b", "c", "d", "e", "f"])
+    text.loc["d", "amplitude_mm"] = -1.0
+    assert "column 'amplitude_mm', index 'd' (case 'tail-4'): must be positive" in frame_error(text, setup)
+    ints = df.set_axis([10, 20, 30, 40, 50, 60])
+    ints.loc[50, "u_mm_s"] = float("inf")
+    assert "column 'u_mm_s', index 50 (case 'tail-5'): must be finite" in frame_error(ints, setup)
+    # A setup value is named as the setup key it is.
+    assert "setup key 'viscosity_pa_s', for index 0 (case 'tail-1'): must be positive" in frame_error(
+        df, dict(setup, viscosity_pa_s=-3.5)
+    )
+    # A multi-line text cell does not shift the rows the labels are read from.
+    note = df.assign(note=["one\ntwo", "", "", "", "", ""])
+    note.loc[5, "amplitude_mm"] = -1.0
+    assert "index 5 (case 'tail-6')" in frame_error(note, setup)
+
+
+def test_from_pandas_takes_the_ids_from_an_index_named_id():
+    df, setup = paper_frame()
+    ds = swimbot.Dataset.from_pandas(df.set_index("id"), setup=setup)
+    assert ds.ids == df["id"].tolist()
+
+
+def test_diagnose_parameters_are_the_terminals_and_say_how_their_interval_was_made():
+    d = swimbot.diagnose()
+    assert d.headline == cli_json("diagnose")["headline"]
+    params = d.parameters
+    assert params, d.headline
+    for p in params:
+        assert p["interval"] in ("covariance", "profile") and isinstance(p["value"], float), p
+        if p["interval"] == "covariance" and p["ci95_low"] is not None:
+            assert p["ci95_high"] - p["value"] == pytest.approx(1.96 * p["standard_uncertainty"])
+            assert p["value"] - p["ci95_low"] == pytest.approx(1.96 * p["standard_uncertainty"])
+    for c in d.correlations:
+        assert isinstance(c["r"], float) and abs(c["r"]) > 0.8, c

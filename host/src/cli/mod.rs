@@ -67,8 +67,8 @@ pub struct Cli {
     #[arg(short, long, global = true)]
     pub quiet: bool,
     /// The study file to read and write [default: swimbot-study.toml in the working directory,
-    /// when there is one]. Inside a study, compare, diagnose, fit, audit and report work on the
-    /// study's data and current model without --data or model flags.
+    /// when there is one]. Inside a study, compare, diagnose, fit, audit, sweep and report work
+    /// on the study's data and current model without --data or model flags.
     #[arg(long, global = true, value_name = "FILE")]
     pub study: Option<std::path::PathBuf>,
     #[command(subcommand)]
@@ -160,7 +160,10 @@ fn dispatch(cli: Cli, inputs: &Inputs) -> Result<(), CliError> {
             audit::run(a, inputs)
         }
         Command::Helix(a) => helix::run(a),
-        Command::Sweep(a) => sweep::run(a, inputs),
+        Command::Sweep(mut a) => {
+            sweep::in_study(&mut a, st, inputs)?;
+            sweep::run(a, inputs)
+        }
         Command::Effects(a) => effects::run(a, inputs),
         Command::Diagnose(mut a) => {
             study::fill_from_study(st, &mut a.data, &mut a.model, inputs)?;

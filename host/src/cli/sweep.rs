@@ -37,12 +37,18 @@ pub struct SweepArgs {
     #[arg(long, value_name = "A:B:N", allow_hyphen_values = true)]
     pub channel_diameter_mm: Option<String>,
     /// Dataset (TOML or CSV) whose setup the sweep uses: body, coupler, oil, wire and
-    /// channel (diameter, length, ends, orientation) [default: the paper's first case].
+    /// channel (diameter, length, ends, orientation) [default: the study's data inside a
+    /// study, else the paper's first case].
     #[arg(long, value_name = "FILE")]
     pub data: Option<PathBuf>,
-    /// With --data: the case whose setup is used [default: the first, if every case has the same setup].
-    #[arg(long, value_name = "ID", requires = "data")]
+    /// With --data or inside a study: the case whose setup is used [default: the first, if
+    /// every case has the same setup].
+    #[arg(long, value_name = "ID")]
     pub case: Option<String>,
+    /// A study's data with its run sheets joined (never a flag): the
+    /// cases `--case` picks from when the sweep works in a study.
+    #[arg(skip)]
+    pub joined: Option<crate::data::Dataset>,
     #[command(flatten)]
     pub model: ModelArgs,
     /// Output CSV file [default: stdout].
@@ -180,8 +186,33 @@ struct Row {
     omega_ratio: f64,
 }
 
+/// Inside a study (and without `--data` or model flags) the sweep is of
+/// the study's calibrated model, every step's law included, on its data's
+/// setup, as `compare` inside the study is: the steps' user effects are
+/// known only to the study, so naming them with `--effect` cannot work.
+pub fn in_study(
+    a: &mut SweepArgs,
+    study: &Option<PathBuf>,
+    inputs: &Inputs,
+) -> Result<(), CliError> {
+    let mut data = super::model_args::DataArgs {
+        data: a.data.take(),
+        decimal_comma: false,
+        joined: None,
+    };
+    super::study::fill_from_study(study, &mut data, &mut a.model, inputs)?;
+    a.data = data.data;
+    a.joined = data.joined;
+    Ok(())
+}
+
 pub fn run(a: SweepArgs, inputs: &Inputs) -> Result<(), CliError> {
-    let mut template = super::sweep_setup::template(a.data.as_ref(), a.case.as_deref(), inputs)?;
+    let mut template = super::sweep_setup::template(
+        a.data.as_ref(),
+        a.joined.as_ref(),
+        a.case.as_deref(),
+        inputs,
+    )?;
     let channel = match &a.channel_diameter_mm {
         Some(text) => text.clone(),
         None => template.channel_diameter_mm.to_string(),

@@ -2,7 +2,8 @@
 //! dataset's (`--data`, `--case`). The tail's own fields and the rate come
 //! from the grid; everything else (body, coupler, oil, wire, channel) from
 //! here, so a dataset whose cases differ in any of those must say which
-//! case to take rather than have one picked silently.
+//! case to take rather than have one picked silently. Inside a study the
+//! dataset is the study's, with its joined run sheets.
 
 use super::CliError;
 use crate::data::quantities::FIELDS;
@@ -20,17 +21,28 @@ const GRID_FIELDS: [&str; 4] = [
 
 /// The case whose setup the sweep uses.
 /// The files read are recorded in `inputs`.
+/// `joined` is a study's dataset with its run sheets (then `data` names
+/// its file).
 pub fn template(
     data: Option<&PathBuf>,
+    joined: Option<&crate::data::Dataset>,
     case: Option<&str>,
     inputs: &Inputs,
 ) -> Result<Case, CliError> {
     let Some(path) = data else {
+        if let Some(id) = case {
+            return Err(CliError::input(format!(
+                "--case `{id}`: a case of which data? give --data FILE (or run inside a study)"
+            )));
+        }
         let paper = crate::data::PAPER_TOML.as_bytes();
         inputs.record_named("<built-in paper data>", paper);
         return Ok(crate::data::paper().cases[0].clone());
     };
-    let d = crate::data::load_recorded(path, inputs)?;
+    let d = match joined {
+        Some(d) => d.clone(),
+        None => crate::data::load_recorded(path, inputs)?,
+    };
     let file = path.display();
     if let Some(id) = case {
         return d.cases.iter().find(|c| c.id == id).cloned().ok_or_else(|| {

@@ -77,13 +77,26 @@ pub fn param(p: &ParamReport) -> String {
         .relative_uncertainty_percent
         .map(|r| format!("{}, ", percent(r)))
         .unwrap_or_default();
+    // An end at the uncertainty's decimal place; a profile's end not
+    // reached within the parameter's range is open.
+    let end = |x: Option<f64>| {
+        x.map_or("open".to_string(), |x| {
+            value_pm(x, Some(u))
+                .split(" ±")
+                .next()
+                .unwrap_or("")
+                .to_string()
+        })
+    };
+    let profile = p.interval == "profile";
     let ci = match (p.ci95_low, p.ci95_high) {
-        (Some(lo), Some(hi)) => format!(
-            "95\u{a0}% {}\u{a0}..\u{a0}{}",
-            value_pm(lo, Some(u)).split(" ±").next().unwrap_or(""),
-            value_pm(hi, Some(u)).split(" ±").next().unwrap_or("")
+        (None, None) if !profile => String::new(),
+        (lo, hi) => format!(
+            "95\u{a0}% {}{}\u{a0}..\u{a0}{}",
+            if profile { "profile " } else { "" },
+            end(lo),
+            end(hi)
         ),
-        _ => String::new(),
     };
     format!(
         "{} = {}{unit} ({rel}{ci}{bound})",

@@ -142,6 +142,11 @@ pub fn diagnose(
                 v.stability = stability;
             }
             super::search::verdict::dedup_located(&mut v.located);
+            // Only the laws the verdict keeps are profiled: a profile
+            // costs tens of refits per parameter.
+            v.located.par_iter_mut().for_each(|l| {
+                l.profile = super::discovery::profiled(l, data, s.likelihood);
+            });
             v
         }
     };

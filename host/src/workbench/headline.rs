@@ -12,7 +12,7 @@ use crate::data::quantities;
 use crate::workbench::diagnose::{Diagnosis, VerdictKind};
 use crate::workbench::diagnosis::{SetMember, TermStability};
 use crate::workbench::discovery::Located;
-use crate::workbench::fit::report::ParamReport;
+use crate::workbench::fit::report::{ParamReport, StrongCorrelation};
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 
@@ -54,6 +54,11 @@ pub struct HeadlineStep {
     /// The physical reading, one clause.
     pub reading: String,
     pub params: Vec<ParamReport>,
+    /// Pairs of its parameters correlated beyond 0.8 (of the fit of the
+    /// law's parameters; none in study files written before they were
+    /// kept).
+    #[serde(default)]
+    pub correlations: Vec<StrongCorrelation>,
     /// Share of the excess chi-square left by the steps before that it
     /// removes (a fraction).
     pub explains: Option<f64>,
@@ -197,6 +202,7 @@ fn catalogue_step(
         variable: None,
         reading,
         params,
+        correlations: Vec::new(),
         explains: None,
     }
 }
@@ -211,8 +217,20 @@ fn located_step(l: &Located) -> HeadlineStep {
         params: l
             .params
             .iter()
-            .map(|e| ParamReport::of(&e.name, e))
+            .enumerate()
+            .map(|(i, e)| {
+                let r = ParamReport::of(&e.name, e);
+                match l.profile.as_ref().and_then(|p| p.intervals.get(i)) {
+                    Some(p) => r.with_profile(p),
+                    None => r,
+                }
+            })
             .collect(),
+        correlations: l
+            .profile
+            .as_ref()
+            .map(|p| p.correlations.clone())
+            .unwrap_or_default(),
         explains: l.explained_fraction,
     }
 }

@@ -91,6 +91,18 @@ fn step(i: usize, s: &HeadlineStep) -> Vec<Item> {
         let ps: Vec<String> = s.params.iter().map(param).collect();
         items.push(item("     ", "       ", ps.join("; ")));
     }
+    if !s.correlations.is_empty() {
+        let pairs: Vec<String> = s
+            .correlations
+            .iter()
+            .map(|c| format!("{} and {} (r = {:+.2})", c.a, c.b, c.r))
+            .collect();
+        items.push(item(
+            "     ",
+            "       ",
+            format!("correlated: {}", pairs.join("; ")),
+        ));
+    }
     items
 }
 

@@ -36,6 +36,8 @@ pub mod search;
 pub mod write;
 
 use super::compare::compare;
+use super::fit::profile::{profile, ProfileInterval};
+use super::fit::report::{strong_correlations, StrongCorrelation};
 use super::fit::{fit_with, free_params_of, Estimate, FitError};
 use super::score::{Deviance, FitScore};
 use crate::data::Dataset;
@@ -100,6 +102,9 @@ pub struct Located {
     pub on_top_of: Vec<String>,
     /// Its Student-t deviance ([`crate::workbench::robust`]).
     pub t_deviance: f64,
+    /// Its parameters' profile intervals and strong correlations, for a
+    /// law the verdict keeps ([`profiled`]); `None` for the others.
+    pub profile: Option<LawProfile>,
     #[serde(skip)]
     pub model: Model,
     #[serde(skip)]
@@ -256,6 +261,7 @@ fn refit(
         non_identifiable: full.non_identifiable.clone(),
         on_top_of: model.effects.iter().map(write::exact_spec).collect(),
         t_deviance: crate::workbench::robust::t_deviance_of(&full.model, data)?,
+        profile: None,
         model: full.model,
         correction: c,
     })
@@ -294,6 +300,39 @@ fn design_of(c: &LocatedCorrection, values: &[f64], data: &Dataset) -> interpret
         channel_varies: hi_d - lo_d > 1e-6 * hi_d,
         range,
     }
+}
+
+/// A law's parameters as the profile likelihood and the covariance of
+/// one fit see them: the law's parameters refitted, the model beneath it
+/// held at its values.
+#[derive(Debug, Clone, Serialize)]
+pub struct LawProfile {
+    /// Per parameter, in the law's order.
+    pub intervals: Vec<ProfileInterval>,
+    /// The pairs correlated beyond [`crate::workbench::fit::report::STRONG_CORRELATION`].
+    pub correlations: Vec<StrongCorrelation>,
+}
+
+/// The profile of `l`'s parameters (the law is its model's last effect);
+/// `None` when the law has none or a refit fails (the covariance's
+/// intervals then stand alone).
+pub fn profiled(l: &Located, data: &Dataset, lik: super::robust::Likelihood) -> Option<LawProfile> {
+    let last = l.model.effects.len().checked_sub(1)?;
+    let free = free_params_of(&l.model, &[last]);
+    if free.is_empty() {
+        return None;
+    }
+    let (at, intervals) = profile(&l.model, data, &free, lik).ok()?;
+    let names: Vec<String> = at.estimates.iter().map(|e| e.name.clone()).collect();
+    let correlations = at
+        .correlation
+        .as_ref()
+        .map(|r| strong_correlations(&names, r))
+        .unwrap_or_default();
+    Some(LawProfile {
+        intervals,
+        correlations,
+    })
 }
 
 impl Located {

@@ -28,6 +28,7 @@
 //! K. L. Lange, R. J. A. Little & J. M. G. Taylor, J. Am. Stat. Assoc. 84
 //! (1989) 881 (the t likelihood and its information).
 
+pub mod profile;
 pub mod report;
 pub mod uncertainty;
 
@@ -99,6 +100,10 @@ pub struct FitResult {
     /// other parameters' intervals; its own parameters have none.
     pub held: Vec<String>,
     pub converged: bool,
+    /// The scale `s²` of the covariance (module docs): the profile's
+    /// threshold carries it too ([`profile`]).
+    #[serde(skip)]
+    pub scale: f64,
     #[serde(skip)]
     pub model: Model,
 }
@@ -369,7 +374,11 @@ fn describe_free(model: &Model, free: &[FreeParam]) -> String {
 }
 
 /// The deviance of `likelihood` (the chi-square for the Gaussian).
-fn deviance_of(model: &Model, cases: &[&Case], lik: Likelihood) -> Result<f64, ModelError> {
+pub(super) fn deviance_of(
+    model: &Model,
+    cases: &[&Case],
+    lik: Likelihood,
+) -> Result<f64, ModelError> {
     Ok(rows(model, cases)?
         .iter()
         .map(|&(z, t)| lik.deviance_one(z, t))

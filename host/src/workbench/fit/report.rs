@@ -6,11 +6,12 @@
 //! sec. 7.2.6, two significant digits of `u`) is done where they are
 //! printed (`cli/screen/rounding.rs`), so the JSON keeps full precision.
 //!
-//! The interval is the covariance's `value ± 1.96 u` (Wald). A profile-
-//! likelihood interval, asymmetric where the chi-square is, needs refits
-//! per parameter that the verdict does not make; [`ParamReport::interval`]
-//! names which one a report carries.
+//! The interval is the covariance's `value ± 1.96 u` (Wald), or the
+//! profile likelihood's ([`super::profile`]) where that one is asymmetric
+//! (its ends more than a tenth of the half-width from the covariance's);
+//! [`ParamReport::interval`] names which one a report carries.
 
+use super::profile::ProfileInterval;
 use super::Estimate;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
@@ -36,16 +37,18 @@ pub struct ParamReport {
     pub standard_uncertainty: Option<f64>,
     /// `100 u / |value|`; `None` without `u` or for a zero value.
     pub relative_uncertainty_percent: Option<f64>,
-    /// The 95 % interval's ends.
+    /// The 95 % interval's ends; a profile's end is `None` where the
+    /// deviance stays below the threshold up to the parameter's bound.
     pub ci95_low: Option<f64>,
     pub ci95_high: Option<f64>,
-    /// How the interval was made: `covariance` (symmetric, `value ± 1.96 u`).
+    /// How the interval was made: `covariance` (symmetric, `value ± 1.96 u`)
+    /// or `profile` (the profile likelihood's, where it is asymmetric).
     pub interval: Cow<'static, str>,
     pub at_bound: bool,
 }
 
 /// A pair of parameters whose estimates trade.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StrongCorrelation {
     pub a: String,
     pub b: String,
@@ -69,6 +72,18 @@ impl ParamReport {
             interval: "covariance".into(),
             at_bound: e.at_bound,
         }
+    }
+
+    /// The profile's interval instead of the covariance's where the
+    /// profile is asymmetric ([`ProfileInterval::asymmetric`]); the
+    /// standard uncertainty stays the covariance's.
+    pub fn with_profile(mut self, p: &ProfileInterval) -> Self {
+        if p.asymmetric && self.standard_uncertainty.is_some() {
+            self.ci95_low = p.low;
+            self.ci95_high = p.high;
+            self.interval = "profile".into();
+        }
+        self
     }
 
     /// A value the fit holds jointly with another, with no interval of

@@ -156,6 +156,7 @@ pub(super) fn finish(
         non_identifiable,
         held: combos,
         converged,
+        scale: s2,
         model,
     })
 }
