@@ -285,6 +285,9 @@ fn check_outputs(args: &SimArgs, inputs: &Inputs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Output files in memory: each path with its bytes.
+type Files = Vec<(PathBuf, Vec<u8>)>;
+
 /// Every output file in memory (so that they are renamed into place
 /// together and a failure leaves none), the rate plot when the rate
 /// controller ran, and the log-vs-sim notes of a replay.
@@ -295,7 +298,7 @@ fn output_files(
     rated: bool,
     log: Option<&Trace>,
     inputs: &Inputs,
-) -> Result<(Vec<(PathBuf, Vec<u8>)>, Vec<String>), CliError> {
+) -> Result<(Files, Vec<String>), CliError> {
     let svg = output::figure(robot, outcome)
         .map_err(|e| CliError::failure(format!("drawing the plot: {e}")))?;
     let provenance = crate::provenance::Provenance::capture(inputs);
