@@ -50,6 +50,9 @@
 
 #[path = "../tests/fixtures/drawn.rs"]
 mod drawn;
+mod held_out;
+
+use held_out::{read_as, readings};
 #[path = "../tests/fixtures/load_slip.rs"]
 mod load_slip;
 
@@ -62,7 +65,6 @@ use swimbot::effects::place::Place;
 use swimbot::effects::EffectInstance;
 use swimbot::model::Model;
 use swimbot::workbench::diagnose::{diagnose, DiagnoseSettings, Verdict, VerdictKind};
-use swimbot::workbench::discovery::interpret::equivalents;
 use swimbot::workbench::discovery::Table;
 use swimbot::workbench::synth::{generate, SynthSettings};
 
@@ -229,38 +231,6 @@ fn has(set: &[String], place: &str, exact_equivalents: bool) -> bool {
     };
     set.iter()
         .any(|x| x == place || (exact_equivalents && twin == Some(x.as_str())))
-}
-
-/// A place and every place the verdict states as an equivalent reading of
-/// a law there (`discovery::interpret::equivalents`: the reciprocal torque
-/// pair, and the speed-only places read as one another); a catalogue
-/// effect reads as itself.
-fn readings(place: &str) -> Vec<&str> {
-    let mut v = vec![place];
-    if let Some(p) = Place::from_name(place) {
-        v.extend(equivalents(p).iter().map(|e| e.place));
-    }
-    v
-}
-
-/// Whether the truth's places are the set's read with its stated
-/// readings, one member for each true place.
-fn read_as(set: &[String], want: &[&str]) -> bool {
-    fn assign(set: &[String], want: &[&str], used: &mut Vec<bool>) -> bool {
-        let Some((w, rest)) = want.split_first() else {
-            return true;
-        };
-        (0..set.len()).any(|i| {
-            if used[i] || !readings(&set[i]).contains(w) {
-                return false;
-            }
-            used[i] = true;
-            let ok = assign(set, rest, used);
-            used[i] = false;
-            ok
-        })
-    }
-    assign(set, want, &mut vec![false; set.len()])
 }
 
 /// Every set the verdict states: the found set (its located places and

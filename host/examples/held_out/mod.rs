@@ -145,7 +145,10 @@ pub fn expected(want: &[&str]) -> String {
     }
 }
 
-/// A place and every place the verdict states as its equivalent.
+/// A place and every place the verdict states as an equivalent reading of
+/// a law there (`discovery::interpret::equivalents`: the reciprocal torque
+/// pair, and the speed-only places read as one another); a catalogue
+/// effect reads as itself.
 pub fn readings(place: &str) -> Vec<&str> {
     let mut v = vec![place];
     if let Some(p) = Place::from_name(place) {
@@ -183,9 +186,9 @@ pub fn sets_of(v: &Verdict) -> Vec<Vec<String>> {
         .collect()
 }
 
-/// Every true place read by a distinct member, and every member read as a
-/// true place.
-pub fn reads_exactly(set: &[String], want: &[&str]) -> bool {
+/// Whether the truth's places are the set's read with its stated
+/// readings, one member for each true place.
+pub fn read_as(set: &[String], want: &[&str]) -> bool {
     fn assign(set: &[String], want: &[&str], used: &mut Vec<bool>) -> bool {
         let Some((w, rest)) = want.split_first() else {
             return true;
@@ -200,7 +203,13 @@ pub fn reads_exactly(set: &[String], want: &[&str]) -> bool {
             ok
         })
     }
-    let covers = assign(set, want, &mut vec![false; set.len()]);
+    assign(set, want, &mut vec![false; set.len()])
+}
+
+/// Every true place read by a distinct member, and every member read as a
+/// true place.
+pub fn reads_exactly(set: &[String], want: &[&str]) -> bool {
+    let covers = read_as(set, want);
     covers
         && set
             .iter()
