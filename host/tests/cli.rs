@@ -373,7 +373,7 @@ fn synth_rejects_bad_settings() {
 }
 /// The binary in `dir` as its working directory.
 fn swimbot_in(dir: &std::path::Path, args: &[&str]) -> Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    crate::common::command()
         .args(args)
         .current_dir(dir)
         .output()
@@ -493,8 +493,8 @@ fn commands_without_rows_refuse_csv_at_parse_time() {
 fn a_reader_that_stops_early_ends_the_process_quietly() {
     use std::io::Read;
     use std::os::unix::process::ExitStatusExt;
-    use std::process::{Command, Stdio};
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    use std::process::Stdio;
+    let mut child = crate::common::command()
         .args([
             "sweep",
             "--wavelength-mm",

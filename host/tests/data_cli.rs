@@ -5,7 +5,7 @@
 
 use crate::common::{stderr, stdout, swimbot};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 fn example(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -158,7 +158,7 @@ fn csv_and_written_files_open_with_the_provenance() {
 fn stderr_in_a_file(args: &[&str], progress_ms: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("stderr.txt");
-    let status = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let status = crate::common::command()
         .args(args)
         .current_dir(dir.path())
         .env("SWIMBOT_PROGRESS_MS", progress_ms)

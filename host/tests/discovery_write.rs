@@ -11,7 +11,7 @@ use swimbot::model::Model;
 fn write_effect_gives_a_file_in_the_agreed_format_through_the_binary() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("located.toml");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let out = crate::common::command()
         .args(["diagnose", "--format", "json", "--write-effect"])
         .arg(&path)
         .output()

@@ -6,13 +6,13 @@
 //! second.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 const PAPER: &str = include_str!("../data/paper.toml");
 const ROBOT: &str = include_str!("../data/robot.toml");
 
 fn swimbot_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    crate::common::command()
         .args(args)
         .current_dir(dir)
         .output()
@@ -602,7 +602,7 @@ fn effects_that_a_non_local_tail_would_ignore_are_refused_by_name() {
 #[cfg(target_os = "linux")]
 fn peak_rss_of(args: &[&str]) -> (u64, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let o = crate::common::command()
         .args(args)
         .current_dir(dir.path())
         // A fresh solver cache: a matrix cached by another run would be

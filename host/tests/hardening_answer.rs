@@ -7,7 +7,6 @@
 
 use crate::common::{mkfifo, stderr, stdout, within};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Duration;
 
 /// A study on the paper's CSV in a fresh folder, made by the binary.
@@ -134,7 +133,7 @@ fn a_failed_run_into_new_dotdot_d_keeps_the_users_folder_d() {
     let d = dir.path().join("D");
     std::fs::create_dir(&d).unwrap();
     let through: PathBuf = ["new", "..", "D"].iter().collect();
-    let o = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let o = crate::common::command()
         .args(["compare", "-o"])
         .arg(&through)
         .current_dir(dir.path())
@@ -263,7 +262,7 @@ fn on_terminal(dir: &Path, args: &[&str], cols: u16) -> String {
             std::fs::File::from_raw_fd(slave),
         )
     };
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut child = crate::common::command()
         .args(args)
         .current_dir(dir)
         .env("NO_COLOR", "1")

@@ -128,7 +128,7 @@ fn a_full_disk_leaves_the_old_bundle_whole() {
     std::fs::write(r.join("notes.txt"), "mine").unwrap();
     let before = std::fs::read(r.join("manifest.json")).unwrap();
     // A different page (another model), on a disk that fills mid-bundle.
-    let o = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let o = crate::common::command()
         .args(["compare", "--preset", "paper", "-o", s(&r)])
         .env("SWIMBOT_FAULT_DISK_FULL_AFTER_BYTES", "60000")
         .output()
@@ -191,7 +191,7 @@ fn a_killed_report_leaves_the_old_bundle_or_the_new_one() {
     let o = swimbot(&["compare", "-o", s(&r)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let start = std::time::Instant::now();
-    let mut run = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut run = crate::common::command()
         .args(["compare", "--preset", "paper", "-o", s(&r)])
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
@@ -203,7 +203,7 @@ fn a_killed_report_leaves_the_old_bundle_or_the_new_one() {
     let mut killed = Vec::new();
     for k in 0..8u32 {
         let at = full.mul_f64(f64::from(k) / 8.0 + 0.05);
-        let mut run = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        let mut run = crate::common::command()
             .args([
                 "compare",
                 "--preset",
@@ -337,7 +337,7 @@ fn sighup_and_killed_runs_leave_no_temporary_file_behind() {
     // A leftover of a run killed outright (its process is gone).
     let stale = dir.path().join(format!(".sw.csv.tmp-{}", 1 << 23));
     std::fs::write(&stale, "half").unwrap();
-    let mut run = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut run = crate::common::command()
         .args([
             "sweep",
             "--wavelength-mm",

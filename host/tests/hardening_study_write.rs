@@ -173,7 +173,7 @@ fn a_full_stdout_after_add_leaves_no_step_recorded() {
         .write(true)
         .open("/dev/full")
         .unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let o = crate::common::command()
         .args(["add", "buoyancy", "--force"])
         .current_dir(dir.path())
         .stdout(out)
@@ -197,7 +197,7 @@ fn a_signal_during_add_leaves_no_temporary_and_the_exit_agrees_with_the_study() 
     // is there, a death by the signal (or 130/143) means it is not.
     for (i, delay_ms) in [5u64, 40, 80, 120, 160, 200, 260, 320].iter().enumerate() {
         let (dir, path) = study();
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        let mut child = crate::common::command()
             .args(["add", "buoyancy", "--force"])
             .current_dir(dir.path())
             .stdout(std::process::Stdio::null())
@@ -240,7 +240,7 @@ fn a_signal_just_after_the_study_is_written_puts_the_old_study_back() {
     // step renamed in, the run not yet ended (here held open 3 s).
     let (dir, path) = study();
     let before = std::fs::read(&path).unwrap();
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut child = crate::common::command()
         .args(["add", "buoyancy", "--force"])
         .env("SWIMBOT_FAULT_PAUSE_AFTER_COMMIT_MS", "3000")
         .current_dir(dir.path())

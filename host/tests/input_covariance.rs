@@ -288,7 +288,7 @@ fn the_correlated_chi2_reads_the_same_in_compare_its_json_and_the_pages() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let run = |args: &[&str]| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        let o = crate::common::command()
             .args(args)
             .current_dir(d)
             .output()

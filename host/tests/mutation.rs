@@ -15,7 +15,7 @@
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -199,7 +199,7 @@ struct Outcome {
 }
 
 fn run(args: &[String], dir: &Path) -> Outcome {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut child = crate::common::command()
         .args(args)
         .current_dir(dir)
         .stdout(Stdio::piped())

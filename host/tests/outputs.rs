@@ -116,7 +116,7 @@ fn a_full_device_is_exit_2_on_every_path() {
             Stdio::from(full.try_clone().unwrap()),
         ),
     ] {
-        let o = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        let o = crate::common::command()
             .args(&args)
             .current_dir(dir.path())
             .stdout(stdout)
@@ -139,7 +139,7 @@ fn a_full_device_is_exit_2_on_every_path() {
 
 /// Start `args`, wait until `ready` holds, send `signal`, wait for the end.
 fn interrupt(dir: &Path, args: &[&str], ready: impl Fn() -> bool, signal: i32) -> bool {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut child = crate::common::command()
         .args(args)
         .current_dir(dir)
         .stdout(Stdio::null())
@@ -212,7 +212,7 @@ fn sigint_and_sigterm_leave_no_temporary_file_and_no_new_folder() {
 fn the_asked_for_file_is_written_before_a_closed_stdout_ends_the_run() {
     let dir = tempfile::tempdir().unwrap();
     let found = dir.path().join("found.toml");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut child = crate::common::command()
         .args(["diagnose", "--quiet", "--write-effect"])
         .arg(&found)
         .stdout(Stdio::piped())
@@ -366,7 +366,7 @@ fn a_closed_stdout_ends_every_kind_of_printing_with_exit_0() {
         &["effects"],
         &SMALL_SWEEP,
     ] {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+        let mut child = crate::common::command()
             .args(args)
             .arg("--quiet")
             .current_dir(dir.path())
@@ -456,7 +456,7 @@ fn a_report_refuses_to_overwrite_an_input_in_its_bundle() {
 #[test]
 fn a_closed_stderr_is_exit_2_not_a_panic() {
     let dir = tempfile::tempdir().unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut child = crate::common::command()
         .args(["report", "--no-physics", "-o", "rep"])
         .current_dir(dir.path())
         .stdout(Stdio::null())

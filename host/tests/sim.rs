@@ -239,10 +239,7 @@ fn fit_motor_gives_finite_constants_and_per_case_errors() {
 }
 
 fn run_bin(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
-        .args(args)
-        .output()
-        .unwrap()
+    crate::common::command().args(args).output().unwrap()
 }
 
 #[test]
@@ -425,7 +422,7 @@ fn a_wire_as_thick_as_the_wavelength_is_refused_naming_file_and_field() {
         .replacen("wire_diameter_mm = 1.0", "wire_diameter_mm = 16.0", 1);
     let robot = dir.path().join("thick.toml");
     std::fs::write(&robot, text).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let out = crate::common::command()
         .args(["sim", "--robot"])
         .arg(&robot)
         .arg("-o")

@@ -174,6 +174,15 @@ impl DiskCache {
 
     /// The stored matrix, or `compute`'s, which is then stored. A failed
     /// write only costs the next run a recomputation, so it is ignored.
+    ///
+    /// Two processes missing the same key (a report and a diagnosis started
+    /// together, or parallel test runs) would each spend the solve's seconds
+    /// to a minute; the second waits on the key's lock file instead and then
+    /// reads the first one's file. The lock is the operating system's
+    /// advisory lock on an open file, released when its holder exits or is
+    /// killed, so a crashed solver never leaves the key locked. Without a
+    /// lock (a read-only directory, a file system without locks) the solve
+    /// simply runs unguarded, as it would without the disk layer.
     pub fn get_or_compute<E: ToString>(
         &self,
         kind: &str,
@@ -183,9 +192,29 @@ impl DiskCache {
         if let Some(m) = self.load(kind, key) {
             return Ok(m);
         }
+        let _lock = self.lock(kind, key);
+        if let Some(m) = self.load(kind, key) {
+            return Ok(m);
+        }
         let m = compute().map_err(|e| CacheError::Solve(e.to_string()))?;
         let _ = self.store(kind, key, &m);
         Ok(m)
+    }
+
+    /// The key's lock file, held exclusively until the returned file is
+    /// dropped; `None` when the directory or the lock cannot be had. The
+    /// file is left in place: removing it would let a third process lock a
+    /// new file while a second still waits on the old one.
+    fn lock(&self, kind: &str, key: &[u64]) -> Option<fs::File> {
+        fs::create_dir_all(&self.dir).ok()?;
+        let file = fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(self.path(kind, key).with_extension("lock"))
+            .ok()?;
+        file.lock().ok()?;
+        Some(file)
     }
 }
 
@@ -264,4 +293,75 @@ pub fn settings_words(s: &NonlocalSettings) -> [u64; 9] {
         s.surface_blob_over_spacing.to_bits(),
         s.tube_end_margin_over_radius.to_bits(),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::AtomicUsize;
+    use std::time::Duration;
+
+    fn matrix(v: f64) -> Matrix6<f64> {
+        Matrix6::from_diagonal_element(v)
+    }
+
+    /// Two callers of the disk layer alone (no memory map between them, as
+    /// two processes are) missing the same key: one solves, the other waits
+    /// on the lock and reads its file.
+    #[test]
+    fn a_key_being_solved_is_solved_once_by_two_callers() {
+        let dir = tempfile::tempdir().unwrap();
+        let solves = AtomicUsize::new(0);
+        let get = || {
+            DiskCache::new(dir.path())
+                .get_or_compute("test-kind", &[1, 2, 3], || {
+                    solves.fetch_add(1, Ordering::SeqCst);
+                    std::thread::sleep(Duration::from_millis(300));
+                    Ok::<_, String>(matrix(2.5))
+                })
+                .unwrap()
+        };
+        let (a, b) = std::thread::scope(|s| {
+            let a = s.spawn(get);
+            let b = s.spawn(get);
+            (a.join().unwrap(), b.join().unwrap())
+        });
+        assert_eq!(solves.load(Ordering::SeqCst), 1);
+        assert_eq!(a, matrix(2.5));
+        assert_eq!(b, a);
+    }
+
+    /// The lock file stays behind and never blocks a later caller; a key
+    /// whose solve fails leaves no matrix and the next caller solves again.
+    #[test]
+    fn a_lock_left_behind_or_a_failed_solve_does_not_block_the_next_caller() {
+        let dir = tempfile::tempdir().unwrap();
+        let cache = DiskCache::new(dir.path());
+        let failed = cache.get_or_compute("test-kind", &[7], || Err::<Matrix6<f64>, _>("no"));
+        assert_eq!(failed, Err(CacheError::Solve("no".into())));
+        assert!(cache
+            .path("test-kind", &[7])
+            .with_extension("lock")
+            .exists());
+        let m = cache
+            .get_or_compute("test-kind", &[7], || Ok::<_, String>(matrix(4.0)))
+            .unwrap();
+        assert_eq!(m, matrix(4.0));
+        assert_eq!(cache.load("test-kind", &[7]), Some(matrix(4.0)));
+    }
+
+    /// A directory that cannot be made (a file stands there) still gives the
+    /// solve's result, unguarded and unstored.
+    #[test]
+    fn without_a_directory_the_solve_runs_unguarded() {
+        let dir = tempfile::tempdir().unwrap();
+        let blocker = dir.path().join("file");
+        fs::write(&blocker, "").unwrap();
+        let cache = DiskCache::new(blocker.join("cache"));
+        let m = cache
+            .get_or_compute("test-kind", &[9], || Ok::<_, String>(matrix(1.0)))
+            .unwrap();
+        assert_eq!(m, matrix(1.0));
+        assert_eq!(cache.load("test-kind", &[9]), None);
+    }
 }

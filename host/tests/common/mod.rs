@@ -13,9 +13,24 @@ pub fn swimbot(args: &[&str]) -> Output {
     run_in(cwd.path(), args)
 }
 
+/// The `swimbot` binary, its non-local cache in this build's test
+/// directory. Every child gets the same cache, whatever the test process's
+/// own environment says (a test may point `$SWIMBOT_CACHE_DIR` at a fresh
+/// directory for its in-process solves, and children would inherit it and
+/// solve every tube geometry again), and never the user's cache. The
+/// directory outlives the run, so a second run of the suite reads it.
+pub fn command() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_swimbot"));
+    c.env(
+        swimbot::nonlocal::cache::CACHE_DIR_ENV,
+        concat!(env!("CARGO_TARGET_TMPDIR"), "/swimbot-cache"),
+    );
+    c
+}
+
 /// Run the binary in `cwd` (kept by the caller, to read what it wrote).
 pub fn run_in(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    command()
         .args(args)
         .current_dir(cwd)
         .output()
@@ -52,7 +67,7 @@ pub fn write_simulated_log(path: &std::path::Path, out: &std::path::Path) {
 /// The binary in `dir` with `env` added, killed (and the test failed) after
 /// `limit`: for inputs that must be refused quickly, never hang.
 pub fn within(dir: &Path, args: &[&str], env: &[(&str, &str)], limit: Duration) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_swimbot"))
+    let mut child = command()
         .args(args)
         .envs(env.iter().copied())
         .current_dir(dir)
