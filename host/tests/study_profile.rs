@@ -219,3 +219,34 @@ fn a_study_without_profiles_loads_and_prints_as_before() {
     // Reading never rewrote it.
     assert_eq!(std::fs::read_to_string(&file).unwrap(), old);
 }
+
+#[test]
+fn an_absurd_stored_profile_end_is_refused_by_step_and_field() {
+    // Checked by range only, as the covariance's ends: an end that is not
+    // a number, or an interval that does not hold its value, is exit 2.
+    for (bad, says) in [
+        ("inf", "not a finite number"),
+        ("nan", "not a finite number"),
+        ("1e9", "does not hold"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        noisy_lab(d);
+        ok(d, &["add", "--quiet", "buoyancy"]);
+        let file = d.join("swimbot-study.toml");
+        let text = std::fs::read_to_string(&file).unwrap();
+        let at = text
+            .find("[step.param.profile]\nlow = ")
+            .expect("a stored profile")
+            + 27;
+        let end = at + text[at..].find('\n').unwrap();
+        std::fs::write(&file, format!("{}{bad}{}", &text[..at], &text[end..])).unwrap();
+        let o = run_in(d, &["steps"]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {e}");
+        assert!(!e.contains("panicked"), "{e}");
+        for needle in ["swimbot-study.toml", "step 1", "profile", says] {
+            assert!(e.contains(needle), "{bad}: no `{needle}` in {e}");
+        }
+    }
+}
