@@ -116,13 +116,16 @@ fn a_study_edited_by_hand_is_refused_naming_the_step_and_field() {
         &[DEFAULT_FILE, "step 1", "before"],
     );
 
-    // A parameter edited: the recomputed error is not the stored one.
+    // A parameter edited within its stored intervals (which a value
+    // outside them would fail first): the recomputed error is not the
+    // stored one.
     let (dir, path) = paper_study(&["body-correction"]);
     let s = Study::open(&path).unwrap();
     let p = &s.steps()[0].params[0];
     let line = format!("value = {:?}", p.value);
+    let edited = format!("value = {:?}", 1.1 * p.value);
     drop(s);
-    edit(&path, &line, "value = 1.5");
+    edit(&path, &line, &edited);
     refused(
         &run_in(dir.path(), &["steps"]),
         &[

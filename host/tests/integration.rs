@@ -59,6 +59,7 @@ mod screens;
 mod sim;
 mod spreadsheets;
 mod study;
+mod study_profile;
 mod study_proposals;
 mod study_sweep;
 mod tail_compat;

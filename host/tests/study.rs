@@ -45,11 +45,22 @@ fn page_matches_steps(d: &Path, steps: &[serde_json::Value]) -> String {
         );
         let params = s["param"].as_array().unwrap().iter();
         for p in params.chain(s["refitted"].as_array().into_iter().flatten()) {
-            for key in ["value", "lo", "hi"] {
-                if let Some(v) = p[key].as_f64() {
-                    let cell = format!("<td>{}</td>", swimbot::format::fmt_sig(v, 4));
-                    assert!(page.contains(&cell), "step {}: {key} of {p}", i + 1);
-                }
+            // The interval the page reports: the profile's where it is
+            // asymmetric (an end it leaves open said `open`), else the
+            // stored covariance's.
+            let q = &p["profile"];
+            let asymmetric = q["asymmetric"].as_bool() == Some(true);
+            let (lo, hi) = match asymmetric {
+                true => (&q["low"], &q["high"]),
+                false => (&p["lo"], &p["hi"]),
+            };
+            for (key, v) in [("value", &p["value"]), ("lo", lo), ("hi", hi)] {
+                let cell = match v.as_f64() {
+                    Some(v) => format!("<td>{}</td>", swimbot::format::fmt_sig(v, 4)),
+                    None if asymmetric && key != "value" => "<td>open</td>".to_string(),
+                    None => continue,
+                };
+                assert!(page.contains(&cell), "step {}: {key} of {p}", i + 1);
             }
         }
         for f in s["effect"]["formula"].as_array().into_iter().flatten() {

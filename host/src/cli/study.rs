@@ -361,6 +361,9 @@ fn print_table(s: &Study, verbose: bool) {
             pct(st.before.mare),
             pct(st.after.stats.mare)
         );
+        for p in crate::report::steps_table::fitted(&st.params) {
+            say!("     {}", crate::report::steps_table::param(&p));
+        }
     }
     match s.last_diagnosis() {
         Some(_) if s.steps().is_empty() => {}
@@ -388,20 +391,21 @@ fn print_step(n: usize, st: &StepRecord) {
         say!("     proposed by {p}");
     }
     for p in st.params.iter().chain(&st.refitted) {
-        let unit = if p.unit.is_empty() || p.unit == "1" {
-            String::new()
+        // A fitted one as `diagnose`, the page and the tables spell it
+        // (value ± u, and which 95 % interval); the others by value.
+        let said = if p.status == "fitted" && p.standard_uncertainty.is_some() {
+            crate::report::steps_table::param(&p.report())
         } else {
-            format!(" {}", p.unit)
-        };
-        let interval = match (p.lo, p.hi) {
-            (Some(lo), Some(hi)) => format!(" (95 % CI {} .. {})", fmt_sig(lo, 4), fmt_sig(hi, 4)),
-            _ => String::new(),
+            let unit = if p.unit.is_empty() || p.unit == "1" {
+                String::new()
+            } else {
+                format!(" {}", p.unit)
+            };
+            format!("{} = {}{unit}", p.name, fmt_sig(p.value, 4))
         };
         say!(
-            "     {}.{} = {}{unit}{interval}  [{}]{}",
+            "     {}.{said}  [{}]{}",
             p.effect,
-            p.name,
-            fmt_sig(p.value, 4),
             p.status,
             p.reason
                 .as_deref()

@@ -32,6 +32,7 @@ mod study_answer;
 mod study_charts;
 mod study_fig4;
 mod study_page;
+mod study_params;
 mod tex_math;
 mod wording;
 mod yours;

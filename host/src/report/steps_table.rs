@@ -77,25 +77,14 @@ pub fn param(p: &ParamReport) -> String {
         .relative_uncertainty_percent
         .map(|r| format!("{}, ", percent(r)))
         .unwrap_or_default();
-    // An end at the uncertainty's decimal place; a profile's end not
-    // reached within the parameter's range is open.
-    let end = |x: Option<f64>| {
-        x.map_or("open".to_string(), |x| {
-            value_pm(x, Some(u))
-                .split(" ±")
-                .next()
-                .unwrap_or("")
-                .to_string()
-        })
-    };
     let profile = p.interval == "profile";
     let ci = match (p.ci95_low, p.ci95_high) {
         (None, None) if !profile => String::new(),
         (lo, hi) => format!(
             "95\u{a0}% {}{}\u{a0}..\u{a0}{}",
             if profile { "profile " } else { "" },
-            end(lo),
-            end(hi)
+            end(lo, u),
+            end(hi, u)
         ),
     };
     format!(
@@ -103,6 +92,21 @@ pub fn param(p: &ParamReport) -> String {
         p.name,
         value_pm(p.value, Some(u))
     )
+}
+
+/// An interval's end at the decimal place of the uncertainty `u` (with
+/// the power of ten `value ± u` shares, `(1.2 ± 0.3)e-4` -> `1.2e-4`); a
+/// profile's end not reached within the parameter's range is open.
+fn end(x: Option<f64>, u: f64) -> String {
+    let Some(x) = x else {
+        return "open".to_string();
+    };
+    let t = value_pm(x, Some(u));
+    let (mantissa, rest) = t.split_once(" ± ").unwrap_or((&t, ""));
+    match (mantissa.strip_prefix('('), rest.rsplit_once(")e")) {
+        (Some(m), Some((_, e))) => format!("{m}e{e}"),
+        _ => mantissa.to_string(),
+    }
 }
 
 fn pct(v: f64) -> String {
@@ -205,14 +209,23 @@ fn comment(s: &str) -> String {
         .collect()
 }
 
-/// `name = value \pm u\,unit` as math.
+/// `name = value \pm u\,unit` as math; where the 95 % interval is the
+/// profile's (asymmetric, so `\pm u` misreads it), its ends beside it.
 fn param_math(p: &ParamReport) -> String {
     let unit = match p.unit.as_str() {
         "" | "1" => String::new(),
         u => format!("\\,\\text{{{}}}", tex(u)),
     };
+    let profile = match p.standard_uncertainty {
+        Some(u) if p.interval == "profile" => format!(
+            "\\;(95\\,\\%\\ \\text{{profile}}\\ {}\\,..\\,{})",
+            tex(&end(p.ci95_low, u)),
+            tex(&end(p.ci95_high, u))
+        ),
+        _ => String::new(),
+    };
     format!(
-        "{} = {}{unit}",
+        "{} = {}{unit}{profile}",
         super::tex_math::name(p.name.rsplit('.').next().unwrap_or(&p.name)),
         super::tex_math::value_pm(&value_pm(p.value, p.standard_uncertainty))
     )
@@ -355,6 +368,45 @@ mod tests {
             "{t}"
         );
         assert!(t.contains("294.60"), "{t}");
+    }
+
+    fn report(
+        value: f64,
+        u: f64,
+        ends: (Option<f64>, Option<f64>),
+        interval: &'static str,
+    ) -> ParamReport {
+        ParamReport {
+            name: "law.f".into(),
+            unit: "N".into(),
+            value,
+            standard_uncertainty: Some(u),
+            relative_uncertainty_percent: Some(100.0 * u / value),
+            ci95_low: ends.0,
+            ci95_high: ends.1,
+            interval: interval.into(),
+            at_bound: false,
+        }
+    }
+
+    #[test]
+    fn a_small_parameters_interval_ends_carry_its_power_of_ten() {
+        let r = report(1.5e-4, 2e-5, (Some(1.108e-4), Some(1.892e-4)), "covariance");
+        let s = param(&r);
+        assert!(s.contains("(1.50 ± 0.20)e-4 N"), "{s}");
+        assert!(s.contains("95\u{a0}% 1.11e-4\u{a0}..\u{a0}1.89e-4)"), "{s}");
+    }
+
+    #[test]
+    fn a_laws_equation_carries_the_profile_interval_where_it_is_the_one() {
+        let p = report(2.0, 0.5, (Some(1.6), None), "profile");
+        let m = param_math(&p);
+        assert!(
+            m.ends_with("\\;(95\\,\\%\\ \\text{profile}\\ 1.60\\,..\\,open)"),
+            "{m}"
+        );
+        let c = param_math(&report(2.0, 0.5, (Some(1.02), Some(2.98)), "covariance"));
+        assert!(!c.contains("95"), "± u says the covariance's: {c}");
     }
 
     #[test]

@@ -237,7 +237,7 @@ fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Markup
         @if let Some(p) = &st.proposed_by {
             p { "Proposed by " (notation(p)) "." }
         }
-        (params_table(st))
+        (super::study_params::params_table(st))
         @if !st.notes.is_empty() {
             ul {
                 @for note in &st.notes {
@@ -298,42 +298,6 @@ fn step_figure(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) ->
                 " before and after."
             }
         },
-    )
-}
-
-fn params_table(st: &StepRecord) -> Markup {
-    let rows: Vec<Vec<String>> = st
-        .params
-        .iter()
-        .chain(&st.refitted)
-        .map(|p| {
-            vec![
-                p.effect.clone(),
-                notation(&p.name),
-                p.unit.clone(),
-                num(p.value),
-                opt_num(p.lo),
-                opt_num(p.hi),
-                p.status.clone(),
-                p.reason
-                    .as_deref()
-                    .unwrap_or(if p.at_bound { "at its bound" } else { "" })
-                    .to_string(),
-            ]
-        })
-        .collect();
-    table(
-        &[
-            "<effect",
-            "<parameter",
-            "<unit",
-            "value",
-            "95 % low",
-            "95 % high",
-            "<status",
-            "<why",
-        ],
-        &rows,
     )
 }
 

@@ -5,10 +5,11 @@
 //! value) and the rest refitted, so that every stored parameter has an
 //! interval or a reason, never "±?".
 
-use super::file::ParamRecord;
+use super::file::{ParamRecord, ProfileRecord};
 use crate::data::Dataset;
 use crate::format::fmt_sig;
 use crate::model::Model;
+use crate::workbench::fit::profile::profile_of;
 use crate::workbench::fit::{fit_with, free_params_of, FitError, FitResult, FreeParam};
 use crate::workbench::robust::Likelihood;
 
@@ -153,6 +154,54 @@ pub fn calibrate(
     })
 }
 
+/// Store the profile-likelihood interval of each fitted parameter of the
+/// new (last) effect of `c`, beside its covariance interval: profiled
+/// within the fit `c` kept (every parameter it frees refitted at each
+/// trial value), by the code and rule `diagnose` uses
+/// ([`crate::workbench::fit::profile`]). A profile whose refit fails
+/// leaves the covariance's intervals, and a note says so.
+pub fn profile_new(c: &mut Calibrated, data: &Dataset, likelihood: Likelihood) {
+    let new = c.model.effects.len() - 1;
+    let which: Vec<usize> = (0..c.fitted.len())
+        .filter(|&i| c.fitted[i].effect == new)
+        .collect();
+    if which.is_empty() {
+        return;
+    }
+    let intervals = match profile_of(&c.model, data, &c.fitted, &which, likelihood) {
+        Ok((_, intervals)) => intervals,
+        Err(e) => {
+            c.notes.push(format!(
+                "the profile likelihood could not be computed ({e}): the intervals are the covariance's"
+            ));
+            return;
+        }
+    };
+    for (&i, p) in which.iter().zip(&intervals) {
+        let Some(rec) = c.params.get_mut(c.fitted[i].param) else {
+            continue;
+        };
+        // A profile is of the optimum it starts from; one whose refit
+        // found another (its interval not holding the stored value) says
+        // nothing of the stored value's interval.
+        let holds = p.low.is_none_or(|l| l <= rec.value) && p.high.is_none_or(|h| rec.value <= h);
+        if rec.standard_uncertainty.is_none() {
+            continue;
+        } else if holds {
+            rec.profile = Some(ProfileRecord::of(p));
+        } else {
+            c.notes.push(format!(
+                "{}.{}: the profile likelihood's refit left the fitted value ({} .. {} against {}): its interval is the covariance's",
+                rec.effect,
+                rec.name,
+                p.low.map_or("open".into(), |x| fmt_sig(x, 4)),
+                p.high.map_or("open".into(), |x| fmt_sig(x, 4)),
+                fmt_sig(rec.value, 4)
+            ));
+        }
+    }
+}
+
 fn label(model: &Model, f: FreeParam) -> String {
     let e = &model.effects[f.effect];
     format!("{}.{}", e.name(), e.effect.params()[f.param].name)
@@ -202,6 +251,7 @@ fn records(
                 standard_uncertainty: None,
                 at_bound: false,
                 reason: None,
+                profile: None,
             };
             if let Some(i) = free.iter().position(|f| *f == at) {
                 let est = result.and_then(|r| r.estimates.get(i));

@@ -8,6 +8,8 @@ use super::definition::Definition;
 use super::diagnosis::DiagnosisRecord;
 use super::error::StudyError;
 use super::snapshot::{Snapshot, Stats};
+use crate::workbench::fit::profile::ProfileInterval;
+use crate::workbench::fit::report::ParamReport;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -95,15 +97,66 @@ pub struct ParamRecord {
     pub at_bound: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// The profile likelihood's 95 % interval of a fitted parameter of the
+    /// step's own effect ([`crate::workbench::fit::profile`]), absent where
+    /// it was not computed (an earlier swimbot, a refitted parameter, a
+    /// profile whose refit failed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile: Option<ProfileRecord>,
+}
+
+/// A parameter's profile-likelihood interval as the study stores it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProfileRecord {
+    /// The ends; an end absent is open (the profiled deviance stays below
+    /// the threshold up to the parameter's range). TOML has no null, so an
+    /// open end is a missing key.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub low: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub high: Option<f64>,
+    /// Whether an end differs from the covariance's by more than
+    /// [`crate::workbench::fit::profile::ASYMMETRY`] of its half-width:
+    /// the profile is then the interval reported.
+    pub asymmetric: bool,
+}
+
+impl ProfileRecord {
+    /// The record of a computed profile.
+    pub fn of(p: &ProfileInterval) -> Self {
+        ProfileRecord {
+            low: p.low,
+            high: p.high,
+            asymmetric: p.asymmetric,
+        }
+    }
 }
 
 impl ParamRecord {
     /// The parameter as the fit's report has it: its value and standard
-    /// uncertainty as stored, the 95 % interval as stored (cut at the
-    /// parameter's range).
-    pub fn report(&self) -> crate::workbench::fit::report::ParamReport {
+    /// uncertainty as stored; the 95 % interval the profile's where that
+    /// one is asymmetric (as `diagnose` reports it,
+    /// [`ParamReport::with_profile`]), else the covariance's as stored
+    /// (cut at the parameter's range).
+    pub fn report(&self) -> ParamReport {
+        let r = self.covariance_report();
+        match &self.profile {
+            Some(p) => r.with_profile(&ProfileInterval {
+                value: self.value,
+                low: p.low,
+                high: p.high,
+                covariance_low: self.lo,
+                covariance_high: self.hi,
+                asymmetric: p.asymmetric,
+            }),
+            None => r,
+        }
+    }
+
+    fn covariance_report(&self) -> ParamReport {
         let u = self.standard_uncertainty;
-        crate::workbench::fit::report::ParamReport {
+        ParamReport {
             name: self.name.clone(),
             unit: self.unit.clone(),
             value: self.value,

@@ -442,7 +442,8 @@ impl Study {
             file: self.path.clone(),
             message: format!("`{}`: {m}", def.name),
         };
-        let (c, choice) = self.calibrate_step(model, first_step, o.refit_all, lik, &model_err)?;
+        let (mut c, choice) =
+            self.calibrate_step(model, first_step, o.refit_all, lik, &model_err)?;
         let after =
             Snapshot::of(&c.model, &self.data, &c.fitted).map_err(|e| model_err(e.to_string()))?;
         if !after.is_finite() {
@@ -462,6 +463,8 @@ impl Study {
                 tried: rise_advice(choice.as_ref(), &self.file.steps),
             });
         }
+        // After the refusal: a profile costs tens of refits per parameter.
+        calibrate::profile_new(&mut c, &self.data, lik);
         let proposed_by = self.last_diagnosis().and_then(|d| {
             d.proposal_for(&def.name, &def.formula).map(|p| {
                 format!(
@@ -732,3 +735,6 @@ fn resolve(study: &Path, data: &Path) -> PathBuf {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod profile_tests;

@@ -19,7 +19,7 @@
 //! Any failure names the step and the field.
 
 use super::error::StudyError;
-use super::file::{ParamRecord, StepRecord};
+use super::file::{ParamRecord, ProfileRecord, StepRecord};
 use super::snapshot::{CaseRow, Snapshot, Stats};
 use super::Study;
 
@@ -166,6 +166,32 @@ fn params_numbers(at: &At, field: &str, ps: &[ParamRecord]) -> Result<(), StudyE
                 ));
             }
         }
+        if let Some(q) = &p.profile {
+            profile_numbers(at, &name("profile"), p.value, q)?;
+        }
+    }
+    Ok(())
+}
+
+/// A stored profile interval: finite ends on either side of the value (an
+/// open end is absent, never an infinity).
+fn profile_numbers(at: &At, field: &str, value: f64, q: &ProfileRecord) -> Result<(), StudyError> {
+    for (v, x) in [("low", q.low), ("high", q.high)] {
+        if let Some(x) = x {
+            finite(at, &format!("{field}.{v}"), x)?;
+        }
+    }
+    let holds = q.low.is_none_or(|l| l <= value) && q.high.is_none_or(|h| value <= h);
+    if !holds {
+        let end = |x: Option<f64>| x.map_or("open".to_string(), |x| x.to_string());
+        return Err(at.fail(
+            field,
+            format!(
+                "stored profile interval {} .. {} does not hold the value {value}",
+                end(q.low),
+                end(q.high)
+            ),
+        ));
     }
     Ok(())
 }

@@ -59,11 +59,27 @@ pub fn profile(
     free: &[FreeParam],
     lik: Likelihood,
 ) -> Result<(FitResult, Vec<ProfileInterval>), FitError> {
+    let all: Vec<usize> = (0..free.len()).collect();
+    profile_of(model, data, free, &all, lik)
+}
+
+/// [`profile`], the intervals of `free[i]` for each `i` of `which` only
+/// (in that order), the others still refitted at every trial value: a
+/// study's step profiles its own effect's parameters within a joint fit
+/// of every step's.
+pub fn profile_of(
+    model: &Model,
+    data: &Dataset,
+    free: &[FreeParam],
+    which: &[usize],
+    lik: Likelihood,
+) -> Result<(FitResult, Vec<ProfileInterval>), FitError> {
     let at = fit_with(model, data, None, free, false, lik)?;
     let cases: Vec<&Case> = data.cases.iter().collect();
     let threshold = at.deviance + Z95 * Z95 * at.scale;
-    let intervals = (0..free.len())
-        .map(|i| {
+    let intervals = which
+        .iter()
+        .map(|&i| {
             let p = Profiler {
                 at: &at,
                 data,
