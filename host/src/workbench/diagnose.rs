@@ -137,7 +137,8 @@ pub fn diagnose(
             if s.discover {
                 say(6, "searching over sets of laws, each refitted jointly");
                 let path = super::search::search(model, &evidence, &v, &floor, s)?;
-                let stability = super::search::stability::stability(&path, model, data);
+                let stability =
+                    super::search::stability::stability(&path, model, data, s.search.resamples);
                 super::search::verdict::conclude(path, &mut v, &baseline, data, s);
                 v.stability = stability;
             }

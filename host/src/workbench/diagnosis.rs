@@ -26,6 +26,8 @@ pub struct DiagnoseSettings {
     /// Search beyond the catalogue (true).
     pub discover: bool,
     pub discovery: DiscoverySettings,
+    /// The search over sets of laws and effects ([`super::search`]).
+    pub search: super::search::settings::SearchSettings,
     /// Told as each of the [`DIAGNOSE_STAGES`] starts (progress display).
     pub progress: Option<super::progress::Progress>,
     /// The likelihood every fit of the diagnosis minimises (Gaussian: least
@@ -49,6 +51,7 @@ impl Default for DiagnoseSettings {
             include_costly: false,
             discover: true,
             discovery: DiscoverySettings::default(),
+            search: Default::default(),
             progress: None,
             likelihood: super::robust::Likelihood::Gaussian,
             catalogue: crate::effects::Catalogue::builtin(),

@@ -54,12 +54,26 @@ use std::sync::Arc;
 /// Settings of [`discover`]; `Default` gives the documented values.
 #[derive(Debug, Clone)]
 pub struct DiscoverySettings {
-    /// Candidates refitted exactly (10; half above 200 cases).
+    /// Candidates refitted exactly (10; half above
+    /// [`Self::large_above_cases`]).
     pub top: usize,
     /// Most cases used for screening (100).
     pub screen_cases: usize,
     /// Cross-validation folds above ten cases (10).
     pub folds: usize,
+    /// Above this many cases (200) the data are large: each exact fit
+    /// costs proportionally more, so half the candidates are refitted and
+    /// the search over sets narrows to its large breadth
+    /// ([`crate::workbench::search::settings`]).
+    pub large_above_cases: usize,
+}
+
+impl DiscoverySettings {
+    /// Whether `n_cases` cases are large data (above
+    /// [`Self::large_above_cases`]).
+    pub fn is_large(&self, n_cases: usize) -> bool {
+        n_cases > self.large_above_cases
+    }
 }
 
 impl Default for DiscoverySettings {
@@ -68,6 +82,7 @@ impl Default for DiscoverySettings {
             top: 10,
             screen_cases: 100,
             folds: 10,
+            large_above_cases: 200,
         }
     }
 }
@@ -173,7 +188,7 @@ pub fn discover_on(
     // The best `top`, plus at each of their places the constant and the
     // best one-parameter law, so that parsimony can choose among them.
     // Exact refits cost a full fit each: halve them on large datasets.
-    let top = if n_cases > 200 {
+    let top = if s.is_large(n_cases) {
         s.top.div_ceil(2)
     } else {
         s.top

@@ -6,7 +6,6 @@
 use super::fitted::{fit_fresh, Ctx, Fitted};
 use super::screened::{best_laws_on, pending_member, Screens};
 use super::set::{law_id, Member};
-use super::CATALOGUE_EXTEND;
 use crate::workbench::discovery::places::best_at_each_place;
 use crate::workbench::discovery::search::Screen;
 use crate::workbench::discovery::Table;
@@ -156,7 +155,7 @@ pub(super) fn extended(
                 .iter()
                 .filter(|c| !f.members.iter().any(|m| m.id == c.effect))
                 .filter(|c| model.can_take(&*c.model.effects[base_len].effect))
-                .take(CATALOGUE_EXTEND);
+                .take(ctx.s.search.catalogue_extend);
             for c in cats {
                 let mut m = f.members.clone();
                 m.push(Member::catalogue(c, base_len, cat_charge));

@@ -9,19 +9,21 @@
 use super::fitted::{Ctx, Fitted};
 use super::level::MIN_SHARE;
 use super::set::joint;
-use super::{FAR_ABOVE, MAX_LAWS};
 use crate::effects::correction::Form;
 use crate::workbench::discovery::explained_fraction;
 use crate::workbench::robust::t_deviance_of;
 
 /// The first acceptable set by key that may replace the incumbent; the
 /// incumbent itself when it comes first (module docs, step 4). When even
-/// that set stays more than [`FAR_ABOVE`] times above the noise floor, the
+/// that set stays more than `far_above` ([`super::settings::SearchSettings`]) times above the noise floor, the
 /// sets are nested instead (module docs).
 pub(super) fn choose(ctx: &Ctx, mut all: Vec<Fitted>, inc: Option<&Fitted>) -> Option<Fitted> {
     all.sort_by(|a, b| a.joint.key.total_cmp(&b.joint.key));
     let first = first_choice(ctx, &all, inc)?;
-    let far = (ctx.floor)(first.joint.k).is_some_and(|fl| first.joint.fit.chi2 > FAR_ABOVE * fl);
+    let far = ctx
+        .s
+        .search
+        .is_far(first.joint.fit.chi2, (ctx.floor)(first.joint.k));
     if !far || inc.is_some() {
         return Some(first);
     }
@@ -83,7 +85,7 @@ fn nested(ctx: &Ctx, all: &[Fitted]) -> Option<Fitted> {
     // also lower the cross-validated MARE, as the base model's MARE for
     // the first.
     let mut cv_cur = ctx.base.mare;
-    for size in 1..=MAX_LAWS {
+    for size in 1..=ctx.s.search.max_laws {
         let inside = |f: &&Fitted| {
             cur.as_ref()
                 .is_none_or(|c| c.ids().iter().all(|id| f.ids().contains(id)))

@@ -24,24 +24,25 @@ use super::beam::best_of;
 use super::fitted::{fit_fresh, Ctx, Fitted};
 use super::screened::{screens_on, OnModel, Screens};
 use super::set::{model_with, Member};
+use super::settings::Breadth;
 use super::speed_pairs::speed_pairs;
-use super::EXCHANGE_ROUNDS;
 use rayon::prelude::*;
 
-/// Up to [`EXCHANGE_ROUNDS`] rounds of exchange on the `width` best sets
-/// of each size from 2 to `most` in `all` (one per combination of places),
-/// each member replaced by the `laws` best laws screened on the model of
-/// the others; new sets join `all`. The rounds stop when one finds no set
+/// Up to `exchange_rounds` rounds of exchange
+/// ([`super::settings::SearchSettings`]) on the breadth's `exchange_width`
+/// best sets of each size from 2 to `most` in `all` (one per combination
+/// of places), each member replaced by its `exchange_laws` best laws
+/// screened on the model of the others; new sets join `all`. The rounds stop when one finds no set
 /// with a lower key than every set before it.
 pub(super) fn rounds(
     ctx: &Ctx,
     all: &mut Vec<Fitted>,
     most: usize,
-    width: usize,
-    laws: usize,
+    breadth: Breadth,
     law_charge: f64,
 ) {
-    for _ in 0..EXCHANGE_ROUNDS {
+    let (width, laws) = (breadth.exchange_width, breadth.exchange_laws);
+    for _ in 0..ctx.s.search.exchange_rounds {
         let best: Vec<Fitted> = (2..=most)
             .flat_map(|size| best_of(all, size, width, None))
             .collect();

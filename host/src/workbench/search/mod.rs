@@ -1,5 +1,5 @@
 //! The search over subsets of `diagnose`: which set of at most
-//! [`MAX_LAWS`] laws and catalogue effects, fitted JOINTLY, explains the
+//! `max_laws` laws and catalogue effects, fitted JOINTLY, explains the
 //! data best?
 //!
 //! A greedy search takes the best first step and builds on it; on data
@@ -14,27 +14,27 @@
 //!    ([`super::discovery`]), and the best screened law at each place the
 //!    model is sensitive to (a constant is a law with one parameter and
 //!    wins its place when the data prefer it), each fitted alone.
-//! 2. **Beam**: the [`BEAM`] best sets of each size (at most one set per
+//! 2. **Beam**: the `beam` best sets of each size (at most one set per
 //!    combination of places) are extended: on the response table of the
 //!    set's fitted model, the best screened law at each place not yet in
 //!    the set (each member of the incumbent alone is extended too); the
-//!    [`EXTEND`] best of those by screened AICc, and the
-//!    [`CATALOGUE_EXTEND`] best catalogue effects not in the set, are
+//!    `extend` best of those by screened AICc, and the
+//!    `catalogue_extend` best catalogue effects not in the set, are
 //!    added and every parameter of the new set is refitted jointly. Sets
 //!    at the noise floor are extended too: a larger set may tie them
 //!    within the noise, and the verdict must say so (`rivals`).
-//!    Beside them, the best single law at each of the [`PAIRED`] best places
+//!    Beside them, the best single law at each of the `paired` best places
 //!    is paired with each other's, from scratch: two effects at two places
 //!    are each found alone in their own form, while whatever is screened on
 //!    top of a first step that took shares of both is biased by it.
 //! 3. **Exchange** (`exchange`, Miller's replacement algorithm): the
-//!    [`EXCHANGE_WIDTH`] best sets of each size from two up have each
-//!    member in turn replaced by the [`EXCHANGE_LAWS`] best laws screened
+//!    `exchange_width` best sets of each size from two up have each
+//!    member in turn replaced by the `exchange_laws` best laws screened
 //!    on the model of the other members, and each set of three has each
 //!    member kept while the other two are replaced together (the
-//!    [`EXCHANGE_LAWS`] best laws on the kept member's model, each followed
+//!    `exchange_laws` best laws on the kept member's model, each followed
 //!    by the held screen's best law on the model of both); every new set
-//!    is refitted jointly, up to [`EXCHANGE_ROUNDS`] rounds, while a round
+//!    is refitted jointly, up to `exchange_rounds` rounds, while a round
 //!    lowers the best key. A set grown member by member keeps what its first member
 //!    took of the effects found after it; exchange gives that back, and
 //!    the pair move gives back what two members hold of each other's
@@ -77,15 +77,15 @@
 //!    do not hold, refitted) and the choice is made again with them: a
 //!    set is claimed against all its neighbours, not only against those
 //!    the beam happened to fit. Skipped, like exchange, while every set
-//!    stays [`FAR_ABOVE`] times above its floor.
+//!    stays `far_above` times above its floor.
 //!
-//! When every single stays more than [`FAR_ABOVE`] times above the floor,
+//! When every single stays more than `far_above` times above the floor,
 //! one set of each size is extended (3 laws each) and no pairs are placed
 //! from scratch: a cost bound (a 200-case set about 800 times above its
 //! floor took 33 s of CPU with the full beam). No set is exchanged while
 //! every set stays that far above.
 //!
-//! When even the chosen set stays more than [`FAR_ABOVE`] times above the
+//! When even the chosen set stays more than `far_above` times above the
 //! noise floor, no set explains the data and the joint ranking only ranks
 //! misfits: there the sets are **nested** instead (the best acceptable
 //! single, then the best acceptable set that adds one member to it, ...),
@@ -115,6 +115,11 @@
 //! the order the beam added them, each level the starting model with the
 //! members up to it at the joint values.
 //!
+//! The numbers in backticks are the search's knobs, with their documented
+//! defaults, in [`settings::SearchSettings`] (`DiagnoseSettings::search`):
+//! they bound the cost; the key and the choice stay the same at any
+//! setting.
+//!
 //! References: A. J. Miller, *Subset Selection in Regression*, 2nd ed.
 //! (2002), ch. 3 (searches over subsets, their bias); K. P. Burnham &
 //! D. R. Anderson, *Model Selection and Multimodel Inference*, 2nd ed.
@@ -133,6 +138,7 @@ pub mod ranges;
 mod rivals;
 mod screened;
 mod set;
+pub mod settings;
 mod speed_pairs;
 pub mod stability;
 pub mod verdict;
@@ -152,39 +158,6 @@ use screened::Screens;
 use set::{members, rebuild};
 use std::collections::HashMap;
 use std::sync::Mutex;
-
-/// Most laws and effects in one set (3).
-pub const MAX_LAWS: usize = 3;
-
-/// Sets of each size extended (4; 3 above 200 cases).
-pub const BEAM: usize = 4;
-
-/// Screened laws refitted jointly on top of each extended set (8: nearly
-/// every other place; 3 above 200 cases).
-pub const EXTEND: usize = 8;
-
-/// Catalogue effects tried on top of each extended set (2).
-pub const CATALOGUE_EXTEND: usize = 2;
-
-/// How far above the noise floor the best acceptable set may stay for the
-/// joint ranking to choose (50 times its chi-square); beyond, the sets are
-/// nested (module docs).
-pub const FAR_ABOVE: f64 = 50.0;
-
-/// Sets of each size exchanged member by member after the beam (2; 1
-/// above 200 cases).
-pub const EXCHANGE_WIDTH: usize = 2;
-
-/// Laws tried in place of each member in an exchange (4; 3 above 200
-/// cases).
-pub const EXCHANGE_LAWS: usize = 4;
-
-/// Most rounds of exchange (2).
-pub const EXCHANGE_ROUNDS: usize = 2;
-
-/// Places whose best single law is paired with each other's from scratch
-/// (8; 5 above 200 cases).
-pub const PAIRED: usize = 8;
 
 /// The starting model as a level.
 fn base_level(model: &Model, e: &Evidence, lik: Likelihood) -> Result<Level, FitError> {
@@ -274,37 +247,40 @@ pub fn search(
         _ => Vec::new(),
     };
     all.extend(forced.iter().cloned());
-    let big = e.data.cases.len() > 200;
-    // A cost bound, not a decision: when every single stays more than
-    // FAR_ABOVE times above its floor, the sets there rank misfits (the
-    // choice nests them, module docs), so one set of each size is extended
-    // and no pairs are placed from scratch.
+    let knobs = &s.search;
+    // A cost bound, not a decision: when every single stays far above its
+    // floor, the sets there rank misfits (the choice nests them, module
+    // docs), so the beam narrows (`SearchSettings::far`).
     let far = all
         .iter()
         .filter(|f| f.members.len() == 1)
-        .all(|f| (ctx.floor)(f.joint.k).is_some_and(|fl| f.joint.fit.chi2 > FAR_ABOVE * fl));
-    let (beam, extend, paired) = match (far, big) {
-        (true, _) => (1, 3, 0),
-        (false, true) => (BEAM - 1, 3, PAIRED - 3),
-        (false, false) => (BEAM, EXTEND, PAIRED),
-    };
+        .all(|f| knobs.is_far(f.joint.fit.chi2, (ctx.floor)(f.joint.k)));
+    let breadth = knobs.breadth_for(s.discovery.is_large(e.data.cases.len()), far);
     // A larger set never replaces an incumbent at the floor (step 4).
     let most = incumbent
         .as_ref()
         .filter(|i| i.joint.at_floor)
-        .map_or(MAX_LAWS, |i| i.members.len());
+        .map_or(knobs.max_laws, |i| i.members.len());
     let mut level = all.clone();
     for size in 2..=most {
-        let mut kept = best_of(&level, size - 1, beam, incumbent.as_ref());
+        let mut kept = best_of(&level, size - 1, breadth.beam, incumbent.as_ref());
         for f in forced.iter().filter(|f| f.members.len() == size - 1) {
             if !f.joint.at_floor && !kept.iter().any(|k| k.ids() == f.ids()) {
                 kept.push(f.clone());
             }
         }
         let screens = if far { Screens::Held } else { Screens::Both };
-        let mut next = extended(&ctx, e, &kept, extend, screens, law_charge, cat_charge);
+        let mut next = extended(
+            &ctx,
+            e,
+            &kept,
+            breadth.extend,
+            screens,
+            law_charge,
+            cat_charge,
+        );
         if size == 2 {
-            let paired = pairs_of_places(&ctx, &all, paired);
+            let paired = pairs_of_places(&ctx, &all, breadth.paired);
             let have: Vec<Vec<String>> = next.iter().map(Fitted::ids).collect();
             next.extend(paired.into_iter().filter(|f| !have.contains(&f.ids())));
         }
@@ -315,15 +291,13 @@ pub fn search(
         level = next;
     }
     // Exchange refines sets that may explain the data: it is skipped when
-    // every set so far stays FAR_ABOVE times above its floor (the nested
-    // choice, module docs), which also bounds its cost there.
+    // every set so far stays far above its floor (the nested choice,
+    // module docs), which also bounds its cost there.
     let near = all
         .iter()
-        .any(|f| (ctx.floor)(f.joint.k).is_some_and(|fl| f.joint.fit.chi2 <= FAR_ABOVE * fl));
+        .any(|f| (ctx.floor)(f.joint.k).is_some_and(|fl| f.joint.fit.chi2 <= knobs.far_above * fl));
     if near {
-        let width = if big { 1 } else { EXCHANGE_WIDTH };
-        let laws = if big { 3 } else { EXCHANGE_LAWS };
-        exchange::rounds(&ctx, &mut all, most, width, laws, law_charge);
+        exchange::rounds(&ctx, &mut all, most, breadth, law_charge);
     }
     all.sort_by(|a, b| a.joint.key.total_cmp(&b.joint.key));
     let mut chosen = choose::choose(&ctx, all.clone(), incumbent.as_ref());

@@ -18,7 +18,7 @@
 //!   at the same places is the same finding, worded by the parsimony rule).
 //!
 //! One set per combination of places (the best key) is kept. When the found
-//! set stays more than [`super::FAR_ABOVE`] times above the floor, sets only
+//! set stays more than `far_above` ([`super::settings::SearchSettings`]) times above the floor, sets only
 //! rank misfits and none is stated as a rival.
 //!
 //! References: K. P. Burnham & D. R. Anderson, *Model Selection and
@@ -26,10 +26,10 @@
 //! units have substantial support); P. R. Hansen, A. Lunde & J. M. Nason,
 //! Econometrica 79 (2011) 453 (the model confidence set).
 
+use super::acceptable;
 use super::calibrate::{self, Margin};
 use super::fitted::{Ctx, Fitted};
 use super::level::Rival;
-use super::{acceptable, FAR_ABOVE};
 
 /// The rivals of `chosen` among `all` (sorted by key), best key first,
 /// and the margin they were judged by.
@@ -38,7 +38,10 @@ pub(super) fn of(ctx: &Ctx, all: &[Fitted], chosen: &Fitted) -> (Vec<Rival>, Mar
         value: ctx.s.clear_margin,
         calibrated: None,
     };
-    let far = (ctx.floor)(chosen.joint.k).is_some_and(|fl| chosen.joint.fit.chi2 > FAR_ABOVE * fl);
+    let far = ctx
+        .s
+        .search
+        .is_far(chosen.joint.fit.chi2, (ctx.floor)(chosen.joint.k));
     if far {
         return (Vec::new(), fixed);
     }

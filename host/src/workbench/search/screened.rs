@@ -30,7 +30,7 @@ use std::sync::Arc;
 /// acceptable pair reached the floor.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(super) enum Screens {
-    /// Far above the floor ([`super::FAR_ABOVE`]): the beam's only screen there.
+    /// Far above the floor (`far_above`, [`super::settings::SearchSettings`]): the beam's only screen there.
     Held,
     /// The best of each: the beam while some single is near its floor,
     /// exchange and the chosen set's neighbours (which run only near it).
