@@ -20,10 +20,7 @@ use crate::workbench::robust::t_deviance_of;
 pub(super) fn choose(ctx: &Ctx, mut all: Vec<Fitted>, inc: Option<&Fitted>) -> Option<Fitted> {
     all.sort_by(|a, b| a.joint.key.total_cmp(&b.joint.key));
     let first = first_choice(ctx, &all, inc)?;
-    let far = ctx
-        .s
-        .search
-        .is_far(first.joint.fit.chi2, (ctx.floor)(first.joint.k));
+    let far = ctx.is_far(&first);
     if !far || inc.is_some() {
         return Some(first);
     }

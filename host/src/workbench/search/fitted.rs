@@ -116,6 +116,14 @@ impl Ctx<'_> {
     pub(super) fn floor0(&self) -> Option<f64> {
         (self.floor)(0)
     }
+
+    /// Whether the set stays farther above its noise floor than the
+    /// search's `far_above` ([`super::settings::SearchSettings::is_far`]).
+    pub(super) fn is_far(&self, f: &Fitted) -> bool {
+        self.s
+            .search
+            .is_far(f.joint.fit.chi2, (self.floor)(f.joint.k))
+    }
 }
 
 /// The sets of `tries` not met before (by their members' ids; none of

@@ -254,7 +254,7 @@ pub fn search(
     let far = all
         .iter()
         .filter(|f| f.members.len() == 1)
-        .all(|f| knobs.is_far(f.joint.fit.chi2, (ctx.floor)(f.joint.k)));
+        .all(|f| ctx.is_far(f));
     let breadth = knobs.breadth_for(s.discovery.is_large(e.data.cases.len()), far);
     // A larger set never replaces an incumbent at the floor (step 4).
     let most = incumbent

@@ -38,10 +38,7 @@ pub(super) fn of(ctx: &Ctx, all: &[Fitted], chosen: &Fitted) -> (Vec<Rival>, Mar
         value: ctx.s.clear_margin,
         calibrated: None,
     };
-    let far = ctx
-        .s
-        .search
-        .is_far(chosen.joint.fit.chi2, (ctx.floor)(chosen.joint.k));
+    let far = ctx.is_far(chosen);
     if far {
         return (Vec::new(), fixed);
     }
