@@ -98,7 +98,9 @@ fn narrow(data: &mut Dataset, seed: u64) -> Vec<String> {
 fn law(place: &str, feature: &str, k: f64, p: f64) -> EffectInstance {
     let c = LocatedCorrection::new(
         Place::from_name(place).expect("a place"),
-        Some(by_id(feature).expect("a feature")),
+        Some(swimbot::data::Feature::Quantity(
+            by_id(feature).expect("a feature"),
+        )),
         Form::PowerLaw,
         1.0,
         1.0,

@@ -368,6 +368,7 @@ fn constant_reading(g: &Diagnosis, d: &Drawn) -> String {
         .find(|l| readings(l.place).contains(&place))
         .map_or("not located".into(), |l| {
             l.feature
+                .as_ref()
                 .map_or("constant".into(), |f| format!("law in {f}"))
         })
 }

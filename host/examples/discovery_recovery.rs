@@ -315,7 +315,7 @@ fn main() {
             let first = v.located.first();
             let place_right = first.map(|l| l.place) == t.place;
             let feat_right = match (first, t.place) {
-                (Some(l), Some(_)) => match l.feature {
+                (Some(l), Some(_)) => match l.feature.as_deref() {
                     None => t.features.is_empty(),
                     Some(f) => t.features.contains(&f),
                 },
@@ -325,7 +325,7 @@ fn main() {
             let second_right = t.second.is_none_or(|(place, feats)| {
                 v.located.iter().any(|l| {
                     l.place == place
-                        && match l.feature {
+                        && match l.feature.as_deref() {
                             None => feats.is_empty(),
                             Some(f) => feats.contains(&f),
                         }
@@ -358,7 +358,9 @@ fn main() {
                 Some(_) => {
                     let first_ok = v.located.iter().any(|l| {
                         Some(l.place) == t.place
-                            && l.feature.is_some_and(|f| t.features.contains(&f))
+                            && l.feature
+                                .as_deref()
+                                .is_some_and(|f| t.features.contains(&f))
                     });
                     first_ok && second_right
                 }

@@ -90,8 +90,14 @@ fn law(
     scale: f64,
     values: Vec<f64>,
 ) -> EffectInstance {
-    let c = LocatedCorrection::new(place, feature.map(field), form, scale, 1.0)
-        .expect("the drawn law fits its place");
+    let c = LocatedCorrection::new(
+        place,
+        feature.map(|f| swimbot::data::Feature::Quantity(field(f))),
+        form,
+        scale,
+        1.0,
+    )
+    .expect("the drawn law fits its place");
     EffectInstance {
         effect: std::sync::Arc::new(c).into(),
         values,

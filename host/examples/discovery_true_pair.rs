@@ -56,7 +56,7 @@ fn best_at(
     let d = discover(model, data, &r, &s).ok()?;
     d.located
         .into_iter()
-        .find(|l| l.place == place && l.feature.is_some_and(|f| features.contains(&f)))
+        .find(|l| l.place == place && l.feature.as_deref().is_some_and(|f| features.contains(&f)))
 }
 
 /// The true pair in the order given, refitted jointly: (chi2, k, at the

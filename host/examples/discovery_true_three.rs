@@ -111,7 +111,7 @@ fn best_n_at(
         .into_iter()
         .filter(|l| {
             let new = !seen.contains(&l.feature);
-            seen.push(l.feature);
+            seen.push(l.feature.clone());
             new
         })
         .take(n)

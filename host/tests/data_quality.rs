@@ -141,7 +141,9 @@ fn an_exact_tie_gets_no_separating_measurement() {
         effect: std::sync::Arc::new(
             LocatedCorrection::new(
                 Place::from_name(place).unwrap(),
-                Some(by_id("amplitude_ratio").unwrap()),
+                Some(swimbot::data::Feature::Quantity(
+                    by_id("amplitude_ratio").unwrap(),
+                )),
                 Form::PowerLaw,
                 1.0,
                 1.0,

@@ -11,10 +11,11 @@ use crate::fixtures::truths;
 #[test]
 fn varying_setup_fields_are_features_and_constant_ones_are_not() {
     let oils = truths::oil_design(&swimbot::data::paper());
-    let ids: Vec<&str> = swimbot::workbench::discovery::search::usable_features(&oils)
+    let ids: Vec<String> = swimbot::workbench::discovery::search::usable_features(&oils)
         .iter()
-        .map(|(q, _)| q.id)
+        .map(|u| u.feature.id().into_owned())
         .collect();
+    let ids: Vec<&str> = ids.iter().map(String::as_str).collect();
     assert!(ids.contains(&"viscosity_pa_s"), "{ids:?}");
     assert!(ids.contains(&"reynolds"), "{ids:?}");
     assert!(!ids.contains(&"channel_diameter_mm"), "{ids:?}");

@@ -133,7 +133,9 @@ fn a_tail_drag_rising_near_the_wall_is_placed_on_the_tail() {
             .any(|e| e.place == "tail.drag" && e.relation == "opposite");
     assert!(stated, "{}: {:?}", l.describe(), l.equivalent);
     assert!(
-        l.feature.is_some_and(|f| WALL_FEATURES.contains(&f)),
+        l.feature
+            .as_deref()
+            .is_some_and(|f| WALL_FEATURES.contains(&f)),
         "{}",
         v.note
     );
@@ -169,7 +171,9 @@ fn a_catalogue_pair_at_the_floor_is_weighed_against_the_effect_with_a_law() {
             .any(|e| e.place == "tail.drag" && e.relation == "opposite");
     assert!(on_the_drag, "{}", v.note);
     assert!(
-        l.feature.is_some_and(|f| WALL_FEATURES.contains(&f)),
+        l.feature
+            .as_deref()
+            .is_some_and(|f| WALL_FEATURES.contains(&f)),
         "{}",
         v.note
     );

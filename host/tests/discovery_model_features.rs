@@ -47,7 +47,12 @@ fn a_slip_set_by_the_load_torque_is_a_law_in_the_load_torque_at_the_drive() {
     // The power the tail takes is its torque times its rate, nearly the
     // torque's monotone function on a design whose rates vary x2: the
     // torque is the truth's feature and must win.
-    assert_eq!(l.feature, Some("model_tail_torque_n_m"), "{}", v.note);
+    assert_eq!(
+        l.feature.as_deref(),
+        Some("model_tail_torque_n_m"),
+        "{}",
+        v.note
+    );
     assert!(l.score.at_noise_floor, "{}", v.note);
     assert_eq!(v.kind, VerdictKind::Located, "{}", v.note);
     // The truth is the search's `1 + k x` with x = tau/tau_ref exactly:
@@ -74,7 +79,7 @@ fn a_written_law_in_the_load_torque_means_the_same_when_loaded() {
     let (d, data) = diagnose_load_slip(1707);
     let l = d.verdict.located.first().expect("a located law");
     assert_eq!(
-        l.feature,
+        l.feature.as_deref(),
         Some("model_tail_torque_n_m"),
         "{}",
         d.verdict.note

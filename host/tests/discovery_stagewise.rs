@@ -32,7 +32,7 @@ fn two_missing_effects_at_once_are_found_in_steps_each_on_top_of_the_last() {
     assert!(
         v.located
             .iter()
-            .any(|l| l.place == "tail.viscosity" && l.feature == Some("shear_rate")),
+            .any(|l| l.place == "tail.viscosity" && l.feature.as_deref() == Some("shear_rate")),
         "{}",
         v.note
     );

@@ -190,7 +190,7 @@ fn an_effect_outside_the_catalogue_is_located_or_unexplained_never_misnamed() {
                     "{}",
                     d.verdict.note
                 );
-                assert_eq!(l.feature, Some("n_waves"), "{}", d.verdict.note);
+                assert_eq!(l.feature.as_deref(), Some("n_waves"), "{}", d.verdict.note);
             }
             k => panic!("{k:?}: {}", d.verdict.note),
         }

@@ -21,6 +21,7 @@ mod discovery_located;
 mod discovery_model_features;
 mod discovery_nulls;
 mod discovery_pairs;
+mod discovery_recorded;
 mod discovery_stability;
 mod discovery_stagewise;
 mod discovery_verdict;

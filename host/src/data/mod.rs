@@ -9,6 +9,7 @@ mod csv_dialect;
 mod csv_header;
 mod csv_read;
 mod csv_write;
+pub mod feature;
 mod limit_check;
 pub mod limits;
 mod load;
@@ -23,6 +24,7 @@ pub mod uncertainty;
 mod write;
 
 pub use csv_dialect::ReadOptions;
+pub use feature::Feature;
 pub use load::{
     convert_file, convert_file_with, is_csv, load_file, load_recorded, read_csv_str, read_file,
     FileFormat, Loaded,

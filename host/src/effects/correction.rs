@@ -12,6 +12,17 @@
 //! | `power` | `m = 1 + k x^p` | — |
 //! | `proportional` | `m = k x` | `k x` |
 //! | `power-law` | `m = k x^p` | `k x^p` |
+//! | `affine` | — | `k (x - x0)` |
+//!
+//! The affine load changes sign at `x0`: a load that follows a feature
+//! about a reference inside the design, as a viscosity that follows the
+//! oil's temperature does against the robot's net weight (`W (mu_ref/mu -
+//! 1)`, zero at the temperature the nominal viscosity was stated for),
+//! which neither `k x` nor `k x^p` can cross. The search offers it for a
+//! recorded column only ([`crate::data::Feature`]): where a lab's column
+//! has its zero is the lab's convention (degrees Celsius, a day count), so a
+//! law in it must not depend on that origin, while a library quantity
+//! (a ratio, a rate, a torque) has a physical zero its loads grow from.
 //!
 //! At most two free parameters each (Burnham & Anderson's parsimony: a
 //! search over many laws with many parameters reads noise as physics).
@@ -29,8 +40,7 @@
 
 use super::place::Place;
 use super::{Effect, EffectError, ParamSpec};
-use crate::data::quantities::Quantity;
-use crate::data::Case;
+use crate::data::{Case, Feature};
 use crate::physics::coefficients::LocalDrag;
 use crate::physics::solve::ForceBalance;
 use nalgebra::Matrix6;
@@ -47,15 +57,17 @@ pub enum Form {
     Power,
     Proportional,
     PowerLaw,
+    Affine,
 }
 
 impl Form {
-    pub const ALL: [Form; 5] = [
+    pub const ALL: [Form; 6] = [
         Form::Constant,
         Form::Linear,
         Form::Power,
         Form::Proportional,
         Form::PowerLaw,
+        Form::Affine,
     ];
 
     pub fn name(self) -> &'static str {
@@ -65,22 +77,33 @@ impl Form {
             Form::Power => "power",
             Form::Proportional => "proportional",
             Form::PowerLaw => "power-law",
+            Form::Affine => "affine",
         }
     }
 
-    /// Whether this form makes sense at `place` (loads have no `1 + ...`).
+    /// Whether this form makes sense at `place` (loads have no `1 + ...`,
+    /// only loads cross zero).
     pub fn fits(self, place: Place) -> bool {
-        !(place.is_additive() && matches!(self, Form::Linear | Form::Power))
+        match self {
+            Form::Linear | Form::Power => !place.is_additive(),
+            Form::Affine => place.is_additive(),
+            _ => true,
+        }
     }
 
     pub fn needs_feature(self) -> bool {
         self != Form::Constant
     }
 
+    /// Whether it raises its feature to a power (needs a positive feature).
+    pub fn has_power(self) -> bool {
+        matches!(self, Form::Power | Form::PowerLaw)
+    }
+
     /// Number of free parameters.
     pub fn n_params(self) -> usize {
         match self {
-            Form::Power | Form::PowerLaw => 2,
+            Form::Power | Form::PowerLaw | Form::Affine => 2,
             _ => 1,
         }
     }
@@ -93,6 +116,7 @@ impl Form {
             (Form::Power, _) => "1 + k x^p",
             (Form::Proportional, _) => "k x",
             (Form::PowerLaw, _) => "k x^p",
+            (Form::Affine, _) => "k (x - x0)",
         }
     }
 }
@@ -101,7 +125,7 @@ impl Form {
 #[derive(Clone)]
 pub struct LocatedCorrection {
     pub place: Place,
-    pub feature: Option<&'static Quantity>,
+    pub feature: Option<Feature>,
     pub form: Form,
     /// The feature's reference value `g_ref` (same unit as the feature).
     pub scale: f64,
@@ -136,7 +160,7 @@ impl LocatedCorrection {
     /// apply at the place.
     pub fn new(
         place: Place,
-        feature: Option<&'static Quantity>,
+        feature: Option<Feature>,
         form: Form,
         scale: f64,
         load_scale: f64,
@@ -152,11 +176,19 @@ impl LocatedCorrection {
             ..spec("k", default, min, max, doc)
         };
         let p = spec("p", 1.0, -6.0, 6.0, "exponent of the scaled feature");
+        let x0 = spec(
+            "x0",
+            1.0,
+            -10.0,
+            10.0,
+            "the scaled feature where the load is 0",
+        );
         let params: Vec<ParamSpec> = match (form, additive) {
             (Form::Constant, true) => vec![k(0.0, -100.0 * l, 100.0 * l, "the load")],
             (Form::Constant, false) => vec![k(1.0, 0.02, 50.0, "the multiplier")],
             (Form::Linear, _) => vec![k(0.0, -20.0, 20.0, "strength")],
             (Form::Power, _) => vec![k(0.0, -20.0, 20.0, "strength"), p],
+            (Form::Affine, _) => vec![k(0.0, -100.0 * l, 100.0 * l, "the load per unit x"), x0],
             (Form::Proportional | Form::PowerLaw, true) => {
                 let mut v = vec![k(0.0, -100.0 * l, 100.0 * l, "the load at x = 1")];
                 if form == Form::PowerLaw {
@@ -172,12 +204,12 @@ impl LocatedCorrection {
                 v
             }
         };
-        let name = match feature {
+        let name = match &feature {
             Some(q) => format!(
                 "{} = {} (x = {}/{})",
                 place.name(),
                 form.symbols(additive),
-                q.id,
+                q.id(),
                 crate::format::fmt_trim(scale, 4)
             ),
             None => format!("{} = {}", place.name(), form.symbols(additive)),
@@ -195,7 +227,9 @@ impl LocatedCorrection {
 
     /// The scaled feature of a case (1 for a constant).
     pub fn x(&self, case: &Case) -> f64 {
-        self.feature.map_or(1.0, |q| q.of(case) / self.scale)
+        self.feature
+            .as_ref()
+            .map_or(1.0, |q| q.of(case) / self.scale)
     }
 
     /// The law at scaled feature `x` with parameters `p`, before flooring.
@@ -206,6 +240,7 @@ impl LocatedCorrection {
             Form::Power => 1.0 + p[0] * x.powf(p[1]),
             Form::Proportional => p[0] * x,
             Form::PowerLaw => p[0] * x.powf(p[1]),
+            Form::Affine => p[0] * (x - p[1]),
         }
     }
 
@@ -219,6 +254,7 @@ impl LocatedCorrection {
             Form::Power => 1.0 + p[0] * (p[1] * ln_x).exp(),
             Form::Proportional => p[0] * x,
             Form::PowerLaw => p[0] * (p[1] * ln_x).exp(),
+            Form::Affine => p[0] * (x - p[1]),
         }
     }
 
@@ -235,8 +271,8 @@ impl LocatedCorrection {
     /// The law with quantity ids, for an effect file:
     /// `1 + k * (wire_over_gap / 0.1)^p`.
     pub fn formula(&self) -> String {
-        let x = self.feature.map_or(String::new(), |q| {
-            format!("({} / {})", q.id, crate::format::fmt_trim(self.scale, 6))
+        let x = self.feature.as_ref().map_or(String::new(), |q| {
+            format!("({} / {})", q.id(), crate::format::fmt_trim(self.scale, 6))
         });
         match self.form {
             Form::Constant => "k".into(),
@@ -244,6 +280,7 @@ impl LocatedCorrection {
             Form::Power => format!("1 + k * {x}^p"),
             Form::Proportional => format!("k * {x}"),
             Form::PowerLaw => format!("k * {x}^p"),
+            Form::Affine => format!("k * ({x} - x0)"),
         }
     }
 }
@@ -266,6 +303,8 @@ impl Effect for LocatedCorrection {
     }
     fn reads_model_quantities(&self) -> bool {
         self.feature
+            .as_ref()
+            .and_then(Feature::quantity)
             .is_some_and(crate::data::model_quantities::is_model_quantity)
     }
     fn local_drag(&self, p: &[f64], case: &Case, drag: &mut LocalDrag) {
@@ -293,10 +332,10 @@ mod tests {
     #[test]
     fn the_neutral_parameters_leave_the_model_unchanged() {
         let paper = crate::data::paper();
-        let g = by_id("wire_over_gap").unwrap();
+        let g = Feature::Quantity(by_id("wire_over_gap").unwrap());
         for place in Place::ALL {
             for form in Form::ALL {
-                let feature = form.needs_feature().then_some(g);
+                let feature = form.needs_feature().then(|| g.clone());
                 let Some(c) = LocatedCorrection::new(place, feature, form, 0.1, 1.0) else {
                     continue;
                 };
@@ -346,13 +385,22 @@ mod tests {
 
     #[test]
     fn forms_refuse_places_and_features_they_do_not_fit() {
-        let g = by_id("body_ratio").unwrap();
-        assert!(LocatedCorrection::new(Place::LoadForce, Some(g), Form::Power, 1.0, 1.0).is_none());
-        assert!(LocatedCorrection::new(Place::TailNormal, None, Form::Linear, 1.0, 1.0).is_none());
+        let g = Feature::Quantity(by_id("body_ratio").unwrap());
         assert!(
-            LocatedCorrection::new(Place::TailNormal, Some(g), Form::Constant, 1.0, 1.0).is_none()
+            LocatedCorrection::new(Place::LoadForce, Some(g.clone()), Form::Power, 1.0, 1.0)
+                .is_none()
         );
-        let c = LocatedCorrection::new(Place::TailNormal, Some(g), Form::Power, 0.5, 1.0).unwrap();
+        assert!(LocatedCorrection::new(Place::TailNormal, None, Form::Linear, 1.0, 1.0).is_none());
+        assert!(LocatedCorrection::new(
+            Place::TailNormal,
+            Some(g.clone()),
+            Form::Constant,
+            1.0,
+            1.0
+        )
+        .is_none());
+        let c = LocatedCorrection::new(Place::TailNormal, Some(g.clone()), Form::Power, 0.5, 1.0)
+            .unwrap();
         assert_eq!(c.formula(), "1 + k * (body_ratio / 0.5)^p");
         assert_eq!(c.params().len(), 2);
     }

@@ -36,6 +36,9 @@ pub(super) enum Node {
     Num(f64),
     Param(usize),
     Quantity(&'static Quantity),
+    /// A column the lab recorded (`recorded.NAME`): NaN on a case
+    /// without it, which an effect's check refuses.
+    Recorded(std::sync::Arc<str>),
     Neg(Box<Node>),
     Bin(BinOp, Box<Node>, Box<Node>),
     /// `x^n` with a constant integer exponent: `powi` is exact and ~10x faster than `powf`.
@@ -139,6 +142,7 @@ impl Node {
             Node::Num(x) => *x,
             Node::Param(i) => p[*i],
             Node::Quantity(q) => q.of(case),
+            Node::Recorded(n) => case.recorded.value(n).unwrap_or(f64::NAN),
             Node::Neg(a) => -a.eval(p, case),
             Node::Bin(op, a, b) => {
                 let (a, b) = (a.eval(p, case), b.eval(p, case));
@@ -214,6 +218,20 @@ mod tests {
         assert_eq!(e.eval(&[2.0], case), 2.0 * shear + case.wavelength_mm);
         assert_eq!(e.params_used(), vec![0]);
         assert_eq!(e.quantities_used(), vec!["shear_rate", "wavelength_mm"]);
+    }
+
+    #[test]
+    fn a_recorded_column_is_read_by_its_dotted_name() {
+        let mut case = crate::data::paper().cases[0].clone();
+        case.recorded.values.push(("temperature_c".into(), 30.0));
+        let e = Expr::parse("k * (recorded.temperature_c / 25)^2", &["k"]).unwrap();
+        assert!((e.eval(&[2.0], &case) - 2.0 * 1.44).abs() < 1e-12);
+        assert!(e.eval(&[2.0], &crate::data::paper().cases[0]).is_nan());
+        let Err(err) = Expr::parse("recorded.Temp + 1", &[]) else {
+            panic!("an upper-case recorded name is not a name");
+        };
+        assert!(err.message.contains("recorded.NAME"), "{}", err.message);
+        assert!(Expr::parse("wavelength_mm.x", &[]).is_err());
     }
 
     #[test]

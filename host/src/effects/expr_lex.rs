@@ -58,7 +58,16 @@ pub(super) fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
             });
         } else if c.is_ascii_alphabetic() || c == '_' {
             let start = i;
-            while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
+            // A dot joins a name to the next (`recorded.temperature_c`);
+            // the parser says which dotted names exist.
+            while i < chars.len()
+                && (chars[i].is_ascii_alphanumeric()
+                    || chars[i] == '_'
+                    || (chars[i] == '.'
+                        && chars
+                            .get(i + 1)
+                            .is_some_and(|c| c.is_ascii_alphabetic() || *c == '_')))
+            {
                 i += 1;
             }
             out.push(Token {

@@ -20,6 +20,7 @@ use super::expr::{BinOp, ExprError, Node, CONSTANTS, FUNCTIONS_1, FUNCTIONS_2};
 use super::expr_lex::{lex, Kind, Token};
 use crate::data::limits::{MAX_FORMULA_CHARS, MAX_FORMULA_DEPTH};
 use crate::data::quantities;
+use crate::data::Feature;
 
 /// `text` compiled to a tree; identifiers resolve to `params` (by
 /// position), then constants, then case quantities.
@@ -250,6 +251,11 @@ impl Parser<'_> {
         if let Some(q) = quantities::by_id(name) {
             return Ok(Node::Quantity(q));
         }
+        if let Some(column) = name.strip_prefix(crate::data::feature::RECORDED_PREFIX) {
+            if let Some(Feature::Recorded(n)) = Feature::recorded(column) {
+                return Ok(Node::Recorded(n));
+            }
+        }
         let message = if is_reserved(name) {
             format!("`{name}` is a function: write `{name}(...)`")
         } else {
@@ -262,7 +268,8 @@ impl Parser<'_> {
                 .chain(quantities::FIELDS.iter().map(|q| q.id));
             format!(
                 "unknown name `{name}`{}; a name is one of the effect's parameters ({}), \
-                 pi, e, or a case quantity (`swimbot effects --quantities` lists them)",
+                 pi, e, a case quantity (`swimbot effects --quantities` lists them) \
+                 or a recorded column as `recorded.NAME`",
                 suggest(name, candidates),
                 if self.params.is_empty() {
                     "none".to_string()

@@ -48,14 +48,18 @@ pub fn diagnose(
     let say = |k: u64, m: &str| super::progress::say(&s.progress, k, m);
     // The data first: bad runs, intervals that look too narrow; what
     // follows is judged on the intervals trusted ([`super::data_quality`]).
-    let (quality, widened) = super::data_quality::assess(model, data, s.level)?;
+    let (mut quality, widened) = super::data_quality::assess(model, data, s.level)?;
     let data = widened.as_ref().unwrap_or(data);
     // The model's own quantities (load torque, thrust, U, ...) join the
     // search's library: computed once here, one force balance per case,
     // and read by every law in them from then on.
     let attached = crate::model::columns::attach(model, data)?;
     let data = &attached;
-    let searchable = !quality.explains_all();
+    // Bad runs on several cases do not stop the search: a law may explain
+    // them with their neighbours, and the two are weighed by one criterion
+    // below ([`super::data_quality::weighed`]).
+    let weigh_runs = s.discover && quality.runs_to_weigh();
+    let searchable = !quality.explains_all() || weigh_runs;
     let cmp = compare(model, data, 0)?;
     let dofs = error_dofs(data);
     let n = cmp.summary.n;
@@ -107,7 +111,7 @@ pub fn diagnose(
     } else {
         Vec::new()
     };
-    let (discovery, remainder) = if s.discover && !baseline.at_noise_floor && searchable {
+    let (mut discovery, mut remainder) = if s.discover && !baseline.at_noise_floor && searchable {
         say(4, "searching beyond the catalogue: place x feature x form");
         let reference = super::discovery::Reference {
             chi2: baseline.chi2,
@@ -122,7 +126,7 @@ pub fn diagnose(
     } else {
         (None, None)
     };
-    let mut verdict = match quality.explains_all() {
+    let mut verdict = match quality.explains_all() && !weigh_runs {
         true => super::search::verdict::data_quality_verdict(&baseline),
         false => {
             let evidence = super::verdict::Evidence {
@@ -151,7 +155,28 @@ pub fn diagnose(
             v
         }
     };
+    if weigh_runs {
+        let screened = discovery.as_ref().map_or(1, |d| d.screened);
+        let charges = (
+            2.0 * (screened.max(1) as f64).ln(),
+            2.0 * (candidates(&s.catalogue, model, true).len().max(1) as f64).ln(),
+        );
+        if !quality.weigh(&verdict, n, charges) {
+            // The runs explain the misfit better than any law: stated as
+            // before, with nothing located.
+            verdict = super::search::verdict::data_quality_verdict(&baseline);
+            (discovery, remainder) = (None, None);
+        }
+    }
     super::data_quality::say_first(&quality, &mut verdict.note);
+    if verdict.kind == VerdictKind::NoneNeeded {
+        if let Some(unseen) = super::discovery::acts::unobservable_note(data) {
+            let kept = verdict.note.trim_end_matches('.').len();
+            verdict.note.truncate(kept);
+            verdict.note.push_str("; ");
+            verdict.note.push_str(&unseen);
+        }
+    }
     if verdict.kind != VerdictKind::NoneNeeded {
         let found = verdict.located.first().map(|l| &l.model);
         let limits = super::experiments::design::limits_note(data, model, found);

@@ -54,9 +54,12 @@ pub fn trends(data: &Dataset, cmp: &Comparison) -> Vec<Trend> {
             continue;
         }
         let ys: Vec<f64> = pts.iter().map(|(_, e)| *e).collect();
+        // The library's quantities, then every recorded number (also one
+        // the search cannot use: a column zero on some case, say).
         let library = super::discovery::search::usable_features(data)
             .into_iter()
-            .map(|(f, _)| {
+            .filter_map(|u| u.feature.quantity())
+            .map(|f| {
                 (
                     Cow::from(f.name),
                     Cow::from(f.id),

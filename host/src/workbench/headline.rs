@@ -239,7 +239,7 @@ fn located_step(l: &Located) -> HeadlineStep {
 /// relative to its median over the cases (the scale the search divides by,
 /// `workbench/discovery/search.rs`).
 fn readable_law(l: &Located) -> (String, Option<String>) {
-    let Some(id) = l.feature else {
+    let Some(id) = l.feature.as_deref() else {
         return (l.formula.clone(), None);
     };
     let open = format!("({id} / ");
@@ -257,10 +257,13 @@ fn readable_law(l: &Located) -> (String, Option<String>) {
             .iter()
             .find(|q| q.id == id)
     });
-    let what = q.map_or(id.to_string(), |q| {
-        let symbol = q.name.split(" = ").next().unwrap_or(q.name);
-        format!("{} {symbol}", q.doc)
-    });
+    let what = q.map_or_else(
+        || recorded_words(id),
+        |q| {
+            let symbol = q.name.split(" = ").next().unwrap_or(q.name);
+            format!("{} {symbol}", q.doc)
+        },
+    );
     let unit = q.map_or("", |q| q.unit);
     let variable = match median {
         Some(m) => format!(
@@ -275,6 +278,14 @@ fn readable_law(l: &Located) -> (String, Option<String>) {
         None => format!("x = {what} over its median"),
     };
     (law, Some(variable))
+}
+
+/// `recorded.temperature_c` as "the recorded temperature_c".
+fn recorded_words(id: &str) -> String {
+    match id.strip_prefix(crate::data::feature::RECORDED_PREFIX) {
+        Some(name) => format!("the recorded {name}"),
+        None => id.to_string(),
+    }
 }
 
 /// The interpretation's first clause, without the cases' range; the caveat

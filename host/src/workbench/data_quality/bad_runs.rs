@@ -60,6 +60,14 @@ pub struct BadRuns {
 }
 
 impl BadRuns {
+    /// How many cases the runs are on.
+    pub fn n_cases(&self) -> usize {
+        let mut cases: Vec<&str> = self.runs.iter().map(|r| r.case.as_str()).collect();
+        cases.sort_unstable();
+        cases.dedup();
+        cases.len()
+    }
+
     /// Whether `case` holds one of the runs.
     pub fn names_case(&self, case: &str) -> bool {
         self.runs.iter().any(|r| r.case == case)

@@ -8,11 +8,15 @@
 //! runs ([`bad_runs`]: named only when without them the model fits the
 //! rest to the noise), on the widened intervals when those were widened.
 //! Each test's false-alarm rate is stated in its module (1 % per dataset).
+//! Bad runs are then weighed against the laws the search finds, by one
+//! criterion ([`weighed`]): runs that a law explains with their neighbours
+//! are physics, and are not stated as bad.
 
 pub mod bad_runs;
 pub mod intervals;
 pub mod outliers;
 pub(crate) mod unfit_case;
+pub mod weighed;
 
 use crate::data::Dataset;
 use crate::model::{Model, ModelError};
@@ -26,8 +30,16 @@ use serde::Serialize;
 pub struct DataQuality {
     /// Intervals that look too narrow (`null` when they look right).
     pub intervals: Option<IntervalFinding>,
-    /// Runs that stand out (`null` when none does).
+    /// Runs that stand out (`null` when none does, or when a law
+    /// explains them: [`Self::explained_runs`]).
     pub bad_runs: Option<BadRuns>,
+    /// Runs the bad-run rule named under the starting model that a law
+    /// explains with the other cases by the one criterion ([`weighed`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub explained_runs: Option<BadRuns>,
+    /// The two keys, when runs were weighed against a law at the floor.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub weighed: Option<weighed::Weighed>,
 }
 
 impl DataQuality {
@@ -35,7 +47,42 @@ impl DataQuality {
     pub fn sentences(&self) -> Vec<String> {
         let mut out: Vec<String> = self.intervals.iter().map(|i| i.sentence()).collect();
         out.extend(self.bad_runs.iter().map(|b| b.sentence()));
+        if let (Some(runs), Some(w)) = (&self.explained_runs, &self.weighed) {
+            out.push(w.law_sentence(runs));
+        }
         out
+    }
+
+    /// Bad runs on two cases or more are named and no intervals account for
+    /// the excess: the runs are then weighed against the laws ([`weighed`]).
+    pub fn runs_to_weigh(&self) -> bool {
+        let intervals = self.intervals.as_ref().is_some_and(|i| i.explains_all());
+        !intervals && self.bad_runs.as_ref().is_some_and(|b| b.n_cases() >= 2)
+    }
+
+    /// Weigh the named runs against the physics verdict `v`; when the law
+    /// wins, the runs are moved to [`Self::explained_runs`] and `true` is
+    /// returned.
+    pub fn weigh(
+        &mut self,
+        v: &crate::workbench::diagnosis::Verdict,
+        n: usize,
+        charges: (f64, f64),
+    ) -> bool {
+        let Some(runs) = &self.bad_runs else {
+            return false;
+        };
+        let keys = weighed::runs_key(runs, n).zip(weighed::laws_key(v, charges.0, charges.1));
+        let Some((runs_key, laws_key)) = keys else {
+            return false;
+        };
+        let w = weighed::Weighed { runs_key, laws_key };
+        self.weighed = Some(w);
+        if w.runs_win() {
+            return false;
+        }
+        self.explained_runs = self.bad_runs.take();
+        true
     }
 
     /// Nothing is left for a law: the bad runs, or the widened intervals,
@@ -70,6 +117,7 @@ pub fn assess(
         let q = DataQuality {
             intervals: None,
             bad_runs: bad_runs::bad_runs_of(&obs, data, level),
+            ..DataQuality::default()
         };
         return Ok((q, None));
     };
@@ -78,6 +126,7 @@ pub fn assess(
     let q = DataQuality {
         intervals: Some(found),
         bad_runs: bad,
+        ..DataQuality::default()
     };
     Ok((q, Some(widened)))
 }

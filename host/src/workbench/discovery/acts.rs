@@ -14,6 +14,7 @@
 //! | `model_omega_body_hz` (the predicted Omega_b) | `body.E_x`, `load.torque` | the body's rotation sets its rotational resistance and a rotating seal's friction torque; not the drive: a motor held relative to the body is the catalogue's `motor-frame` (exact, in `f + Omega_b`), and the body's balance `E_x Omega_b` is the torque the motor carries, so a drive law in Omega_b would only shadow one in the load torque |
 //! | `model_body_reynolds` (Re_b at the predicted U) | `body.D_x`, `body.E_x` | a Reynolds number changes the resistance of the body it is built on (inertial corrections to Stokes drag), and nothing else |
 //! | `model_tail_reynolds` (Re_t at the wire's speed) | `tail.c_t`, `tail.c_n`, `tail.viscosity`, `tail.drag`, `tail.thrust`, `tail.torque` | the same for the wire: its local resistances and the tail matrix built on them |
+//! | a recorded column (`recorded.NAME`) | every place | the lab's name for it says nothing the tool can read: a temperature may set the viscosity (acting against the weight, as a load), a day the robot's trim, a cell voltage the drive; the criterion, not the library, decides |
 //! | every other feature | every place | geometry, kinematics, viscosity and the recorded Reynolds numbers can each set a resistance, a coupling, a load or the drive |
 //!
 //! The model's own quantities ([`crate::data::model_quantities`]) are
@@ -44,7 +45,7 @@
 //! 4th ed. (2013), ch. 3 (a DC motor's torque-speed line).
 
 use crate::data::quantities::Quantity;
-use crate::data::Dataset;
+use crate::data::{Dataset, Feature};
 use crate::effects::place::Place;
 
 /// Below this on every case a model Reynolds number cannot act (module docs).
@@ -59,6 +60,32 @@ pub fn large_enough(feature: &Quantity, data: &Dataset) -> bool {
     data.cases
         .iter()
         .any(|c| feature.of(c).abs() >= MIN_ACTING_REYNOLDS)
+}
+
+/// What a `none-needed` verdict says of the recorded columns on a design
+/// at neutral trim (net weight 0 on every case): a viscosity common to body
+/// and tail scales every resistance of the Stokes balance alike, so with
+/// no non-viscous force to act against it cancels from U and Omega_b, and
+/// a column that set it leaves no trace. `None` when the design has a net
+/// weight (the viscosity then acts against it, as a load the search tries)
+/// or no recorded column the search could use.
+pub fn unobservable_note(data: &Dataset) -> Option<String> {
+    if data.cases.iter().any(|c| c.net_weight_g != 0.0) {
+        return None;
+    }
+    let columns: Vec<String> = super::search::usable_features(data)
+        .into_iter()
+        .filter_map(|u| match u.feature {
+            Feature::Recorded(n) => Some(n.to_string()),
+            Feature::Quantity(_) => None,
+        })
+        .collect();
+    (!columns.is_empty()).then(|| {
+        format!(
+            "a viscosity that followed the recorded {} on body and tail alike would cancel from the Stokes balance at this neutral trim (net weight 0): these data cannot show it; a run with a net weight would",
+            columns.join(", ")
+        )
+    })
 }
 
 /// Where each model quantity's physics can act (module docs).
@@ -88,8 +115,16 @@ const MODEL_PLACES: &[(&str, &[Place])] = &[
     ("model_tail_reynolds", &Place::TAIL),
 ];
 
-/// Whether a law in `feature` may sit at `place` (module docs).
-pub fn acts_at(feature: &Quantity, place: Place) -> bool {
+/// Whether a law in `feature` may sit at `place` (module docs): a recorded
+/// column at every place.
+pub fn acts_at(feature: &Feature, place: Place) -> bool {
+    feature
+        .quantity()
+        .is_none_or(|q| quantity_acts_at(q, place))
+}
+
+/// Whether a law in the library quantity `feature` may sit at `place`.
+pub fn quantity_acts_at(feature: &Quantity, place: Place) -> bool {
     if feature.id == "density_kg_m3" {
         return place == Place::LoadForce;
     }
@@ -106,7 +141,10 @@ mod tests {
     use crate::data::quantities::FIELDS;
 
     fn places_of(q: &Quantity) -> Vec<Place> {
-        Place::ALL.into_iter().filter(|&p| acts_at(q, p)).collect()
+        Place::ALL
+            .into_iter()
+            .filter(|&p| quantity_acts_at(q, p))
+            .collect()
     }
 
     #[test]
@@ -138,7 +176,7 @@ mod tests {
         ];
         for (id, place) in own {
             let q = MODEL_QUANTITIES.iter().find(|q| q.id == id).unwrap();
-            assert!(!acts_at(q, place), "{id} at {place:?}");
+            assert!(!quantity_acts_at(q, place), "{id} at {place:?}");
         }
     }
 
@@ -147,7 +185,7 @@ mod tests {
         let rho = FIELDS.iter().find(|q| q.id == "density_kg_m3").unwrap();
         assert_eq!(places_of(rho), vec![Place::LoadForce]);
         let mu = FIELDS.iter().find(|q| q.id == "viscosity_pa_s").unwrap();
-        assert!(Place::ALL.into_iter().all(|p| acts_at(mu, p)));
+        assert!(Place::ALL.into_iter().all(|p| quantity_acts_at(mu, p)));
     }
 
     #[test]
@@ -165,7 +203,10 @@ mod tests {
             .all(|(id, _)| MODEL_QUANTITIES.iter().any(|q| q.id == *id)));
         let tau = &MODEL_QUANTITIES[0];
         assert_eq!(tau.id, "model_tail_torque_n_m");
-        assert!(acts_at(tau, Place::DriveRate) && !acts_at(tau, Place::BodyTranslation));
+        assert!(
+            quantity_acts_at(tau, Place::DriveRate)
+                && !quantity_acts_at(tau, Place::BodyTranslation)
+        );
         let re_b = MODEL_QUANTITIES
             .iter()
             .find(|q| q.id == "model_body_reynolds")

@@ -13,7 +13,7 @@
 //! (shear-thinning); J. Lighthill, SIAM Rev. 18 (1976) 161 (RFT's
 //! geometry dependence).
 
-use crate::data::quantities::Quantity;
+use crate::data::Feature;
 use crate::effects::place::{Part, Place};
 use serde::Serialize;
 
@@ -30,9 +30,14 @@ pub enum Family {
     /// One of the model's own quantities (load torque, thrust, U, ...:
     /// [`crate::data::model_quantities`]).
     Model,
+    /// A column the lab recorded ([`crate::data::recorded`]).
+    Recorded,
 }
 
-pub fn family(q: &Quantity) -> Family {
+pub fn family(f: &Feature) -> Family {
+    let Some(q) = f.quantity() else {
+        return Family::Recorded;
+    };
     match q.id {
         "helix_over_gap" | "tail_clearance" | "tail_gap_ratio" | "wire_over_gap"
         | "tail_length_ratio" | "wavelength_ratio" => Family::TailWall,
@@ -52,8 +57,8 @@ pub fn family(q: &Quantity) -> Family {
 
 /// Whether a quantity grows as the tail nears the wall (`tail_gap_ratio`
 /// shrinks then): the sentence speaks of the wall, not of the feature.
-fn grows_towards_wall(q: &Quantity) -> bool {
-    !matches!(q.id, "tail_gap_ratio" | "body_gap_ratio")
+fn grows_towards_wall(f: &Feature) -> bool {
+    !matches!(&*f.id(), "tail_gap_ratio" | "body_gap_ratio")
 }
 
 /// What the design says about a law: whether the channel varies (a wall
@@ -69,7 +74,7 @@ pub struct Design {
 /// with its range and the readings the axial model cannot tell apart.
 pub fn interpret_on(
     place: Place,
-    feature: Option<&Quantity>,
+    feature: Option<&Feature>,
     rising: bool,
     mean_value: f64,
     design: Design,
@@ -83,7 +88,7 @@ pub fn interpret_on(
                 "{} {} with {}; the channel is the same in every case, so this design cannot tell a wall effect from a dependence on the helix or body geometry in it (a second tube would)",
                 place.meaning(),
                 if rising { "rising" } else { "falling" },
-                q.name
+                q.name()
             )
         }
         _ => interpret(place, feature, rising, mean_value),
@@ -236,12 +241,7 @@ pub fn equivalents(place: Place) -> &'static [Equivalent] {
 /// One sentence for a correction at `place` with `feature`; `rising` is
 /// whether the multiplier (or load) grows with the feature across the data,
 /// `mean_value` its mean (multiplier, or load in mN / µN m).
-pub fn interpret(
-    place: Place,
-    feature: Option<&Quantity>,
-    rising: bool,
-    mean_value: f64,
-) -> String {
+pub fn interpret(place: Place, feature: Option<&Feature>, rising: bool, mean_value: f64) -> String {
     let what = place.meaning();
     let Some(q) = feature else {
         return match place {
@@ -268,76 +268,90 @@ pub fn interpret(
         (Part::Tail, Family::TailWall) => format!(
             "{what} {} as the helix nears the wall: wall proximity (scaling with {})",
             updown(towards_wall),
-            q.name
+            q.name()
         ),
         (Part::Tail, Family::Rate) => {
             if rising {
-                format!("{what} rising with shear rate ({}): a shear-thickening oil", q.name)
+                format!("{what} rising with shear rate ({}): a shear-thickening oil", q.name())
             } else {
-                format!("{what} falling with shear rate ({}): a shear-thinning oil", q.name)
+                format!("{what} falling with shear rate ({}): a shear-thinning oil", q.name())
             }
         }
         (Part::Body, Family::BodyWall) => format!(
             "{what} {} with confinement ({}): the narrow annular gap around the body",
             updown(towards_wall),
-            q.name
+            q.name()
         ),
         (Part::Drive, Family::Model) => format!(
             "the tail's true rate {} as the model's {} grows: a motor {} under load (a torque-speed line)",
             if rising { "gaining" } else { "lagging" },
-            q.name,
+            q.name(),
             if rising { "speeding up" } else { "slowing" }
         ),
         (_, Family::Model) => format!(
             "{what} {} with the model's own {}: a resistance or load set by the motion or the loads the model computes, not by a dataset field alone",
             updown(rising),
-            q.name
+            q.name()
         ),
         (Part::Drive, Family::Rate) => format!(
             "the tail's true rate {} with the recorded rate ({}): the drive slips more at {} speed",
             if rising { "gaining" } else { "lagging" },
-            q.name,
+            q.name(),
             if rising { "low" } else { "high" }
         ),
         (Part::Drive, _) => format!(
             "tail turning {} than recorded, depending on {}: a load-dependent drive slip",
             if mean_value < 1.0 { "slower" } else { "faster" },
-            q.name
+            q.name()
         ),
         (Part::Tail, Family::Geometry) => format!(
             "{what} {} with {}: the RFT coefficients' dependence on the helix geometry is off (non-local hydrodynamics)",
             updown(rising),
-            q.name
+            q.name()
+        ),
+        (Part::Load, Family::Recorded) => format!(
+            "{what} {} with {}: a load that follows what the lab recorded beside each run (a viscosity common to body and tail that follows it acts only against the robot's net weight, as such a load)",
+            updown(rising),
+            q.name()
+        ),
+        (_, Family::Recorded) => format!(
+            "{what} {} with {}: a dependence on what the lab recorded beside each run, which the model does not read",
+            updown(rising),
+            q.name()
         ),
         (_, Family::Setup) => format!(
             "{what} {} with {}: a dependence on the recorded setup (the oil or the robot's build) that the model does not carry",
             updown(rising),
-            q.name
+            q.name()
         ),
         (Part::Load, _) => format!(
             "{what} {} with {}: a load outside the model's hydrodynamics",
             updown(rising),
-            q.name
+            q.name()
         ),
-        _ => format!("{what} {} with {}", updown(rising), q.name),
+        _ => format!("{what} {} with {}", updown(rising), q.name()),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::quantities::by_id;
+    use crate::data::Feature;
+
+    fn by_id(id: &str) -> Option<Feature> {
+        crate::data::quantities::by_id(id).map(Feature::Quantity)
+    }
 
     #[test]
     fn wall_shear_and_rate_laws_read_as_physical_effects() {
         let w = by_id("wire_over_gap").unwrap();
-        assert!(interpret(Place::TailNormal, Some(w), true, 1.2)
+        assert!(interpret(Place::TailNormal, Some(&w), true, 1.2)
             .contains("nears the wall: wall proximity"));
         let g = by_id("tail_gap_ratio").unwrap();
-        assert!(interpret(Place::TailNormal, Some(g), false, 1.2)
+        assert!(interpret(Place::TailNormal, Some(&g), false, 1.2)
             .contains("rising as the helix nears the wall"));
         let s = by_id("shear_rate").unwrap();
-        assert!(interpret(Place::TailViscosity, Some(s), false, 0.8).contains("shear-thinning"));
+        assert!(interpret(Place::TailViscosity, Some(&s), false, 0.8).contains("shear-thinning"));
         assert!(interpret(Place::DriveRate, None, false, 0.85).contains("slower than recorded"));
     }
 
@@ -348,7 +362,7 @@ mod tests {
             range: (0.9, 1.2),
         };
         let l = by_id("wavelength_ratio").unwrap();
-        let s = interpret_on(Place::TailNormal, Some(l), false, 1.0, fixed);
+        let s = interpret_on(Place::TailNormal, Some(&l), false, 1.0, fixed);
         assert!(
             s.contains("the same in every case") && !s.contains("nears the wall"),
             "{s}"
@@ -358,10 +372,10 @@ mod tests {
             channel_varies: true,
             ..fixed
         };
-        let s = interpret_on(Place::TailNormal, Some(l), false, 1.0, varied);
+        let s = interpret_on(Place::TailNormal, Some(&l), false, 1.0, varied);
         assert!(s.contains("wall"), "{s}");
         let mu = by_id("viscosity_pa_s").unwrap();
-        let s = interpret_on(Place::TailViscosity, Some(mu), false, 1.0, varied);
+        let s = interpret_on(Place::TailViscosity, Some(&mu), false, 1.0, varied);
         assert!(
             s.contains("recorded setup") && !s.contains("non-local"),
             "{s}"
@@ -369,8 +383,14 @@ mod tests {
         let t = interpret_on(Place::TailTorque, None, false, 1.2, varied);
         assert!(t.contains("body.E_x scaled by the reciprocal"), "{t}");
         let g = by_id("tail_clearance").unwrap();
-        let d = interpret_on(Place::TailDrag, Some(g), true, 1.1, varied);
+        let d = interpret_on(Place::TailDrag, Some(&g), true, 1.1, varied);
         assert!(d.contains("tail.thrust changing the other way"), "{d}");
+        let temp = Feature::recorded("temperature_c").unwrap();
+        let r = interpret_on(Place::LoadForce, Some(&temp), true, 0.1, varied);
+        assert!(
+            r.contains("temperature_c (recorded)") && r.contains("net weight"),
+            "{r}"
+        );
     }
 
     /// An equivalence read one way is stated the other way too, with the

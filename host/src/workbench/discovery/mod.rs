@@ -40,7 +40,7 @@ use super::fit::profile::{profile, ProfileInterval};
 use super::fit::report::{strong_correlations, StrongCorrelation};
 use super::fit::{fit_with, free_params_of, Estimate, FitError};
 use super::score::{Deviance, FitScore};
-use crate::data::Dataset;
+use crate::data::{Dataset, Feature};
 use crate::effects::correction::{Form, LocatedCorrection};
 use crate::effects::place::Part;
 use crate::effects::EffectInstance;
@@ -49,6 +49,7 @@ use rayon::prelude::*;
 pub use screen::Table;
 use search::{cv_mare, Screen};
 use serde::Serialize;
+use std::borrow::Cow;
 use std::sync::Arc;
 
 /// Settings of [`discover`]; `Default` gives the documented values.
@@ -94,10 +95,12 @@ pub struct Located {
     pub target: &'static str,
     /// `part.target`.
     pub place: &'static str,
-    /// The feature's id, `None` for a constant.
-    pub feature: Option<&'static str>,
-    /// The feature's formula in the paper's symbols.
-    pub feature_name: Option<&'static str>,
+    /// The feature's id (`recorded.NAME` for a recorded column), `None`
+    /// for a constant.
+    pub feature: Option<Cow<'static, str>>,
+    /// The feature's formula in the paper's symbols, or a recorded
+    /// column's name.
+    pub feature_name: Option<Cow<'static, str>>,
     pub form: Form,
     /// The law with quantity ids, as written in an effect file.
     pub formula: String,
@@ -258,8 +261,8 @@ fn refit(
         part: c.place.part(),
         target: c.place.target(),
         place: c.place.name(),
-        feature: c.feature.map(|q| q.id),
-        feature_name: c.feature.map(|q| q.name),
+        feature: c.feature.as_ref().map(Feature::id),
+        feature_name: c.feature.as_ref().map(Feature::name),
         form: c.form,
         formula: c.formula(),
         params: full.estimates.clone(),
@@ -294,7 +297,7 @@ pub fn interpretation_of(c: &LocatedCorrection, values: &[f64], data: &Dataset) 
         data.cases.iter().map(|k| c.value(values, k)).sum::<f64>() / data.cases.len() as f64;
     interpret::interpret_on(
         c.place,
-        c.feature,
+        c.feature.as_ref(),
         rising,
         mean_value,
         design_of(c, values, data),
@@ -369,9 +372,9 @@ impl Located {
         if self.place != other.place {
             return false;
         }
-        match (self.correction.feature, other.correction.feature) {
+        match (&self.correction.feature, &other.correction.feature) {
             (None, None) => true,
-            (Some(a), Some(b)) => a.id == b.id || equivalent(a, b, data),
+            (Some(a), Some(b)) => a.same(b) || equivalent(a, b, data),
             _ => false,
         }
     }
@@ -380,14 +383,8 @@ impl Located {
 /// Two features are equivalent on a design when their Spearman rank
 /// correlation is +-1 (within 1e-9): one is a monotone function of the
 /// other over the cases.
-pub fn equivalent(
-    a: &crate::data::quantities::Quantity,
-    b: &crate::data::quantities::Quantity,
-    data: &Dataset,
-) -> bool {
-    let values = |q: &crate::data::quantities::Quantity| -> Vec<f64> {
-        data.cases.iter().map(|c| q.of(c)).collect()
-    };
+pub fn equivalent(a: &Feature, b: &Feature, data: &Dataset) -> bool {
+    let values = |q: &Feature| -> Vec<f64> { data.cases.iter().map(|c| q.of(c)).collect() };
     crate::stats::spearman_rho(&values(a), &values(b)).is_some_and(|rho| rho.abs() > 1.0 - 1e-9)
 }
 

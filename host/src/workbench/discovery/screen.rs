@@ -318,7 +318,9 @@ mod tests {
         let mut worst: f64 = 0.0;
         for place in [Place::BodyRotation, Place::TailTorque, Place::LoadForce] {
             for form in Form::ALL.into_iter().filter(|f| f.fits(place)) {
-                let feature = form.needs_feature().then_some(q);
+                let feature = form
+                    .needs_feature()
+                    .then_some(crate::data::Feature::Quantity(q));
                 let c = LocatedCorrection::new(place, feature, form, 60.0, 1.0).unwrap();
                 let f = CaseFeature::new(data.cases.iter().map(|k| c.x(k)).collect());
                 for p in [[0.8, 2.3], [1.7, -1.1], [-0.4, 0.5], [1e-4, 3.0]] {

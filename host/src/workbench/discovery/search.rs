@@ -13,8 +13,8 @@ use super::least_squares::least_squares;
 use super::projection::{Basis, Span};
 use super::screen::{CaseFeature, Table};
 use crate::data::model_quantities::MODEL_QUANTITIES;
-use crate::data::quantities::{Quantity, FEATURES, FIELDS, SETUP_GROUPS};
-use crate::data::Dataset;
+use crate::data::quantities::{FEATURES, FIELDS, SETUP_GROUPS};
+use crate::data::{Dataset, Feature};
 use crate::effects::correction::{Form, LocatedCorrection};
 use crate::effects::place::Place;
 use crate::effects::Effect;
@@ -31,17 +31,22 @@ pub struct Screened {
     pub xs: CaseFeature,
 }
 
-/// Features usable on this design: finite and positive on every case
-/// (powers need it) and not constant (else it is the constant form). The
-/// derived groups come first; then every recorded field and setup group
-/// that varies (viscosity, density, body and coupler sizes, channel length,
-/// Reynolds numbers, ...), then the model's own quantities when the cases
-/// carry them ([`crate::data::model_quantities`]: load torque, thrust,
-/// drag, power, U, Omega_b, Reynolds numbers), each unless it orders the
-/// cases exactly as one already in the list (a monotone function of it on
-/// this design, which no fit can tell apart: [`super::equivalent`]); a
-/// dataset's own feature is kept before a model quantity that orders the
-/// cases alike, as the simpler statement.
+/// Features usable on this design: finite on every case and not constant
+/// (else it is the constant form), and positive on every case for a
+/// library quantity (powers need it). The derived groups come first; then
+/// every recorded field and setup group that varies (viscosity, density,
+/// body and coupler sizes, channel length, Reynolds numbers, ...), then the
+/// model's own quantities when the cases carry them
+/// ([`crate::data::model_quantities`]: load torque, thrust, drag, power, U,
+/// Omega_b, Reynolds numbers), then the lab's recorded columns
+/// ([`crate::data::recorded`]: a temperature, a day, a robot's id), each
+/// unless it orders the cases exactly as one already in the list (a
+/// monotone function of it on this design, which no fit can tell apart:
+/// [`super::equivalent`]); a dataset's own feature is kept before a model
+/// quantity or a recorded column that orders the cases alike, as the
+/// simpler statement. A recorded column that is zero or negative on some
+/// case (a robot's id 0 or 1, a temperature in degrees Celsius below 0)
+/// is kept for the forms without a power ([`Usable::positive`]).
 ///
 /// The model's predicted U is nearly a function of the geometry, but not a
 /// monotone function of any one feature on a design that varies more than
@@ -52,32 +57,81 @@ pub struct Screened {
 /// and is left out. A quantity that is not positive on every case (U of a
 /// tail-first swimmer) is left out like any other, and so is a model
 /// Reynolds number too small to act ([`super::acts::large_enough`]).
-pub fn usable_features(data: &Dataset) -> Vec<(&'static Quantity, f64)> {
-    let mut out: Vec<(&'static Quantity, f64)> = FEATURES
+pub fn usable_features(data: &Dataset) -> Vec<Usable> {
+    let mut out: Vec<Usable> = FEATURES
         .iter()
-        .filter_map(|q| varying(q, data).map(|m| (q, m)))
+        .filter_map(|q| Usable::of(Feature::Quantity(q), data))
+        .filter(|u| u.positive)
         .collect();
     for q in SETUP_GROUPS.iter().chain(FIELDS).chain(MODEL_QUANTITIES) {
-        let Some(m) = varying(q, data) else { continue };
-        if !super::acts::large_enough(q, data) {
+        let Some(u) = Usable::of(Feature::Quantity(q), data).filter(|u| u.positive) else {
             continue;
+        };
+        if super::acts::large_enough(q, data) {
+            push_unless_equivalent(&mut out, u, data);
         }
-        if !out.iter().any(|(o, _)| super::equivalent(o, q, data)) {
-            out.push((q, m));
+    }
+    for (name, _) in crate::data::recorded::features(data) {
+        if let Some(u) = Feature::recorded(&name).and_then(|f| Usable::of(f, data)) {
+            push_unless_equivalent(&mut out, u, data);
         }
     }
     out
 }
 
-/// The median of a quantity that is positive, finite and varies.
-fn varying(q: &Quantity, data: &Dataset) -> Option<f64> {
-    let mut v: Vec<f64> = data.cases.iter().map(|c| q.of(c)).collect();
-    if v.iter().any(|x| !x.is_finite() || *x <= 0.0) {
-        return None;
+fn push_unless_equivalent(out: &mut Vec<Usable>, u: Usable, data: &Dataset) {
+    if !out
+        .iter()
+        .any(|o| super::equivalent(&o.feature, &u.feature, data))
+    {
+        out.push(u);
     }
-    v.sort_by(f64::total_cmp);
-    let (lo, hi) = (v[0], v[v.len() - 1]);
-    (hi - lo > 1e-6 * hi).then_some(v[v.len() / 2])
+}
+
+/// A feature the search may use on this design, with the reference value
+/// its laws are scaled by.
+#[derive(Debug, Clone)]
+pub struct Usable {
+    pub feature: Feature,
+    /// The median over the cases (for a column that is not positive on
+    /// every case, the median of its magnitude, or its largest magnitude
+    /// where that median is 0), so that `x = g / g_ref` is of order one.
+    pub reference: f64,
+    /// Positive on every case: the forms with a power apply.
+    pub positive: bool,
+}
+
+impl Usable {
+    /// The feature when it is finite and varies on this design.
+    fn of(feature: Feature, data: &Dataset) -> Option<Usable> {
+        let mut v: Vec<f64> = data.cases.iter().map(|c| feature.of(c)).collect();
+        if v.iter().any(|x| !x.is_finite()) {
+            return None;
+        }
+        v.sort_by(f64::total_cmp);
+        let (lo, hi) = (v[0], v[v.len() - 1]);
+        let positive = lo > 0.0;
+        if hi - lo <= 1e-6 * hi.abs().max(lo.abs()) {
+            return None;
+        }
+        let reference = if positive {
+            v[v.len() / 2]
+        } else {
+            let mut mag: Vec<f64> = v.iter().map(|x| x.abs()).collect();
+            mag.sort_by(f64::total_cmp);
+            let m = mag[mag.len() / 2];
+            if m > 0.0 {
+                m
+            } else {
+                mag[mag.len() - 1]
+            }
+        };
+        Some(Usable {
+            feature,
+            reference,
+            positive,
+        })
+    }
 }
 
 /// Every correction the search considers, at the places the model is
@@ -95,11 +149,16 @@ pub fn corrections(table: &Table, data: &Dataset) -> Vec<Arc<LocatedCorrection>>
                 continue;
             }
             if form.needs_feature() {
-                for &(q, median) in &features {
-                    if !super::acts::acts_at(q, place) {
+                for u in &features {
+                    let library_affine = form == Form::Affine && !u.feature.is_recorded();
+                    if !super::acts::acts_at(&u.feature, place)
+                        || !(u.positive || !form.has_power())
+                        || library_affine
+                    {
                         continue;
                     }
-                    if let Some(c) = LocatedCorrection::new(place, Some(q), form, median, ls) {
+                    let f = Some(u.feature.clone());
+                    if let Some(c) = LocatedCorrection::new(place, f, form, u.reference, ls) {
                         out.push(Arc::new(c));
                     }
                 }
@@ -121,6 +180,7 @@ fn starts(c: &LocatedCorrection) -> Vec<Vec<f64>> {
             vec![vec![0.0, -1.0], vec![0.0, 1.0], vec![0.0, 3.0]]
         }
         (Form::PowerLaw, false) => vec![vec![1.0, -2.0], vec![1.0, 0.0], vec![1.0, 2.0]],
+        (Form::Affine, _) => vec![vec![0.0, 1.0], vec![0.0, 0.5], vec![0.0, 2.0]],
     }
 }
 

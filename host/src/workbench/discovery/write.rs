@@ -107,6 +107,8 @@ pub fn to_toml_steps(steps: &[Located], dataset: &str) -> String {
     if steps.iter().any(|l| {
         l.correction
             .feature
+            .as_ref()
+            .and_then(crate::data::Feature::quantity)
             .is_some_and(crate::data::model_quantities::is_model_quantity)
     }) {
         header.push_str(

@@ -19,7 +19,9 @@ fn law(
     scale: f64,
     values: Vec<f64>,
 ) -> EffectInstance {
-    let q = feature.map(|id| crate::data::quantities::by_id(id).expect("a quantity"));
+    let q = feature.map(|id| {
+        crate::data::Feature::Quantity(crate::data::quantities::by_id(id).expect("a quantity"))
+    });
     let c = LocatedCorrection::new(place, q, form, scale, 1.0).expect("a law that fits its place");
     EffectInstance {
         effect: Arc::new(c).into(),

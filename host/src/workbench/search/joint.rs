@@ -286,6 +286,7 @@ pub fn no_effect_value(form: Form, additive: bool) -> Option<f64> {
         (_, true) | (Form::Linear | Form::Power, false) => Some(0.0),
         (Form::Constant, false) => Some(1.0),
         (Form::Proportional | Form::PowerLaw, false) => None,
+        (Form::Affine, false) => None,
     }
 }
 

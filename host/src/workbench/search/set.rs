@@ -98,7 +98,7 @@ pub(super) fn law_id(c: &LocatedCorrection) -> String {
     format!(
         "{}|{}|{:?}",
         c.place.name(),
-        c.feature.map_or("-", |q| q.id),
+        c.feature.as_ref().map_or("-".into(), |q| q.id()),
         c.form
     )
 }

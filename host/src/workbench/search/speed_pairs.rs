@@ -233,7 +233,16 @@ mod tests {
         let q = by_id(feature).unwrap();
         let mut v: Vec<f64> = data.cases.iter().map(|c| q.of(c)).collect();
         v.sort_by(f64::total_cmp);
-        Arc::new(LocatedCorrection::new(place, Some(q), form, v[v.len() / 2], 1.0).unwrap())
+        Arc::new(
+            LocatedCorrection::new(
+                place,
+                Some(crate::data::Feature::Quantity(q)),
+                form,
+                v[v.len() / 2],
+                1.0,
+            )
+            .unwrap(),
+        )
     }
 
     fn with(model: &Model, c: &Arc<LocatedCorrection>, p: &[f64]) -> Model {

@@ -227,11 +227,11 @@ pub fn data_quality_verdict(base: &Baseline) -> Verdict {
 pub fn dedup_located(list: &mut Vec<Located>) {
     let mut seen: Vec<(
         &'static str,
-        Option<&'static str>,
+        Option<std::borrow::Cow<'static, str>>,
         crate::effects::correction::Form,
     )> = Vec::new();
     list.retain(|l| {
-        let key = (l.place, l.feature, l.form);
+        let key = (l.place, l.feature.clone(), l.form);
         let new = !seen.contains(&key);
         seen.push(key);
         new
