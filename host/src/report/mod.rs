@@ -18,6 +18,7 @@ mod figure4;
 mod figure_checks;
 mod html;
 mod intro;
+mod page;
 mod paper;
 mod parity;
 mod path;
@@ -40,6 +41,7 @@ mod yours;
 pub use crate::format::fmt_sig;
 pub use story::{StoryInput, ZeroParam};
 // The page's figures of one comparison, for the Python package's HTML.
+pub use page::Artefact;
 pub use parity::parity;
 
 use crate::provenance::Inputs;
@@ -61,7 +63,7 @@ pub fn write_story(
     inputs: &Inputs,
 ) -> Result<std::path::PathBuf, BundleError> {
     let page = story::page(input)?;
-    bundle::write(dir, input.command, &page, &[], guard, inputs)
+    bundle::write(dir, input.command, &page, guard, inputs)
 }
 
 /// Write the story page for the model at the end of `path` on `data`
@@ -102,12 +104,7 @@ pub fn write_study(
     guard: bundle::Guard,
     inputs: &Inputs,
 ) -> Result<std::path::PathBuf, BundleError> {
-    bundle::write(
-        dir,
-        "report",
-        &study_page::page(study),
-        &steps_table::bundle_files(study),
-        guard,
-        inputs,
-    )
+    let mut page = study_page::page(study);
+    page.artefacts.extend(steps_table::bundle_files(study));
+    bundle::write(dir, "report", &page, guard, inputs)
 }

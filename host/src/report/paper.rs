@@ -4,6 +4,7 @@
 
 use super::figure4::{figure4, Layer, BLACK, BLUE};
 use super::html::{figure_flow, html, omega_b, table, Head, Markup, Render};
+use super::page::Part;
 use super::wording::{pct, stat};
 use crate::data::Dataset;
 use crate::model::{preset, Model, ModelError};
@@ -178,7 +179,7 @@ impl PaperModels {
         })
     }
 
-    pub fn section(&self, data: &Dataset) -> Markup {
+    pub fn section(&self, data: &Dataset) -> Part {
         let gh3 = table_iii(&self.gray_hancock);
         let li3 = table_iii(&self.lighthill);
         let body = data.cases.first().map_or("-".into(), |c| {
@@ -229,7 +230,7 @@ impl PaperModels {
             of the case's " (n_lambda) " in turn, so that bars at one case do not hide each \
             other; the measurements stay at their " (n_lambda) "."
         };
-        html! {
+        Part::from(html! {
             p {
                 "The paper's model balances the forces and torques on body and tail (eq. 11). \
                 The tail's resistance integrates local drag coefficients along the helix \
@@ -242,20 +243,34 @@ impl PaperModels {
                 from its ref. [28], which is not available), so the paper's own numbers cannot \
                 be matched exactly."
             }
-            (figure_flow("fig4", Some(&charts.legend), &charts.panels, groups.max(1), caption))
+        })
+        .with(figure_flow(
+            "fig4",
+            Some(&charts.legend),
+            &charts.panels,
+            groups.max(1),
+            caption,
+        ))
+        .with(html! {
             (gap_sentence("Gray-Hancock", &self.gh))
             (gap_sentence("Lighthill", &self.li))
-            (table(
-                &summary_header(),
-                &[
-                    summary_row(
-                        html! { "Gray-Hancock, " (gh3) },
-                        &fitted_by_paper(&self.gray_hancock),
-                        &self.gh,
-                    ),
-                    summary_row(html! { "Lighthill, " (li3) }, "2, fitted by the paper", &self.li),
-                ],
-            ))
+        })
+        .with(table(
+            &summary_header(),
+            &[
+                summary_row(
+                    html! { "Gray-Hancock, " (gh3) },
+                    &fitted_by_paper(&self.gray_hancock),
+                    &self.gh,
+                ),
+                summary_row(
+                    html! { "Lighthill, " (li3) },
+                    "2, fitted by the paper",
+                    &self.li,
+                ),
+            ],
+        ))
+        .with(html! {
             p.note {
                 "MARE: mean absolute relative error over the " (self.gh.summary.n) " measured \
                 quantities; reduced χ²: the squared errors in standard errors of the measured \
@@ -264,6 +279,6 @@ impl PaperModels {
                 code { "--preset paper" } " (" (self.gray_hancock.describe()) ") and "
                 code { "--preset paper-lighthill" } " (" (self.lighthill.describe()) ")."
             }
-        }
+        })
     }
 }

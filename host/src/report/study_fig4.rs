@@ -16,7 +16,7 @@
 //! swimming with bacteria-like robots"; host/data/paper.csv).
 
 use super::figure4::{dodge, dodge_percent, n_waves_range, panel_width, MEASURED};
-use super::html::{figure_flow, html, omega_b, Markup};
+use super::html::{figure_flow, html, omega_b};
 use crate::chart::Rgb;
 use crate::chart::{legend_only, Chart, Series, PALETTE};
 use crate::data::Dataset;
@@ -86,7 +86,7 @@ pub fn figure(
     name: &str,
     before: &[CaseRow],
     after: &[CaseRow],
-) -> Markup {
+) -> super::page::Part {
     let g_after = groups(after);
     let g_before = groups(before);
     let ci = super::intro::confidence(data);

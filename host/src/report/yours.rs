@@ -7,6 +7,7 @@
 
 use super::figure4::{figure4, Layer, GREEN};
 use super::html::{figure, figure_flow, html, omega_b, table, Head, Markup};
+use super::page::Part;
 use super::path_chart::{chart, Metric};
 use super::wording::{describe, pct, signed_pct, stat, value_unc};
 use crate::chart::Rgb;
@@ -153,7 +154,7 @@ fn cell_obs(m: Option<f64>, ci: Option<f64>) -> Markup {
 }
 
 /// Per case: measured, the step before and the last step, with errors.
-fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> Markup {
+fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> Part {
     let band = |s: &Step| {
         if s.comparison.summary_combined.is_some() {
             " ± 2u"
@@ -225,7 +226,7 @@ fn opening(path: &Path, noise: f64) -> Markup {
 }
 
 /// The section: `path` is the user's model taken apart into its steps.
-pub fn section(data: &Dataset, path: &Path) -> Markup {
+pub fn section(data: &Dataset, path: &Path) -> Part {
     let last = path.last();
     let before = path.before_last();
     let noise = super::path::noise_mare(data);
@@ -264,9 +265,9 @@ pub fn section(data: &Dataset, path: &Path) -> Markup {
         before.map(|b| (b.label.as_str(), &b.comparison)),
         GREEN,
     );
-    html! {
-        (opening(path, noise))
-        (table(&header, &rows))
+    let mut out = Part::from(opening(path, noise));
+    out.push(table(&header, &rows));
+    out.push(html! {
         p.note {
             "Reduced χ²: the squared errors in standard errors of the measured means over n − k \
             degrees of freedom, k every free parameter the model carries (fitted by whoever set \
@@ -285,28 +286,29 @@ pub fn section(data: &Dataset, path: &Path) -> Markup {
         @for s in &path.steps {
             (impossible_note(&s.label, &s.comparison))
         }
-        @if path.steps.len() >= 2 {
-            (steps_figure(path, noise))
-        }
-        (fig4(data, path))
-        (case_table(before, last, &ci))
-        (figure(
-            "yours-parity",
-            &[
-                super::parity::parity_of(&shown, Quantity::U),
-                super::parity::parity_of(&shown, Quantity::Omega),
-            ],
-            2,
-            parity_caption,
-        ))
-        @if !residuals.is_empty() {
-            (figure("yours-residuals", &residuals, 2, residual_caption))
-        }
+    });
+    if path.steps.len() >= 2 {
+        out.push(steps_figure(path, noise));
     }
+    out.push(fig4(data, path));
+    out.push(case_table(before, last, &ci));
+    out.push(figure(
+        "yours-parity",
+        &[
+            super::parity::parity_of(&shown, Quantity::U),
+            super::parity::parity_of(&shown, Quantity::Omega),
+        ],
+        2,
+        parity_caption,
+    ));
+    if !residuals.is_empty() {
+        out.push(figure("yours-residuals", &residuals, 2, residual_caption));
+    }
+    out
 }
 
 /// MARE and reduced chi-square along the steps, as the path charts.
-fn steps_figure(path: &Path, noise: f64) -> Markup {
+fn steps_figure(path: &Path, noise: f64) -> Part {
     let steps: Vec<super::path::ChartStep> = path.steps.iter().map(as_path_step).collect();
     figure(
         "yours-path",
@@ -333,7 +335,7 @@ fn as_path_step(s: &Step) -> super::path::ChartStep {
     }
 }
 
-fn fig4(data: &Dataset, path: &Path) -> Markup {
+fn fig4(data: &Dataset, path: &Path) -> Part {
     let colors = colors(path.steps.len());
     let layers: Vec<Layer> = path
         .steps
