@@ -31,7 +31,6 @@ pub mod steps_table;
 pub mod story;
 mod study_answer;
 mod study_charts;
-mod study_fig4;
 mod study_page;
 mod study_params;
 mod tex_math;

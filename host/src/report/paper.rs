@@ -2,8 +2,9 @@
 //! the body corrections of Table III) with both coefficient sets, its
 //! Fig. 4 reproduced, and the summary errors of each set.
 
-use super::figure4::{figure4, Layer, BLACK, BLUE};
-use super::html::{figure_flow, html, omega_b, table, Head, Markup, Render};
+use super::figure4::models::{layers, Fitted};
+use super::figure4::{letters, BLACK, BLUE};
+use super::html::{html, omega_b, table, Head, Markup, Render};
 use super::page::Part;
 use super::wording::{pct, stat};
 use crate::data::Dataset;
@@ -189,29 +190,28 @@ impl PaperModels {
                 crate::format::fmt_sig(c.body_diameter_mm, 3)
             )
         });
-        let groups = super::figure4::amplitude_groups(data).len();
-        let layers = [
-            Layer {
-                label: "Gray-Hancock".into(),
-                model: &self.gray_hancock,
-                comparison: &self.gh,
-                color: BLACK,
-                curve: true,
-            },
-            Layer {
-                label: "Lighthill".into(),
-                model: &self.lighthill,
-                comparison: &self.li,
-                color: BLUE,
-                curve: true,
-            },
-        ];
-        let charts = figure4(data, &layers);
+        let fig = layers(
+            data,
+            &[
+                Fitted {
+                    label: "Gray-Hancock".into(),
+                    model: &self.gray_hancock,
+                    comparison: &self.gh,
+                    color: BLACK,
+                    curve: true,
+                },
+                Fitted {
+                    label: "Lighthill".into(),
+                    model: &self.lighthill,
+                    comparison: &self.li,
+                    color: BLUE,
+                    curve: true,
+                },
+            ],
+        );
         let ci = super::intro::confidence(data);
         let dodge = super::figure4::dodge_percent();
-        let last_u = (b'a' + groups as u8 - 1) as char;
-        let first_w = (b'a' + groups as u8) as char;
-        let last_w = (b'a' + 2 * groups as u8 - 1) as char;
+        let (last_u, first_w, last_w) = letters(fig.groups.len());
         let n_lambda = html! { "N" sub { "λ" } };
         let caption = html! {
             b { "Fig. 4 reproduced." } " Measurements (red, with their " (ci) " confidence \
@@ -244,13 +244,7 @@ impl PaperModels {
                 be matched exactly."
             }
         })
-        .with(figure_flow(
-            "fig4",
-            Some(&charts.legend),
-            &charts.panels,
-            groups.max(1),
-            caption,
-        ))
+        .with(super::figure4::figure("fig4", &fig, caption))
         .with(html! {
             (gap_sentence("Gray-Hancock", &self.gh))
             (gap_sentence("Lighthill", &self.li))

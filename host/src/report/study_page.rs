@@ -7,7 +7,7 @@
 //! case as a table and figures), then what `diagnose` says of the final
 //! model. The figures are drawn from the stored predictions
 //! ([`super::study_charts`], or the paper's Fig. 4 layout for data of its
-//! design, [`super::study_fig4`]).
+//! design, [`super::figure4::study`]).
 
 use super::html::{document, figure, html, omega_b, rich, table, Markup};
 use super::page::{Page, Part};
@@ -263,8 +263,8 @@ fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Part {
 /// else the parity plots and the residual against the step's feature.
 fn step_figure(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Part {
     let d = &st.effect;
-    if super::study_fig4::applies(data, &st.after.cases) {
-        return super::study_fig4::figure(data, n, &d.name, before, &st.after.cases);
+    if super::figure4::study::applies(data, &st.after.cases) {
+        return super::figure4::study::figure(data, n, &d.name, before, &st.after.cases);
     }
     let feature = feature_of(data, &d.formula);
     let mut charts = vec![

@@ -5,8 +5,9 @@
 //! analogue, parity and residual plots and the per-case table, each
 //! showing the model before the last step beside the model after it.
 
-use super::figure4::{figure4, Layer, GREEN};
-use super::html::{figure, figure_flow, html, omega_b, table, Head, Markup};
+use super::figure4::models::{layers, Fitted};
+use super::figure4::GREEN;
+use super::html::{figure, html, omega_b, table, Head, Markup};
 use super::page::Part;
 use super::path_chart::{chart, Metric};
 use super::wording::{describe, pct, signed_pct, stat, value_unc};
@@ -337,11 +338,11 @@ fn as_path_step(s: &Step) -> super::path::ChartStep {
 
 fn fig4(data: &Dataset, path: &Path) -> Part {
     let colors = colors(path.steps.len());
-    let layers: Vec<Layer> = path
+    let fitted: Vec<Fitted> = path
         .steps
         .iter()
         .zip(&colors)
-        .map(|(s, c)| Layer {
+        .map(|(s, c)| Fitted {
             label: s.label.clone(),
             model: &s.model,
             comparison: &s.comparison,
@@ -349,8 +350,7 @@ fn fig4(data: &Dataset, path: &Path) -> Part {
             curve: crate::workbench::propagate::affordable(&s.model),
         })
         .collect();
-    let charts = figure4(data, &layers);
-    let groups = super::figure4::amplitude_groups(data).len();
+    let fig = layers(data, &fitted);
     let n_lambda = html! { "N" sub { "λ" } };
     let caption = html! {
         b { "Fig. 4 with the model asked for." } " Measurements (red, "
@@ -368,13 +368,7 @@ fn fig4(data: &Dataset, path: &Path) -> Part {
         the case's " (n_lambda) " in turn, so that bars at one case do not hide each other; the \
         measurements stay at their " (n_lambda) "."
     };
-    figure_flow(
-        "fig4-yours",
-        Some(&charts.legend),
-        &charts.panels,
-        groups.max(1),
-        caption,
-    )
+    super::figure4::figure("fig4-yours", &fig, caption)
 }
 
 fn color_name(c: Rgb) -> &'static str {
