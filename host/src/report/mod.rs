@@ -1,12 +1,13 @@
 //! The static HTML report: one self-contained page that tells the story of
 //! the model against the measurements ([`story`]), its figures as inline
-//! SVG, and beside it every figure and table as its own file
+//! SVG, and beside it every figure and table as its own file: the page
+//! is built with its artefacts as data (`page`), which the bundle writes
 //! (`bundle`). The report renders what the workbench decided (the
 //! user's path, [`crate::workbench::path`], and the diagnosis): it fits
 //! nothing and searches nothing. It does evaluate models the workbench has
 //! already fitted: their comparisons with the data (`remains`, `physics`
 //! with the input bands, `physics_misses`) and their curves through the
-//! Fig. 4 analogue (`curve`).
+//! Fig. 4 analogue (`curve`, drawn by `figure4` on both pages).
 
 mod bundle;
 pub use bundle::Guard;
