@@ -1,8 +1,9 @@
 //! The page's bundle: beside `index.html`, every figure panel as its own
 //! SVG file (`figures/`), every table as CSV and JSON (`tables/`), and
 //! `manifest.json` listing each file with its kind and caption and the
-//! command that wrote the folder. Read back from the rendered page, so
-//! the files hold exactly what the page shows.
+//! command that wrote the folder. The files are the page's artefacts,
+//! named and made by the page's builder ([`super::page::Page`]) from the
+//! same values it put on the page; the bundle writes them.
 //!
 //! The folder is replaced all-or-none ([`crate::atomic_dir`]): an
 //! interrupted run or a full disk leaves the old bundle or the new one,
@@ -14,6 +15,7 @@
 //! `index.html` without a manifest) is refused: no command silently
 //! overwrites another command's page.
 
+use super::page::{Artefact, Page};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -103,220 +105,19 @@ fn read_manifest(path: &Path) -> Result<String, crate::input_file::ReadError> {
     crate::input_file::read_text(path, crate::input_file::cap::MANIFEST, "a manifest")
 }
 
-/// The text of `html` with tags removed and the page's entities decoded.
-pub fn text_of(html: &str) -> String {
-    let mut out = String::with_capacity(html.len());
-    let mut in_tag = false;
-    let html = html.replace("<br>", " ");
-    for ch in html.chars() {
-        match ch {
-            '<' => in_tag = true,
-            '>' if in_tag => in_tag = false,
-            c if !in_tag => out.push(c),
-            _ => {}
-        }
-    }
-    out.replace("&lt;", "<")
-        .replace("&gt;", ">")
-        .replace("&quot;", "\"")
-        .replace("&#39;", "'")
-        .replace("&amp;", "&")
-        .split_whitespace()
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
-/// The elements `<tag ...>...</tag>` of `html` in order, without nesting.
-fn elements<'a>(html: &'a str, tag: &str) -> Vec<&'a str> {
-    let (open, close) = (format!("<{tag}"), format!("</{tag}>"));
-    let mut out = Vec::new();
-    let mut rest = html;
-    while let Some(i) = rest.find(&open) {
-        let Some(j) = rest[i..].find(&close) else {
-            break;
-        };
-        out.push(&rest[i..i + j + close.len()]);
-        rest = &rest[i + j + close.len()..];
-    }
-    out
-}
-
-fn attr<'a>(element: &'a str, name: &str) -> Option<&'a str> {
-    let head = &element[..element.find('>')?];
-    let key = format!("{name}=\"");
-    let i = head.find(&key)? + key.len();
-    Some(&head[i..i + head[i..].find('"')?])
-}
-
-/// A table's rows of cell texts, header first.
-fn rows(table: &str) -> Vec<Vec<String>> {
-    elements(table, "tr")
-        .iter()
-        .map(|tr| {
-            let th = elements(tr, "th");
-            let cells = if th.is_empty() {
-                elements(tr, "td")
-            } else {
-                th
-            };
-            cells.iter().map(|c| text_of(c)).collect()
-        })
-        .collect()
-}
-
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
+/// An artefact's text with the provenance in it, as its format holds it:
+/// in an SVG's `<metadata>`, as `#` lines on top of a CSV, as comments of
+/// LaTeX and Markdown; a JSON file has no comment and none is added.
+fn traced(prov: &crate::provenance::Provenance, a: &Artefact) -> String {
+    if a.file.ends_with(".svg") {
+        prov.into_svg(&a.text)
+    } else if a.file.ends_with(".csv") {
+        prov.comment_block() + &a.text
+    } else if a.file.ends_with(".tex") || a.file.ends_with(".md") {
+        with_comments(prov, &a.file, &a.text)
     } else {
-        s.to_string()
+        a.text.clone()
     }
-}
-
-/// The bundle's files `(relative path, bytes)` and manifest entries.
-pub fn files(page: &str) -> (Vec<(String, Vec<u8>)>, Vec<Entry>) {
-    let mut files = Vec::new();
-    let mut entries = vec![Entry {
-        file: "index.html".into(),
-        kind: "page".into(),
-        caption: "the whole page".into(),
-        sha256: String::new(),
-    }];
-    for fig in elements(page, "figure") {
-        let id = attr(fig, "id").unwrap_or("figure");
-        let caption = elements(fig, "figcaption")
-            .first()
-            .map_or(String::new(), |c| text_of(c));
-        let (legends, svgs): (Vec<&str>, Vec<&str>) = elements(fig, "svg")
-            .into_iter()
-            .partition(|s| s.contains("class=\"legend\"") && !s.contains("class=\"frame\""));
-        // The figure's one legend, drawn beside its panels, is a file of
-        // its own and not a numbered panel.
-        for svg in legends {
-            let file = format!("figures/{id}-legend.svg");
-            entries.push(Entry {
-                file: file.clone(),
-                kind: "figure".into(),
-                caption: format!("legend of every panel. {caption}"),
-                sha256: String::new(),
-            });
-            files.push((file, format!("{svg}\n").into_bytes()));
-        }
-        for (i, svg) in svgs.iter().enumerate() {
-            let file = if svgs.len() == 1 {
-                format!("figures/{id}.svg")
-            } else {
-                format!("figures/{id}-{}.svg", i + 1)
-            };
-            let title = svg_title(svg);
-            entries.push(Entry {
-                file: file.clone(),
-                kind: "figure".into(),
-                caption: format!("{title}: panel {} of {}. {caption}", i + 1, svgs.len()),
-                sha256: String::new(),
-            });
-            files.push((file, format!("{svg}\n").into_bytes()));
-        }
-    }
-    // tables are named by the section they stand in
-    let mut section = "page".to_string();
-    let mut title = String::new();
-    let mut count = std::collections::HashMap::<String, usize>::new();
-    let mut rest = page;
-    loop {
-        let (h2, tb) = (rest.find("<h2 id=\""), rest.find("<table"));
-        match (h2, tb) {
-            (Some(h), t) if t.is_none_or(|t| h < t) => {
-                let el = &rest[h..];
-                section = attr(el, "id").unwrap_or("page").to_string();
-                title = text_of(&el[..el.find("</h2>").unwrap_or(el.len())]);
-                rest = &rest[h + 4..];
-            }
-            (_, Some(t)) => {
-                let end = rest[t..].find("</table>").map_or(rest.len(), |e| t + e + 8);
-                let n = count.entry(section.clone()).or_default();
-                *n += 1;
-                let stem = format!("tables/{section}-{n}");
-                let rows = rows(&rest[t..end]);
-                let csv: String = rows
-                    .iter()
-                    .map(|r| r.iter().map(|c| csv_field(c)).collect::<Vec<_>>().join(",") + "\n")
-                    .collect();
-                let json = table_json(&rows);
-                let caption = format!("table {n} of section \"{title}\"");
-                for (ext, kind, bytes) in [
-                    ("csv", "table-csv", csv.into_bytes()),
-                    ("json", "table-json", json.into_bytes()),
-                ] {
-                    entries.push(Entry {
-                        file: format!("{stem}.{ext}"),
-                        kind: kind.into(),
-                        caption: caption.clone(),
-                        sha256: String::new(),
-                    });
-                    files.push((format!("{stem}.{ext}"), bytes));
-                }
-                rest = &rest[end..];
-            }
-            _ => break,
-        }
-    }
-    (files, entries)
-}
-
-/// A panel's title: its text in the largest font (the first of those).
-fn svg_title(svg: &str) -> String {
-    let size = |t: &str| {
-        attr(t, "font-size")
-            .and_then(|s| s.parse::<f64>().ok())
-            .unwrap_or(0.0)
-    };
-    let texts = elements(svg, "text");
-    let best = texts.iter().fold(None::<&&str>, |b, t| match b {
-        Some(b) if size(b) >= size(t) => Some(b),
-        _ => Some(t),
-    });
-    best.map(|t| text_of(t)).unwrap_or_default()
-}
-
-/// A cell as JSON: a number when its text is one (a column of values
-/// reads as numbers, not strings), else its text.
-fn cell_json(text: &str) -> serde_json::Value {
-    text.parse::<f64>()
-        .ok()
-        .filter(|v| v.is_finite())
-        .and_then(serde_json::Number::from_f64)
-        .map_or_else(
-            || serde_json::Value::String(text.to_string()),
-            serde_json::Value::Number,
-        )
-}
-
-/// Rows as a JSON array of objects keyed by the header's texts.
-fn table_json(rows: &[Vec<String>]) -> String {
-    let Some((head, body)) = rows.split_first() else {
-        return "[]".into();
-    };
-    let objects: Vec<serde_json::Map<String, serde_json::Value>> = body
-        .iter()
-        .map(|r| {
-            head.iter()
-                .zip(r)
-                .map(|(k, v)| (k.clone(), cell_json(v)))
-                .collect()
-        })
-        .collect();
-    serde_json::to_string_pretty(&objects).expect("strings serialise") + "\n"
-}
-
-/// A file of the bundle written from the values that made it (the paper's
-/// tables and equations), not read back from the page.
-pub struct Written {
-    /// Relative to the folder (`tables/NAME`).
-    pub file: String,
-    /// `table-latex`, `table-markdown`, `equations-latex`, `equations-markdown`.
-    pub kind: &'static str,
-    pub caption: String,
-    pub text: String,
 }
 
 /// `text` with the provenance's lines on top as comments of its format:
@@ -347,47 +148,37 @@ fn with_comments(prov: &crate::provenance::Provenance, file: &str, text: &str) -
 /// check that an output is none of the command's input files).
 pub type Guard<'a> = &'a dyn Fn(&Path) -> Result<(), String>;
 
-/// Write `page` and its bundle into `dir`, all-or-none (module docs);
+/// Write `page` and its artefacts into `dir`, all-or-none (module docs);
 /// returns the page's path. Every file it would write or remove passes
 /// `guard` first, before any is touched; every file names `inputs` in its
 /// provenance.
 pub fn write(
     dir: &Path,
     command: &str,
-    page: &str,
-    written: &[Written],
+    page: &Page,
     guard: Guard,
     inputs: &crate::provenance::Inputs,
 ) -> Result<PathBuf, BundleError> {
     check_dir(dir, command)?;
     let provenance = crate::provenance::Provenance::capture(inputs);
-    let page = provenance.into_html(page);
-    let (mut files, mut entries) = files(&page);
-    for w in written {
+    let mut entries = vec![Entry {
+        file: "index.html".into(),
+        kind: "page".into(),
+        caption: "the whole page".into(),
+        sha256: String::new(),
+    }];
+    let mut files = Vec::new();
+    for a in &page.artefacts {
         entries.push(Entry {
-            file: w.file.clone(),
-            kind: w.kind.into(),
-            caption: w.caption.clone(),
+            file: a.file.clone(),
+            kind: a.kind.into(),
+            caption: a.caption.clone(),
             sha256: String::new(),
         });
-        files.push((
-            w.file.clone(),
-            with_comments(&provenance, &w.file, &w.text).into_bytes(),
-        ));
+        // every file of the bundle can be traced back on its own
+        files.push((a.file.clone(), traced(&provenance, a).into_bytes()));
     }
-    // every file of the bundle can be traced back on its own
-    for (rel, bytes) in &mut files {
-        if rel.ends_with(".svg") {
-            *bytes = provenance
-                .into_svg(&String::from_utf8_lossy(bytes))
-                .into_bytes();
-        } else if rel.ends_with(".csv") {
-            let mut with = provenance.comment_block().into_bytes();
-            with.append(bytes);
-            *bytes = with;
-        }
-    }
-    let page = page.into_bytes();
+    let page = provenance.into_html(&page.html).into_bytes();
     for e in &mut entries {
         let bytes = files.iter().find(|f| f.0 == e.file).map_or(&page, |f| &f.1);
         e.sha256 = crate::provenance::sha256_hex(bytes);
@@ -466,39 +257,48 @@ mod tests {
     use super::*;
     use crate::provenance::Inputs;
 
-    const PAGE: &str = "<h2 id=\"a\">1. One</h2><table><tr><th>x, y</th><th>U (mm/s)</th></tr>\
-        <tr><td>tail-1</td><td>0.2609 &plusmn; 1<br><span class=\"fall\">falls</span></td></tr></table>\
-        <figure id=\"f\"><div><svg><text font-size=\"11\">8.4</text><text font-size=\"14\">(a) first</text></svg></div><div><svg><text>(b)</text></svg>\
-        </div><figcaption><b>Fig.</b> Two &amp; panels.</figcaption></figure>";
+    fn page() -> Page {
+        let body = super::super::page::tests::sample();
+        Page::new(format!("<body>{}</body>", body.html()), body)
+    }
 
     #[test]
-    fn every_panel_and_table_becomes_a_file_named_in_the_manifest() {
-        let (files, entries) = files(PAGE);
-        let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
+    fn every_artefact_is_written_and_named_in_the_manifest() {
+        let dir = tempfile::tempdir().unwrap();
+        write(dir.path(), "report", &page(), &|_| Ok(()), &Inputs::new()).unwrap();
+        let manifest: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.path().join("manifest.json")).unwrap(),
+        )
+        .unwrap();
+        let files: Vec<&str> = manifest["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["file"].as_str().unwrap())
+            .collect();
         assert_eq!(
-            names,
+            files,
             [
+                "index.html",
                 "figures/f-1.svg",
                 "figures/f-2.svg",
                 "tables/a-1.csv",
                 "tables/a-1.json"
             ]
         );
-        assert_eq!(entries.len(), 5, "the page and four files");
-        assert!(entries[1]
-            .caption
-            .starts_with("(a) first: panel 1 of 2. Fig. Two & panels."));
-        let csv = String::from_utf8(files[2].1.clone()).unwrap();
-        assert_eq!(csv, "\"x, y\",U (mm/s)\ntail-1,0.2609 &plusmn; 1 falls\n");
-        let json: serde_json::Value = serde_json::from_slice(&files[3].1).unwrap();
-        assert_eq!(json[0]["U (mm/s)"], "0.2609 &plusmn; 1 falls");
-        assert_eq!(entries[3].caption, "table 1 of section \"1. One\"");
+        for f in &files[1..] {
+            assert!(dir.path().join(f).is_file(), "{f}");
+        }
+        let csv = std::fs::read_to_string(dir.path().join("tables/a-1.csv")).unwrap();
+        assert!(csv.starts_with('#') && csv.ends_with("tail-1,0.2609 &plusmn; 1 falls\n"));
+        let svg = std::fs::read_to_string(dir.path().join("figures/f-1.svg")).unwrap();
+        assert!(svg.contains("<metadata>"), "{svg}");
     }
 
     #[test]
     fn a_folder_another_command_wrote_is_refused() {
         let dir = tempfile::tempdir().unwrap();
-        write(dir.path(), "report", PAGE, &[], &|_| Ok(()), &Inputs::new()).unwrap();
+        write(dir.path(), "report", &page(), &|_| Ok(()), &Inputs::new()).unwrap();
         assert!(check_dir(dir.path(), "report").is_ok());
         let e = check_dir(dir.path(), "compare").unwrap_err().to_string();
         assert!(e.contains("swimbot report") && e.contains("-o"), "{e}");

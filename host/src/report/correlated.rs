@@ -3,6 +3,7 @@
 //! ([`crate::workbench::input_covariance`]).
 
 use super::html::{html, omega_b, table, Markup};
+use super::page::Part;
 use crate::format::fmt_sig;
 use crate::workbench::compare::Comparison;
 
@@ -33,13 +34,13 @@ pub fn statistic(cmp: &Comparison) -> Markup {
 
 /// What the data would want of the inputs that cases share: a sentence on
 /// the largest pull and a table of those the data pin (nothing when none).
-pub fn pulls(cmp: &Comparison) -> Markup {
+pub fn pulls(cmp: &Comparison) -> Part {
     let Some(x) = &cmp.chi2_correlated else {
-        return html! {};
+        return Part::new();
     };
     let shown: Vec<_> = x.pulls.iter().filter(|p| p.informative()).collect();
     let Some(first) = shown.first() else {
-        return html! {};
+        return Part::new();
     };
     let rows: Vec<Vec<Markup>> = shown
         .iter()
@@ -53,7 +54,7 @@ pub fn pulls(cmp: &Comparison) -> Markup {
             ]
         })
         .collect();
-    html! {
+    Part::from(html! {
         p id="physics-pulls" {
             "What the data would want of the inputs the cases share, each alone with the \
             others at their declared uncertainty (a generalised-least-squares estimate; \
@@ -63,15 +64,15 @@ pub fn pulls(cmp: &Comparison) -> Markup {
             uncertainties. None of these shifts is a measurement of the robot: each says in \
             which direction of the data the model misses."
         }
-        (table(
-            &[
-                "<input",
-                "declared u",
-                "wanted shift",
-                "in declared u",
-                "cases sharing it",
-            ],
-            &rows,
-        ))
-    }
+    })
+    .with(table(
+        &[
+            "<input",
+            "declared u",
+            "wanted shift",
+            "in declared u",
+            "cases sharing it",
+        ],
+        &rows,
+    ))
 }

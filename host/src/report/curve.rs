@@ -186,7 +186,7 @@ pub fn model_curve(
 mod tests {
     use super::*;
     use crate::model::preset;
-    use crate::report::figure4::amplitude_groups;
+    use crate::report::figure4::models::amplitude_groups;
 
     /// The curve's value at a marker's `N_lambda` (it is one of the samples).
     fn at(curve: &[(f64, f64, f64)], n: f64) -> f64 {

@@ -3,7 +3,8 @@
 //! in standard errors of the measured mean), as parity plots and as
 //! residuals against the case features.
 
-use super::html::{figure, html, omega_b, rich, table, Head, Markup};
+use super::html::{figure, html, omega_b, rich, table, Head};
+use super::page::Part;
 use super::paper::PaperModels;
 use super::parity::parity;
 use super::residuals::residual_plots;
@@ -56,7 +57,7 @@ fn worst(cases: &[CaseComparison]) -> Option<QuantityError> {
     quantity_errors(cases).into_iter().next()
 }
 
-pub fn section(data: &Dataset, paper: &PaperModels) -> Result<Markup, crate::model::ModelError> {
+pub fn section(data: &Dataset, paper: &PaperModels) -> Result<Part, crate::model::ModelError> {
     let cmp = &paper.gh;
     let bands = cmp.cases.iter().any(|k| k.u().input_sd.is_some());
     let rows: Vec<Vec<String>> = cmp
@@ -94,7 +95,7 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<Markup, crate::mod
         w("error (σ)"),
     ];
     let residuals = residual_plots(data, cmp);
-    Ok(html! {
+    let mut out = Part::from(html! {
         p {
             "The paper's model with Gray-Hancock's coefficients and "
             (super::paper::table_iii(&paper.gray_hancock)) ", case by case. U in mm/s, "
@@ -106,7 +107,9 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<Markup, crate::mod
                 input uncertainties (geometry, rate, viscosity)."
             }
         }
-        (table(&header, &rows))
+    });
+    out.push(table(&header, &rows));
+    out.push(html! {
         (super::yours::impossible_note("The paper's model (Gray-Hancock)", cmp))
         (super::yours::impossible_note(
             "The paper's model with Lighthill's coefficients",
@@ -126,26 +129,27 @@ pub fn section(data: &Dataset, paper: &PaperModels) -> Result<Markup, crate::mod
                 }
             }
         }
-        (figure(
-            "parity",
-            &[parity(cmp, Quantity::U), parity(cmp, Quantity::Omega)],
+    });
+    out.push(figure(
+        "parity",
+        &[parity(cmp, Quantity::U), parity(cmp, Quantity::Omega)],
+        2,
+        html! {
+            b { "Parity." } " Predicted against measured U and " (omega_b()) ", one point \
+            per tail; on the diagonal the model would be exact."
+        },
+    ));
+    if !residuals.is_empty() {
+        out.push(figure(
+            "residuals",
+            &residuals,
             2,
             html! {
-                b { "Parity." } " Predicted against measured U and " (omega_b()) ", one point \
-                per tail; on the diagonal the model would be exact."
+                b { "Residuals." } " The relative error of each quantity against the case \
+                features it correlates with most (r: Pearson's correlation): a trend says \
+                which property of the tail the missing physics follows."
             },
-        ))
-        @if !residuals.is_empty() {
-            (figure(
-                "residuals",
-                &residuals,
-                2,
-                html! {
-                    b { "Residuals." } " The relative error of each quantity against the case \
-                    features it correlates with most (r: Pearson's correlation): a trend says \
-                    which property of the tail the missing physics follows."
-                },
-            ))
-        }
-    })
+        ));
+    }
+    Ok(out)
 }

@@ -5,8 +5,11 @@
 //! with maud's `html!`, which escapes all text it is given; the only raw
 //! markup taken in is the charts' SVG and the constant stylesheet (each
 //! marked where it enters), so a case name, an effect's statement or a
-//! file path can never become markup on the page.
+//! file path can never become markup on the page. Tables and figures are
+//! [`Part`]s: their markup with what the bundle makes files of
+//! ([`super::page`]).
 
+use super::page::{Page, Part};
 use maud::PreEscaped;
 use maud::DOCTYPE;
 pub use maud::{html, Markup, Render};
@@ -79,8 +82,9 @@ pub fn svg_or_note(r: &Chart) -> Markup {
     }
 }
 
-/// A figure of charts in a grid of `columns`, with its caption.
-pub fn figure(id: &str, charts: &[Chart], columns: usize, caption: Markup) -> Markup {
+/// A figure of charts in a grid of `columns`, with its caption: its
+/// panels are files of the bundle.
+pub fn figure(id: &str, charts: &[Chart], columns: usize, caption: Markup) -> Part {
     figure_in(id, None, None, charts, columns, caption)
 }
 
@@ -96,7 +100,7 @@ pub fn figure_flow(
     charts: &[Chart],
     columns: usize,
     caption: Markup,
-) -> Markup {
+) -> Part {
     let rows = charts.len().div_ceil(2).max(1);
     let flow = (columns == rows).then_some(rows);
     figure_in(id, flow, legend, charts, columns, caption)
@@ -109,10 +113,12 @@ fn figure_in(
     charts: &[Chart],
     columns: usize,
     caption: Markup,
-) -> Markup {
+) -> Part {
+    let caption = caption.into_string();
+    let drawn = |c: &Chart| c.as_ref().ok().cloned();
     // Each SVG is shown at its own size (its ticks read at the size they
     // were drawn), shrunk only when the columns do not fit.
-    html! {
+    let markup = html! {
         figure id=(id) class=[flow_rows.map(|_| "flow")]
             style=[flow_rows.map(|r| format!("--rows:{r}"))] {
             @if let Some(l) = legend {
@@ -123,9 +129,18 @@ fn figure_in(
                     div { (svg_or_note(c)) }
                 }
             }
-            figcaption { (caption) }
+            // markup built by `html!` above, put back as it was
+            figcaption { (PreEscaped(&caption)) }
         }
-    }
+    };
+    let legend = legend.and_then(drawn);
+    Part::figure(
+        markup,
+        id,
+        &caption,
+        legend,
+        charts.iter().filter_map(drawn).collect(),
+    )
 }
 
 /// A table's header cell: its content and whether its column is
@@ -172,34 +187,73 @@ impl From<String> for Head {
     }
 }
 
-/// A table: header cells and rows of cells (text is escaped, markup kept).
-pub fn table<H, C>(header: &[H], rows: &[Vec<C>]) -> Markup
+/// A table: header cells and rows of cells (text is escaped, markup
+/// kept); a file of the bundle as CSV and JSON.
+pub fn table<H, C>(header: &[H], rows: &[Vec<C>]) -> Part
 where
     H: Clone + Into<Head>,
     C: Render,
 {
     let header: Vec<Head> = header.iter().cloned().map(Into::into).collect();
     let left = |i: usize| header.get(i).is_some_and(|h| h.left).then_some("l");
-    html! {
+    let mut cells = vec![header
+        .iter()
+        .map(|h| h.content.clone().into_string())
+        .collect::<Vec<_>>()];
+    cells.extend(
+        rows.iter()
+            .map(|r| r.iter().map(|c| c.render().into_string()).collect()),
+    );
+    // every cell is markup built by `html!` (its `Render`), put back as it was
+    let markup = html! {
         table {
             tr {
-                @for (i, h) in header.iter().enumerate() {
-                    th class=[left(i)] { (h.content) }
+                @for (i, h) in cells[0].iter().enumerate() {
+                    th class=[left(i)] { (PreEscaped(h)) }
                 }
             }
-            @for r in rows {
+            @for r in &cells[1..] {
                 tr {
                     @for (i, c) in r.iter().enumerate() {
-                        td class=[left(i)] { (c) }
+                        td class=[left(i)] { (PreEscaped(c)) }
                     }
                 }
             }
         }
-    }
+    };
+    Part::table(markup, &cells)
 }
 
-/// The whole document around the sections.
-pub fn document(title: &str, body: Markup) -> String {
+/// A cell of [`classed_table`]: its class (`l params`, or none) and content.
+pub type Cell = (Option<&'static str>, Markup);
+
+/// A table of class `class` whose rows (header first, as `th`) give each
+/// cell its own class; a file of the bundle as CSV and JSON as [`table`].
+pub fn classed_table(class: &str, rows: &[Vec<Cell>]) -> Part {
+    let markup = html! {
+        table class=(class) {
+            @for (i, r) in rows.iter().enumerate() {
+                tr {
+                    @for (c, m) in r {
+                        @if i == 0 {
+                            th class=[*c] { (m) }
+                        } @else {
+                            td class=[*c] { (m) }
+                        }
+                    }
+                }
+            }
+        }
+    };
+    let cells: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| r.iter().map(|(_, m)| m.clone().into_string()).collect())
+        .collect();
+    Part::table(markup, &cells)
+}
+
+/// The whole document around the sections, with its artefacts.
+pub fn document(title: &str, body: Part) -> Page {
     let page = html! {
         (DOCTYPE)
         html lang="en" {
@@ -209,8 +263,9 @@ pub fn document(title: &str, body: Markup) -> String {
                 title { (title) }
                 style { (style()) }
             }
-            body { (body) }
+            // the sections' markup, built by `html!`
+            body { (PreEscaped(body.html())) }
         }
     };
-    page.into_string() + "\n"
+    Page::new(page.into_string() + "\n", body)
 }

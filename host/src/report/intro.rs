@@ -2,7 +2,8 @@
 //! observed tail rate, measured speed and body rate with their CIs) and the
 //! question, all read from the dataset.
 
-use super::html::{html, omega_b, rich, table, Head, Markup};
+use super::html::{html, omega_b, rich, table, Head};
+use super::page::Part;
 use super::wording::value_unc;
 use crate::data::{Case, Dataset, Measured};
 use crate::format::fmt_sig;
@@ -54,9 +55,9 @@ fn measured(m: Option<Measured>) -> String {
     m.map_or("-".into(), |m| value_unc(m.mean, m.ci_half_width))
 }
 
-pub fn section(data: &Dataset) -> Markup {
+pub fn section(data: &Dataset) -> Part {
     let Some(c0) = data.cases.first() else {
-        return html! { p { "The dataset has no case." } };
+        return html! { p { "The dataset has no case." } }.into();
     };
     let n = data.cases.len();
     let measured_n = data
@@ -108,7 +109,7 @@ pub fn section(data: &Dataset) -> Markup {
         Head::num(html! { (omega_b()) " (Hz) ± " (ci) " CI" }),
     ];
     header.extend(varying.iter().map(|(name, _)| Head::num(rich(name))));
-    html! {
+    Part::from(html! {
         p {
             "A centimetre-scale, bacteria-like robot: a sealed body ("
             (of(|c| c.body_length_mm)) " mm long, " (of(|c| c.body_diameter_mm))
@@ -125,7 +126,9 @@ pub fn section(data: &Dataset) -> Markup {
             swimming speed U and the body's counter-rotation rate " (omega_b()) ", means of "
             (trials) " trials with " (ci) " confidence intervals."
         }
-        (table(&header, &rows))
+    })
+    .with(table(&header, &rows))
+    .with(html! {
         @if !varying.is_empty() {
             p.note {
                 "The setup differs between cases: the columns after the measurements give \
@@ -139,5 +142,5 @@ pub fn section(data: &Dataset) -> Markup {
             close. Where does the model fail, what do those factors stand for, and what is \
             still missing?"
         }
-    }
+    })
 }

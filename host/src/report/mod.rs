@@ -1,12 +1,13 @@
 //! The static HTML report: one self-contained page that tells the story of
 //! the model against the measurements ([`story`]), its figures as inline
-//! SVG, and beside it every figure and table as its own file
+//! SVG, and beside it every figure and table as its own file: the page
+//! is built with its artefacts as data (`page`), which the bundle writes
 //! (`bundle`). The report renders what the workbench decided (the
 //! user's path, [`crate::workbench::path`], and the diagnosis): it fits
 //! nothing and searches nothing. It does evaluate models the workbench has
 //! already fitted: their comparisons with the data (`remains`, `physics`
 //! with the input bands, `physics_misses`) and their curves through the
-//! Fig. 4 analogue (`curve`).
+//! Fig. 4 analogue (`curve`, drawn by `figure4` on both pages).
 
 mod bundle;
 pub use bundle::Guard;
@@ -18,6 +19,7 @@ mod figure4;
 mod figure_checks;
 mod html;
 mod intro;
+mod page;
 mod paper;
 mod parity;
 mod path;
@@ -30,7 +32,6 @@ pub mod steps_table;
 pub mod story;
 mod study_answer;
 mod study_charts;
-mod study_fig4;
 mod study_page;
 mod study_params;
 mod tex_math;
@@ -40,6 +41,7 @@ mod yours;
 pub use crate::format::fmt_sig;
 pub use story::{StoryInput, ZeroParam};
 // The page's figures of one comparison, for the Python package's HTML.
+pub use page::Artefact;
 pub use parity::parity;
 
 use crate::provenance::Inputs;
@@ -61,7 +63,7 @@ pub fn write_story(
     inputs: &Inputs,
 ) -> Result<std::path::PathBuf, BundleError> {
     let page = story::page(input)?;
-    bundle::write(dir, input.command, &page, &[], guard, inputs)
+    bundle::write(dir, input.command, &page, guard, inputs)
 }
 
 /// Write the story page for the model at the end of `path` on `data`
@@ -102,12 +104,7 @@ pub fn write_study(
     guard: bundle::Guard,
     inputs: &Inputs,
 ) -> Result<std::path::PathBuf, BundleError> {
-    bundle::write(
-        dir,
-        "report",
-        &study_page::page(study),
-        &steps_table::bundle_files(study),
-        guard,
-        inputs,
-    )
+    let mut page = study_page::page(study);
+    page.artefacts.extend(steps_table::bundle_files(study));
+    bundle::write(dir, "report", &page, guard, inputs)
 }

@@ -2,8 +2,10 @@
 //! the body corrections of Table III) with both coefficient sets, its
 //! Fig. 4 reproduced, and the summary errors of each set.
 
-use super::figure4::{figure4, Layer, BLACK, BLUE};
-use super::html::{figure_flow, html, omega_b, table, Head, Markup, Render};
+use super::figure4::models::{layers, Fitted};
+use super::figure4::{letters, BLACK, BLUE};
+use super::html::{html, omega_b, table, Head, Markup, Render};
+use super::page::Part;
 use super::wording::{pct, stat};
 use crate::data::Dataset;
 use crate::model::{preset, Model, ModelError};
@@ -178,7 +180,7 @@ impl PaperModels {
         })
     }
 
-    pub fn section(&self, data: &Dataset) -> Markup {
+    pub fn section(&self, data: &Dataset) -> Part {
         let gh3 = table_iii(&self.gray_hancock);
         let li3 = table_iii(&self.lighthill);
         let body = data.cases.first().map_or("-".into(), |c| {
@@ -188,29 +190,28 @@ impl PaperModels {
                 crate::format::fmt_sig(c.body_diameter_mm, 3)
             )
         });
-        let groups = super::figure4::amplitude_groups(data).len();
-        let layers = [
-            Layer {
-                label: "Gray-Hancock".into(),
-                model: &self.gray_hancock,
-                comparison: &self.gh,
-                color: BLACK,
-                curve: true,
-            },
-            Layer {
-                label: "Lighthill".into(),
-                model: &self.lighthill,
-                comparison: &self.li,
-                color: BLUE,
-                curve: true,
-            },
-        ];
-        let charts = figure4(data, &layers);
+        let fig = layers(
+            data,
+            &[
+                Fitted {
+                    label: "Gray-Hancock".into(),
+                    model: &self.gray_hancock,
+                    comparison: &self.gh,
+                    color: BLACK,
+                    curve: true,
+                },
+                Fitted {
+                    label: "Lighthill".into(),
+                    model: &self.lighthill,
+                    comparison: &self.li,
+                    color: BLUE,
+                    curve: true,
+                },
+            ],
+        );
         let ci = super::intro::confidence(data);
         let dodge = super::figure4::dodge_percent();
-        let last_u = (b'a' + groups as u8 - 1) as char;
-        let first_w = (b'a' + groups as u8) as char;
-        let last_w = (b'a' + 2 * groups as u8 - 1) as char;
+        let (last_u, first_w, last_w) = letters(fig.groups.len());
         let n_lambda = html! { "N" sub { "λ" } };
         let caption = html! {
             b { "Fig. 4 reproduced." } " Measurements (red, with their " (ci) " confidence \
@@ -229,7 +230,7 @@ impl PaperModels {
             of the case's " (n_lambda) " in turn, so that bars at one case do not hide each \
             other; the measurements stay at their " (n_lambda) "."
         };
-        html! {
+        Part::from(html! {
             p {
                 "The paper's model balances the forces and torques on body and tail (eq. 11). \
                 The tail's resistance integrates local drag coefficients along the helix \
@@ -242,20 +243,28 @@ impl PaperModels {
                 from its ref. [28], which is not available), so the paper's own numbers cannot \
                 be matched exactly."
             }
-            (figure_flow("fig4", Some(&charts.legend), &charts.panels, groups.max(1), caption))
+        })
+        .with(super::figure4::figure("fig4", &fig, caption))
+        .with(html! {
             (gap_sentence("Gray-Hancock", &self.gh))
             (gap_sentence("Lighthill", &self.li))
-            (table(
-                &summary_header(),
-                &[
-                    summary_row(
-                        html! { "Gray-Hancock, " (gh3) },
-                        &fitted_by_paper(&self.gray_hancock),
-                        &self.gh,
-                    ),
-                    summary_row(html! { "Lighthill, " (li3) }, "2, fitted by the paper", &self.li),
-                ],
-            ))
+        })
+        .with(table(
+            &summary_header(),
+            &[
+                summary_row(
+                    html! { "Gray-Hancock, " (gh3) },
+                    &fitted_by_paper(&self.gray_hancock),
+                    &self.gh,
+                ),
+                summary_row(
+                    html! { "Lighthill, " (li3) },
+                    "2, fitted by the paper",
+                    &self.li,
+                ),
+            ],
+        ))
+        .with(html! {
             p.note {
                 "MARE: mean absolute relative error over the " (self.gh.summary.n) " measured \
                 quantities; reduced χ²: the squared errors in standard errors of the measured \
@@ -264,6 +273,6 @@ impl PaperModels {
                 code { "--preset paper" } " (" (self.gray_hancock.describe()) ") and "
                 code { "--preset paper-lighthill" } " (" (self.lighthill.describe()) ")."
             }
-        }
+        })
     }
 }

@@ -9,6 +9,7 @@
 //! best located correction of the verdict.
 
 use super::html::{html, table, Markup};
+use super::page::Part;
 use super::path_chart::{chart, Metric};
 use super::wording::{describe, pct, stat, Change};
 use crate::data::Dataset;
@@ -187,14 +188,15 @@ fn change_cell(prev: f64, cur: f64, noise: f64, show: &dyn Fn(f64) -> String) ->
     }
 }
 
-pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> Markup {
+pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> Part {
     let Some(d) = d else {
         return html! {
             p {
                 "This page was written without a diagnosis (" code { "swimbot compare" } "); "
                 code { "swimbot report" } " adds the path " code { "diagnose" } " takes."
             }
-        };
+        }
+        .into();
     };
     let floor = d.baseline.noise_floor_chi2_reduced;
     let noise = noise_mare(data);
@@ -231,7 +233,7 @@ pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> Markup {
             ),
         ]);
     }
-    html! {
+    Part::from(html! {
         p {
             code { "swimbot diagnose" } " starts from " code { (start.describe()) } ", fits \
             every effect of its catalogue in turn (weighted by the CIs, scored by AICc and \
@@ -249,30 +251,30 @@ pub fn section(start: &Model, data: &Dataset, d: Option<&Diagnosis>) -> Markup {
             ") or below " (format!("{:.0}", 100.0 * super::wording::FLAT_SHARE)) " % of the \
             value."
         }
-        (super::html::figure(
-            "path-chart",
-            &[
-                chart(&steps, Metric::Chi2, floor, noise),
-                chart(&steps, Metric::Mare, None, noise),
-            ],
-            2,
-            html! {
-                b { "The path." } " Left: reduced χ² (log scale) with the noise floor (dashed); \
-                right: MARE. Each arrow goes from the previous step's value to this step's."
-            },
-        ))
-        (table(
-            &[
-                "<step",
-                "<what",
-                "fitted parameters",
-                "MARE",
-                "cross-validated MARE",
-                "reduced χ²",
-                "<MARE against the step before",
-                "<reduced χ² against the step before",
-            ],
-            &rows,
-        ))
-    }
+    })
+    .with(super::html::figure(
+        "path-chart",
+        &[
+            chart(&steps, Metric::Chi2, floor, noise),
+            chart(&steps, Metric::Mare, None, noise),
+        ],
+        2,
+        html! {
+            b { "The path." } " Left: reduced χ² (log scale) with the noise floor (dashed); \
+            right: MARE. Each arrow goes from the previous step's value to this step's."
+        },
+    ))
+    .with(table(
+        &[
+            "<step",
+            "<what",
+            "fitted parameters",
+            "MARE",
+            "cross-validated MARE",
+            "reduced χ²",
+            "<MARE against the step before",
+            "<reduced χ² against the step before",
+        ],
+        &rows,
+    ))
 }

@@ -4,8 +4,10 @@
 //! measurements and against the paper's fitted model: its errors per
 //! quantity and per case, and its markers in the Fig. 4 layout.
 
-use super::figure4::{figure4, Layer, BLACK, GREEN};
-use super::html::{figure_flow, html, omega_b, table, Head, Markup, Render};
+use super::figure4::models::{layers, Fitted};
+use super::figure4::{BLACK, GREEN};
+use super::html::{html, omega_b, table, Head, Markup, Render};
+use super::page::Part;
 use super::paper::{fitted_by_paper, summary_header, summary_row, table_iii, PaperModels};
 use super::story::ZeroParam;
 use super::wording::{describe, pct, signed_pct, stat, value_unc};
@@ -55,10 +57,10 @@ pub fn section(
     paper: &PaperModels,
     d: Option<&Diagnosis>,
     audit: Option<&Audit>,
-) -> Result<Markup, ModelError> {
+) -> Result<Part, ModelError> {
     let (name, model) = match zero {
         ZeroParam::Skipped(why) => {
-            return Ok(html! { p.note { "Left out of this page: " (why) "." } })
+            return Ok(html! { p.note { "Left out of this page: " (why) "." } }.into())
         }
         ZeroParam::Model { name, model } => (name, *model),
     };
@@ -138,15 +140,15 @@ pub fn section(
         ("paper (Gray-Hancock)".to_string(), &paper.gh),
         ("paper (Lighthill)".to_string(), &paper.li),
     ];
-    let layers = [
-        Layer {
+    let fitted = [
+        Fitted {
             label: "paper (Gray-Hancock)".into(),
             model: &paper.gray_hancock,
             comparison: &paper.gh,
             color: BLACK,
             curve: true,
         },
-        Layer {
+        Fitted {
             label: name.clone(),
             model,
             comparison: &cmp,
@@ -154,8 +156,7 @@ pub fn section(
             curve: false,
         },
     ];
-    let groups = super::figure4::amplitude_groups(data).len();
-    let fig = figure4(data, &layers);
+    let fig = layers(data, &fitted);
     let n_lambda = html! { "N" sub { "λ" } };
     let caption = html! {
         b { "The zero-parameter model in the layout of Fig. 4." } " Measurements (red, " (ci)
@@ -168,10 +169,10 @@ pub fn section(
         bars at one case do not hide each other; the measurements stay at their " (n_lambda)
         "."
     };
-    Ok(html! {
-        (intro)
-        (table(&summary_header(), &rows))
-        (table(&case_header, &case_rows))
+    let mut out = Part::from(intro);
+    out.push(table(&summary_header(), &rows));
+    out.push(table(&case_header, &case_rows));
+    out.push(html! {
         @if cmp.coverage.is_some() {
             p {
                 "U in mm/s, " (omega_b()) " in Hz. ± 2u: twice the prediction's standard \
@@ -181,7 +182,8 @@ pub fn section(
             }
         }
         (super::physics_misses::list(data, &cmp, &models, d, audit))
-        (super::correlated::pulls(&cmp))
-        (figure_flow("fig4-physics", Some(&fig.legend), &fig.panels, groups.max(1), caption))
-    })
+    });
+    out.push(super::correlated::pulls(&cmp));
+    out.push(super::figure4::figure("fig4-physics", &fig, caption));
+    Ok(out)
 }

@@ -3,6 +3,7 @@
 //! the best of them still leaves, and the audit's flags on the data.
 
 use super::html::{html, rich, table, Markup};
+use super::page::Part;
 use super::wording::{pct, signed_pct, stat};
 use crate::data::Dataset;
 use crate::format::fmt_sig;
@@ -49,15 +50,15 @@ fn leftovers(data: &Dataset, d: &Diagnosis) -> Option<Markup> {
     })
 }
 
-fn diagnosis(data: &Dataset, d: Option<&Diagnosis>) -> Markup {
+fn diagnosis(data: &Dataset, d: Option<&Diagnosis>) -> Part {
     let Some(d) = d else {
-        return html! {
+        return Part::from(html! {
             p {
                 "No diagnosis on this page (" code { "swimbot compare" } "); "
                 code { "swimbot report" } " or " code { "swimbot diagnose" }
                 " give the verdict."
             }
-        };
+        });
     };
     let word = kind(d.verdict.kind);
     let note = d
@@ -81,23 +82,25 @@ fn diagnosis(data: &Dataset, d: Option<&Diagnosis>) -> Markup {
             ]
         })
         .collect();
-    html! {
+    let mut out = Part::from(html! {
         p.verdict { b { "Verdict: " (word) "." } " " (note) }
-        @if !rows.is_empty() {
-            h3 { "Located corrections" }
-            (table(
-                &[
-                    "<correction",
-                    "<what it means",
-                    "<fitted (95 % CI of the fit)",
-                    "MARE",
-                    "cross-validated MARE",
-                    "reduced χ²",
-                    "share of the excess χ² removed",
-                ],
-                &rows,
-            ))
-        }
+    });
+    if !rows.is_empty() {
+        out.push(html! { h3 { "Located corrections" } });
+        out.push(table(
+            &[
+                "<correction",
+                "<what it means",
+                "<fitted (95 % CI of the fit)",
+                "MARE",
+                "cross-validated MARE",
+                "reduced χ²",
+                "share of the excess χ² removed",
+            ],
+            &rows,
+        ));
+    }
+    out.with(html! {
         @if let Some(g) = d.verdict.suggestion.as_ref().filter(|g| g.same_model) {
             p {
                 "No measurement of U or Omega_b separates the leading explanations: they are \
@@ -114,7 +117,7 @@ fn diagnosis(data: &Dataset, d: Option<&Diagnosis>) -> Markup {
         @if let Some(s) = leftovers(data, d) {
             (s)
         }
-    }
+    })
 }
 
 fn audit_flags(audit: Option<&Audit>) -> Markup {
@@ -149,9 +152,6 @@ fn audit_flags(audit: Option<&Audit>) -> Markup {
     }
 }
 
-pub fn section(data: &Dataset, d: Option<&Diagnosis>, audit: Option<&Audit>) -> Markup {
-    html! {
-        (diagnosis(data, d))
-        (audit_flags(audit))
-    }
+pub fn section(data: &Dataset, d: Option<&Diagnosis>, audit: Option<&Audit>) -> Part {
+    diagnosis(data, d).with(audit_flags(audit))
 }

@@ -297,9 +297,9 @@ pub fn laws_markdown(s: &Study) -> String {
 
 /// The paper's files of `s` for the page's bundle: the steps table and
 /// the laws, each in LaTeX and in Markdown.
-pub fn bundle_files(s: &Study) -> Vec<super::bundle::Written> {
+pub fn bundle_files(s: &Study) -> Vec<super::page::Artefact> {
     let rows = rows(s);
-    let file = |file: &str, kind, caption: &str, text| super::bundle::Written {
+    let file = |file: &str, kind, caption: &str, text| super::page::Artefact {
         file: format!("tables/{file}"),
         kind,
         caption: caption.into(),

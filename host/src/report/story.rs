@@ -4,7 +4,8 @@
 //! parameter; what remains. Every number on the page is computed here, at
 //! run time, from the data and the models.
 
-use super::html::{document, html, Markup};
+use super::html::{document, html};
+use super::page::{Page, Part};
 use crate::data::Dataset;
 use crate::model::Model;
 use crate::workbench::audit::Audit;
@@ -63,17 +64,17 @@ pub fn title(data: &Dataset) -> String {
     }
 }
 
-pub fn heading(i: usize) -> Markup {
+pub fn heading(i: usize) -> Part {
     let (id, title) = SECTIONS[i];
-    html! { h2 id=(id) { (title) } }
+    Part::heading(id, html! { h2 id=(id) { (title) } })
 }
 
-/// The whole page.
-pub fn page(s: &StoryInput) -> Result<String, crate::model::ModelError> {
+/// The whole page, with its artefacts.
+pub fn page(s: &StoryInput) -> Result<Page, crate::model::ModelError> {
     let paper = super::paper::PaperModels::new(s.data)?;
     let fails = super::fails::section(s.data, &paper)?;
     let physics = super::physics::section(s.data, &s.zero_param, &paper, s.diagnosis, s.audit)?;
-    let body = html! {
+    let mut body = Part::from(html! {
         h1 { (title(s.data)) }
         p.note {
             "data: " code { (s.data.name) } " (" (s.data.source) "); model asked for: "
@@ -85,21 +86,21 @@ pub fn page(s: &StoryInput) -> Result<String, crate::model::ModelError> {
                 li { a href={ "#" (id) } { (title) } }
             }
         }
-        (heading(0))
-        (super::intro::section(s.data))
-        (heading(1))
-        (paper.section(s.data))
-        (heading(2))
-        (fails)
-        (heading(3))
-        (super::yours::section(s.data, s.path))
-        (heading(4))
-        (super::path::section(s.start, s.data, s.diagnosis))
-        (heading(5))
-        (physics)
-        (heading(6))
-        (super::remains::section(s.data, s.diagnosis, s.audit))
-    };
+    });
+    body.push(heading(0));
+    body.push(super::intro::section(s.data));
+    body.push(heading(1));
+    body.push(paper.section(s.data));
+    body.push(heading(2));
+    body.push(fails);
+    body.push(heading(3));
+    body.push(super::yours::section(s.data, s.path));
+    body.push(heading(4));
+    body.push(super::path::section(s.start, s.data, s.diagnosis));
+    body.push(heading(5));
+    body.push(physics);
+    body.push(heading(6));
+    body.push(super::remains::section(s.data, s.diagnosis, s.audit));
     Ok(document(&title(s.data), body))
 }
 
@@ -132,7 +133,8 @@ mod tests {
             },
             audit: None,
         })
-        .unwrap();
+        .unwrap()
+        .html;
         let from = html.find("id=\"physics\"").unwrap();
         let to = html.find("id=\"remains\"").unwrap();
         let section = &html[from..to];

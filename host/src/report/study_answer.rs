@@ -8,7 +8,8 @@
 //! diagnosis's [`Headline`], the value `diagnose --format json` prints
 //! under `headline`; nothing is recomputed here.
 
-use super::html::{html, rich, Markup};
+use super::html::{classed_table, html, rich, Cell, Markup};
+use super::page::Part;
 use super::steps_table::{fitted, param};
 use crate::chart::notation;
 use crate::format::fmt_sig;
@@ -26,24 +27,23 @@ pub fn chi2(v: Option<f64>) -> String {
 }
 
 /// The opening section.
-pub fn section(s: &Study) -> Markup {
+pub fn section(s: &Study) -> Part {
     let last = s.last_diagnosis();
     let headline = last.and_then(|d| d.headline.as_ref());
-    html! {
-        section.answer {
-            h2 id="answer" { "What was found" }
-            (steps_table(s))
-            (error_line(s, headline))
-            @if let Some(d) = last {
-                (missing(d, headline))
-            }
-            @if let Some(h) = headline {
-                (how_sure(h))
-                (rivals(h))
-            }
-            (next(last, headline))
+    let mut inner = Part::heading("answer", html! { h2 id="answer" { "What was found" } });
+    inner.push(steps_table(s));
+    inner.push(html! {
+        (error_line(s, headline))
+        @if let Some(d) = last {
+            (missing(d, headline))
         }
+    });
+    if let Some(h) = headline {
+        inner.push(how_sure(h));
+        inner.push(rivals(h));
     }
+    inner.push(next(last, headline));
+    inner.wrap(|m| html! { section.answer { (m) } })
 }
 
 fn law_cell(s: &Study, i: usize) -> Markup {
@@ -62,36 +62,45 @@ fn law_cell(s: &Study, i: usize) -> Markup {
     }
 }
 
-fn steps_table(s: &Study) -> Markup {
+fn steps_table(s: &Study) -> Part {
     let f = s.file();
     let stats = |st: &Stats| (mare(st.mare), chi2(st.chi2_reduced));
     let (m0, c0) = stats(&f.start.stats);
-    html! {
-        table.answer-steps {
-            tr {
-                th { "step" } th.l { "law" } th.l { "fitted values (value ± u)" }
-                th { "MARE" } th { "χ²/ν" }
-            }
-            tr {
-                td { "0" } td.l { "base (" (f.model.preset) ")" } td.l {}
-                td.mare { (m0) } td.chi { (c0) }
-            }
-            @for (i, st) in s.steps().iter().enumerate() {
-                @let (m, c) = stats(&st.after.stats);
-                tr {
-                    td { (i + 1) }
-                    td.l { (law_cell(s, i)) }
-                    td.l.params {
-                        @for (k, p) in fitted(&st.params).enumerate() {
-                            @if k > 0 { br; }
-                            (notation(&param(&p)))
-                        }
+    let mut rows: Vec<Vec<Cell>> = vec![
+        vec![
+            (None, html! { "step" }),
+            (Some("l"), html! { "law" }),
+            (Some("l"), html! { "fitted values (value ± u)" }),
+            (None, html! { "MARE" }),
+            (None, html! { "χ²/ν" }),
+        ],
+        vec![
+            (None, html! { "0" }),
+            (Some("l"), html! { "base (" (f.model.preset) ")" }),
+            (Some("l"), html! {}),
+            (Some("mare"), html! { (m0) }),
+            (Some("chi"), html! { (c0) }),
+        ],
+    ];
+    for (i, st) in s.steps().iter().enumerate() {
+        let (m, c) = stats(&st.after.stats);
+        rows.push(vec![
+            (None, html! { (i + 1) }),
+            (Some("l"), law_cell(s, i)),
+            (
+                Some("l params"),
+                html! {
+                    @for (k, p) in fitted(&st.params).enumerate() {
+                        @if k > 0 { br; }
+                        (notation(&param(&p)))
                     }
-                    td.mare { (m) } td.chi { (c) }
-                }
-            }
-        }
+                },
+            ),
+            (Some("mare"), html! { (m) }),
+            (Some("chi"), html! { (c) }),
+        ]);
     }
+    classed_table("answer-steps", &rows)
 }
 
 /// MARE and χ²/ν from the base model through every step, and the floor.
@@ -181,25 +190,33 @@ fn how_sure(h: &Headline) -> Markup {
 }
 
 /// The sets the data cannot tell apart, when there are several.
-fn rivals(h: &Headline) -> Markup {
+fn rivals(h: &Headline) -> Part {
     if h.rivals.len() < 2 {
-        return html! {};
+        return Part::new();
     }
-    html! {
-        p { b { "Cannot be told apart:" } }
-        table.rivals {
-            tr { th { "#" } th.l { "set" } th { "Δ key" } th { "Akaike weight" } th { "at the floor" } }
-            @for (i, r) in h.rivals.iter().enumerate() {
-                tr {
-                    td { (i + 1) }
-                    td.l { (notation(&r.members.join(" + "))) }
-                    td { (format!("{:+.1}", r.key_difference)) }
-                    td.weight { (format!("{:.3}", r.akaike_weight)) }
-                    td { @if r.at_noise_floor { "yes" } @else { "no" } }
-                }
-            }
-        }
+    let mut rows: Vec<Vec<Cell>> = vec![vec![
+        (None, html! { "#" }),
+        (Some("l"), html! { "set" }),
+        (None, html! { "Δ key" }),
+        (None, html! { "Akaike weight" }),
+        (None, html! { "at the floor" }),
+    ]];
+    for (i, r) in h.rivals.iter().enumerate() {
+        rows.push(vec![
+            (None, html! { (i + 1) }),
+            (Some("l"), html! { (notation(&r.members.join(" + "))) }),
+            (None, html! { (format!("{:+.1}", r.key_difference)) }),
+            (
+                Some("weight"),
+                html! { (format!("{:.3}", r.akaike_weight)) },
+            ),
+            (
+                None,
+                html! { @if r.at_noise_floor { "yes" } @else { "no" } },
+            ),
+        ]);
     }
+    Part::from(html! { p { b { "Cannot be told apart:" } } }).with(classed_table("rivals", &rows))
 }
 
 /// The one command to run next: plan the runs that separate rivals,

@@ -7,9 +7,10 @@
 //! case as a table and figures), then what `diagnose` says of the final
 //! model. The figures are drawn from the stored predictions
 //! ([`super::study_charts`], or the paper's Fig. 4 layout for data of its
-//! design, [`super::study_fig4`]).
+//! design, [`super::figure4::study`]).
 
 use super::html::{document, figure, html, omega_b, rich, table, Markup};
+use super::page::{Page, Part};
 use super::study_charts::{
     feature_of, parity, residuals, LABELLED_WORST, LABEL_ALL_UP_TO, SPLIT_RATIO,
 };
@@ -26,9 +27,9 @@ pub const SECTIONS: [(&str, &str); 4] = [
     ("data", "The data and the study file"),
 ];
 
-fn heading(i: usize) -> Markup {
+fn heading(i: usize) -> Part {
     let (id, t) = SECTIONS[i];
-    html! { h2 id=(id) { (t) } }
+    Part::heading(id, html! { h2 id=(id) { (t) } })
 }
 
 /// A number as the page prints it: 4 significant digits, in its own cell.
@@ -49,8 +50,8 @@ fn opt_pc(v: Option<f64>) -> String {
     v.map_or_else(String::new, pc)
 }
 
-/// The whole page.
-pub fn page(s: &Study) -> String {
+/// The whole page, with its artefacts.
+pub fn page(s: &Study) -> Page {
     let f = s.file();
     let title = format!("swimbot study: {}", f.dataset.name);
     let mut before = &f.start;
@@ -59,9 +60,9 @@ pub fn page(s: &Study) -> String {
         steps.push(step(s.dataset(), i + 1, st, &before.cases));
         before = &st.after;
     }
-    let body = html! {
-        h1 { (title) }
-        (super::study_answer::section(s))
+    let mut body = Part::from(html! { h1 { (title) } });
+    body.push(super::study_answer::section(s));
+    body.push(html! {
         p.note {
             "data: " code { (f.dataset.path.display()) } " (SHA-256 " code { (f.dataset.sha256) }
             "); base model: " code { (f.model.preset) } "; likelihood: " (f.model.likelihood)
@@ -74,24 +75,24 @@ pub fn page(s: &Study) -> String {
                 li { a href={ "#" (id) } { (t) } }
             }
         }
-        (heading(0))
-        (stats_table(&[("base", &f.start.stats)]))
-        (diagnosis(f.first_diagnosis.as_ref()))
-        (heading(1))
-        (overview(s))
-        @for st in &steps {
-            (st)
-        }
-        (heading(2))
-        (stats_table(&[("final", &s.current().stats)]))
-        (diagnosis(s.last_diagnosis()))
-        (heading(3))
-        (cases_table(&f.start))
-    };
+    });
+    body.push(heading(0));
+    body.push(stats_table(&[("base", &f.start.stats)]));
+    body.push(diagnosis(f.first_diagnosis.as_ref()));
+    body.push(heading(1));
+    body.push(overview(s));
+    for st in steps {
+        body.push(st);
+    }
+    body.push(heading(2));
+    body.push(stats_table(&[("final", &s.current().stats)]));
+    body.push(diagnosis(s.last_diagnosis()));
+    body.push(heading(3));
+    body.push(cases_table(&f.start));
     document(&title, body)
 }
 
-fn stats_table(rows: &[(&str, &Stats)]) -> Markup {
+fn stats_table(rows: &[(&str, &Stats)]) -> Part {
     table(
         &[
             "<model",
@@ -155,7 +156,7 @@ fn diagnosis(d: Option<&DiagnosisRecord>) -> Markup {
 }
 
 /// The error at every step, as a table and a bar chart.
-fn overview(s: &Study) -> Markup {
+fn overview(s: &Study) -> Part {
     let f = s.file();
     let mut labels = vec![format!("base ({})", f.model.preset)];
     let mut values = vec![100.0 * f.start.stats.mare];
@@ -184,39 +185,39 @@ fn overview(s: &Study) -> Markup {
         ]);
     }
     let chart = steps("MARE at each step", "MARE (%)", &labels, &values);
-    html! {
-        (table(
-            &[
-                "step",
-                "<effect",
-                "<earlier steps",
-                "MARE before (%)",
-                "MARE after (%)",
-                "CV MARE after (%)",
-                "chi-square after",
-                "noise floor chi-square",
-            ],
-            &rows,
-        ))
-        (figure(
-            "fig-steps",
-            &[chart],
-            1,
-            html! {
-                "The mean absolute relative error over every measured quantity after each \
-                step, each step calibrated on top of the ones before it."
-            },
-        ))
+    table(
+        &[
+            "step",
+            "<effect",
+            "<earlier steps",
+            "MARE before (%)",
+            "MARE after (%)",
+            "CV MARE after (%)",
+            "chi-square after",
+            "noise floor chi-square",
+        ],
+        &rows,
+    )
+    .with(figure(
+        "fig-steps",
+        &[chart],
+        1,
+        html! {
+            "The mean absolute relative error over every measured quantity after each \
+            step, each step calibrated on top of the ones before it."
+        },
+    ))
+    .with(html! {
         @if s.steps().is_empty() {
             p { "No step yet: " code { "swimbot add EFFECT" } " adds one." }
         }
-    }
+    })
 }
 
 /// One step; `before` are the cases as the step before it left them.
-fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Markup {
+fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Part {
     let d = &st.effect;
-    html! {
+    Part::from(html! {
         h3 id={ "step-" (n) } { "Step " (n) ": + " (d.name) }
         p { (notation(&d.statement)) }
         @if !d.formula.is_empty() {
@@ -237,7 +238,9 @@ fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Markup
         @if let Some(p) = &st.proposed_by {
             p { "Proposed by " (notation(p)) "." }
         }
-        (super::study_params::params_table(st))
+    })
+    .with(super::study_params::params_table(st))
+    .with(html! {
         @if !st.notes.is_empty() {
             ul {
                 @for note in &st.notes {
@@ -251,17 +254,17 @@ fn step(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Markup
             (num(st.before.chi2)) " → " (num(st.after.stats.chi2)) " (noise floor "
             (opt_num(st.after.stats.noise_floor_chi2)) ")."
         }
-        (before_after_table(before, &st.after))
-        (step_figure(data, n, st, before))
-    }
+    })
+    .with(before_after_table(before, &st.after))
+    .with(step_figure(data, n, st, before))
 }
 
 /// The step's figure: the paper's Fig. 4 layout for data of its design,
 /// else the parity plots and the residual against the step's feature.
-fn step_figure(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Markup {
+fn step_figure(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) -> Part {
     let d = &st.effect;
-    if super::study_fig4::applies(data, &st.after.cases) {
-        return super::study_fig4::figure(data, n, &d.name, before, &st.after.cases);
+    if super::figure4::study::applies(data, &st.after.cases) {
+        return super::figure4::study::figure(data, n, &d.name, before, &st.after.cases);
     }
     let feature = feature_of(data, &d.formula);
     let mut charts = vec![
@@ -301,7 +304,7 @@ fn step_figure(data: &Dataset, n: usize, st: &StepRecord, before: &[CaseRow]) ->
     )
 }
 
-fn before_after_table(before: &[CaseRow], after: &Snapshot) -> Markup {
+fn before_after_table(before: &[CaseRow], after: &Snapshot) -> Part {
     let rows: Vec<Vec<String>> = after
         .cases
         .iter()
@@ -344,7 +347,7 @@ fn before_after_table(before: &[CaseRow], after: &Snapshot) -> Markup {
     )
 }
 
-fn cases_table(start: &Snapshot) -> Markup {
+fn cases_table(start: &Snapshot) -> Part {
     let rows: Vec<Vec<String>> = start
         .cases
         .iter()

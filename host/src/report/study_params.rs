@@ -5,7 +5,8 @@
 //! it is asymmetric, as `diagnose` reports it:
 //! [`crate::workbench::fit::report::ParamReport::with_profile`]).
 
-use super::html::{table, Markup};
+use super::html::table;
+use super::page::Part;
 use crate::chart::notation;
 use crate::format::fmt_sig;
 use crate::study::file::ParamRecord;
@@ -20,7 +21,7 @@ fn opt_num(v: Option<f64>) -> String {
     v.map_or_else(String::new, num)
 }
 
-pub fn params_table(st: &StepRecord) -> Markup {
+pub fn params_table(st: &StepRecord) -> Part {
     let rows: Vec<Vec<String>> = st
         .params
         .iter()

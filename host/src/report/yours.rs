@@ -5,8 +5,10 @@
 //! analogue, parity and residual plots and the per-case table, each
 //! showing the model before the last step beside the model after it.
 
-use super::figure4::{figure4, Layer, GREEN};
-use super::html::{figure, figure_flow, html, omega_b, table, Head, Markup};
+use super::figure4::models::{layers, Fitted};
+use super::figure4::GREEN;
+use super::html::{figure, html, omega_b, table, Head, Markup};
+use super::page::Part;
 use super::path_chart::{chart, Metric};
 use super::wording::{describe, pct, signed_pct, stat, value_unc};
 use crate::chart::Rgb;
@@ -153,7 +155,7 @@ fn cell_obs(m: Option<f64>, ci: Option<f64>) -> Markup {
 }
 
 /// Per case: measured, the step before and the last step, with errors.
-fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> Markup {
+fn case_table(before: Option<&Step>, last: &Step, ci: &str) -> Part {
     let band = |s: &Step| {
         if s.comparison.summary_combined.is_some() {
             " ± 2u"
@@ -225,7 +227,7 @@ fn opening(path: &Path, noise: f64) -> Markup {
 }
 
 /// The section: `path` is the user's model taken apart into its steps.
-pub fn section(data: &Dataset, path: &Path) -> Markup {
+pub fn section(data: &Dataset, path: &Path) -> Part {
     let last = path.last();
     let before = path.before_last();
     let noise = super::path::noise_mare(data);
@@ -264,9 +266,9 @@ pub fn section(data: &Dataset, path: &Path) -> Markup {
         before.map(|b| (b.label.as_str(), &b.comparison)),
         GREEN,
     );
-    html! {
-        (opening(path, noise))
-        (table(&header, &rows))
+    let mut out = Part::from(opening(path, noise));
+    out.push(table(&header, &rows));
+    out.push(html! {
         p.note {
             "Reduced χ²: the squared errors in standard errors of the measured means over n − k \
             degrees of freedom, k every free parameter the model carries (fitted by whoever set \
@@ -285,28 +287,29 @@ pub fn section(data: &Dataset, path: &Path) -> Markup {
         @for s in &path.steps {
             (impossible_note(&s.label, &s.comparison))
         }
-        @if path.steps.len() >= 2 {
-            (steps_figure(path, noise))
-        }
-        (fig4(data, path))
-        (case_table(before, last, &ci))
-        (figure(
-            "yours-parity",
-            &[
-                super::parity::parity_of(&shown, Quantity::U),
-                super::parity::parity_of(&shown, Quantity::Omega),
-            ],
-            2,
-            parity_caption,
-        ))
-        @if !residuals.is_empty() {
-            (figure("yours-residuals", &residuals, 2, residual_caption))
-        }
+    });
+    if path.steps.len() >= 2 {
+        out.push(steps_figure(path, noise));
     }
+    out.push(fig4(data, path));
+    out.push(case_table(before, last, &ci));
+    out.push(figure(
+        "yours-parity",
+        &[
+            super::parity::parity_of(&shown, Quantity::U),
+            super::parity::parity_of(&shown, Quantity::Omega),
+        ],
+        2,
+        parity_caption,
+    ));
+    if !residuals.is_empty() {
+        out.push(figure("yours-residuals", &residuals, 2, residual_caption));
+    }
+    out
 }
 
 /// MARE and reduced chi-square along the steps, as the path charts.
-fn steps_figure(path: &Path, noise: f64) -> Markup {
+fn steps_figure(path: &Path, noise: f64) -> Part {
     let steps: Vec<super::path::ChartStep> = path.steps.iter().map(as_path_step).collect();
     figure(
         "yours-path",
@@ -333,13 +336,13 @@ fn as_path_step(s: &Step) -> super::path::ChartStep {
     }
 }
 
-fn fig4(data: &Dataset, path: &Path) -> Markup {
+fn fig4(data: &Dataset, path: &Path) -> Part {
     let colors = colors(path.steps.len());
-    let layers: Vec<Layer> = path
+    let fitted: Vec<Fitted> = path
         .steps
         .iter()
         .zip(&colors)
-        .map(|(s, c)| Layer {
+        .map(|(s, c)| Fitted {
             label: s.label.clone(),
             model: &s.model,
             comparison: &s.comparison,
@@ -347,8 +350,7 @@ fn fig4(data: &Dataset, path: &Path) -> Markup {
             curve: crate::workbench::propagate::affordable(&s.model),
         })
         .collect();
-    let charts = figure4(data, &layers);
-    let groups = super::figure4::amplitude_groups(data).len();
+    let fig = layers(data, &fitted);
     let n_lambda = html! { "N" sub { "λ" } };
     let caption = html! {
         b { "Fig. 4 with the model asked for." } " Measurements (red, "
@@ -366,13 +368,7 @@ fn fig4(data: &Dataset, path: &Path) -> Markup {
         the case's " (n_lambda) " in turn, so that bars at one case do not hide each other; the \
         measurements stay at their " (n_lambda) "."
     };
-    figure_flow(
-        "fig4-yours",
-        Some(&charts.legend),
-        &charts.panels,
-        groups.max(1),
-        caption,
-    )
+    super::figure4::figure("fig4-yours", &fig, caption)
 }
 
 fn color_name(c: Rgb) -> &'static str {
