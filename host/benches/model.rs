@@ -38,10 +38,44 @@ fn solve(c: &mut Criterion) {
         b.iter(|| paper.predict(black_box(&case)).unwrap())
     });
     // What `swimbot sweep` spends per geometry on one thread: the base
-    // model's prediction and its CSV line in shortest round-trip decimals
-    // (the formatting is more than half of it).
-    let mut line = Vec::with_capacity(128);
+    // model's prediction and its CSV line as cli/sweep.rs writes it (the
+    // grid's five cells formatted once per range, the four predictions
+    // by format::push_csv_f64).
+    let inputs: Vec<String> = [
+        case.wavelength_mm,
+        case.amplitude_mm,
+        case.tail_length_mm,
+        case.frequency_hz,
+        case.channel_diameter_mm,
+    ]
+    .iter()
+    .map(|&v| swimbot::format::csv_f64(v))
+    .collect();
+    let mut line = Vec::with_capacity(256);
     c.bench_function("sweep: one geometry, predicted and written", |b| {
+        b.iter(|| {
+            let p = base.predict(black_box(&case)).unwrap();
+            line.clear();
+            for cell in &inputs {
+                line.extend_from_slice(cell.as_bytes());
+                line.push(b',');
+            }
+            for (k, v) in [p.u_mm_s, p.omega_body_hz, p.u_over_u_wave, p.omega_ratio]
+                .into_iter()
+                .enumerate()
+            {
+                if k > 0 {
+                    line.push(b',');
+                }
+                swimbot::format::push_csv_f64(&mut line, v);
+            }
+            line.push(b'\n');
+            black_box(line.len())
+        })
+    });
+    // The same line through `{}` for all nine cells, as the sweep wrote it
+    // before: the same text, the formatting more than half the cost.
+    c.bench_function("sweep: one geometry, predicted and written with {}", |b| {
         b.iter(|| {
             use std::io::Write;
             let p = base.predict(black_box(&case)).unwrap();

@@ -329,23 +329,90 @@ fn check_grid(g: &Grid, t: &Case) -> Result<(), CliError> {
 
 /// Rows formatted by one task.
 const FORMAT_CHUNK_ROWS: usize = 8192;
-/// Rows formatted before they are written.
-const WRITE_BATCH_ROWS: usize = 64 * FORMAT_CHUNK_ROWS;
+/// Rows formatted before they are written: enough tasks to keep every
+/// core busy, few enough that the text (about 18 MB) stays small; the
+/// same buffers serve every batch.
+const WRITE_BATCH_ROWS: usize = 16 * FORMAT_CHUNK_ROWS;
 
-/// The CSV lines of `rows`, the first of which is grid point `first`, in
-/// the one CSV style (crate::format): shortest round-trip decimals.
-fn csv_lines(g: &Grid, first: usize, rows: &[Row]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(rows.len() * 96);
-    for (j, r) in rows.iter().enumerate() {
-        let [wavelength, amplitude, length, frequency, channel] = g.point(first + j);
-        // Writing into a Vec cannot fail.
-        let _ = writeln!(
-            out,
-            "{wavelength},{amplitude},{length},{frequency},{channel},{},{},{},{}",
-            r.u_mm_s, r.omega_hz, r.u_ratio, r.omega_ratio
-        );
+/// The grid's values as CSV cells, each range's formatted once: a sweep
+/// repeats every one of them on many rows.
+struct GridCells {
+    wavelength: Vec<String>,
+    amplitude: Vec<String>,
+    length: Vec<String>,
+    frequency: Vec<String>,
+    channel: Vec<String>,
+}
+
+impl GridCells {
+    fn new(g: &Grid) -> Self {
+        let cells = |r: &Range| {
+            r.values
+                .iter()
+                .map(|&v| crate::format::csv_f64(v))
+                .collect()
+        };
+        GridCells {
+            wavelength: cells(&g.wavelength),
+            amplitude: cells(&g.amplitude),
+            length: cells(&g.length),
+            frequency: cells(&g.frequency),
+            channel: cells(&g.channel),
+        }
     }
-    out
+
+    /// A CSV line's length, as reserved: the longest cell of each range,
+    /// four predictions of 24 characters (17 digits, sign, point and a
+    /// few zeros; a magnitude far from 1, written out in full, is longer
+    /// and grows the buffer), the commas and the newline. Reserved at once,
+    /// a chunk's text is never copied to a larger buffer.
+    fn line_bound(&self) -> usize {
+        let longest = |cells: &[String]| cells.iter().map(String::len).max().unwrap_or(0);
+        longest(&self.wavelength)
+            + longest(&self.amplitude)
+            + longest(&self.length)
+            + longest(&self.frequency)
+            + longest(&self.channel)
+            + 4 * 24
+            + 9
+    }
+
+    /// The cells of the `i`-th grid point in [`Grid::point`]'s order.
+    fn point(&self, mut i: usize) -> [&str; 5] {
+        fn pick<'a>(cells: &'a [String], i: &mut usize) -> &'a str {
+            let n = cells.len();
+            let c = cells[*i % n].as_str();
+            *i /= n;
+            c
+        }
+        let channel = pick(&self.channel, &mut i);
+        let frequency = pick(&self.frequency, &mut i);
+        let length = pick(&self.length, &mut i);
+        let amplitude = pick(&self.amplitude, &mut i);
+        let wavelength = pick(&self.wavelength, &mut i);
+        [wavelength, amplitude, length, frequency, channel]
+    }
+}
+
+/// Appends the CSV lines of `rows`, the first of which is grid point
+/// `first`, to `out`, in the one CSV style (crate::format): shortest
+/// round-trip decimals, as `{}` writes them.
+fn csv_lines(cells: &GridCells, first: usize, rows: &[Row], out: &mut Vec<u8>) {
+    out.reserve(rows.len() * cells.line_bound());
+    for (j, r) in rows.iter().enumerate() {
+        for c in cells.point(first + j) {
+            out.extend_from_slice(c.as_bytes());
+            out.push(b',');
+        }
+        crate::format::push_csv_f64(out, r.u_mm_s);
+        out.push(b',');
+        crate::format::push_csv_f64(out, r.omega_hz);
+        out.push(b',');
+        crate::format::push_csv_f64(out, r.u_ratio);
+        out.push(b',');
+        crate::format::push_csv_f64(out, r.omega_ratio);
+        out.push(b'\n');
+    }
 }
 
 fn write_csv(
@@ -384,14 +451,25 @@ fn write_csv(
     // thread writing them was most of a sweep's wall time: each batch of
     // rows is formatted in parallel, chunk by chunk, and written in order.
     // A batch bounds the formatted text held at once (about 50 MB).
+    // The chunks' buffers serve every batch: fresh ones cost a page fault
+    // per 4 KiB of text, each batch again.
+    let cells = GridCells::new(g);
+    let mut text: Vec<Vec<u8>> = Vec::new();
     for (b, batch) in rows.chunks(WRITE_BATCH_ROWS).enumerate() {
         let start = b * WRITE_BATCH_ROWS;
-        let text: Vec<Vec<u8>> = batch
-            .par_chunks(FORMAT_CHUNK_ROWS)
+        let chunks = batch.len().div_ceil(FORMAT_CHUNK_ROWS);
+        if text.len() < chunks {
+            text.resize_with(chunks, Vec::new);
+        }
+        text[..chunks]
+            .par_iter_mut()
+            .zip(batch.par_chunks(FORMAT_CHUNK_ROWS))
             .enumerate()
-            .map(|(k, chunk)| csv_lines(g, start + k * FORMAT_CHUNK_ROWS, chunk))
-            .collect();
-        for t in &text {
+            .for_each(|(k, (out, chunk))| {
+                out.clear();
+                csv_lines(&cells, start + k * FORMAT_CHUNK_ROWS, chunk, out);
+            });
+        for t in &text[..chunks] {
             w.write_all(t).map_err(fail)?;
         }
         bar.inc(batch.len() as u64);
