@@ -24,9 +24,10 @@
 //! of some cases, but it orders them by the design: the residuals on `S`
 //! share a sign, or follow a feature. The finding is kept only when the
 //! signs on `S`, and on all cases, are those of a fair coin (two-sided
-//! binomial test at 1 % per quantity) and no recorded field or derived group has a Spearman
-//! correlation with the residuals beyond its 1 % limit (Bonferroni over
-//! the features and the two quantities).
+//! binomial test at 1 % per quantity) and no recorded field, derived
+//! group or column the lab recorded has a Spearman correlation with the
+//! residuals beyond its 1 % limit (Bonferroni over the features and the
+//! two quantities).
 //!
 //! **Power.** The test is made on at least [`MIN_CASES`] cases, and a
 //! factor above [`MAX_FACTOR`] is never reported: the ways a lab misstates
@@ -307,6 +308,13 @@ fn unstructured(obs: &[Obs], data: &Dataset, set: &[usize]) -> bool {
                 .map(|c| (f.value)(c))
                 .collect::<Vec<f64>>()
         })
+        // The lab's recorded columns too: a column it wrote down is where a
+        // drift it suspected (the oil's temperature) leaves its trend.
+        .chain(
+            crate::data::recorded::features(data)
+                .into_iter()
+                .map(|(_, xs)| xs),
+        )
         .filter(|v: &Vec<f64>| v.iter().any(|x| *x != v[0]))
         .collect();
     let tests = (2 * features.len()).max(1);
