@@ -150,10 +150,9 @@ pub fn corrections(table: &Table, data: &Dataset) -> Vec<Arc<LocatedCorrection>>
             }
             if form.needs_feature() {
                 for u in &features {
+                    let needs_positive = form.has_power() && !u.positive;
                     let library_affine = form == Form::Affine && !u.feature.is_recorded();
-                    if !super::acts::acts_at(&u.feature, place)
-                        || !(u.positive || !form.has_power())
-                        || library_affine
+                    if !super::acts::acts_at(&u.feature, place) || needs_positive || library_affine
                     {
                         continue;
                     }
