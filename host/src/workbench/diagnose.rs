@@ -171,19 +171,14 @@ pub fn diagnose(
     super::data_quality::say_first(&quality, &mut verdict.note);
     if verdict.kind == VerdictKind::NoneNeeded {
         if let Some(unseen) = super::discovery::acts::unobservable_note(data) {
-            let kept = verdict.note.trim_end_matches('.').len();
-            verdict.note.truncate(kept);
-            verdict.note.push_str("; ");
-            verdict.note.push_str(&unseen);
+            continue_note(&mut verdict.note, &format!("; {unseen}"));
         }
     }
     if verdict.kind != VerdictKind::NoneNeeded {
         let found = verdict.located.first().map(|l| &l.model);
         let limits = super::experiments::design::limits_note(data, model, found);
         if !limits.is_empty() {
-            let kept = verdict.note.trim_end_matches('.').len();
-            verdict.note.truncate(kept);
-            verdict.note.push_str(&limits);
+            continue_note(&mut verdict.note, &limits);
         }
     }
     Ok(Diagnosis {
@@ -197,4 +192,11 @@ pub fn diagnose(
         data_quality: quality,
         verdict,
     })
+}
+
+/// The note's last sentence continued by `more` (its full stop dropped).
+fn continue_note(note: &mut String, more: &str) {
+    let kept = note.trim_end_matches('.').len();
+    note.truncate(kept);
+    note.push_str(more);
 }
